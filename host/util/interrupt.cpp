@@ -1,0 +1,27 @@
+// SIGINT/SIGTERM -> a flag; see interrupt.h.
+#include "host/util/interrupt.h"
+
+#include <atomic>
+#include <csignal>
+#include <unistd.h>
+
+namespace lorgnette {
+namespace {
+std::atomic<int> g_signals{0};
+
+extern "C" void on_signal(int) {
+  if (g_signals.fetch_add(1) >= 1) _exit(130);
+  const char msg[] = "\ninterrupted: finishing the current step and saving (Ctrl-C again to abort)\n";
+  ssize_t ignored = write(2, msg, sizeof(msg) - 1);
+  (void)ignored;
+}
+}  // namespace
+
+void install_interrupt_handler() {
+  std::signal(SIGINT, on_signal);
+  std::signal(SIGTERM, on_signal);
+}
+bool interrupted() { return g_signals.load() > 0; }
+void clear_interrupt() { g_signals.store(0); }
+
+}  // namespace lorgnette

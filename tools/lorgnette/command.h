@@ -1,0 +1,44 @@
+// Subcommand registry of the `lorgnette` CLI. Each cmd_*.cpp registers itself with
+// LGN_REGISTER_COMMAND; commands stay thin wrappers over the libraries.
+#pragma once
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "host/cl/runtime.h"
+
+namespace lorgnette::cli {
+
+// Options every command accepts (parsed before the subcommand runs).
+struct GlobalOptions {
+  std::string device;       // --device: index or name substring (see `lorgnette devices`)
+  std::string kernel_cache; // --kernel-cache DIR ("off" disables the disk cache)
+  bool verbose = false;
+  bool quiet = false;
+
+  cl::RuntimeOptions runtime() const { return {device, kernel_cache, false}; }
+};
+
+// A command adds its CLI::App subcommand and sets its callback. The callback throws on failure;
+// main turns any exception into "error: ..." on stderr and exit status 1.
+using CommandFactory = std::function<void(CLI::App& app, GlobalOptions& global)>;
+
+struct CommandRegistration {
+  int order;  // position in `lorgnette --help`
+  CommandFactory factory;
+};
+
+std::vector<CommandRegistration>& command_registry();
+
+struct Registrar {
+  Registrar(int order, CommandFactory f) { command_registry().push_back({order, std::move(f)}); }
+};
+
+}  // namespace lorgnette::cli
+
+#define LGN_CONCAT2(a, b) a##b
+#define LGN_CONCAT(a, b) LGN_CONCAT2(a, b)
+#define LGN_REGISTER_COMMAND(order, factory) \
+  static ::lorgnette::cli::Registrar LGN_CONCAT(lgn_registrar_, __LINE__)(order, factory)

@@ -1,0 +1,19 @@
+#!/usr/bin/env bash
+# Installs the Debian 12 packages Lorgnette needs to build, test and run (run as root or with sudo).
+set -euo pipefail
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+export DEBIAN_FRONTEND=noninteractive
+PACKAGES=(
+  build-essential cmake ninja-build pkg-config git
+  # OpenCL: ICD loader, headers, and PoCL (the CPU device used by tests and CI)
+  ocl-icd-opencl-dev opencl-c-headers opencl-clhpp-headers pocl-opencl-icd clinfo
+  # geometry, images, video, ray tracing, landmarks
+  libeigen3-dev libopenimageio-dev openimageio-tools libopencv-dev ffmpeg
+  libembree-dev libassimp-dev libdlib-dev libdlib-data
+  # command line, JSON, logging, tests, benchmarks
+  libcli11-dev nlohmann-json3-dev libspdlog-dev libfmt-dev
+  libgtest-dev libgmock-dev libbenchmark-dev
+)
+if [ -z "${LORGNETTE_SKIP_APT_UPDATE:-}" ]; then $SUDO apt-get update -q; fi
+$SUDO apt-get install -y -q --no-install-recommends "${PACKAGES[@]}"
