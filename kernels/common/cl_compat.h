@@ -18,3 +18,13 @@ typedef int32_t lgn_int;
 #define LGN_INLINE inline
 #define LGN_GLOBAL
 #endif
+
+#ifndef __OPENCL_C_VERSION__
+// Host spellings of the OpenCL built-ins the shared headers use.
+using std::sqrt;
+using std::exp;
+using std::fabs;
+using std::fmin;
+using std::fmax;
+using std::floor;
+#endif

@@ -1,0 +1,36 @@
+// Image files in and out through OpenImageIO. Inside Lorgnette images are linear float RGB(A),
+// interleaved, row-major, top row first; 8/16-bit files are sRGB-encoded and converted on the way
+// in and out, float files (EXR) stay linear. Writes are atomic (temporary file + rename), so an
+// interrupted run never leaves a half-written image under the final name.
+#pragma once
+#include <string>
+#include <vector>
+
+namespace lorgnette {
+
+struct Image {
+  int width = 0;
+  int height = 0;
+  int channels = 0;
+  std::vector<float> pixels;  // width * height * channels, linear
+
+  Image() = default;
+  Image(int w, int h, int c, float value = 0.0f)
+      : width(w), height(h), channels(c), pixels(static_cast<size_t>(w) * h * c, value) {}
+  float& at(int x, int y, int c) { return pixels[(static_cast<size_t>(y) * width + x) * channels + c]; }
+  float at(int x, int y, int c) const { return pixels[(static_cast<size_t>(y) * width + x) * channels + c]; }
+  bool empty() const { return pixels.empty(); }
+};
+
+float srgb_to_linear(float c);
+float linear_to_srgb(float c);
+
+// Throws std::runtime_error naming the file and what is wrong (missing, unreadable, corrupt).
+Image read_image(const std::string& path);
+// Format from the extension: .png/.jpg (sRGB, 8-bit; alpha kept for PNG), .exr/.hdr (linear float).
+void write_image(const std::string& path, const Image& image);
+
+// Writes `text` to `path` through a temporary file and rename (for JSON/CSV outputs).
+void write_text_file_atomic(const std::string& path, const std::string& text);
+
+}  // namespace lorgnette
