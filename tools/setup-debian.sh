@@ -11,6 +11,8 @@ PACKAGES=(
   # geometry, images, video, ray tracing, landmarks
   libeigen3-dev libopenimageio-dev openimageio-tools libopencv-dev ffmpeg
   libembree-dev libassimp-dev libdlib-dev libdlib-data
+  # camera poses from photos (`lorgnette capture`)
+  colmap
   # command line, JSON, logging, tests, benchmarks
   libcli11-dev nlohmann-json3-dev libspdlog-dev libfmt-dev
   libgtest-dev libgmock-dev libbenchmark-dev

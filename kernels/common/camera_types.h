@@ -17,7 +17,7 @@ typedef struct Camera {
   lgn_uint pad0, pad1;
 } Camera;
 
-LGN_STATIC_ASSERT(sizeof(Camera) == 88, "Camera layout is shared with OpenCL: keep it packed");
+LGN_STATIC_ASSERT(sizeof(Camera) == 96, "Camera layout is shared with OpenCL: keep it packed");
 
 LGN_INLINE LgnVec3 lgn_vec3(float x, float y, float z) {
   LgnVec3 v;

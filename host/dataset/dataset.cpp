@@ -1,0 +1,282 @@
+// The dataset loader: finds the json file(s), assigns splits, validates, then reads and downscales the
+// images and builds the Cameras. Conventions are documented in dataset.h.
+#include "host/dataset/dataset.h"
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <stdexcept>
+
+#include "host/dataset/frame_image.h"
+#include "host/dataset/transforms_parse.h"
+
+namespace lorgnette::dataset {
+namespace fs = std::filesystem;
+using detail::FrameSpec;
+using nlohmann::json;
+
+const char* to_string(Split split) {
+  switch (split) {
+    case Split::Train:
+      return "train";
+    case Split::Val:
+      return "val";
+    case Split::Test:
+      return "test";
+    case Split::Holdout:
+      return "holdout";
+  }
+  return "?";
+}
+
+Split split_from_string(const std::string& name) {
+  for (Split s : {Split::Train, Split::Val, Split::Test, Split::Holdout})
+    if (name == to_string(s)) return s;
+  throw std::runtime_error(fmt::format("unknown split '{}': use train, val, test or holdout", name));
+}
+
+std::vector<const Frame*> Dataset::split(Split s) const {
+  std::vector<const Frame*> out;
+  for (const Frame& f : frames)
+    if (f.split == s) out.push_back(&f);
+  return out;
+}
+
+bool Dataset::has_split(Split s) const {
+  return std::any_of(frames.begin(), frames.end(), [s](const Frame& f) { return f.split == s; });
+}
+
+Split Dataset::default_eval_split() const {
+  return format == "nerf-synthetic" ? Split::Test : Split::Holdout;
+}
+
+std::vector<const Frame*> Dataset::require_split(Split s) const {
+  auto out = split(s);
+  if (out.empty()) {
+    std::string have;
+    for (Split t : {Split::Train, Split::Val, Split::Test, Split::Holdout})
+      if (has_split(t)) have += std::string(have.empty() ? "" : ", ") + to_string(t);
+    throw std::runtime_error(
+        fmt::format("dataset '{}' has no '{}' frames (it has: {}); {}", root, to_string(s),
+                    have.empty() ? "none loaded" : have,
+                    format == "nerf-synthetic" ? "use --split test or val" : "use --split holdout"));
+  }
+  return out;
+}
+
+std::pair<Eigen::Vector3f, Eigen::Vector3f> Dataset::camera_bounds() const {
+  Eigen::Vector3f lo = Eigen::Vector3f::Constant(INFINITY), hi = -lo;
+  for (const Frame& f : frames) {
+    Eigen::Vector3f o(f.camera.c2w[3], f.camera.c2w[7], f.camera.c2w[11]);
+    lo = lo.cwiseMin(o);
+    hi = hi.cwiseMax(o);
+  }
+  return {lo, hi};
+}
+
+Eigen::Matrix4d camera_to_matrix(const Camera& cam) {
+  Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 4; ++c) m(r, c) = cam.c2w[r * 4 + c];
+  return m;
+}
+
+void set_camera_pose(Camera& cam, const Eigen::Matrix4d& c2w) {
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 4; ++c) cam.c2w[r * 4 + c] = static_cast<float>(c2w(r, c));
+}
+
+namespace {
+
+struct Source {
+  std::string root, format;
+  std::vector<std::pair<std::string, Split>> files;  // json files and the split they hold
+};
+
+Source find_source(const std::string& path) {
+  std::error_code ec;
+  if (!fs::exists(path, ec))
+    throw std::runtime_error(
+        fmt::format("dataset '{}' does not exist: give a directory holding transforms.json "
+                    "(or transforms_train/val/test.json), or the json file itself",
+                    path));
+  Source s;
+  fs::path dir = fs::is_directory(path, ec) ? fs::path(path) : fs::path(path).parent_path();
+  s.root = fs::absolute(dir).lexically_normal().string();
+  std::string name = fs::path(path).filename().string();
+  bool synthetic_file = !fs::is_directory(path, ec) && name.rfind("transforms_", 0) == 0;
+  if (!fs::is_directory(path, ec) && !synthetic_file) {
+    s.format = "transforms";
+    s.files.emplace_back(fs::absolute(path).string(), Split::Train);
+    return s;
+  }
+  if (!synthetic_file && fs::exists(dir / "transforms.json", ec)) {
+    s.format = "transforms";
+    s.files.emplace_back((dir / "transforms.json").string(), Split::Train);
+    return s;
+  }
+  for (Split sp : {Split::Train, Split::Val, Split::Test}) {
+    fs::path f = dir / fmt::format("transforms_{}.json", to_string(sp));
+    if (fs::exists(f, ec)) s.files.emplace_back(f.string(), sp);
+  }
+  if (s.files.empty())
+    throw std::runtime_error(
+        fmt::format("no transforms.json or transforms_{{train,val,test}}.json in '{}': is this "
+                    "a NeRF dataset directory?",
+                    s.root));
+  s.format = "nerf-synthetic";
+  return s;
+}
+
+bool wanted(const LoadOptions& o, Split s) {
+  return o.splits.empty() || std::find(o.splits.begin(), o.splits.end(), s) != o.splits.end();
+}
+
+// Parses every json, assigns holdout for single-file datasets, validates poses over all frames.
+std::vector<FrameSpec> collect_frames(const Source& src, Dataset& ds, const LoadOptions& opt) {
+  std::vector<FrameSpec> all;
+  for (const auto& [file, split] : src.files) {
+    if (src.format == "nerf-synthetic" && !wanted(opt, split)) continue;
+    json doc = detail::read_json_file(file);
+    auto frames = detail::parse_frames(doc, file, split);
+    if (src.format == "transforms") {
+      std::stable_sort(frames.begin(), frames.end(),
+                       [](const FrameSpec& a, const FrameSpec& b) { return a.file_path < b.file_path; });
+      for (size_t i = 0; i < frames.size(); ++i) frames[i].split = i % 8 == 0 ? Split::Holdout : Split::Train;
+    }
+    if (all.empty()) {  // dataset-level metadata from the first file
+      if (auto it = doc.find("aabb_scale"); it != doc.end() && it->is_number())
+        ds.aabb_scale = it->get<float>();
+      if (auto it = doc.find("scale"); it != doc.end() && it->is_number()) ds.scale = it->get<float>();
+      if (auto it = doc.find("offset"); it != doc.end() && it->is_array() && it->size() == 3)
+        ds.offset = std::array<float, 3>{(*it)[0].get<float>(), (*it)[1].get<float>(), (*it)[2].get<float>()};
+      if (auto it = doc.find("applied_transform"); it != doc.end()) {
+        ds.applied_transform = detail::parse_pose(*it, file + ": applied_transform");
+        ds.has_applied_transform = true;
+      }
+    }
+    all.insert(all.end(), frames.begin(), frames.end());
+  }
+  detail::check_not_degenerate(all);
+  std::vector<FrameSpec> kept;
+  std::vector<std::string> missing;
+  for (auto& f : all) {
+    if (!wanted(opt, f.split)) continue;
+    if (f.image_path.empty()) {
+      if (!opt.skip_missing_images)
+        throw std::runtime_error(
+            fmt::format("{}: image file '{}' not found; restore it, remove the frame from the "
+                        "json, or skip missing images (LoadOptions::skip_missing_images)",
+                        f.where, (fs::path(src.root) / f.file_path).string()));
+      missing.push_back(f.file_path);
+      continue;
+    }
+    kept.push_back(std::move(f));
+  }
+  if (!missing.empty())
+    spdlog::warn("dataset '{}': skipping {} frames whose image file is missing (first: '{}')", src.root,
+                 missing.size(), missing[0]);
+  return kept;
+}
+
+// Keeps at most max_frames per split, evenly spaced over the split's frames.
+std::vector<FrameSpec> limit_frames(std::vector<FrameSpec> frames, int max_frames) {
+  if (max_frames <= 0) return frames;
+  std::vector<bool> keep(frames.size(), false);
+  for (Split s : {Split::Train, Split::Val, Split::Test, Split::Holdout}) {
+    std::vector<size_t> of;
+    for (size_t i = 0; i < frames.size(); ++i)
+      if (frames[i].split == s) of.push_back(i);
+    size_t n = std::min(of.size(), static_cast<size_t>(max_frames));
+    for (size_t i = 0; i < n; ++i) keep[of[i * of.size() / n]] = true;
+  }
+  std::vector<FrameSpec> out;  // dataset order is kept
+  for (size_t i = 0; i < frames.size(); ++i)
+    if (keep[i]) out.push_back(std::move(frames[i]));
+  return out;
+}
+
+Frame load_frame(const FrameSpec& spec, const LoadOptions& opt, bool* has_alpha) {
+  Frame f;
+  f.name = fs::path(spec.image_path).stem().string();
+  f.image_path = spec.image_path;
+  f.split = spec.split;
+  int w, h;
+  try {
+    if (opt.load_images) {
+      bool alpha = false;
+      f.image = detail::read_rgba(spec.image_path, &alpha);
+      *has_alpha = *has_alpha || alpha;
+      w = f.image.width;
+      h = f.image.height;
+    } else {
+      auto hdr = detail::read_image_header(spec.image_path);
+      *has_alpha = *has_alpha || hdr.has_alpha;
+      w = hdr.width;
+      h = hdr.height;
+    }
+  } catch (const std::runtime_error& e) {
+    throw std::runtime_error(
+        fmt::format("{}: {}; replace the file or remove the frame from the json", spec.where, e.what()));
+  }
+  f.camera = detail::make_camera(spec, w, h);
+  int nw, nh;
+  detail::scaled_size(w, h, opt.downscale, opt.max_side, &nw, &nh);
+  if (nw != w || nh != h) {
+    float sx = static_cast<float>(nw) / w, sy = static_cast<float>(nh) / h;
+    f.camera.fx *= sx;
+    f.camera.cx *= sx;
+    f.camera.fy *= sy;
+    f.camera.cy *= sy;
+    f.camera.width = static_cast<lgn_uint>(nw);
+    f.camera.height = static_cast<lgn_uint>(nh);
+    if (opt.load_images) f.image = detail::resize_rgba(f.image, nw, nh);
+  }
+  return f;
+}
+
+void read_ground_truth(Dataset& ds) {
+  fs::path gt = fs::path(ds.root) / "ground_truth.json";
+  std::error_code ec;
+  if (!fs::exists(gt, ec)) return;
+  ds.ground_truth = detail::read_json_file(gt.string());
+  if (auto it = ds.ground_truth.find("mm_per_unit"); it != ds.ground_truth.end() && !it->is_null()) {
+    if (!it->is_number() || !(it->get<double>() > 0) || !std::isfinite(it->get<double>()))
+      throw std::runtime_error(
+          fmt::format("'{}': mm_per_unit must be a positive number, found {}", gt.string(), it->dump()));
+    ds.mm_per_unit = it->get<double>();
+  }
+}
+
+}  // namespace
+
+Dataset load_dataset(const std::string& path, const LoadOptions& options) {
+  if (options.downscale < 1 || options.max_side < 0 || options.max_frames < 0)
+    throw std::runtime_error(
+        fmt::format("invalid load options: downscale {} (must be >= 1), max_side {}, "
+                    "max_frames {} (must be >= 0)",
+                    options.downscale, options.max_side, options.max_frames));
+  Source src = find_source(path);
+  Dataset ds;
+  ds.root = src.root;
+  ds.format = src.format;
+  auto specs = limit_frames(collect_frames(src, ds, options), options.max_frames);
+  if (specs.empty())
+    throw std::runtime_error(
+        fmt::format("dataset '{}' has no frames to load for the requested splits", ds.root));
+  ds.frames.reserve(specs.size());
+  for (const auto& spec : specs) ds.frames.push_back(load_frame(spec, options, &ds.has_alpha));
+  read_ground_truth(ds);
+  size_t bytes = 0;
+  for (const Frame& f : ds.frames) bytes += f.image.pixels.size() * sizeof(float);
+  spdlog::info("dataset '{}' ({}): {} frames, {}x{}{}, {:.0f} MB of images", ds.root, ds.format,
+               ds.frames.size(), ds.frames[0].camera.width, ds.frames[0].camera.height,
+               ds.has_alpha ? ", RGBA" : "", bytes / 1e6);
+  return ds;
+}
+
+}  // namespace lorgnette::dataset
