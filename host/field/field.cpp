@@ -1,0 +1,170 @@
+// The Field: parameter initialisation, the forward chain (hash encoding -> density MLP -> sigma;
+// SH(direction) + geometry features -> colour MLP -> RGB), its backward chain and Adam.
+#include "host/field/field.h"
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <stdexcept>
+#include <string>
+
+#include "host/field/adam.h"
+#include "host/field/hashgrid.h"
+#include "host/field/mlp.h"
+
+namespace lorgnette::field {
+namespace {
+
+// Uniform in [-a, a) from the top 24 bits of a 64-bit Mersenne Twister: the same stream on every
+// platform (std::uniform_real_distribution is implementation-defined).
+float uniform(std::mt19937_64& rng, float a) {
+  return (float(rng() >> 40) * (1.0f / 16777216.0f) * 2.0f - 1.0f) * a;
+}
+
+// Xavier-uniform weights (tiny-cuda-nn's default) on the logical rows/columns; padding stays zero.
+void init_layer(const LayerShape& L, std::vector<float>& params, std::mt19937_64& rng,
+                uint32_t gap_begin = 0, uint32_t gap_end = 0) {
+  const float a = std::sqrt(6.0f / float(L.in + L.out));
+  for (uint32_t j = 0; j < L.out; ++j)
+    for (uint32_t k = 0, used = 0; k < L.in_pad && used < L.in; ++k) {
+      if (k >= gap_begin && k < gap_end) continue;
+      params[L.offset + uint64_t(j) * L.in_pad + k] = uniform(rng, a);
+      ++used;
+    }
+}
+
+}  // namespace
+
+Field::Field(cl::Runtime& rt, const FieldConfig& cfg, uint32_t max_batch, uint64_t seed, bool deterministic)
+    : rt_(rt), cfg_(cfg), layout_(make_layout(cfg)), deterministic_(deterministic) {
+  if (max_batch == 0 || max_batch > (1u << 24))
+    throw std::invalid_argument("Field max_batch = " + std::to_string(max_batch) + " (expected 1..16777216)");
+  max_batch_ = uint32_t(cl::round_up(max_batch, 64));
+  const size_t S = max_batch_;
+  const uint64_t P = layout_.total;
+  plan_rows();
+  uint32_t largest = 16;
+  for (const auto& L : layout_.density) largest = std::max<uint32_t>(largest, uint32_t(L.count()));
+  for (const auto& L : layout_.color) largest = std::max<uint32_t>(largest, uint32_t(L.count()));
+  params_ = cl::Buffer<float>(rt, P);
+  grads_ = cl::Buffer<float>(rt, P);
+  adam_m_ = cl::Buffer<float>(rt, P);
+  adam_v_ = cl::Buffer<float>(rt, P);
+  acts_ = cl::Buffer<float>(rt, rows_ * S);
+  deltas_ = cl::Buffer<float>(rt, rows_ * S);
+  pos_copy_ = cl::Buffer<float>(rt, 3 * S);
+  dw_partial_ = cl::Buffer<float>(rt, size_t(kMaxGradChunks) * largest);
+  // Padded rows are never written by the kernels and must read as zero.
+  for (auto* b : {&acts_, &deltas_, &pos_copy_, &grads_, &adam_m_, &adam_v_}) b->fill(rt, 0.0f);
+
+  hash_ = std::make_unique<HashGrid>(rt, cfg_, layout_, max_batch_);
+  mlp_ = std::make_unique<Mlp>(rt, max_batch_);
+  adam_ = std::make_unique<Adam>(rt);
+
+  std::mt19937_64 rng(seed);
+  std::vector<float> init(P, 0.0f);
+  for (uint64_t i = 0; i < layout_.hash_count; ++i) init[i] = uniform(rng, 1e-4f);
+  init_layer(layout_.density[0], init, rng);
+  init_layer(layout_.density[1], init, rng);
+  init_layer(layout_.color[0], init, rng, layout_.sh_count, pad4(layout_.sh_count));
+  for (size_t h = 1; h < layout_.color.size(); ++h) init_layer(layout_.color[h], init, rng);
+  params_.write(rt, init);
+}
+
+void Field::plan_rows() {
+  ChainPlan plan = plan_chain(layout_, max_batch_);
+  chain_ = plan.chain;
+  color_in_row_ = plan.color_in_row;
+  geo_row_ = plan.geo_row;
+  rgb_row_ = plan.rgb_row;
+  rows_ = plan.rows;
+}
+
+Field::~Field() = default;
+
+void Field::check_batch(const char* what, uint32_t n) const {
+  if (n > max_batch_)
+    throw std::invalid_argument(std::string("Field::") + what + ": " + std::to_string(n) +
+                                " samples exceed max_batch " + std::to_string(max_batch_) +
+                                ": split the batch or construct the Field with a larger max_batch");
+}
+
+static void check_size(const char* what, const cl::Buffer<float>& b, size_t need) {
+  if (b.size() < need)
+    throw std::invalid_argument(std::string("Field: buffer ") + what + " holds " + std::to_string(b.size()) +
+                                " floats but needs " + std::to_string(need) +
+                                " (per-sample arrays have stride max_batch)");
+}
+
+void Field::density(const cl::Buffer<float>& pos, uint32_t n, cl::Buffer<float>& sigma) {
+  check_batch("density", n);
+  check_size("pos", pos, 3 * size_t(max_batch_));
+  check_size("sigma", sigma, n);
+  pending_backward_n_ = 0;
+  if (n == 0) return;
+  hash_->encode(params_, pos, n, acts_);
+  MlpChainParams c = chain_;
+  c.layers = 2;
+  c.out[1] = 4;  // only the block holding the raw density
+  mlp_->chain_forward(c, n, params_, acts_);
+  mlp_->sigma(acts_, geo_row_, n, sigma);
+}
+
+void Field::forward(const cl::Buffer<float>& pos, const cl::Buffer<float>& dir, uint32_t n,
+                    cl::Buffer<float>& sigma, cl::Buffer<float>& rgb, bool keep_for_backward) {
+  check_batch("forward", n);
+  const size_t S = max_batch_;
+  check_size("pos", pos, 3 * S);
+  check_size("dir", dir, 3 * S);
+  check_size("sigma", sigma, n);
+  check_size("rgb", rgb, 3 * S);
+  pending_backward_n_ = 0;
+  if (n == 0) return;
+  hash_->encode(params_, pos, n, acts_);
+  mlp_->sh_encode(dir, n, layout_.sh_count, acts_, color_in_row_);
+  mlp_->chain_forward(chain_, n, params_, acts_);
+  mlp_->sigma(acts_, geo_row_, n, sigma);
+  rgb.copy_from(rt_, acts_, 3 * S, rgb_row_ * S, 0);
+  if (keep_for_backward) {
+    pos_copy_.copy_from(rt_, pos, 3 * S);
+    pending_backward_n_ = n;
+  }
+}
+
+void Field::backward(const cl::Buffer<float>& dL_dsigma, const cl::Buffer<float>& dL_drgb, uint32_t n) {
+  if (n == 0 || n != pending_backward_n_)
+    throw std::logic_error("Field::backward(n = " + std::to_string(n) +
+                           ") must follow forward(..., keep_for_backward = true) with the same n and "
+                           "no density()/forward() call in between (last kept n = " +
+                           std::to_string(pending_backward_n_) + ")");
+  check_size("dL_dsigma", dL_dsigma, n);
+  check_size("dL_drgb", dL_drgb, 3 * size_t(max_batch_));
+  mlp_->chain_backward(chain_, n, params_, acts_, deltas_, dL_dsigma, dL_drgb);
+  const LayerShape* shapes[LGN_MLP_MAX_LAYERS] = {&layout_.density[0], &layout_.density[1]};
+  for (size_t h = 0; h < layout_.color.size(); ++h) shapes[2 + h] = &layout_.color[h];
+  for (uint32_t l = 0; l < chain_.layers; ++l)
+    mlp_->weight_grad(*shapes[l], {&acts_, chain_.x_row[l], &deltas_, chain_.dy_row[l]}, n, dw_partial_, grads_);
+  hash_->backward(pos_copy_, deltas_, n, grads_, deterministic_);  // encoding deltas are rows 0..
+}
+
+void Field::adam_step(const AdamConfig& adam) {
+  ++adam_t_;
+  AdamParams p = make_adam_params(adam, adam_t_, uint32_t(layout_.total), uint32_t(layout_.mlp_offset));
+  adam_->step(p, params_, grads_, adam_m_, adam_v_);
+}
+
+std::vector<float> Field::download_params() const { return params_.read(rt_); }
+std::vector<float> Field::download_gradients() const { return grads_.read(rt_); }
+
+void Field::upload_params(const std::vector<float>& params) {
+  if (params.size() != layout_.total)
+    throw std::invalid_argument("Field::upload_params: got " + std::to_string(params.size()) +
+                                " parameters but this configuration has " + std::to_string(layout_.total) +
+                                " (was the snapshot written with another FieldConfig?)");
+  params_.write(rt_, params);
+  adam_m_.fill(rt_, 0.0f);
+  adam_v_.fill(rt_, 0.0f);
+  adam_t_ = 0;
+}
+
+}  // namespace lorgnette::field

@@ -1,0 +1,73 @@
+// Host side of the tiny-MLP kernels: single dense layers and fused chains of them
+// (kernels/mlp/mlp.cl, mlp_chain.cl), deterministic weight gradients (per-chunk partials +
+// fixed-order reduction), and the small head kernels (SH encoding, sigma) the Field uses.
+#pragma once
+#include <cstdint>
+
+#include "host/cl/buffer.h"
+#include "host/cl/kernel.h"
+#include "host/cl/runtime.h"
+#include "host/field/field_config.h"
+#include "kernels/mlp/mlp_types.h"
+
+namespace lorgnette::field {
+
+// Where a layer reads and writes: buffers plus first rows (all [row][stride]).
+struct LayerIo {
+  const cl::Buffer<float>* x = nullptr;  // layer input (activated output of the previous layer)
+  uint32_t x_row = 0;
+  cl::Buffer<float>* y = nullptr;        // forward: output; backward: the output delta dz
+  uint32_t y_row = 0;
+};
+
+// Weight-gradient chunking for n samples: fixed for a given n, so the sums are reproducible.
+struct GradChunks {
+  uint32_t chunk = 16, chunks = 1;
+};
+GradChunks grad_chunks(uint32_t n);
+// Samples per chunk: a chunk's input and delta rows (up to 128 rows x 2048 floats = 1 MiB) stay in
+// the L2 cache while the work-groups of its 4x4 weight blocks run one after another (measured:
+// 512 and 4096 were slower on the 2-core Xeon).
+constexpr uint32_t kGradChunk = 2048;
+constexpr uint32_t kMaxGradChunks = 128;
+
+// The Field's network as one fused chain: density layers, then colour layers, with every
+// activation (and delta) at a row of one [rows][stride] buffer.
+struct ChainPlan {
+  MlpChainParams chain{};
+  uint32_t color_in_row = 0, geo_row = 0, rgb_row = 0, rows = 0;
+};
+ChainPlan plan_chain(const ParamLayout& layout, uint32_t stride);
+
+class Mlp {
+ public:
+  Mlp(cl::Runtime& rt, uint32_t stride);
+
+  // y = act(W x) for output rows [0, out_rows) (out_rows = 0: all of the layer's rows).
+  void forward(const LayerShape& L, const cl::Buffer<float>& params, const LayerIo& io, uint32_t n,
+               uint32_t act, uint32_t out_rows = 0);
+  // dx[dx_row + k] = (W^T dz)[k] for k >= k_begin, times (x[k] > 0) when relu_mask.
+  void backward_input(const LayerShape& L, const cl::Buffer<float>& params, const LayerIo& io, uint32_t n,
+                      cl::Buffer<float>& dx, uint32_t dx_row, uint32_t k_begin, bool relu_mask);
+  // grads[W] = sum over samples of dz x^T (overwrites). partial: kMaxGradChunks * L.count() floats.
+  void weight_grad(const LayerShape& L, const LayerIo& io, uint32_t n, cl::Buffer<float>& partial,
+                   cl::Buffer<float>& grads);
+
+  // Fused chains (see MlpChainParams); p.n and p.n16 are set from n.
+  void chain_forward(MlpChainParams p, uint32_t n, const cl::Buffer<float>& params, cl::Buffer<float>& acts);
+  void chain_backward(MlpChainParams p, uint32_t n, const cl::Buffer<float>& params, const cl::Buffer<float>& acts,
+                      cl::Buffer<float>& deltas, const cl::Buffer<float>& d_sigma, const cl::Buffer<float>& d_rgb);
+
+  // rows [row, row + sh_count) of `out` = SH basis of the directions.
+  void sh_encode(const cl::Buffer<float>& dir, uint32_t n, uint32_t sh_count, cl::Buffer<float>& out, uint32_t row);
+  void sigma(const cl::Buffer<float>& geo, uint32_t raw_row, uint32_t n, cl::Buffer<float>& sigma);
+
+ private:
+  MlpParams base(uint32_t n) const;
+
+  cl::Runtime& rt_;
+  uint32_t stride_;
+  cl::Kernel forward_, backward_input_, grad_partial_, grad_reduce_, sh_, sigma_, chain_fwd_, chain_bwd_;
+};
+
+}  // namespace lorgnette::field
