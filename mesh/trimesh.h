@@ -28,7 +28,8 @@ struct Material {
 struct TriMesh {
   std::vector<Eigen::Vector3f> positions;
   std::vector<Eigen::Vector3f> normals;    // per vertex; empty = flat shading from geometry
-  std::vector<Eigen::Vector2f> uvs;        // per vertex; empty = no texturing
+  std::vector<Eigen::Vector2f> uvs;        // per vertex; empty = no texturing; glTF convention: (0, 0) =
+                                           // top-left of the image, v down (mesh/texture.h samples it)
   std::vector<Eigen::Vector3i> triangles;  // vertex indices
   std::vector<int> triangle_material;      // per triangle, index into materials
   std::vector<int> triangle_part;          // per triangle, index into part_names

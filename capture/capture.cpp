@@ -1,0 +1,162 @@
+// The capture pipeline: input -> frames -> selection -> images/ -> COLMAP -> transforms.json, with
+// a timed stage each, and the report written beside the dataset (see capture.h).
+#include "capture/capture.h"
+
+#include <chrono>
+#include <stdexcept>
+
+#include <fmt/format.h>
+#include <opencv2/imgcodecs.hpp>
+#include <spdlog/spdlog.h>
+
+#include "host/util/image_io.h"
+#include "host/util/interrupt.h"
+
+namespace fs = std::filesystem;
+
+namespace lorgnette::capture {
+namespace {
+
+class StageTimer {
+ public:
+  StageTimer(CaptureReport& r, std::string name)
+      : report_(r), name_(std::move(name)), start_(std::chrono::steady_clock::now()) {}
+  ~StageTimer() {
+    report_.seconds.push_back(
+        {name_, std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count()});
+  }
+
+ private:
+  CaptureReport& report_;
+  std::string name_;
+  std::chrono::steady_clock::time_point start_;
+};
+
+// The output folder must be new, empty, or an earlier capture (whose images/ and colmap/ are
+// replaced, so stale frames never reach COLMAP).
+void prepare_output(const fs::path& out, const fs::path& input) {
+  if (fs::exists(out) && !fs::is_directory(out))
+    throw std::runtime_error(fmt::format("output '{}' exists and is not a folder", out.string()));
+  if (fs::exists(out) && !fs::is_empty(out)) {
+    if (!fs::exists(out / "capture_report.json"))
+      throw std::runtime_error(fmt::format("output folder '{}' is not empty and is not an earlier "
+                                           "capture: choose a new folder", out.string()));
+    if (fs::equivalent(out, input)) throw std::runtime_error("the output folder must differ from the input");
+    fs::remove_all(out / "images");
+    fs::remove_all(out / "colmap");
+  }
+  fs::create_directories(out / "images");
+  fs::create_directories(out / "colmap");
+}
+
+void write_frames(const FrameSet& frames, const std::vector<size_t>& keep, const fs::path& dir) {
+  for (size_t i : keep) {
+    fs::path p = dir / frames.names[i];
+    if (!cv::imwrite(p.string(), frames.images[i], {cv::IMWRITE_JPEG_QUALITY, 95}))
+      throw std::runtime_error(fmt::format("cannot write frame '{}'", p.string()));
+  }
+}
+
+// COLMAP model input: copy the registered images beside the transforms.
+void copy_model_images(const ColmapModel& model, const CaptureInput& in, const fs::path& out,
+                       CaptureReport& report) {
+  size_t missing = 0;
+  for (const auto& [id, im] : model.images) {
+    fs::path src = in.image_dir / im.name, dst = out / "images" / im.name;
+    if (!fs::is_regular_file(src)) {
+      ++missing;
+      continue;
+    }
+    fs::create_directories(dst.parent_path());
+    fs::copy_file(src, dst, fs::copy_options::overwrite_existing);
+  }
+  if (missing)
+    report.warnings.push_back(fmt::format("{} of {} images named by the model are not in '{}'", missing,
+                                          model.images.size(), in.image_dir.string()));
+}
+
+void convert_and_write(const ColmapModel& model, const CaptureOptions& opt, CaptureReport& report) {
+  StageTimer t(report, "convert");
+  ConvertedScene scene = convert_colmap_model(model, opt.convert);
+  write_capture_transforms(opt.output, model, scene);
+  report.registered = scene.frames.size();
+  report.mean_reprojection_error = scene.mean_reprojection_error;
+  report.subject_points = scene.subject_points;
+  report.aabb_min = scene.aabb_min;
+  report.aabb_max = scene.aabb_max;
+  report.transforms_path = (fs::path(opt.output) / "transforms.json").string();
+}
+
+FrameSet read_frames(const CaptureInput& in, const CaptureOptions& opt, CaptureReport& report) {
+  StageTimer t(report, "frames");
+  FrameSet set = in.kind == InputKind::Video ? read_video_frames(in.path, opt.frames)
+                                             : read_image_folder(in.image_dir, opt.frames);
+  if (interrupted()) throw std::runtime_error("interrupted while reading frames");
+  report.source_frames = set.source_frames;
+  report.candidate_frames = set.images.size();
+  return set;
+}
+
+}  // namespace
+
+nlohmann::json CaptureReport::to_json() const {
+  nlohmann::json dropped_j = nlohmann::json::array(), seconds_j = nlohmann::json::object();
+  for (const auto& d : dropped) dropped_j.push_back({{"frame", d.name}, {"reason", d.reason}});
+  double total = 0;
+  for (const auto& s : seconds) seconds_j[s.stage] = s.seconds, total += s.seconds;
+  seconds_j["total"] = total;
+  return {{"input_kind", input_kind}, {"source_frames", source_frames},
+          {"candidate_frames", candidate_frames}, {"kept_frames", kept_frames},
+          {"faces_found", faces_found}, {"registered", registered}, {"models", models},
+          {"mean_reprojection_error_px", mean_reprojection_error}, {"subject_points", subject_points},
+          {"aabb", {{aabb_min.x(), aabb_min.y(), aabb_min.z()}, {aabb_max.x(), aabb_max.y(), aabb_max.z()}}},
+          {"dropped", dropped_j}, {"warnings", warnings}, {"seconds", seconds_j},
+          {"transforms", transforms_path}, {"workspace", workspace}};
+}
+
+CaptureReport run_capture(const CaptureOptions& opt) {
+  if (opt.output.empty()) throw std::runtime_error("no output folder: give -o DATASET");
+  CaptureInput in = classify_input(opt.input);
+  fs::path out = opt.output;
+  CaptureReport report;
+  report.workspace = (out / "colmap").string();
+  if (in.kind == InputKind::ColmapModel) {
+    report.input_kind = "colmap-model";
+    ColmapModel model = read_colmap_model(in.model_dir);
+    prepare_output(out, in.path);
+    copy_model_images(model, in, out, report);
+    report.source_frames = report.candidate_frames = report.kept_frames = model.images.size();
+    report.models = 1;
+    convert_and_write(model, opt, report);
+  } else {
+    if (in.kind == InputKind::ImageFolder) find_colmap(opt.colmap);  // fail before the slow part
+    report.input_kind = in.kind == InputKind::Video ? "video" : "images";
+    FrameSet frames = read_frames(in, opt, report);
+    std::vector<size_t> keep;
+    {
+      StageTimer t(report, "select");
+      keep = select_frames(frames, opt, report);
+    }
+    report.kept_frames = keep.size();
+    if (keep.size() < 3)
+      throw std::runtime_error(fmt::format("only {} usable frames: COLMAP needs at least 3 overlapping "
+                                           "views (give more photos or a longer video)", keep.size()));
+    prepare_output(out, in.path);
+    {
+      StageTimer t(report, "write");
+      write_frames(frames, keep, out / "images");
+    }
+    ColmapSettings colmap = opt.colmap;
+    if (opt.frames.max_side > 0) colmap.max_image_size = opt.frames.max_side;
+    ColmapResult cr = run_colmap(out / "images", out / "colmap", keep.size(), colmap);
+    report.seconds.insert(report.seconds.end(), cr.seconds.begin(), cr.seconds.end());
+    report.warnings.insert(report.warnings.end(), cr.warnings.begin(), cr.warnings.end());
+    report.models = cr.models;
+    convert_and_write(read_colmap_model(cr.model_dir), opt, report);
+  }
+  for (const auto& w : report.warnings) spdlog::warn("{}", w);
+  write_text_file_atomic((out / "capture_report.json").string(), report.to_json().dump(2) + "\n");
+  return report;
+}
+
+}  // namespace lorgnette::capture

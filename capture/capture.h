@@ -1,0 +1,62 @@
+// `lorgnette capture`: from a phone video, a folder of photos, or an existing COLMAP model to a
+// posed dataset (transforms.json + images/) with the COLMAP workspace kept in colmap/ and a
+// capture_report.json saying what was dropped and why, the warnings, and the time of each stage.
+#pragma once
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <nlohmann/json.hpp>
+
+#include "capture/colmap_runner.h"
+#include "capture/colmap_to_transforms.h"
+#include "capture/frame_filter.h"
+#include "capture/frame_source.h"
+
+namespace lorgnette::capture {
+
+struct CaptureOptions {
+  std::string input;   // video file, image folder, or folder with a COLMAP model
+  std::string output;  // dataset folder (created; must be empty or a previous capture)
+  FrameOptions frames;
+  ColmapSettings colmap;
+  bool blur_filter = true;
+  bool blink_filter = true;
+  BlurOptions blur;
+  BlinkOptions blink;
+  std::string landmark_model = "/usr/share/dlib/shape_predictor_68_face_landmarks.dat";
+  ConvertOptions convert;
+};
+
+struct DroppedFrame {
+  std::string name, reason;
+};
+
+struct CaptureReport {
+  std::string input_kind;       // "video", "images", "colmap-model"
+  size_t source_frames = 0;     // frames in the video / images in the folder
+  size_t candidate_frames = 0;  // after sampling and --max-frames
+  size_t kept_frames = 0;       // after the blur and blink filters
+  size_t faces_found = 0;       // frames where the blink filter found a face
+  size_t registered = 0;        // frames with a pose
+  size_t models = 0;            // COLMAP models (1 unless the capture fell apart)
+  double mean_reprojection_error = 0;
+  size_t subject_points = 0;
+  Eigen::Vector3d aabb_min = Eigen::Vector3d::Zero(), aabb_max = Eigen::Vector3d::Zero();
+  std::vector<DroppedFrame> dropped;
+  std::vector<std::string> warnings;
+  std::vector<StageSeconds> seconds;  // per stage, in order
+  std::string transforms_path, workspace;
+
+  nlohmann::json to_json() const;
+};
+
+// Runs the whole capture. Throws std::runtime_error with what is wrong and what to do.
+CaptureReport run_capture(const CaptureOptions& options);
+
+// The frame filters on frames already in memory (exposed for tests): fills report.dropped/warnings
+// and returns the indices of the frames kept.
+std::vector<size_t> select_frames(const FrameSet& frames, const CaptureOptions& options,
+                                  CaptureReport& report);
+
+}  // namespace lorgnette::capture

@@ -1,0 +1,303 @@
+// The demo's stages, in order; see pipeline.h.
+#include "demo/pipeline.h"
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include "fit/fit.h"
+#include "fit/glasses_input.h"
+#include "fit/nerf_view_source.h"
+#include "fit/placement_json.h"
+#include "host/dataset/dataset.h"
+#include "host/nerf/evaluate.h"
+#include "host/nerf/sizing.h"
+#include "host/nerf/trainer.h"
+#include "host/render/orbit.h"
+#include "host/render/render_job.h"
+#include "host/render/renderer.h"
+#include "host/util/chart.h"
+#include "host/util/interrupt.h"
+#include "mesh/glasses.h"
+#include "mesh/gltf_writer.h"
+#include "mesh/parametric.h"
+#include "mesh/preview.h"
+#include "mesh/surface_pass.h"
+#include "synth/procedural_head.h"
+#include "synth/subject.h"
+#include "synth/synthesize.h"
+
+namespace lorgnette::demo {
+namespace fs = std::filesystem;
+namespace {
+
+class Stopwatch {
+ public:
+  double seconds() const {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  }
+
+ private:
+  std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+};
+
+struct Context {
+  DemoOptions opt;
+  DemoReport report;
+  std::string dir;
+  int stage = 0;
+  static constexpr int kStages = 5;
+  void begin(const char* what) {
+    ++stage;
+    spdlog::info("[{}/{}] {}", stage, kStages, what);
+    if (interrupted()) throw std::runtime_error("interrupted before stage '" + std::string(what) + "'");
+  }
+  std::string path(const std::string& rel) const { return (fs::path(dir) / rel).string(); }
+};
+
+void prepare_output_dir(const DemoOptions& opt) {
+  std::error_code ec;
+  if (fs::exists(opt.out_dir, ec) && !fs::is_directory(opt.out_dir, ec))
+    throw std::runtime_error(fmt::format("'{}' exists and is not a directory: choose another -o", opt.out_dir));
+  if (fs::exists(opt.out_dir, ec) && !fs::is_empty(opt.out_dir, ec)) {
+    if (!opt.force)
+      throw std::runtime_error(fmt::format(
+          "'{}' is not empty: pass --force to replace it, or choose another -o (nothing was changed)", opt.out_dir));
+    fs::remove_all(opt.out_dir, ec);
+    if (ec) throw std::runtime_error(fmt::format("cannot clear '{}': {}", opt.out_dir, ec.message()));
+  }
+  fs::create_directories(opt.out_dir, ec);
+  std::string probe = (fs::path(opt.out_dir) / ".write-test").string();
+  std::ofstream test(probe);
+  if (ec || !test)
+    throw std::runtime_error(fmt::format("cannot write into '{}': check the path and its permissions", opt.out_dir));
+  test.close();
+  fs::remove(probe, ec);
+}
+
+synth::Subject stage_synthesize(Context& c) {
+  c.begin("synthesize a procedural head and render its dataset");
+  Stopwatch sw;
+  synth::HeadParams params = synth::random_head_params(c.opt.seed);
+  synth::Subject subject = synth::procedural_subject(params);
+  synth::SynthOptions so;
+  so.views = c.opt.views;
+  so.width = so.height = c.opt.image_size;
+  so.seed = c.opt.seed;
+  // Views on 270 degrees around the head, so the orbit shows a complete head, while the mean
+  // camera direction still marks the face's front for the fit and the orbit's start.
+  so.yaw_min_deg = -135.0f;
+  so.yaw_max_deg = 135.0f;
+  so.progress = [](int done, int total) { spdlog::debug("synth view {}/{}", done, total); };
+  synth::synthesize_dataset(subject, c.path("dataset"), so);
+  c.report.stages.push_back({"synthesize", sw.seconds()});
+  c.report.config["subject"] = subject.params;
+  return subject;
+}
+
+nerf::NerfModel stage_train(Context& c, cl::Runtime& rt, dataset::Dataset& ds) {
+  c.begin("train the NeRF head");
+  Stopwatch sw;
+  std::vector<nerf::View> views;
+  for (const dataset::Frame* f : ds.split(dataset::Split::Train)) views.push_back({f->camera, &f->image});
+  nerf::SizingOverrides ov;
+  ov.aabb_scale = ds.aabb_scale;
+  nerf::ModelSizing sizing = nerf::choose_model_size(views, ov);
+  spdlog::info("{}", sizing.summary());
+  nerf::NerfModel model(rt, sizing.field, sizing.aabb, sizing.occupancy_resolution, sizing.step,
+                        c.opt.quick ? (1u << 15) : (1u << 16), static_cast<uint32_t>(c.opt.seed), false);
+  model.metadata.dataset_path = fs::absolute(c.path("dataset")).string();
+  model.metadata.device = rt.device().name;
+  nerf::TrainOptions to;
+  to.seconds = c.opt.train_seconds;
+  to.seed = static_cast<uint32_t>(c.opt.seed);
+  to.snapshot_path = c.path("head.lnerf");
+  to.progress = c.opt.progress;
+  nerf::Trainer trainer(model, views, to, sizing.occupancy_mask);
+  nerf::TrainResult r = trainer.run();
+  if (r.interrupted) throw std::runtime_error("interrupted during training (the model so far is in head.lnerf)");
+  model.save(c.path("head.lnerf"));
+  c.report.train_steps = r.steps;
+  c.report.train_seconds = r.seconds;
+  c.report.model_mb = sizing.megabytes();
+  std::vector<double> x, y;
+  for (size_t i = 0; i < r.loss_curve.size(); ++i) {
+    x.push_back(double(i + 1));
+    y.push_back(r.loss_curve[i] > 0 ? -10.0 * std::log10(r.loss_curve[i]) : 0.0);
+  }
+  write_chart(c.path("training_psnr.png"), {"training batch PSNR (sRGB)", "step", "dB"}, {{"batch PSNR", x, y}});
+  c.report.loss_chart = "training_psnr.png";
+  c.report.stages.push_back({"train", sw.seconds()});
+  return model;
+}
+
+void stage_evaluate(Context& c, nerf::NerfModel& model, dataset::Dataset& ds) {
+  c.begin("evaluate on held-out views");
+  Stopwatch sw;
+  std::vector<nerf::View> views;
+  for (const dataset::Frame* f : ds.split(dataset::Split::Holdout)) views.push_back({f->camera, &f->image});
+  nerf::EvalOptions eo;
+  eo.max_views = c.opt.quick ? 3 : 6;
+  eo.output_dir = c.path("heldout");
+  fs::create_directories(eo.output_dir);
+  nerf::EvalResult e = nerf::evaluate(model, views, eo);
+  c.report.psnr = e.psnr;
+  c.report.ssim = e.ssim;
+  c.report.heldout_views = static_cast<int>(e.views);
+  for (const auto& entry : fs::directory_iterator(eo.output_dir))
+    c.report.heldout_images.push_back("heldout/" + entry.path().filename().string());
+  std::sort(c.report.heldout_images.begin(), c.report.heldout_images.end());
+  spdlog::info("held-out PSNR {:.2f} dB, SSIM {:.3f} over {} views", e.psnr, e.ssim, e.views);
+  c.report.stages.push_back({"evaluate", sw.seconds()});
+}
+
+std::string stage_glasses(Context& c) {
+  if (!c.opt.glasses.empty()) return c.opt.glasses;
+  mesh::FrameParams fp;  // 52-18-140 rectangular, black: a common size
+  mesh::ParametricFrame frame = mesh::make_parametric_frame(fp);
+  std::string path = c.path("frame.glb");
+  mesh::write_glb(path, frame.mesh);
+  mesh::RefPointsSidecar sidecar;  // file coordinates of a .glb are metres
+  sidecar.points = frame.ref;
+  sidecar.points.g_l /= 1000.0f, sidecar.points.g_r /= 1000.0f;
+  mesh::write_refpoints_sidecar(path, sidecar);
+  return path;
+}
+
+fit::FitResult stage_fit(Context& c, nerf::NerfModel& model, const std::string& glasses_path,
+                         const synth::Subject& subject) {
+  c.begin("fit the glasses on the NeRF head");
+  Stopwatch sw;
+  fit::FitOptions fo;
+  fo.cap.views = c.opt.fit_views;
+  fo.debug_dir = c.path("fit-debug");
+  fs::create_directories(fo.debug_dir);
+  fit::GlassesInput glasses = fit::load_glasses_input(glasses_path);
+  fo.frame_points = glasses.frame_points;
+  fit::ViewPrior prior = fit::prior_from_transforms(c.path("dataset/transforms.json"), model);
+  fit::NerfViewSource source(model, prior);
+  fit::FitResult r = fit::fit_glasses(source, glasses.ref, fo);
+  fit::PlacementFile pf = fit::make_placement_file(r, glasses_path, "stretch");
+  fit::write_placement(c.path("placement.json"), pf);
+  c.report.fit = fit::to_json(pf);
+  for (const auto& w : r.warnings) spdlog::warn("fit: {}", w);
+  for (const auto& entry : fs::directory_iterator(fo.debug_dir))
+    c.report.debug_views.push_back("fit-debug/" + entry.path().filename().string());
+  std::sort(c.report.debug_views.begin(), c.report.debug_views.end());
+
+  // Against the synthetic head's exact landmarks (dataset frame = model frame * 1/scale - offset).
+  const double mm = subject.mm_per_unit.value_or(0.0);
+  auto to_model = [&](const Eigen::Vector3f& p) {
+    Eigen::Vector3d q = p.cast<double>() * model.normalisation.scale;
+    for (int i = 0; i < 3; ++i) q[i] += model.normalisation.offset[i];
+    return q;
+  };
+  nlohmann::json gt = nlohmann::json::object();
+  auto compare = [&](const std::string& key, const char* fit_name, const Eigen::Vector3f& truth) {
+    auto f = r.landmarks.find(fit_name);
+    if (f == r.landmarks.end() || mm <= 0) return;
+    gt[key] = (f->second.position - to_model(truth)).norm() * mm;
+  };
+  auto truth = [&](const char* name) { return subject.landmarks.at(name); };
+  // f_c is defined as the midpoint of iBUG 27 and 28 (fit/ears.h); the head knows both exactly.
+  if (subject.ibug68.size() == 68)
+    compare("nose_error_mm", "nose", 0.5f * (subject.ibug68[27] + subject.ibug68[28]));
+  compare("eye_l_error_mm", "eye_l", truth("eye_l_outer"));
+  compare("eye_r_error_mm", "eye_r", truth("eye_r_outer"));
+  // The paper's ear estimate (Eq. 2-3) against the head's anatomical ear rests: how far the
+  // approximation itself is from where a temple really rests.
+  compare("ear_l_vs_anatomical_mm", "ear_l", truth("ear_rest_l"));
+  compare("ear_r_vs_anatomical_mm", "ear_r", truth("ear_rest_r"));
+  gt["mm_per_unit_true"] = mm;
+  c.report.ground_truth = gt;
+  c.report.stages.push_back({"fit", sw.seconds()});
+  return r;
+}
+
+void stage_render(Context& c, cl::Runtime& rt, nerf::NerfModel& model, const std::string& glasses_path,
+                  const fit::FitResult& fitted, const dataset::Dataset& ds) {
+  c.begin("render the orbit with the glasses");
+  Stopwatch sw;
+  render::RenderJob job;
+  job.out_dir = c.path("orbit");
+  render::OrbitSpec spec;
+  const auto& box = model.aabb();
+  spec.center = box.center();
+  spec.half_extent = {0.5f * box.extent(0), 0.5f * box.extent(1), 0.5f * box.extent(2)};
+  std::vector<Camera> cams;
+  for (const auto& f : ds.frames) cams.push_back(f.camera);
+  spec.front = render::front_from_cameras(cams);
+  spec.up = render::up_from_cameras(cams);
+  spec.views = static_cast<uint32_t>(c.opt.orbit_frames);
+  spec.elevation_deg = 10.0f;
+  spec.width = spec.height = static_cast<uint32_t>(c.opt.orbit_size);
+  job.cameras = render::orbit_cameras(spec);
+  mesh::Glasses g = mesh::load_glasses(glasses_path);
+  Eigen::Matrix4f m = fitted.placement.transform.cast<float>();  // canonical mm -> scene
+  mesh::SurfacePass pass(g.mesh, m);
+  mesh::SurfaceParams sp;
+  sp.samples_per_pixel = 4;
+  job.surfaces = [&pass, sp](const Camera& cam) { return pass.render(cam, sp); };
+  render::Renderer renderer(rt);
+  nlohmann::json summary = render::run_render_job(job, [&](const Camera& cam, const mesh::SurfaceBuffers* s) {
+    return renderer.render(model, cam, s, job.options);
+  });
+  c.report.config["render"] = summary;
+  c.report.orbit_mp4 = fs::exists(c.path("orbit/orbit.mp4")) ? "orbit/orbit.mp4" : "";
+  c.report.contact_sheet = fs::exists(c.path("orbit/contact_sheet.png")) ? "orbit/contact_sheet.png" : "";
+  Image preview = mesh::render_glasses_preview(g);
+  write_image(c.path("glasses_preview.png"), preview);
+  c.report.glasses_preview = "glasses_preview.png";
+  c.report.stages.push_back({"render", sw.seconds()});
+}
+
+}  // namespace
+
+DemoOptions defaults_for(DemoOptions o) {
+  auto pick = [&](auto& v, auto full, auto quick) {
+    if (v <= 0) v = o.quick ? quick : full;
+  };
+  pick(o.views, 48, 32);
+  pick(o.image_size, 192, 128);
+  pick(o.train_seconds, 150.0, 45.0);
+  pick(o.orbit_frames, 36, 8);
+  pick(o.orbit_size, 320, 192);
+  pick(o.fit_views, 12, 8);
+  return o;
+}
+
+DemoReport run_demo(const DemoOptions& options, const cl::RuntimeOptions& runtime) {
+  Context c;
+  c.opt = defaults_for(options);
+  c.dir = c.opt.out_dir;
+  c.report.version = "0.1.0";
+  c.report.config = {{"quick", c.opt.quick}, {"views", c.opt.views}, {"image_size", c.opt.image_size},
+                     {"train_seconds", c.opt.train_seconds}, {"orbit_frames", c.opt.orbit_frames},
+                     {"orbit_size", c.opt.orbit_size}, {"fit_views", c.opt.fit_views}, {"seed", c.opt.seed}};
+  prepare_output_dir(c.opt);
+  cl::Runtime rt(runtime);
+  c.report.device = rt.device().summary();
+  try {
+    synth::Subject subject = stage_synthesize(c);
+    dataset::Dataset ds = dataset::load_dataset(c.path("dataset"));
+    nerf::NerfModel model = stage_train(c, rt, ds);
+    stage_evaluate(c, model, ds);
+    std::string glasses = stage_glasses(c);
+    fit::FitResult fitted = stage_fit(c, model, glasses, subject);
+    stage_render(c, rt, model, glasses, fitted, ds);
+    c.report.ok = fitted.ok;
+    c.report.message = fitted.ok ? "" : "the fit reported problems: see the warnings in fit.warnings";
+  } catch (const std::exception& e) {
+    c.report.ok = false;
+    c.report.message = e.what();
+    write_report(c.dir, c.report);
+    throw;
+  }
+  write_report(c.dir, c.report);
+  return c.report;
+}
+
+}  // namespace lorgnette::demo

@@ -1,0 +1,44 @@
+// The demo's report: `report.json` (ARCHITECTURE.md: per-stage seconds, held-out PSNR, the fit's
+// placement fields with ok and pd_mm, device, version) and `report.html`, a page that shows those
+// numbers next to the pictures the demo wrote (orbit video, contact sheet, fit debug views).
+#pragma once
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace lorgnette::demo {
+
+struct StageTime {
+  std::string name;
+  double seconds = 0.0;
+};
+
+struct DemoReport {
+  std::string version;
+  std::string device;
+  std::vector<StageTime> stages;
+  double psnr = 0.0, ssim = 0.0;  // held-out views of the synthetic head
+  int heldout_views = 0;
+  uint64_t train_steps = 0;
+  double train_seconds = 0.0;
+  double model_mb = 0.0;
+  nlohmann::json fit;             // placement.json contents (ok, pd_mm, residuals, ...)
+  nlohmann::json ground_truth;    // errors of the fit against the synthetic head's known landmarks
+  nlohmann::json config;          // what the demo ran with (sizes, steps, frame)
+  // Files relative to the report's directory, shown in report.html.
+  std::string orbit_mp4, contact_sheet, glasses_preview, loss_chart;
+  std::vector<std::string> debug_views, heldout_images;
+  bool ok = false;
+  std::string message;            // what went wrong when !ok
+
+  nlohmann::json to_json() const;
+};
+
+// Writes report.json and report.html into dir (atomically).
+void write_report(const std::string& dir, const DemoReport& report);
+
+// The HTML page alone (exposed for tests).
+std::string render_report_html(const DemoReport& report);
+
+}  // namespace lorgnette::demo

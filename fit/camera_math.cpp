@@ -1,0 +1,59 @@
+// Eigen wrappers over the shared camera header (see camera_math.h).
+#include "fit/camera_math.h"
+
+#include <cmath>
+#include <stdexcept>
+
+#include <Eigen/Geometry>
+
+namespace lorgnette::fit {
+
+Ray camera_ray(const Camera& cam, const Eigen::Vector2d& uv) {
+  LgnVec3 d = ::camera_ray_dir(&cam, static_cast<float>(uv.x()), static_cast<float>(uv.y()));
+  Ray r;
+  r.origin = camera_center(cam);
+  r.dir = Eigen::Vector3d(d.x, d.y, d.z).normalized();
+  return r;
+}
+
+bool camera_project(const Camera& cam, const Eigen::Vector3d& p, Eigen::Vector2d* uv) {
+  float u = 0, v = 0;
+  float depth = ::camera_project(&cam, lgn_vec3(float(p.x()), float(p.y()), float(p.z())), &u, &v);
+  *uv = Eigen::Vector2d(u, v);
+  return depth > 0.0f;
+}
+
+Eigen::Vector3d camera_center(const Camera& cam) {
+  return Eigen::Vector3d(cam.c2w[3], cam.c2w[7], cam.c2w[11]);
+}
+
+Eigen::Vector3d camera_forward(const Camera& cam) {
+  return -Eigen::Vector3d(cam.c2w[2], cam.c2w[6], cam.c2w[10]).normalized();
+}
+
+Camera look_at_camera(const Eigen::Vector3d& eye, const Eigen::Vector3d& target,
+                      const Eigen::Vector3d& up, double fov_y_deg, int width, int height) {
+  Eigen::Vector3d back = eye - target;  // camera +z points away from what it looks at
+  if (back.norm() < 1e-12) throw std::runtime_error("look_at_camera: eye and target coincide");
+  back.normalize();
+  Eigen::Vector3d right = up.cross(back);
+  if (right.norm() < 1e-9) throw std::runtime_error("look_at_camera: up is parallel to the view direction");
+  right.normalize();
+  Eigen::Vector3d cam_up = back.cross(right);
+  Camera cam{};
+  for (int r = 0; r < 3; ++r) {
+    cam.c2w[r * 4 + 0] = float(right[r]);
+    cam.c2w[r * 4 + 1] = float(cam_up[r]);
+    cam.c2w[r * 4 + 2] = float(back[r]);
+    cam.c2w[r * 4 + 3] = float(eye[r]);
+  }
+  double f = 0.5 * height / std::tan(0.5 * fov_y_deg * M_PI / 180.0);
+  cam.fx = cam.fy = float(f);
+  cam.cx = 0.5f * width;
+  cam.cy = 0.5f * height;
+  cam.width = static_cast<lgn_uint>(width);
+  cam.height = static_cast<lgn_uint>(height);
+  return cam;
+}
+
+}  // namespace lorgnette::fit

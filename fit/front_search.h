@@ -1,0 +1,40 @@
+// Finding the front of an unknown head and framing the face: a coarse yaw sweep (or the capture's
+// prior front) picks the view where dlib sees the most frontal face, then the face box and a density
+// ray cast through its centre give the distance and orbit centre so the face fills a set share of
+// the image. The result is the Orbit that the cap of views is planned on.
+#pragma once
+#include <vector>
+
+#include "fit/landmarks_dlib.h"
+#include "fit/view_planning.h"
+#include "fit/view_source.h"
+
+namespace lorgnette::fit {
+
+struct FrontSearchOptions {
+  int width = 384, height = 384;
+  double fov_y_deg = 25.0;
+  int sweep_views = 8;
+  double face_fraction = 0.5;
+  float density_threshold = 10.0f;
+};
+
+struct FrontSearchResult {
+  Orbit orbit;                        // framed on the face, yaw 0 = the most frontal view found
+  std::vector<double> tried_yaws;     // relative to the initial front
+  std::vector<bool> found;            // per tried yaw
+  double surface_distance = 0.0;      // camera to face surface along the box centre (scene units)
+};
+
+// Left/right asymmetry of a 68-point face in the image: 0 frontal, +-1 full profile.
+double face_asymmetry(const FaceDetection& d);
+
+// Throws std::runtime_error naming the yaws tried when no view shows a face.
+FrontSearchResult find_front(ViewSource& source, const LandmarkDetector& detector, const FrontSearchOptions& opt);
+
+// First point along the ray where density exceeds `threshold`, searched in [t0, t1]; returns false
+// when none.
+bool first_surface_hit(ViewSource& source, const Eigen::Vector3d& origin, const Eigen::Vector3d& dir, double t0,
+                       double t1, float threshold, double* t_hit);
+
+}  // namespace lorgnette::fit

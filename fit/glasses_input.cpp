@@ -1,0 +1,29 @@
+// Glasses reference points and frame samples from the mesh module (see glasses_input.h).
+#include "fit/glasses_input.h"
+
+#include "mesh/canonical.h"
+#include "mesh/glasses.h"
+#include "mesh/refpoints.h"
+
+namespace lorgnette::fit {
+
+GlassesInput load_glasses_input(const std::string& path, int samples, unsigned seed) {
+  mesh::GlassesOptions opt;
+  opt.load.load_textures = false;
+  mesh::Glasses g = mesh::load_glasses(path, opt);
+  GlassesInput in;
+  in.path = path;
+  in.ref.g_c = g.ref.g_c.cast<double>();
+  in.ref.g_l = g.ref.g_l.cast<double>();
+  in.ref.g_r = g.ref.g_r.cast<double>();
+  std::vector<bool> lens = mesh::lens_triangles(g.mesh);
+  std::vector<bool> frame(lens.size());
+  for (size_t i = 0; i < lens.size(); ++i) frame[i] = !lens[i];
+  std::vector<Eigen::Vector3f> pts = mesh::sample_surface(g.mesh, samples, seed, &frame);
+  if (pts.empty()) pts = mesh::sample_surface(g.mesh, samples, seed);  // lens-only mesh: use everything
+  for (const auto& p : pts) in.frame_points.push_back(p.cast<double>());
+  in.notes = g.notes;
+  return in;
+}
+
+}  // namespace lorgnette::fit

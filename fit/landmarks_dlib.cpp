@@ -1,0 +1,90 @@
+// dlib adapter (see landmarks_dlib.h). The only translation unit that includes dlib.
+#include "fit/landmarks_dlib.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <stdexcept>
+
+#include <dlib/image_processing.h>
+#include <dlib/image_processing/frontal_face_detector.h>
+#include <dlib/image_transforms.h>
+#include <fmt/format.h>
+
+namespace lorgnette::fit {
+
+struct LandmarkDetector::Impl {
+  dlib::frontal_face_detector detector = dlib::get_frontal_face_detector();
+  dlib::shape_predictor predictor;
+  int upsample = 0;
+};
+
+LandmarkDetector::LandmarkDetector(const DetectorOptions& opt) : impl_(std::make_unique<Impl>()) {
+  if (!std::filesystem::is_regular_file(opt.model_path))
+    throw std::runtime_error(fmt::format(
+        "dlib landmark model '{}' not found: install the Debian package libdlib-data "
+        "(apt-get install libdlib-data) or pass its path", opt.model_path));
+  try {
+    dlib::deserialize(opt.model_path) >> impl_->predictor;
+  } catch (const std::exception& e) {
+    throw std::runtime_error(fmt::format("cannot read the dlib landmark model '{}': {}", opt.model_path, e.what()));
+  }
+  if (impl_->predictor.num_parts() != 68)
+    throw std::runtime_error(fmt::format("'{}' predicts {} points, expected the 68-point model",
+                                         opt.model_path, impl_->predictor.num_parts()));
+  if (opt.upsample < 0 || opt.upsample > 3) throw std::runtime_error("detector upsample must be 0..3");
+  impl_->upsample = opt.upsample;
+}
+
+LandmarkDetector::~LandmarkDetector() = default;
+
+std::vector<unsigned char> to_srgb8(const Image& img, float background) {
+  if (img.channels < 1) throw std::runtime_error("to_srgb8: empty image");
+  std::vector<unsigned char> out(size_t(img.width) * img.height * 3);
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x)
+      for (int c = 0; c < 3; ++c) {
+        float v = img.at(x, y, std::min(c, std::min(img.channels - 1, 2)));
+        if (img.channels == 4) {
+          float a = img.at(x, y, 3);
+          v = v + (1.0f - a) * background;  // premultiplied-style composite over the background
+        }
+        float s = linear_to_srgb(std::clamp(v, 0.0f, 1.0f));
+        out[(size_t(y) * img.width + x) * 3 + c] = static_cast<unsigned char>(std::lround(s * 255.0f));
+      }
+  return out;
+}
+
+FaceDetection LandmarkDetector::detect(const Image& image) const {
+  std::vector<unsigned char> rgb = to_srgb8(image);
+  dlib::array2d<dlib::rgb_pixel> img(image.height, image.width);
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x) {
+      const unsigned char* p = &rgb[(size_t(y) * image.width + x) * 3];
+      img[y][x] = dlib::rgb_pixel(p[0], p[1], p[2]);
+    }
+  double factor = 1.0;
+  for (int i = 0; i < impl_->upsample; ++i) {
+    dlib::pyramid_up(img);
+    factor *= 2.0;
+  }
+  std::vector<dlib::rect_detection> dets;
+  impl_->detector(img, dets, 0.0);
+  FaceDetection out;
+  out.faces = int(dets.size());
+  if (dets.empty()) return out;
+  auto best = std::max_element(dets.begin(), dets.end(), [](const auto& a, const auto& b) {
+    return a.rect.area() < b.rect.area();
+  });
+  dlib::full_object_detection shape = impl_->predictor(img, best->rect);
+  const dlib::rectangle r = best->rect;
+  out.found = shape.num_parts() == 68;
+  out.score = best->detection_confidence;
+  // dlib's integer pixel (i, j) is the pixel centre: continuous coordinate i + 0.5 at our scale.
+  out.box = Eigen::Vector4d(r.left(), r.top(), r.right() + 1, r.bottom() + 1) / factor;
+  for (unsigned i = 0; i < shape.num_parts(); ++i)
+    out.points.emplace_back((shape.part(i).x() + 0.5) / factor, (shape.part(i).y() + 0.5) / factor);
+  return out;
+}
+
+}  // namespace lorgnette::fit

@@ -1,0 +1,72 @@
+// Ray-cast ground truth on a mesh head (see mesh_ground_truth.h).
+#include "fit/mesh_ground_truth.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include <Eigen/Geometry>
+
+#include "fit/camera_math.h"
+#include "fit/landmark_ids.h"
+
+namespace lorgnette::fit {
+namespace {
+
+Eigen::Vector3d median3(std::vector<Eigen::Vector3d> v) {
+  Eigen::Vector3d m;
+  for (int c = 0; c < 3; ++c) {
+    std::vector<double> x;
+    for (const auto& p : v) x.push_back(p[c]);
+    std::nth_element(x.begin(), x.begin() + x.size() / 2, x.end());
+    m[c] = x[x.size() / 2];
+  }
+  return m;
+}
+
+}  // namespace
+
+GroundTruth mesh_ground_truth(MeshViewSource& source, const Orbit& orbit, const std::vector<double>& yaws,
+                              const GlassesRefPoints& glasses, const FitOptions& options) {
+  LandmarkDetector detector(options.detector);
+  std::vector<std::vector<Eigen::Vector3d>> hits(lm::kCount);
+  for (double yaw : yaws) {
+    Camera cam = orbit_camera(orbit, yaw, 0.0);
+    FaceDetection d = detector.detect(source.render(cam));
+    if (!d.found) continue;
+    for (int k = 0; k < lm::kCount; ++k) {
+      Ray r = camera_ray(cam, d.points[k]);
+      mesh::Hit h = source.cast(r.origin.cast<float>(), r.dir.cast<float>());
+      if (h.hit) hits[k].push_back(h.position.cast<double>());
+    }
+  }
+  GroundTruth gt;
+  gt.points.assign(lm::kCount, Eigen::Vector3d::Zero());
+  gt.valid.assign(lm::kCount, false);
+  for (int k = 0; k < lm::kCount; ++k)
+    if (!hits[k].empty()) gt.points[k] = median3(hits[k]), gt.valid[k] = true;
+  if (std::count(gt.valid.begin(), gt.valid.end(), true) < 40)
+    throw std::runtime_error("ground truth: the detector found no face on the mesh renders");
+  gt.head = estimate_head_frame(gt.points, gt.valid, load_mean_face(options.mean_face_path));
+  const auto& P = gt.points;
+  gt.f_c = nose_point(P[lm::kNoseBridgeTop], P[lm::kNoseBridge2], options.nose_blend);
+  EarInputs ei{P[lm::kEyeOuterL], P[lm::kEyeOuterR], P[lm::kTempleL], P[lm::kTempleR], gt.head.d_up, gt.head.d_fwd};
+  gt.ears = ear_points(ei, options.alpha);
+  gt.placement = place_glasses(glasses, {gt.f_c, gt.ears.f_l, gt.ears.f_r, ei.t_l, ei.t_r, gt.head.mm_per_unit},
+                               options.scale_policy);
+  return gt;
+}
+
+FitErrors compare_fit(const FitResult& fit, const GroundTruth& gt) {
+  const double mm = gt.head.mm_per_unit;
+  FitErrors e;
+  e.nose_mm = (fit.f_c - gt.f_c).norm() * mm;
+  e.ear_l_mm = (fit.ears.f_l - gt.ears.f_l).norm() * mm;
+  e.ear_r_mm = (fit.ears.f_r - gt.ears.f_r).norm() * mm;
+  Eigen::AngleAxisd d(fit.placement.rotation * gt.placement.rotation.transpose());
+  e.rotation_deg = std::abs(d.angle()) * 180.0 / M_PI;
+  e.mm_per_unit_rel = fit.head.mm_per_unit / mm - 1.0;
+  return e;
+}
+
+}  // namespace lorgnette::fit

@@ -1,0 +1,89 @@
+// NeRF adapter of the fit (see nerf_view_source.h).
+#include "fit/nerf_view_source.h"
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+
+#include <nlohmann/json.hpp>
+#include <spdlog/spdlog.h>
+
+namespace lorgnette::fit {
+
+NerfViewSource::NerfViewSource(nerf::NerfModel& model, ViewPrior prior, render::RenderOptions options)
+    : model_(model), prior_(std::move(prior)), options_(options), renderer_(model.runtime()) {
+  options_.alpha = false;
+  options_.background = {1.0f, 1.0f, 1.0f};
+}
+
+Image NerfViewSource::render(const Camera& cam) {
+  render::RenderResult r = renderer_.render(model_, cam, nullptr, options_);
+  Image out(r.rgba.width, r.rgba.height, 3);
+  for (size_t i = 0; i < size_t(out.width) * out.height; ++i)
+    for (int c = 0; c < 3; ++c) out.pixels[i * 3 + c] = r.rgba.pixels[i * r.rgba.channels + c];
+  return out;
+}
+
+std::vector<float> NerfViewSource::density(const std::vector<Eigen::Vector3f>& points) {
+  field::Field& f = model_.field();
+  cl::Runtime& rt = model_.runtime();
+  const uint32_t batch = f.max_batch();
+  if (pos_.size() != 3u * batch) pos_ = cl::Buffer<float>(rt, 3u * batch), sigma_ = cl::Buffer<float>(rt, batch);
+  const nerf::Aabb& box = model_.aabb();
+  std::vector<float> out(points.size(), 0.0f), soa(3u * batch);
+  for (size_t start = 0; start < points.size(); start += batch) {
+    const uint32_t n = uint32_t(std::min<size_t>(batch, points.size() - start));
+    std::vector<bool> inside(n);
+    for (uint32_t i = 0; i < n; ++i) {
+      const Eigen::Vector3f& p = points[start + i];
+      bool in = true;
+      for (int a = 0; a < 3; ++a) {
+        float q = (p[a] - box.min[a]) / box.extent(a);
+        in = in && q >= 0.0f && q <= 1.0f;
+        soa[a * batch + i] = std::clamp(q, 0.0f, 1.0f);
+      }
+      inside[i] = in;
+    }
+    pos_.write(rt, soa);
+    f.density(pos_, n, sigma_);
+    std::vector<float> s = sigma_.read(rt, n);
+    for (uint32_t i = 0; i < n; ++i) out[start + i] = inside[i] ? s[i] : 0.0f;
+  }
+  return out;
+}
+
+Bounds NerfViewSource::bounds() const {
+  Bounds b;
+  for (int a = 0; a < 3; ++a) b.min[a] = model_.aabb().min[a], b.max[a] = model_.aabb().max[a];
+  return b;
+}
+
+ViewPrior prior_from_transforms(const std::string& path, const nerf::NerfModel& model) {
+  ViewPrior prior;
+  std::ifstream in(path);
+  if (!in) return prior;
+  nlohmann::json j;
+  try {
+    in >> j;
+  } catch (const std::exception& e) {
+    spdlog::warn("fit: cannot read the capture cameras from '{}': {}", path, e.what());
+    return prior;
+  }
+  if (!j.contains("frames") || j["frames"].empty()) return prior;
+  Eigen::Vector3d up = Eigen::Vector3d::Zero(), pos = Eigen::Vector3d::Zero();
+  for (const auto& f : j["frames"]) {
+    const auto& m = f.at("transform_matrix");
+    up += Eigen::Vector3d(m[0][1].get<double>(), m[1][1].get<double>(), m[2][1].get<double>());
+    pos += Eigen::Vector3d(m[0][3].get<double>(), m[1][3].get<double>(), m[2][3].get<double>());
+  }
+  pos /= double(j["frames"].size());
+  const auto& n = model.normalisation;
+  pos = pos * n.scale + Eigen::Vector3d(n.offset[0], n.offset[1], n.offset[2]);
+  auto c = model.aabb().center();
+  Eigen::Vector3d centre(c[0], c[1], c[2]);
+  if (up.norm() > 1e-9) prior.up = up.normalized();
+  if ((pos - centre).norm() > 1e-9) prior.front = (pos - centre).normalized();
+  return prior;
+}
+
+}  // namespace lorgnette::fit

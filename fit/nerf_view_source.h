@@ -1,0 +1,36 @@
+// The ViewSource over a trained NeRF (host/nerf NerfModel, rendered with host/render's marcher):
+// views composited over white, density = the field's sigma at AABB-normalised points (0 outside
+// the box), and a prior from the capture's cameras (mean up, mean direction towards the cameras)
+// read from the model's dataset when it is still there.
+#pragma once
+#include <memory>
+#include <string>
+
+#include "fit/view_source.h"
+#include "host/nerf/model.h"
+#include "host/render/renderer.h"
+
+namespace lorgnette::fit {
+
+class NerfViewSource : public ViewSource {
+ public:
+  NerfViewSource(nerf::NerfModel& model, ViewPrior prior, render::RenderOptions options = {});
+  Image render(const Camera& cam) override;
+  std::vector<float> density(const std::vector<Eigen::Vector3f>& points) override;
+  Bounds bounds() const override;
+  ViewPrior prior() const override { return prior_; }
+
+ private:
+  nerf::NerfModel& model_;
+  ViewPrior prior_;
+  render::RenderOptions options_;
+  render::Renderer renderer_;
+  cl::Buffer<float> pos_, sigma_;
+};
+
+// Mean camera up and the direction from the AABB centre to the mean camera position, from an
+// instant-ngp / nerfstudio transforms.json (mapped into the model frame with its normalisation);
+// {} when the file is missing or has no frames.
+ViewPrior prior_from_transforms(const std::string& transforms_json, const nerf::NerfModel& model);
+
+}  // namespace lorgnette::fit

@@ -1,0 +1,154 @@
+// Scale, Kabsch, translation and contact refinement (see place.h).
+#include "fit/place.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include <Eigen/Dense>
+#include <fmt/format.h>
+
+namespace lorgnette::fit {
+
+Eigen::Matrix3d kabsch(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b,
+                       const std::vector<double>& weights) {
+  if (a.size() != b.size() || a.size() < 2 || (!weights.empty() && weights.size() != a.size()))
+    throw std::runtime_error(fmt::format("kabsch: need >= 2 matching vector pairs (got {} and {})", a.size(), b.size()));
+  Eigen::Matrix3d h = Eigen::Matrix3d::Zero();
+  for (size_t i = 0; i < a.size(); ++i) h += (weights.empty() ? 1.0 : weights[i]) * a[i] * b[i].transpose();
+  Eigen::JacobiSVD<Eigen::Matrix3d> svd(h, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  const Eigen::Vector3d s = svd.singularValues();
+  if (s(1) <= 1e-9 * std::max(s(0), 1e-300))
+    throw std::runtime_error("kabsch: the vectors are parallel (or zero): the rotation is undetermined");
+  Eigen::Matrix3d u = svd.matrixU(), v = svd.matrixV();
+  // Reflection check (Eq. 5 via Kabsch 1976): flip the least significant axis if det would be -1.
+  double d = (v * u.transpose()).determinant() < 0.0 ? -1.0 : 1.0;
+  return v * Eigen::Vector3d(1.0, 1.0, d).asDiagonal() * u.transpose();
+}
+
+const char* scale_policy_name(ScalePolicy p) { return p == ScalePolicy::kStretch ? "stretch" : "true-size"; }
+
+ScalePolicy parse_scale_policy(const std::string& s) {
+  if (s == "stretch") return ScalePolicy::kStretch;
+  if (s == "true-size") return ScalePolicy::kTrueSize;
+  throw std::runtime_error(fmt::format("unknown scale policy '{}': use 'stretch' or 'true-size'", s));
+}
+
+Placement place_glasses(const GlassesRefPoints& g, const PlaceInputs& in, ScalePolicy policy) {
+  Placement p;
+  double g_width = (g.g_l - g.g_r).norm();
+  if (g_width < 1e-9) throw std::runtime_error("glasses reference points g_l and g_r coincide");
+  if (policy == ScalePolicy::kStretch) {
+    p.scale = (in.t_l - in.t_r).norm() / g_width;
+  } else {
+    if (!(in.mm_per_unit > 0.0)) throw std::runtime_error("true-size scaling needs mm_per_unit > 0");
+    p.scale = 1.0 / in.mm_per_unit;
+  }
+  if (!(p.scale > 0.0) || !std::isfinite(p.scale))
+    throw std::runtime_error(fmt::format("degenerate scale {} (temples coincide?)", p.scale));
+  p.rotation = kabsch({g.g_r - g.g_c, g.g_l - g.g_c}, {in.f_r - in.f_c, in.f_l - in.f_c});  // Eq. 5
+  Eigen::Vector3d t = in.f_c - p.scale * p.rotation * g.g_c;  // Eq. 4 (g_c after scale and rotation)
+  p.transform.setIdentity();
+  p.transform.block<3, 3>(0, 0) = p.scale * p.rotation;
+  p.transform.block<3, 1>(0, 3) = t;
+  return p;
+}
+
+namespace {
+
+std::vector<bool> inside(const DensityFn& density, const std::vector<Eigen::Vector3d>& pts, float thr) {
+  std::vector<Eigen::Vector3f> q;
+  q.reserve(pts.size());
+  for (const auto& p : pts) q.push_back(p.cast<float>());
+  std::vector<float> sigma = density(q);
+  if (sigma.size() != pts.size())
+    throw std::runtime_error(fmt::format("density query returned {} values for {} points", sigma.size(), pts.size()));
+  std::vector<bool> out(pts.size());
+  for (size_t i = 0; i < pts.size(); ++i) out[i] = sigma[i] > thr;
+  return out;
+}
+
+int count_inside(const DensityFn& density, const std::vector<Eigen::Vector3d>& pts, const Eigen::Vector3d& shift,
+                 float thr) {
+  std::vector<Eigen::Vector3d> moved;
+  for (const auto& p : pts) moved.push_back(p + shift);
+  auto in = inside(density, moved, thr);
+  return int(std::count(in.begin(), in.end(), true));
+}
+
+std::vector<Eigen::Vector3d> transform_points(const Eigen::Matrix4d& t, const std::vector<Eigen::Vector3d>& pts) {
+  std::vector<Eigen::Vector3d> out;
+  out.reserve(pts.size());
+  for (const auto& p : pts) out.push_back(t.block<3, 3>(0, 0) * p + t.block<3, 1>(0, 3));
+  return out;
+}
+
+}  // namespace
+
+double penetration_depth_mm(const DensityFn& density, const std::vector<Eigen::Vector3d>& scene_points,
+                            const Eigen::Vector3d& axis_point, const Eigen::Vector3d& d_up,
+                            double mm_per_unit, const ContactOptions& opt, int* inside_count) {
+  auto in = inside(density, scene_points, opt.density_threshold);
+  std::vector<Eigen::Vector3d> pts, dirs;
+  for (size_t i = 0; i < scene_points.size(); ++i) {
+    if (!in[i]) continue;
+    Eigen::Vector3d r = scene_points[i] - axis_point;
+    r -= r.dot(d_up) * d_up;  // horizontal, away from the head's vertical axis
+    pts.push_back(scene_points[i]);
+    dirs.push_back(r.norm() > 1e-12 ? r.normalized() : Eigen::Vector3d(d_up.unitOrthogonal()));
+  }
+  if (inside_count) *inside_count = int(pts.size());
+  double step = opt.step_mm / mm_per_unit, depth_mm = 0.0;
+  for (double d = opt.step_mm; !pts.empty() && d <= 2.0 * opt.max_shift_mm + 1e-9; d += opt.step_mm) {
+    std::vector<Eigen::Vector3d> probe, keep_p, keep_d;
+    for (size_t i = 0; i < pts.size(); ++i) probe.push_back(pts[i] + dirs[i] * step * (d / opt.step_mm));
+    auto still = inside(density, probe, opt.density_threshold);
+    for (size_t i = 0; i < pts.size(); ++i)
+      if (still[i]) keep_p.push_back(pts[i]), keep_d.push_back(dirs[i]);
+    depth_mm = d;
+    pts.swap(keep_p);
+    dirs.swap(keep_d);
+  }
+  return depth_mm;
+}
+
+ContactResult refine_contact(Placement& placement, const std::vector<Eigen::Vector3d>& frame_points,
+                             const DensityFn& density, const Eigen::Vector3d& d_fwd, const Eigen::Vector3d& d_up,
+                             const Eigen::Vector3d& axis_point, double mm_per_unit, const ContactOptions& opt) {
+  ContactResult res;
+  if (frame_points.empty() || !(mm_per_unit > 0.0)) return res;
+  std::vector<Eigen::Vector3d> front_canon, body_canon, tip_canon;
+  for (const auto& p : frame_points) {
+    if (p.z() > opt.front_z_mm) front_canon.push_back(p);
+    (p.z() >= opt.tip_z_mm ? body_canon : tip_canon).push_back(p);
+  }
+  res.penetration_before_mm = penetration_depth_mm(density, transform_points(placement.transform, body_canon),
+                                                   axis_point, d_up, mm_per_unit, opt);
+  auto front = transform_points(placement.transform, front_canon);
+  const Eigen::Vector3d unit = d_fwd.normalized() / mm_per_unit;  // one mm along d_fwd, scene units
+  const float thr = opt.density_threshold;
+  double shift = 0.0;
+  if (count_inside(density, front, Eigen::Vector3d::Zero(), thr) > 0) {
+    for (shift = opt.step_mm; shift <= opt.max_shift_mm; shift += opt.step_mm)
+      if (count_inside(density, front, shift * unit, thr) == 0) break;
+    shift = std::min(shift, opt.max_shift_mm);
+  } else {
+    double s = -opt.step_mm;
+    for (; s >= -opt.max_shift_mm; s -= opt.step_mm)
+      if (count_inside(density, front, s * unit, thr) > 0) break;
+    shift = s + opt.step_mm;  // the last position without contact: resting on the skin
+    if (s < -opt.max_shift_mm) shift = 0.0;  // nothing to rest on within range: keep Eq. 4
+  }
+  placement.transform.block<3, 1>(0, 3) += shift * unit;
+  res.shift_mm = shift;
+  res.refined = true;
+  res.penetration_mm = penetration_depth_mm(density, transform_points(placement.transform, body_canon), axis_point,
+                                            d_up, mm_per_unit, opt, &res.points_inside);
+  res.front_penetration_mm = penetration_depth_mm(density, transform_points(placement.transform, front_canon),
+                                                  axis_point, d_up, mm_per_unit, opt);
+  res.tip_penetration_mm = penetration_depth_mm(density, transform_points(placement.transform, tip_canon), axis_point,
+                                                d_up, mm_per_unit, opt);
+  return res;
+}
+
+}  // namespace lorgnette::fit

@@ -1,0 +1,79 @@
+// Placing the frame (paper Sec. 3.1, Eq. 4-5): scale (the paper's stretch from temple distances, or
+// true size from the estimated millimetres per scene unit), rotation by Kabsch with the reflection
+// check, translation putting the bridge point g_c on the nose point f_c. Then a contact refinement
+// the paper lacks: slide the frame along d_fwd so that its front rests on the skin with nothing
+// inside the head, judged by density queries, and measure what still penetrates.
+#pragma once
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace lorgnette::fit {
+
+// Reference points annotated on the glasses, canonical frame (mm; x = wearer's left, y up, z forward).
+struct GlassesRefPoints {
+  Eigen::Vector3d g_c{0, 0, 0};  // nose bridge (the canonical origin)
+  Eigen::Vector3d g_l{70, 0, -100}, g_r{-70, 0, -100};  // temple tips where they rest on the ears
+};
+
+// R minimising sum w_i |R a_i - b_i|^2 over proper rotations (det R = +1: the SVD's smallest
+// direction is flipped when the optimum would be a reflection). Works with two pairs (rank 2).
+// Throws when the pairs do not determine a rotation (fewer than 2 non-parallel vectors).
+Eigen::Matrix3d kabsch(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b,
+                       const std::vector<double>& weights = {});
+
+enum class ScalePolicy { kStretch, kTrueSize };
+const char* scale_policy_name(ScalePolicy p);
+ScalePolicy parse_scale_policy(const std::string& s);  // "stretch" | "true-size"; throws otherwise
+
+struct Placement {
+  Eigen::Matrix4d transform = Eigen::Matrix4d::Identity();  // canonical mm -> scene
+  double scale = 1.0;                                       // scene units per mm
+  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
+};
+
+// Eq. 4-5 with a uniform scale: scene = scale * R * g + t, t = f_c - scale * R * g_c.
+// stretch: scale = |t_l - t_r| / |g_l - g_r|; true-size: scale = 1 / mm_per_unit.
+struct PlaceInputs {
+  Eigen::Vector3d f_c, f_l, f_r, t_l, t_r;
+  double mm_per_unit = 0.0;
+};
+Placement place_glasses(const GlassesRefPoints& g, const PlaceInputs& in, ScalePolicy policy);
+
+// Density of the head at scene points (a NeRF's sigma, or a mesh's inside indicator).
+using DensityFn = std::function<std::vector<float>(const std::vector<Eigen::Vector3f>&)>;
+
+struct ContactOptions {
+  float density_threshold = 10.0f;  // "inside the head" above this (scene-units^-1 for a NeRF)
+  double max_shift_mm = 15.0;       // search range along d_fwd, both ways
+  double step_mm = 0.25;            // resolution of the search and of the penetration depth
+  double front_z_mm = -25.0;        // frame points with canonical z above this form the "front"
+  // Points behind this canonical z are the temple tips, which wrap behind the ear and press on the
+  // skull by design: reported separately (fit_glasses sets it to the ear rest points' z).
+  double tip_z_mm = -1e9;
+};
+
+struct ContactResult {
+  double shift_mm = 0.0;            // applied along d_fwd (+ = away from the face)
+  double penetration_before_mm = 0.0, penetration_mm = 0.0;  // deepest front/arm point inside the head
+  double tip_penetration_mm = 0.0;  // deepest temple-tip point (behind the ear rests)
+  double front_penetration_mm = 0.0;  // deepest point of the front (rims, bridge, pads) alone
+  int points_inside = 0;            // front/arm points inside after refinement
+  bool refined = false;
+};
+
+// Deepest penetration (mm) of the frame's sample points: for each point inside, the distance outwards
+// (horizontally away from the head's vertical axis through `axis_point`) to the first point outside.
+double penetration_depth_mm(const DensityFn& density, const std::vector<Eigen::Vector3d>& scene_points,
+                            const Eigen::Vector3d& axis_point, const Eigen::Vector3d& d_up,
+                            double mm_per_unit, const ContactOptions& opt, int* inside_count = nullptr);
+
+// Slides `placement` along d_fwd: outwards until the front clears the head, or inwards until it first
+// touches (nose pads resting on the skin). `frame_points` are canonical mm samples of the frame.
+ContactResult refine_contact(Placement& placement, const std::vector<Eigen::Vector3d>& frame_points,
+                             const DensityFn& density, const Eigen::Vector3d& d_fwd, const Eigen::Vector3d& d_up,
+                             const Eigen::Vector3d& axis_point, double mm_per_unit, const ContactOptions& opt);
+
+}  // namespace lorgnette::fit

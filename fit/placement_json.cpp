@@ -1,0 +1,152 @@
+// placement.json read/write (see placement_json.h).
+#include "fit/placement_json.h"
+
+#include <fstream>
+#include <iterator>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "fit/fit.h"
+#include "host/util/image_io.h"
+
+namespace lorgnette::fit {
+
+std::string file_hash(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::runtime_error(fmt::format("cannot read '{}' to hash it", path));
+  uint64_t h = 14695981039346656037ull;  // FNV-1a 64 offset basis
+  char buf[65536];
+  while (in) {
+    in.read(buf, sizeof(buf));
+    for (std::streamsize i = 0; i < in.gcount(); ++i) h = (h ^ uint8_t(buf[i])) * 1099511628211ull;
+  }
+  return fmt::format("fnv1a64:{:016x}", h);
+}
+
+PlacementFile make_placement_file(const FitResult& r, const std::string& glasses_path, const std::string& policy) {
+  PlacementFile p;
+  p.glasses_path = glasses_path;
+  if (!glasses_path.empty()) p.glasses_hash = file_hash(glasses_path);
+  p.transform = r.placement.transform;
+  p.scale_policy = policy;
+  p.scale = r.placement.scale;
+  p.mm_per_unit = r.head.mm_per_unit;
+  p.pd_mm = r.head.pd_mm;
+  for (const auto& [name, l] : r.landmarks) {
+    p.landmarks[name] = {l.position, l.sigma_mm, l.views};
+    p.residuals_px[name] = l.residual_px;
+  }
+  p.views_used = r.views_used;
+  p.views_total = int(r.views.size());
+  p.penetration_mm = r.contact.penetration_mm;
+  p.contact_shift_mm = r.contact.shift_mm;
+  p.front_penetration_mm = r.contact.front_penetration_mm;
+  p.tip_penetration_mm = r.contact.tip_penetration_mm;
+  p.seconds = r.seconds;
+  p.warnings = r.warnings;
+  p.ok = r.ok;
+  return p;
+}
+
+nlohmann::json to_json(const PlacementFile& p) {
+  using nlohmann::json;
+  json t = json::array();
+  for (int i = 0; i < 4; ++i) t.push_back({p.transform(i, 0), p.transform(i, 1), p.transform(i, 2), p.transform(i, 3)});
+  json lms = json::object(), seconds = json::object();
+  for (const auto& [name, l] : p.landmarks)
+    lms[name] = {{"position", {l.position.x(), l.position.y(), l.position.z()}}, {"sigma_mm", l.sigma_mm}, {"views", l.views}};
+  double total = 0;
+  for (const auto& [name, s] : p.seconds) seconds[name] = s, total += s;
+  seconds["total"] = total;
+  return {{"version", p.version},
+          {"glasses", {{"path", p.glasses_path}, {"hash", p.glasses_hash}}},
+          {"transform", t},
+          {"scale_policy", p.scale_policy},
+          {"scale", p.scale},
+          {"mm_per_unit", p.mm_per_unit},
+          {"pd_mm", p.pd_mm},
+          {"landmarks", lms},
+          {"residuals_px", p.residuals_px},
+          {"views_used", p.views_used},
+          {"views_total", p.views_total},
+          {"penetration_mm", p.penetration_mm},
+          {"contact_shift_mm", p.contact_shift_mm},
+          {"front_penetration_mm", p.front_penetration_mm},
+          {"tip_penetration_mm", p.tip_penetration_mm},
+          {"seconds", seconds},
+          {"warnings", p.warnings},
+          {"ok", p.ok}};
+}
+
+namespace {
+
+template <typename T>
+T field(const nlohmann::json& j, const char* name) {
+  if (!j.contains(name)) throw std::runtime_error(fmt::format("placement.json: missing field '{}'", name));
+  try {
+    return j.at(name).get<T>();
+  } catch (const nlohmann::json::exception& e) {
+    throw std::runtime_error(fmt::format("placement.json: field '{}' has the wrong type ({})", name, e.what()));
+  }
+}
+
+}  // namespace
+
+PlacementFile placement_from_json(const nlohmann::json& j) {
+  PlacementFile p;
+  p.version = field<int>(j, "version");
+  if (p.version > PlacementFile::kVersion || p.version < 1)
+    throw std::runtime_error(fmt::format("placement.json version {} is not supported (this build reads up to {}): "
+                                         "re-run `lorgnette fit` or update lorgnette", p.version, PlacementFile::kVersion));
+  auto g = field<nlohmann::json>(j, "glasses");
+  p.glasses_path = field<std::string>(g, "path");
+  p.glasses_hash = field<std::string>(g, "hash");
+  auto t = field<std::vector<std::vector<double>>>(j, "transform");
+  if (t.size() != 4) throw std::runtime_error("placement.json: 'transform' must be 4 rows of 4 numbers");
+  for (int i = 0; i < 4; ++i) {
+    if (t[i].size() != 4) throw std::runtime_error("placement.json: 'transform' must be 4 rows of 4 numbers");
+    for (int k = 0; k < 4; ++k) p.transform(i, k) = t[i][k];
+  }
+  p.scale_policy = field<std::string>(j, "scale_policy");
+  p.scale = field<double>(j, "scale");
+  p.mm_per_unit = field<double>(j, "mm_per_unit");
+  p.pd_mm = field<double>(j, "pd_mm");
+  const nlohmann::json lms = field<nlohmann::json>(j, "landmarks");  // named: items() must not dangle
+  for (const auto& [name, l] : lms.items()) {
+    auto pos = field<std::vector<double>>(l, "position");
+    if (pos.size() != 3) throw std::runtime_error(fmt::format("placement.json: landmark '{}' needs 3 coordinates", name));
+    p.landmarks[name] = {Eigen::Vector3d(pos[0], pos[1], pos[2]), field<double>(l, "sigma_mm"), field<int>(l, "views")};
+  }
+  p.residuals_px = field<std::map<std::string, double>>(j, "residuals_px");
+  p.views_used = field<int>(j, "views_used");
+  p.views_total = j.value("views_total", 0);
+  p.penetration_mm = field<double>(j, "penetration_mm");
+  p.contact_shift_mm = j.value("contact_shift_mm", 0.0);
+  p.front_penetration_mm = j.value("front_penetration_mm", 0.0);
+  p.tip_penetration_mm = j.value("tip_penetration_mm", 0.0);
+  const nlohmann::json secs = field<nlohmann::json>(j, "seconds");
+  for (const auto& [name, s] : secs.items())
+    if (name != "total") p.seconds.emplace_back(name, s.get<double>());
+  p.warnings = j.value("warnings", std::vector<std::string>{});
+  p.ok = field<bool>(j, "ok");
+  return p;
+}
+
+void write_placement(const std::string& path, const PlacementFile& p) {
+  write_text_file_atomic(path, to_json(p).dump(2) + "\n");
+}
+
+PlacementFile read_placement(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error(fmt::format("cannot open placement file '{}'", path));
+  nlohmann::json j;
+  try {
+    in >> j;
+  } catch (const nlohmann::json::exception& e) {
+    throw std::runtime_error(fmt::format("'{}' is not valid JSON: {}", path, e.what()));
+  }
+  return placement_from_json(j);
+}
+
+}  // namespace lorgnette::fit

@@ -1,0 +1,83 @@
+// Surface casting of silhouette landmarks (see surface_landmarks.h).
+#include "fit/surface_landmarks.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "fit/camera_math.h"
+#include "fit/front_search.h"
+
+namespace lorgnette::fit {
+namespace {
+
+Eigen::Vector3d median3(const std::vector<Eigen::Vector3d>& v) {
+  Eigen::Vector3d m;
+  for (int c = 0; c < 3; ++c) {
+    std::vector<double> x;
+    for (const auto& p : v) x.push_back(p[c]);
+    std::nth_element(x.begin(), x.begin() + x.size() / 2, x.end());
+    m[c] = x[x.size() / 2];
+  }
+  return m;
+}
+
+}  // namespace
+
+void cast_surface_landmarks(ViewSource& source, const std::vector<ViewRecord>& views, const Orbit& orbit,
+                            const SurfaceCastOptions& opt, std::vector<TriangulatedPoint>& points) {
+  for (int k = opt.first; k <= opt.last && k < int(points.size()); ++k) {
+    std::vector<Eigen::Vector3d> hits;
+    std::vector<int> used;
+    for (size_t v = 0; v < views.size(); ++v) {
+      const ViewRecord& view = views[v];
+      if (!view.detection.found || std::abs(view.yaw_deg) > opt.max_yaw_deg) continue;
+      Ray r = camera_ray(view.camera, view.detection.points[k]);
+      double t = 0.0;
+      if (first_surface_hit(source, r.origin, r.dir, opt.near * orbit.distance, opt.far * orbit.distance,
+                            opt.density_threshold, &t))
+        hits.push_back(r.origin + t * r.dir), used.push_back(int(v));
+    }
+    if (hits.empty()) continue;
+    TriangulatedPoint p;
+    p.position = median3(hits);
+    p.ok = true;
+    p.inliers = used;
+    p.reprojection_px.assign(views.size(), -1.0);
+    double d2 = 0.0, px2 = 0.0;
+    for (size_t i = 0; i < hits.size(); ++i) {
+      d2 += (hits[i] - p.position).squaredNorm();
+      Eigen::Vector2d uv;
+      const ViewRecord& view = views[used[i]];
+      double e = camera_project(view.camera, p.position, &uv) ? (uv - view.detection.points[k]).norm() : 1e9;
+      p.reprojection_px[used[i]] = e;
+      px2 += e * e;
+    }
+    p.rms_ray_distance = std::sqrt(d2 / hits.size());
+    p.sigma = p.rms_ray_distance;  // spread of the per-view surface points
+    p.covariance = Eigen::Matrix3d::Identity() * (p.sigma * p.sigma / 3.0);
+    p.rms_reprojection_px = std::sqrt(px2 / hits.size());
+    points[k] = p;
+  }
+}
+
+int snap_to_surface(ViewSource& source, const std::vector<ViewRecord>& views, double reach, float density_threshold,
+                    std::vector<TriangulatedPoint>& points, int skip_first, int skip_last) {
+  int moved = 0;
+  for (int k = 0; k < int(points.size()); ++k) {
+    TriangulatedPoint& p = points[k];
+    if (!p.ok || (k >= skip_first && k <= skip_last) || p.inliers.empty()) continue;
+    Eigen::Vector3d dir = Eigen::Vector3d::Zero();
+    for (int v : p.inliers) dir += camera_forward(views[v].camera);
+    dir.normalize();
+    double t = 0.0;
+    if (!first_surface_hit(source, p.position - reach * dir, dir, 0.0, 2.0 * reach, density_threshold, &t)) continue;
+    if (t <= 0.0) continue;  // already inside at the start of the search: leave it
+    Eigen::Vector3d snapped = p.position - reach * dir + t * dir;
+    p.sigma = std::sqrt(p.sigma * p.sigma + (snapped - p.position).squaredNorm());
+    p.position = snapped;
+    ++moved;
+  }
+  return moved;
+}
+
+}  // namespace lorgnette::fit

@@ -1,0 +1,33 @@
+// Silhouette landmarks placed on the head's surface instead of triangulated. dlib's jaw contour
+// (0-16, which holds the temple points 0 and 16) follows the silhouette, so the same index marks
+// different 3D points in different views and its rays do not meet: triangulating them put the
+// temples ~25 mm too far forward on the Lee Perry-Smith scan. Here each such landmark is the
+// component-wise median of the first density hits along its rays from the near-frontal views (the
+// issue's ground-truth rule, with the view source's own density instead of the mesh).
+#pragma once
+#include <vector>
+
+#include "fit/fit.h"
+
+namespace lorgnette::fit {
+
+struct SurfaceCastOptions {
+  int first = 0, last = 16;     // landmark index range (the jaw contour)
+  double max_yaw_deg = 25.0;    // only views this close to the front
+  float density_threshold = 10.0f;
+  double near = 0.5, far = 1.3; // search range along the ray, as fractions of the orbit distance
+};
+
+// Replaces points[first..last] with surface casts where at least one view hits; others unchanged.
+void cast_surface_landmarks(ViewSource& source, const std::vector<ViewRecord>& views, const Orbit& orbit,
+                            const SurfaceCastOptions& options, std::vector<TriangulatedPoint>& points);
+
+// Moves each triangulated landmark (outside the cast range) onto the skin: along the mean direction
+// of its inlier rays, to the first density hit within +-`reach` scene units of the triangulated
+// point. Landmarks lie on the skin, while least squares over rays that dlib places slightly
+// inconsistently across views can end a few mm in front of or behind it (the depth is the poorly
+// constrained direction). Returns how many moved; the move is added to the point's sigma.
+int snap_to_surface(ViewSource& source, const std::vector<ViewRecord>& views, double reach, float density_threshold,
+                    std::vector<TriangulatedPoint>& points, int skip_first = 0, int skip_last = 16);
+
+}  // namespace lorgnette::fit

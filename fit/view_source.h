@@ -1,0 +1,40 @@
+// What the fit needs from a head representation, and nothing more: render a view for a camera,
+// query density at points, and the scene's bounds plus an optional prior on where the face is.
+// Implemented by the NeRF adapter (host/nerf + host/render) and by the mesh adapter (Embree ray
+// casting of a textured head scan), so the fit's core never depends on either.
+#pragma once
+#include <optional>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "common/camera_types.h"
+#include "host/util/image_io.h"
+
+namespace lorgnette::fit {
+
+struct Bounds {
+  Eigen::Vector3f min{-1, -1, -1}, max{1, 1, 1};
+  Eigen::Vector3f center() const { return 0.5f * (min + max); }
+  Eigen::Vector3f size() const { return max - min; }
+};
+
+// Where the capture cameras were: the fit centres its first search there. Any field may be absent.
+struct ViewPrior {
+  Eigen::Vector3d up{0, 1, 0};                 // world up (mean camera up for a capture)
+  std::optional<Eigen::Vector3d> front;        // unit: from the head towards the typical camera
+  std::optional<Eigen::Vector3d> target;       // a point on/inside the head the cameras look at
+};
+
+class ViewSource {
+ public:
+  virtual ~ViewSource() = default;
+  // Linear RGB(A) image of the head for `cam` (width x height of the camera).
+  virtual Image render(const Camera& cam) = 0;
+  // Density at scene points (>= 0); for a mesh an inside indicator scaled to a large density.
+  virtual std::vector<float> density(const std::vector<Eigen::Vector3f>& points) = 0;
+  virtual Bounds bounds() const = 0;
+  virtual ViewPrior prior() const { return {}; }
+};
+
+}  // namespace lorgnette::fit

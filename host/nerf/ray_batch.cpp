@@ -1,0 +1,118 @@
+// RayBatch: drives kernels/train/sampling.cl and loss.cl for one batch of rays.
+#include "host/nerf/ray_batch.h"
+
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+namespace lorgnette::nerf {
+namespace {
+constexpr size_t kLocal = 64;
+}
+
+SampleParams sample_params_for(const NerfModel& model, const DeviceViews& views) {
+  SampleParams p{};
+  const Aabb& box = model.aabb();
+  for (int a = 0; a < 3; ++a) {
+    p.aabb_min[a] = box.min[a];
+    p.inv_extent[a] = 1.0f / box.extent(a);
+  }
+  p.step = model.step();
+  p.near_t = 0.0f;
+  p.occ_res = model.occupancy_resolution();
+  p.max_samples = std::min(model.max_samples_per_ray(), model.field().max_batch());
+  p.n_images = views.count();
+  p.total_pixels = static_cast<uint32_t>(views.total_pixels());
+  p.stride = model.field().max_batch();
+  return p;
+}
+
+RayBatch::RayBatch(NerfModel& model, uint32_t max_rays)
+    : model_(model), max_rays_(max_rays), stride_(model.field().max_batch()) {
+  cl::Runtime& rt = model.runtime();
+  cl_program sampling = rt.program("train/sampling.cl");
+  count_k_ = cl::Kernel(sampling, "sample_count");
+  write_k_ = cl::Kernel(sampling, "sample_write");
+  render_k_ = cl::Kernel(rt.program("train/loss.cl"), "render_loss");
+  counts_dev_ = cl::Buffer<uint32_t>(rt, max_rays);
+  sub_offsets_ = cl::Buffer<uint32_t>(rt, max_rays);
+  sub_counts_ = cl::Buffer<uint32_t>(rt, max_rays);
+  ray_info_ = cl::Buffer<float>(rt, size_t(max_rays) * RAY_INFO_FLOATS);
+  ray_loss_ = cl::Buffer<float>(rt, max_rays);
+  ray_color_ = cl::Buffer<float>(rt, size_t(max_rays) * 4);
+  pos_ = cl::Buffer<float>(rt, size_t(stride_) * 3);
+  dir_ = cl::Buffer<float>(rt, size_t(stride_) * 3);
+  sigma_ = cl::Buffer<float>(rt, stride_);
+  rgb_ = cl::Buffer<float>(rt, size_t(stride_) * 3);
+  dsigma_ = cl::Buffer<float>(rt, stride_);
+  drgb_ = cl::Buffer<float>(rt, size_t(stride_) * 3);
+}
+
+const std::vector<uint32_t>& RayBatch::count(const SampleParams& p, const DeviceViews& views) {
+  if (p.n_rays > max_rays_)
+    throw std::invalid_argument(fmt::format("RayBatch::count: {} rays exceed the capacity {}", p.n_rays, max_rays_));
+  cl::Runtime& rt = model_.runtime();
+  if (p.n_rays > 0) {
+    count_k_.args(p, views.camera_buffer(), views.offsets(), views.pixels(), model_.occupancy_bits(), counts_dev_)
+        .launch(rt, p.n_rays, kLocal);
+  }
+  counts_ = counts_dev_.read(rt, p.n_rays);
+  return counts_;
+}
+
+uint32_t RayBatch::fit(uint32_t begin, uint32_t budget) const {
+  uint64_t total = 0;
+  uint32_t end = begin;
+  while (end < counts_.size() && total + counts_[end] <= budget) total += counts_[end++];
+  return end;
+}
+
+uint32_t RayBatch::write(SampleParams p, const DeviceViews& views, uint32_t begin, uint32_t end) {
+  if (end > counts_.size() || begin > end) throw std::out_of_range("RayBatch::write: ray range outside the counted rays");
+  cl::Runtime& rt = model_.runtime();
+  uint32_t n = end - begin;
+  std::vector<uint32_t> offsets(n), counts(counts_.begin() + begin, counts_.begin() + end);
+  uint64_t total = 0;
+  for (uint32_t i = 0; i < n; ++i) {
+    offsets[i] = static_cast<uint32_t>(total);
+    total += counts[i];
+  }
+  if (total > stride_) throw std::out_of_range(fmt::format("RayBatch::write: {} samples exceed the batch {}", total, stride_));
+  written_rays_ = n;
+  written_samples_ = static_cast<uint32_t>(total);
+  if (n == 0) return 0;
+  sub_offsets_.write(rt, offsets);
+  sub_counts_.write(rt, counts);
+  p.ray_begin = begin;
+  p.ray_end = end;
+  write_k_.args(p, views.camera_buffer(), views.offsets(), views.pixels(), model_.occupancy_bits(), sub_offsets_,
+                pos_, dir_, ray_info_)
+      .launch(rt, n, kLocal);
+  return written_samples_;
+}
+
+double RayBatch::render(uint32_t loss_kind, bool forward_only, float min_transmittance) {
+  if (written_rays_ == 0) return 0.0;
+  cl::Runtime& rt = model_.runtime();
+  LossParams lp{};
+  lp.n_rays = written_rays_;
+  lp.stride = stride_;
+  lp.forward_only = forward_only ? 1u : 0u;
+  lp.loss_kind = loss_kind;
+  lp.step = model_.step();
+  lp.grad_scale = 1.0f / (3.0f * float(written_rays_));
+  lp.min_transmittance = min_transmittance;
+  render_k_.args(lp, sub_offsets_, sub_counts_, ray_info_, sigma_, rgb_, dsigma_, drgb_, ray_loss_, ray_color_)
+      .launch(rt, written_rays_, kLocal);
+  if (forward_only) return 0.0;
+  std::vector<float> losses = ray_loss_.read(rt, written_rays_);
+  double sum = 0.0;  // fixed order: deterministic
+  for (float l : losses) sum += l;
+  return sum;
+}
+
+std::vector<float> RayBatch::colors() const {
+  return ray_color_.read(model_.runtime(), size_t(written_rays_) * 4);
+}
+
+}  // namespace lorgnette::nerf

@@ -1,0 +1,60 @@
+// The sampling and volume-rendering stages of one batch of rays around the field: count samples
+// per ray (kernel), turn counts into offsets on the host (prefix sum, deterministic), write the
+// compacted samples of a prefix of rays that fits the field's batch (kernel), then composite them
+// into colours and, for training, the loss and its gradient per sample (kernel).
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "host/cl/kernel.h"
+#include "host/nerf/model.h"
+#include "host/nerf/views.h"
+#include "kernels/train/train_types.h"
+
+namespace lorgnette::nerf {
+
+// SampleParams for `model` (AABB, step, occupancy resolution, per-ray cap, stride); the caller
+// fills the ray-selection fields (mode, n_rays, camera/first_pixel or seed/iteration).
+SampleParams sample_params_for(const NerfModel& model, const DeviceViews& views);
+
+class RayBatch {
+ public:
+  RayBatch(NerfModel& model, uint32_t max_rays);
+
+  uint32_t max_rays() const { return max_rays_; }
+  // Sample counts of rays [0, p.n_rays) (p.n_rays <= max_rays()); kept on the host.
+  const std::vector<uint32_t>& count(const SampleParams& p, const DeviceViews& views);
+  // Largest end such that rays [begin, end) have at most `budget` samples in total (>= begin + 1
+  // unless begin == n_rays; a single ray never exceeds the budget because max_samples <= budget).
+  uint32_t fit(uint32_t begin, uint32_t budget) const;
+  // Writes the samples of rays [begin, end) into positions()/directions(); returns the sample count.
+  uint32_t write(SampleParams p, const DeviceViews& views, uint32_t begin, uint32_t end);
+  // Composites the written rays (after the field filled sigma()/rgb()). Training: also the loss
+  // gradient into dsigma()/drgb() with grad_scale = 1 / (3 * rays); returns the summed squared error.
+  double render(uint32_t loss_kind, bool forward_only, float min_transmittance = 1e-4f);
+  // Colour + opacity (4 floats per ray) of the last render().
+  std::vector<float> colors() const;
+
+  cl::Buffer<float>& positions() { return pos_; }
+  cl::Buffer<float>& directions() { return dir_; }
+  cl::Buffer<float>& sigma() { return sigma_; }
+  cl::Buffer<float>& rgb() { return rgb_; }
+  cl::Buffer<float>& dsigma() { return dsigma_; }
+  cl::Buffer<float>& drgb() { return drgb_; }
+  // RAY_INFO_FLOATS per written ray (target rgb, background rgb, pixel, image as float bits).
+  const cl::Buffer<float>& ray_info() const { return ray_info_; }
+  uint32_t written_rays() const { return written_rays_; }
+  uint32_t written_samples() const { return written_samples_; }
+
+ private:
+  NerfModel& model_;
+  uint32_t max_rays_, stride_;
+  cl::Kernel count_k_, write_k_, render_k_;
+  std::vector<uint32_t> counts_;
+  cl::Buffer<uint32_t> counts_dev_, sub_offsets_, sub_counts_;
+  cl::Buffer<float> ray_info_, ray_loss_, ray_color_;
+  cl::Buffer<float> pos_, dir_, sigma_, rgb_, dsigma_, drgb_;
+  uint32_t written_rays_ = 0, written_samples_ = 0;
+};
+
+}  // namespace lorgnette::nerf

@@ -1,0 +1,159 @@
+// Trainer: the step (sample, forward, loss, backward, Adam, occupancy) and the loop around it
+// (schedule, progress, snapshots, Ctrl-C, divergence).
+#include "host/nerf/trainer.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include "host/util/interrupt.h"
+#include "host/util/progress.h"
+
+namespace lorgnette::nerf {
+
+Trainer::Trainer(NerfModel& model, const std::vector<View>& views, const TrainOptions& options,
+                 std::vector<uint32_t> occupancy_mask)
+    : model_(model), options_(options) {
+  if (options.steps == 0 && !(options.seconds > 0.0))
+    throw std::invalid_argument("training needs a limit: give --steps N or --seconds S");
+  cl::Runtime& rt = model.runtime();
+  views_ = std::make_unique<DeviceViews>(rt, views, true);
+  uint32_t batch = model.field().max_batch();
+  batch_ = std::make_unique<RayBatch>(model, batch);
+  if (!occupancy_mask.empty()) {
+    OccupancyGrid grid = model.occupancy();
+    if (occupancy_mask.size() != grid.bits.size())
+      throw std::invalid_argument("occupancy mask size does not match the model's occupancy grid");
+    for (size_t w = 0; w < grid.bits.size(); ++w) grid.bits[w] &= occupancy_mask[w];
+    model.set_occupancy(std::move(grid));
+  }
+  occupancy_ = std::make_unique<OccupancyUpdater>(model, options.occupancy, options.seed, std::move(occupancy_mask));
+  n_rays_ = std::max<uint32_t>(64, batch / 32);
+}
+
+Trainer::~Trainer() = default;
+
+float Trainer::learning_rate(double elapsed) const {
+  double f = 0.0;
+  if (options_.steps) f = double(step_) / double(options_.steps);
+  if (options_.seconds > 0.0) f = std::max(f, elapsed / options_.seconds);
+  double t = std::clamp((f - options_.decay_start) / std::max(1e-9, 1.0 - options_.decay_start), 0.0, 1.0);
+  return float(options_.adam.lr * std::pow(options_.final_lr_fraction, t));
+}
+
+double Trainer::step() {
+  field::Field& field = model_.field();
+  const uint32_t batch = field.max_batch();
+  SampleParams p = sample_params_for(model_, *views_);
+  p.mode = SAMPLE_MODE_TRAIN;
+  p.n_rays = n_rays_;
+  p.seed = options_.seed;
+  p.iteration = static_cast<uint32_t>(step_);
+  const std::vector<uint32_t>& counts = batch_->count(p, *views_);
+  uint64_t counted = 0;
+  for (uint32_t c : counts) counted += c;
+  uint32_t end = batch_->fit(0, batch);
+  uint32_t n = batch_->write(p, *views_, 0, end);
+  // Next step's ray count aims at a full batch (integer arithmetic: deterministic).
+  uint64_t want = counted ? uint64_t(batch) * n_rays_ / counted : uint64_t(n_rays_) * 2;
+  n_rays_ = static_cast<uint32_t>(std::clamp<uint64_t>(want, 64, batch_->max_rays()));
+  if (n > 0) field.forward(batch_->positions(), batch_->directions(), n, batch_->sigma(), batch_->rgb(), true);
+  double loss_sum = batch_->render(options_.loss_kind, false);
+  if (n > 0) {
+    field.backward(batch_->dsigma(), batch_->drgb(), n);
+    field::AdamConfig adam = options_.adam;
+    adam.lr = learning_rate(elapsed_);
+    field.adam_step(adam);
+  }
+  ++step_;
+  samples_ += n;
+  occupancy_->maybe_update(static_cast<uint32_t>(step_));
+  return end ? loss_sum / (3.0 * end) : 0.0;
+}
+
+void Trainer::save_snapshot(double elapsed) {
+  if (options_.snapshot_path.empty()) return;
+  model_.metadata.steps = step_;
+  model_.metadata.train_seconds = elapsed;
+  model_.metadata.samples_trained = samples_;
+  model_.metadata.seed = options_.seed;
+  model_.save(options_.snapshot_path);
+}
+
+void Trainer::diverged(double loss) {
+  std::string where = "not saved (no snapshot path)";
+  if (!good_params_.empty()) {
+    model_.field().upload_params(good_params_);
+    model_.set_occupancy(good_occupancy_);
+    uint64_t bad_step = step_;
+    step_ = good_step_;
+    if (!options_.snapshot_path.empty()) {
+      save_snapshot(elapsed_);
+      where = "saved to '" + options_.snapshot_path + "'";
+    }
+    step_ = bad_step;
+  }
+  throw TrainingDiverged(fmt::format(
+      "training diverged: the loss became {} at step {}; kept the last good parameters (step {}), {}. "
+      "Lower the learning rate (--lr, now {}) and train again",
+      loss, step_, good_step_, where, options_.adam.lr));
+}
+
+TrainResult Trainer::run() {
+  using clock = std::chrono::steady_clock;
+  auto start = clock::now();
+  auto last_snapshot = start;
+  bool by_steps = options_.steps > 0;
+  Progress bar("train", by_steps ? double(options_.steps) : options_.seconds, by_steps ? "steps" : "s");
+  TrainResult result;
+  double mse_ema = -1.0;
+  uint64_t samples_at_start = samples_;
+  while (true) {
+    elapsed_ = std::chrono::duration<double>(clock::now() - start).count();
+    if (by_steps && step_ >= options_.steps) break;
+    if (options_.seconds > 0.0 && elapsed_ >= options_.seconds) break;
+    if (interrupted()) {
+      result.interrupted = true;
+      break;
+    }
+    std::vector<float> candidate;
+    if (step_ % options_.good_copy_every == 0) candidate = model_.field().download_params();
+    OccupancyGrid candidate_occ = candidate.empty() ? OccupancyGrid{} : model_.occupancy();
+    uint64_t candidate_step = step_;
+    double loss = step();
+    if (!std::isfinite(loss)) diverged(loss);
+    if (!candidate.empty()) {
+      good_params_ = std::move(candidate);
+      good_occupancy_ = std::move(candidate_occ);
+      good_step_ = candidate_step;
+    }
+    result.loss_curve.push_back(loss);
+    mse_ema = mse_ema < 0.0 ? loss : 0.95 * mse_ema + 0.05 * loss;
+    double now = std::chrono::duration<double>(clock::now() - start).count();
+    if (options_.on_step) options_.on_step(step_, now, loss);
+    if (options_.progress)
+      bar.update(by_steps ? double(step_) : now,
+                 fmt::format("step {}  {:.0f}k samples/s  loss {:.5f}  PSNR {:.2f} dB  {:.1f}% occupied", step_,
+                             double(samples_ - samples_at_start) / std::max(now, 1e-9) / 1e3, loss,
+                             -10.0 * std::log10(std::max(mse_ema, 1e-12)),
+                             100.0 * model_.occupancy().occupied_fraction()));
+    if (options_.snapshot_every_seconds > 0.0 &&
+        std::chrono::duration<double>(clock::now() - last_snapshot).count() > options_.snapshot_every_seconds) {
+      save_snapshot(now);
+      last_snapshot = clock::now();
+    }
+  }
+  result.seconds = std::chrono::duration<double>(clock::now() - start).count();
+  if (options_.progress) bar.finish(fmt::format("{} steps in {:.1f} s", step_, result.seconds));
+  result.steps = step_;
+  result.samples = samples_;
+  result.final_loss = result.loss_curve.empty() ? 0.0 : result.loss_curve.back();
+  model_.metadata.final_loss = float(result.final_loss);
+  save_snapshot(result.seconds);
+  return result;
+}
+
+}  // namespace lorgnette::nerf

@@ -1,0 +1,93 @@
+// The training loop: per step, random rays over all training pixels -> samples in occupied cells
+// (RayBatch) -> Field::forward -> volume-rendering loss and its gradient -> Field::backward ->
+// Adam, with occupancy-grid updates every few steps, a learning-rate schedule, a progress bar,
+// periodic snapshots, Ctrl-C (stop and keep the model) and divergence handling (a NaN/inf loss
+// restores the last good parameters, saves them as the snapshot and throws TrainingDiverged).
+// Deterministic mode: same seed + same device -> bitwise the same loss curve and model (all
+// randomness is counter-based; every reduction has a fixed order; ray counts adapt with integer
+// arithmetic only).
+#pragma once
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "host/field/field_config.h"
+#include "host/nerf/model.h"
+#include "host/nerf/occupancy_update.h"
+#include "host/nerf/ray_batch.h"
+#include "host/nerf/views.h"
+#include "kernels/train/train_types.h"
+
+namespace lorgnette::nerf {
+
+struct TrainOptions {
+  uint64_t steps = 0;           // stop after this many steps (0: no step limit)
+  double seconds = 0.0;         // stop after this much time (0: no time limit); one of the two is required
+  uint32_t seed = 1337;
+  uint32_t loss_kind = LOSS_L2_SRGB;
+  field::AdamConfig adam;       // lr is the base learning rate
+  // Learning rate: base until `decay_start` of the run (steps or seconds), then exponential decay
+  // to base * final_lr_fraction at the end.
+  double decay_start = 0.5, final_lr_fraction = 0.1;
+  OccupancyOptions occupancy;
+  std::string snapshot_path;    // periodic / final / last-good snapshots ("" = none)
+  double snapshot_every_seconds = 120.0;
+  uint32_t good_copy_every = 50;  // steps between in-memory copies of the parameters for NaN recovery
+  bool progress = true;
+  // Called after every step with (step, seconds, loss); for benchmarks and tests.
+  std::function<void(uint64_t, double, double)> on_step;
+};
+
+struct TrainResult {
+  uint64_t steps = 0;
+  double seconds = 0.0;
+  uint64_t samples = 0;
+  double final_loss = 0.0;        // mean squared sRGB error of the last step
+  std::vector<double> loss_curve; // per step
+  bool interrupted = false;
+};
+
+class TrainingDiverged : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+class Trainer {
+ public:
+  // views: training views with RGBA images; occupancy_mask: permanent mask (may be empty).
+  Trainer(NerfModel& model, const std::vector<View>& views, const TrainOptions& options,
+          std::vector<uint32_t> occupancy_mask = {});
+  ~Trainer();
+  TrainResult run();
+
+  // One step; returns the batch loss (mean over rays and channels). For tests.
+  double step();
+  uint64_t steps_done() const { return step_; }
+  uint64_t samples_done() const { return samples_; }
+  // For callers that drive step() themselves: the training time so far (learning-rate schedule).
+  void set_elapsed(double seconds) { elapsed_ = seconds; }
+
+ private:
+  float learning_rate(double elapsed) const;
+  void keep_good_copy();
+  [[noreturn]] void diverged(double loss);
+  void save_snapshot(double elapsed);
+
+  NerfModel& model_;
+  TrainOptions options_;
+  std::unique_ptr<DeviceViews> views_;
+  std::unique_ptr<RayBatch> batch_;
+  std::unique_ptr<OccupancyUpdater> occupancy_;
+  uint64_t step_ = 0;
+  uint32_t n_rays_;
+  uint64_t samples_ = 0;
+  double elapsed_ = 0.0;
+  std::vector<float> good_params_;
+  OccupancyGrid good_occupancy_;
+  uint64_t good_step_ = 0;
+};
+
+}  // namespace lorgnette::nerf

@@ -1,0 +1,294 @@
+// The `lorgnette render` job: see render_job.h.
+#include "host/render/render_job.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <memory>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+#include <stdexcept>
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include "host/util/interrupt.h"
+#include "host/util/progress.h"
+#ifdef LGN_RENDER_HAVE_MEDIA  // set by CMake when lorgnette_dataset (MP4, contact sheets) is built
+#include "host/dataset/media.h"
+#endif
+
+namespace lorgnette::render {
+namespace fs = std::filesystem;
+
+Mat4 identity4() { return {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1}; }
+
+Mat4 trs_transform(const Vec3& t, const Vec3& r_deg, float s) {
+  if (!(s > 0.0f) || !std::isfinite(s)) throw std::invalid_argument("--scale must be a positive number");
+  const double k = M_PI / 180.0;
+  double cx = std::cos(r_deg[0] * k), sx = std::sin(r_deg[0] * k), cy = std::cos(r_deg[1] * k),
+         sy = std::sin(r_deg[1] * k), cz = std::cos(r_deg[2] * k), sz = std::sin(r_deg[2] * k);
+  // R = Rz * Ry * Rx
+  double R[3][3] = {{cz * cy, cz * sy * sx - sz * cx, cz * sy * cx + sz * sx},
+                    {sz * cy, sz * sy * sx + cz * cx, sz * sy * cx - cz * sx},
+                    {-sy, cy * sx, cy * cx}};
+  Mat4 m = identity4();
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) m[4 * i + j] = float(R[i][j] * s);
+    m[4 * i + 3] = t[i];
+  }
+  return m;
+}
+
+Mat4 rough_glasses_placement(float frame_width_mm, const Vec3& lo, const Vec3& hi) {
+  if (!(frame_width_mm > 0.0f)) throw std::invalid_argument("rough placement: the frame width must be positive");
+  float s = 0.8f * (hi[0] - lo[0]) / frame_width_mm;
+  return trs_transform({0.5f * (lo[0] + hi[0]), lo[1] + 0.6f * (hi[1] - lo[1]), hi[2] - 0.12f * (hi[2] - lo[2])},
+                       {0, 0, 0}, s);
+}
+
+static void check_affine(const Mat4& m, const std::string& what) {
+  for (float v : m)
+    if (!std::isfinite(v)) throw std::invalid_argument(what + ": the matrix has a non-finite entry");
+  if (m[12] != 0.0f || m[13] != 0.0f || m[14] != 0.0f || m[15] != 1.0f)
+    throw std::invalid_argument(what + ": the last row must be 0 0 0 1 (an affine transform, row-major)");
+}
+
+Mat4 matrix_from_json(const nlohmann::json& j, const std::string& what) {
+  std::vector<float> v;
+  if (j.is_array() && j.size() == 4 && j[0].is_array()) {
+    for (const auto& row : j) {
+      if (!row.is_array() || row.size() != 4) throw std::invalid_argument(what + ": expected 4 rows of 4 numbers");
+      for (const auto& x : row) v.push_back(x.get<float>());
+    }
+  } else if (j.is_array() && j.size() == 16) {
+    for (const auto& x : j) v.push_back(x.get<float>());
+  } else {
+    throw std::invalid_argument(what + ": expected a 4x4 matrix (4 rows of 4 numbers, or 16 numbers)");
+  }
+  Mat4 m;
+  std::copy(v.begin(), v.end(), m.begin());
+  check_affine(m, what);
+  return m;
+}
+
+Mat4 parse_matrix(const std::string& text) {
+  std::string t = std::regex_replace(text, std::regex("[,\\[\\]]"), " ");
+  std::istringstream in(t);
+  std::vector<float> v;
+  std::string tok;
+  while (in >> tok) {
+    try {
+      size_t used = 0;
+      v.push_back(std::stof(tok, &used));
+      if (used != tok.size()) throw std::invalid_argument(tok);
+    } catch (const std::exception&) {
+      throw std::invalid_argument("--transform: '" + tok + "' is not a number");
+    }
+  }
+  if (v.size() != 16)
+    throw std::invalid_argument(fmt::format("--transform: expected 16 numbers (row-major 4x4), got {}", v.size()));
+  Mat4 m;
+  std::copy(v.begin(), v.end(), m.begin());
+  check_affine(m, "--transform");
+  return m;
+}
+
+static nlohmann::json read_json_file(const std::string& path, const char* what) {
+  std::ifstream f(path);
+  if (!f) throw std::runtime_error(fmt::format("{} '{}' cannot be opened: check the path", what, path));
+  try {
+    return nlohmann::json::parse(f);
+  } catch (const std::exception& e) {
+    throw std::runtime_error(fmt::format("{} '{}' is not valid JSON: {}", what, path, e.what()));
+  }
+}
+
+Placement read_placement(const std::string& path) {
+  nlohmann::json j = read_json_file(path, "placement");
+  if (!j.is_object() || !j.contains("transform"))
+    throw std::runtime_error("placement '" + path + "' has no \"transform\" (a 4x4 canonical mm -> scene): "
+                             "write it with `lorgnette fit` or pass --transform");
+  Placement p;
+  try {
+    p.transform = matrix_from_json(j["transform"], "placement '" + path + "' transform");
+    if (j.contains("glasses") && j["glasses"].is_object() && j["glasses"].contains("path"))
+      p.glasses_path = j["glasses"]["path"].get<std::string>();
+  } catch (const nlohmann::json::exception& e) {
+    throw std::runtime_error("placement '" + path + "': " + e.what());
+  }
+  if (!p.glasses_path.empty() && fs::path(p.glasses_path).is_relative())
+    p.glasses_path = (fs::path(path).parent_path() / p.glasses_path).string();
+  return p;
+}
+
+Camera read_pose(const std::string& path, uint32_t width, uint32_t height, float default_fov_y_deg) {
+  nlohmann::json j = read_json_file(path, "pose");
+  if (j.contains("frames") && j["frames"].is_array() && !j["frames"].empty()) {
+    nlohmann::json top = j;
+    j = j["frames"][0];
+    for (const char* k : {"fl_x", "fl_y", "cx", "cy", "w", "h"})
+      if (!j.contains(k) && top.contains(k)) j[k] = top[k];
+  }
+  if (!j.contains("transform_matrix"))
+    throw std::runtime_error("pose '" + path + "' has no \"transform_matrix\" (4x4 camera-to-world, OpenGL "
+                             "convention as in transforms.json)");
+  Mat4 m = matrix_from_json(j["transform_matrix"], "pose '" + path + "' transform_matrix");
+  Camera c{};
+  for (int i = 0; i < 12; ++i) c.c2w[i] = m[i];
+  c.width = width;
+  c.height = height;
+  if (j.contains("fl_x") && j.contains("w") && j.contains("h")) {
+    float sx = float(width) / j["w"].get<float>(), sy = float(height) / j["h"].get<float>();
+    c.fx = j["fl_x"].get<float>() * sx;
+    c.fy = j.value("fl_y", j["fl_x"].get<float>()) * sy;
+    c.cx = j.value("cx", 0.5f * j["w"].get<float>()) * sx;
+    c.cy = j.value("cy", 0.5f * j["h"].get<float>()) * sy;
+  } else {
+    float fov = j.value("fov_y_deg", default_fov_y_deg);
+    c.fy = c.fx = 0.5f * float(height) / std::tan(0.5f * fov * float(M_PI) / 180.0f);
+    c.cx = 0.5f * float(width);
+    c.cy = 0.5f * float(height);
+  }
+  return c;
+}
+
+std::array<uint32_t, 2> parse_size(const std::string& text) {
+  std::smatch m;
+  if (!std::regex_match(text, m, std::regex("([0-9]{1,5})x([0-9]{1,5})")))
+    throw std::invalid_argument("--size '" + text + "': expected WIDTHxHEIGHT, e.g. 1280x720");
+  uint32_t w = std::stoul(m[1]), h = std::stoul(m[2]);
+  if (w == 0 || h == 0 || w > 8192 || h > 8192)
+    throw std::invalid_argument("--size '" + text + "': width and height must be in 1..8192");
+  return {w, h};
+}
+
+void check_outputs_free(const std::string& dir, const std::vector<std::string>& names, bool force) {
+  if (force) return;
+  std::vector<std::string> taken;
+  for (const auto& n : names)
+    if (fs::exists(fs::path(dir) / n)) taken.push_back(n);
+  if (taken.empty()) return;
+  std::string list;
+  for (size_t i = 0; i < taken.size() && i < 5; ++i) list += (i ? ", " : "") + taken[i];
+  if (taken.size() > 5) list += fmt::format(" and {} more", taken.size() - 5);
+  throw std::runtime_error(fmt::format("'{}' already holds {}: choose another -o directory or pass --force to "
+                                       "overwrite", dir, list));
+}
+
+std::vector<std::string> render_job_outputs(const RenderJob& job) {
+  std::vector<std::string> names;
+  for (size_t i = 0; i < job.cameras.size(); ++i) {
+    names.push_back(fmt::format("frame_{:04d}.png", i));
+    names.push_back(fmt::format("depth_{:04d}.exr", i));
+  }
+#ifdef LGN_RENDER_HAVE_MEDIA
+  if (job.video && job.cameras.size() > 1) names.push_back("orbit.mp4");
+  if (job.contact_sheet) names.push_back("contact_sheet.png");
+#endif
+  names.push_back("render.json");
+  return names;
+}
+
+Image to_output_image(const Image& rgba, bool alpha) {
+  Image out(rgba.width, rgba.height, alpha ? 4 : 3);
+  const size_t n = size_t(rgba.width) * rgba.height;
+  for (size_t i = 0; i < n; ++i) {
+    const float* p = &rgba.pixels[4 * i];
+    float* q = &out.pixels[i * out.channels];
+    // The marcher's alpha-mode colour is premultiplied; image files want straight alpha.
+    float inv = (alpha && p[3] > 1e-6f) ? 1.0f / p[3] : 1.0f;
+    for (int c = 0; c < 3; ++c) q[c] = std::min(std::max(p[c] * inv, 0.0f), 1.0f);
+    if (alpha) q[3] = std::min(std::max(p[3], 0.0f), 1.0f);
+  }
+  return out;
+}
+
+namespace {
+// Up to `k` evenly spaced view indices for the contact sheet.
+std::vector<size_t> sheet_indices(size_t n, size_t k) {
+  std::vector<size_t> idx;
+  for (size_t i = 0; i < std::min(n, k); ++i) idx.push_back(n <= k ? i : i * n / k);
+  return idx;
+}
+}  // namespace
+
+nlohmann::json run_render_job(RenderJob& job,
+                              const std::function<RenderResult(const Camera&, const mesh::SurfaceBuffers*)>& render) {
+  if (job.cameras.empty()) throw std::invalid_argument("render: no camera to render");
+  check_outputs_free(job.out_dir, render_job_outputs(job), job.force);
+  fs::create_directories(job.out_dir);
+  const fs::path dir(job.out_dir);
+  const size_t n = job.cameras.size();
+  std::vector<size_t> sheet = sheet_indices(n, 16);
+  std::vector<Image> sheet_images;
+  std::vector<std::string> sheet_labels;
+#ifdef LGN_RENDER_HAVE_MEDIA
+  std::unique_ptr<dataset::Mp4Writer> video;
+  if (job.video && n > 1) {
+    dataset::VideoOptions vo;
+    vo.fps = job.fps;
+    vo.background = job.options.background;
+    video = std::make_unique<dataset::Mp4Writer>((dir / "orbit.mp4").string(), int(job.cameras[0].width),
+                                                 int(job.cameras[0].height), vo);
+  }
+#endif
+  nlohmann::json frames = nlohmann::json::array();
+  std::vector<double> ms;
+  double samples = 0, rays = 0;
+  Progress progress("render", double(n), "views");
+  for (size_t i = 0; i < n; ++i) {
+    if (interrupted()) throw std::runtime_error("interrupted: the frames written so far are complete files");
+    const Camera& cam = job.cameras[i];
+    mesh::SurfaceBuffers surf;
+    double surface_ms = 0;
+    if (job.surfaces) {
+      auto t0 = std::chrono::steady_clock::now();
+      surf = job.surfaces(cam);
+      surface_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    }
+    RenderResult r = render(cam, job.surfaces ? &surf : nullptr);
+    Image img = to_output_image(r.rgba, job.options.alpha);
+    write_image((dir / fmt::format("frame_{:04d}.png", i)).string(), img);
+    write_image((dir / fmt::format("depth_{:04d}.exr", i)).string(), r.depth);
+#ifdef LGN_RENDER_HAVE_MEDIA
+    if (video) video->add(img);
+#endif
+    if (std::find(sheet.begin(), sheet.end(), i) != sheet.end()) {
+      sheet_images.push_back(img);
+      sheet_labels.push_back(fmt::format("view {}", i));
+    }
+    ms.push_back(r.seconds * 1e3);
+    samples += double(r.samples_composited);
+    rays += double(r.rays);
+    frames.push_back({{"index", i}, {"march_ms", r.seconds * 1e3}, {"surface_ms", surface_ms},
+                      {"samples_per_ray", r.samples_per_ray()}, {"samples_evaluated", r.samples_evaluated}});
+    progress.update(double(i + 1), fmt::format("{:.0f} ms/frame", r.seconds * 1e3));
+  }
+  progress.finish();
+  nlohmann::json out = {{"views", n}, {"width", job.cameras[0].width}, {"height", job.cameras[0].height},
+                        {"spp", job.options.spp}, {"step_scale", job.options.step_scale},
+                        {"alpha", job.options.alpha}, {"glasses", bool(job.surfaces)},
+                        {"samples_per_ray", rays > 0 ? samples / rays : 0.0}, {"frames", frames}};
+#ifdef LGN_RENDER_HAVE_MEDIA
+  if (video) {
+    video->finish();
+    out["video"] = "orbit.mp4";
+    out["video_codec"] = video->codec();
+  }
+  if (job.contact_sheet) {
+    dataset::ContactSheetOptions so;
+    so.background = job.options.background;
+    dataset::write_contact_sheet((dir / "contact_sheet.png").string(), sheet_images, sheet_labels, so);
+    out["contact_sheet"] = "contact_sheet.png";
+  }
+#endif
+  std::sort(ms.begin(), ms.end());
+  out["median_march_ms"] = ms[ms.size() / 2];
+  write_text_file_atomic((dir / "render.json").string(), out.dump(2) + "\n");
+  return out;
+}
+
+}  // namespace lorgnette::render

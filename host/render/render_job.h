@@ -1,0 +1,79 @@
+// The `lorgnette render` job as a library: glasses placement inputs (placement.json, a 4x4, or
+// translate/rotate/scale), camera poses (an orbit framing the head's box, or a pose JSON), and the
+// outputs (colour PNGs, linear depth EXRs, an MP4 of the orbit, a contact sheet, render.json),
+// never overwriting existing files unless forced. The glasses' surface pass comes in as a
+// callback so this library does not depend on the mesh module.
+#pragma once
+#include <array>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "host/render/marcher.h"
+#include "host/render/orbit.h"
+#include "mesh/surface_buffers.h"
+
+namespace lorgnette::nerf {
+class NerfModel;
+}
+
+namespace lorgnette::render {
+
+using Mat4 = std::array<float, 16>;  // row-major 4x4
+
+Mat4 identity4();
+// p' = translate + R(rotate_deg) * scale * p, with R = Rz * Ry * Rx (degrees about the scene axes).
+Mat4 trs_transform(const Vec3& translate, const Vec3& rotate_deg, float scale);
+// 16 numbers (row-major) from a string (spaces or commas) or a JSON array (flat or 4x4 nested).
+Mat4 parse_matrix(const std::string& text);
+Mat4 matrix_from_json(const nlohmann::json& j, const std::string& what);
+
+// A rough placement without a fit, for timing runs: the frame's bridge (canonical origin) on the
+// front (+z) face of the head box at 60 % of its height, 12 % inside, the frame 80 % as wide as the
+// box. Not a try-on fit: `lorgnette fit` writes real placements.
+Mat4 rough_glasses_placement(float frame_width_mm, const Vec3& box_min, const Vec3& box_max);
+
+struct Placement {
+  std::string glasses_path;  // may be empty
+  Mat4 transform = identity4();  // canonical mm -> scene
+};
+// Reads placement.json (ARCHITECTURE.md): `transform` is required, `glasses.path` optional.
+Placement read_placement(const std::string& path);
+
+// One camera from a pose JSON: {"transform_matrix": 4x4 camera-to-world (OpenGL, as
+// transforms.json)} plus optional "fl_x", "fl_y", "cx", "cy", "w", "h" (scaled to the requested
+// size) or "fov_y_deg". Throws naming the file and the missing/bad key.
+Camera read_pose(const std::string& path, uint32_t width, uint32_t height, float default_fov_y_deg);
+
+// "1280x720" -> {1280, 720}; throws on anything else.
+std::array<uint32_t, 2> parse_size(const std::string& text);
+
+// Throws when any of `names` exists in `dir` and !force (lists them; suggests --force or another -o).
+void check_outputs_free(const std::string& dir, const std::vector<std::string>& names, bool force);
+
+using SurfacePass = std::function<mesh::SurfaceBuffers(const Camera&)>;
+
+struct RenderJob {
+  std::vector<Camera> cameras;
+  RenderOptions options;
+  SurfacePass surfaces;      // empty: the head alone
+  std::string out_dir;
+  bool force = false;
+  bool video = true;         // the MP4 (when there is more than one view and media support)
+  bool contact_sheet = true;
+  double fps = 24.0;
+};
+
+// Renders every camera, writes the outputs and returns the summary written to render.json.
+nlohmann::json run_render_job(RenderJob& job, const std::function<RenderResult(const Camera&,
+                                                                                const mesh::SurfaceBuffers*)>& render);
+
+// File names the job writes for n views (frame_0000.png, depth_0000.exr, ..., orbit.mp4, ...).
+std::vector<std::string> render_job_outputs(const RenderJob& job);
+
+// The linear colour image as written: RGB over the background, or straight-alpha RGBA when alpha.
+Image to_output_image(const Image& rgba, bool alpha);
+
+}  // namespace lorgnette::render

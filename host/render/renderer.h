@@ -1,0 +1,40 @@
+// Rendering a trained NeRF head (host/nerf NerfModel), optionally with the glasses' surface
+// buffers, through the compositing marcher: the model's field is the radiance source, its AABB the
+// crop box (the background is pruned, as the paper does), its occupancy grid and step drive the
+// march.
+#pragma once
+#include "host/nerf/model.h"
+#include "host/render/marcher.h"
+
+namespace lorgnette::render {
+
+// The NeRF field as a radiance source (inference forward, no backward state kept).
+class NerfSource : public RadianceSource {
+ public:
+  explicit NerfSource(field::Field& field) : field_(field) {}
+  uint32_t max_batch() const override { return field_.max_batch(); }
+  void evaluate(const cl::Buffer<float>& pos, const cl::Buffer<float>& dir, uint32_t n,
+                cl::Buffer<float>& sigma, cl::Buffer<float>& rgb) override {
+    field_.forward(pos, dir, n, sigma, rgb, false);
+  }
+
+ private:
+  field::Field& field_;
+};
+
+class Renderer {
+ public:
+  explicit Renderer(cl::Runtime& rt) : marcher_(rt) {}
+  // surfaces: nullptr for the head alone. Throws std::invalid_argument on inconsistent inputs.
+  RenderResult render(nerf::NerfModel& model, const Camera& cam, const mesh::SurfaceBuffers* surfaces,
+                      const RenderOptions& options);
+
+ private:
+  Marcher marcher_;
+};
+
+// One-shot convenience (builds the marcher; kernels come from the runtime's cache).
+RenderResult render(nerf::NerfModel& model, const Camera& cam, const mesh::SurfaceBuffers* surfaces,
+                    const RenderOptions& options);
+
+}  // namespace lorgnette::render

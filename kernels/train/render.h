@@ -1,0 +1,111 @@
+// Volume rendering of one ray from its compacted samples, forward and backward, shared by the
+// training loss kernel and the host tests (the host build is the oracle). Samples are `step` apart;
+// alpha_i = 1 - exp(-sigma_i * step), T_i = prod_{j<i} (1 - alpha_j), w_i = T_i * alpha_i,
+// C = sum_i w_i c_i + T_end * bg. Accumulation stops once T drops below min_transmittance (later
+// samples get zero weight and zero gradient), as instant-ngp does.
+//
+// Loss (LOSS_L2_SRGB, the default): mean over rays and channels of (srgb(C) - srgb(target))^2 with
+// C in linear RGB, so training minimises what PSNR on 8-bit sRGB images measures while compositing
+// stays linear (physically right for the glasses compositing). LOSS_L2_LINEAR: the same on linear.
+//
+// Gradients (reverse accumulation, one ray): with g = dL/dC,
+//   dL/dc_i     = w_i * g
+//   dL/dsigma_i = step * g . (T_{i+1} c_i - (C - C_{<=i}))   where C_{<=i} = sum_{k<=i} w_k c_k
+// (C includes the background term).
+#pragma once
+#include "common/cl_compat.h"
+#include "train/train_types.h"
+
+#ifndef __OPENCL_C_VERSION__
+using std::pow;
+#endif
+
+LGN_INLINE float lgn_srgb_encode(float x) {
+  x = fmin(fmax(x, 0.0f), 1.0f);
+  return x <= 0.0031308f ? 12.92f * x : 1.055f * pow(x, 1.0f / 2.4f) - 0.055f;
+}
+
+LGN_INLINE float lgn_srgb_encode_deriv(float x) {
+  if (x <= 0.0031308f) return x < 0.0f ? 0.0f : 12.92f;
+  if (x >= 1.0f) return 0.0f;
+  return (1.055f / 2.4f) * pow(x, 1.0f / 2.4f - 1.0f);
+}
+
+// Forward: colour (rgb) and opacity (1 - T_end) into out[0..3]; returns samples used.
+LGN_INLINE lgn_uint render_ray_forward(LGN_GLOBAL const float* sigma, LGN_GLOBAL const float* rgb,
+                                       lgn_uint stride, lgn_uint first, lgn_uint count, float step,
+                                       float min_transmittance, const float* bg, float* out) {
+  float T = 1.0f, r = 0.0f, g = 0.0f, b = 0.0f;
+  lgn_uint used = 0;
+  for (lgn_uint k = 0; k < count; ++k) {
+    if (T < min_transmittance) break;
+    lgn_uint i = first + k;
+    float alpha = 1.0f - exp(-sigma[i] * step);
+    float w = T * alpha;
+    r += w * rgb[i];
+    g += w * rgb[stride + i];
+    b += w * rgb[2u * stride + i];
+    T *= 1.0f - alpha;
+    used = k + 1u;
+  }
+  out[0] = r + T * bg[0];
+  out[1] = g + T * bg[1];
+  out[2] = b + T * bg[2];
+  out[3] = 1.0f - T;
+  return used;
+}
+
+// Loss of one ray (not yet scaled by grad_scale) and dL/dC (scaled by grad_scale) into dC[0..2].
+LGN_INLINE float render_ray_loss(const float* color, const float* target, lgn_uint loss_kind,
+                                 float grad_scale, float* dC) {
+  float loss = 0.0f;
+  for (int c = 0; c < 3; ++c) {
+    // A NaN colour must reach the loss (the sRGB clamp below would turn it into 0): the trainer
+    // stops on a non-finite loss.
+    if (color[c] != color[c]) {
+      dC[0] = dC[1] = dC[2] = 0.0f;
+      return color[c];
+    }
+    float diff, deriv;
+    if (loss_kind == LOSS_L2_SRGB) {
+      diff = lgn_srgb_encode(color[c]) - lgn_srgb_encode(target[c]);
+      deriv = lgn_srgb_encode_deriv(color[c]);
+    } else {
+      diff = color[c] - target[c];
+      deriv = 1.0f;
+    }
+    loss += diff * diff;
+    dC[c] = grad_scale * 2.0f * diff * deriv;
+  }
+  return loss;
+}
+
+// Backward: writes dL/dsigma and dL/drgb for samples [first, first+count) (zero past `used`).
+LGN_INLINE void render_ray_backward(LGN_GLOBAL const float* sigma, LGN_GLOBAL const float* rgb,
+                                    lgn_uint stride, lgn_uint first, lgn_uint count, lgn_uint used,
+                                    float step, const float* color, const float* dC,
+                                    LGN_GLOBAL float* dsigma, LGN_GLOBAL float* drgb) {
+  float T = 1.0f, acc_r = 0.0f, acc_g = 0.0f, acc_b = 0.0f;
+  for (lgn_uint k = 0; k < count; ++k) {
+    lgn_uint i = first + k;
+    if (k >= used) {
+      dsigma[i] = 0.0f;
+      drgb[i] = 0.0f;
+      drgb[stride + i] = 0.0f;
+      drgb[2u * stride + i] = 0.0f;
+      continue;
+    }
+    float cr = rgb[i], cg = rgb[stride + i], cb = rgb[2u * stride + i];
+    float alpha = 1.0f - exp(-sigma[i] * step);
+    float w = T * alpha;
+    acc_r += w * cr;
+    acc_g += w * cg;
+    acc_b += w * cb;
+    T *= 1.0f - alpha;
+    drgb[i] = w * dC[0];
+    drgb[stride + i] = w * dC[1];
+    drgb[2u * stride + i] = w * dC[2];
+    float sr = T * cr - (color[0] - acc_r), sg = T * cg - (color[1] - acc_g), sb = T * cb - (color[2] - acc_b);
+    dsigma[i] = step * (dC[0] * sr + dC[1] * sg + dC[2] * sb);
+  }
+}

@@ -1,0 +1,78 @@
+// Parameter structs of the training kernels (ray sampling with empty-space skipping, volume
+// rendering loss, occupancy-grid point generation) plus the small hash RNG they share; compiles as
+// C++ and OpenCL C. Positions handed to the field are normalised to the AABB: (p - min) / extent.
+#pragma once
+#include "common/cl_compat.h"
+
+#define SAMPLE_MODE_TRAIN 0u  // random pixels over all training images, random background
+#define SAMPLE_MODE_VIEW 1u   // consecutive pixels of one camera, fixed background, pixel centres
+
+#define LOSS_L2_SRGB 0u    // squared error on sRGB-encoded colour (what PSNR measures)
+#define LOSS_L2_LINEAR 1u  // squared error on linear colour
+
+typedef struct SampleParams {
+  float aabb_min[4];    // xyz, scene units (w unused)
+  float inv_extent[4];  // 1 / (max - min) per axis
+  float bg[4];          // view mode: background rgb (linear)
+  float step;           // distance between samples along a ray, scene units
+  float near_t;         // samples start at least this far from the camera
+  lgn_uint occ_res;     // occupancy grid resolution (cells per axis)
+  lgn_uint max_samples; // per ray
+  lgn_uint n_rays;      // rays in this launch
+  lgn_uint mode;        // SAMPLE_MODE_*
+  lgn_uint camera;      // view mode: camera index
+  lgn_uint first_pixel; // view mode: pixel index of ray 0
+  lgn_uint n_images;
+  lgn_uint total_pixels;  // train mode: pixels over all images
+  lgn_uint seed;
+  lgn_uint iteration;     // training step: selects the random stream
+  lgn_uint stride;        // SoA stride of the per-sample arrays (Field::max_batch)
+  lgn_uint ray_begin;     // write pass: first ray whose samples are written
+  lgn_uint ray_end;       // write pass: one past the last ray written
+  lgn_uint pad;
+} SampleParams;
+LGN_STATIC_ASSERT(sizeof(SampleParams) == 112, "SampleParams layout is shared with OpenCL");
+
+// Per-ray record written by the sampler (floats): target rgb (background composited), background rgb,
+// pixel index within its image (as float bits), image index (as float bits).
+#define RAY_INFO_FLOATS 8u
+
+typedef struct LossParams {
+  lgn_uint n_rays;
+  lgn_uint stride;        // SoA stride of the per-sample arrays
+  lgn_uint forward_only;  // 1: colour only (no gradients)
+  lgn_uint loss_kind;     // LOSS_*
+  float step;             // sample spacing, scene units
+  float grad_scale;       // 1 / (3 * rays in the batch): the loss is a mean
+  float min_transmittance;  // stop accumulating below this (instant-ngp: 1e-4)
+  float pad;
+} LossParams;
+LGN_STATIC_ASSERT(sizeof(LossParams) == 32, "LossParams layout is shared with OpenCL");
+
+typedef struct OccParams {
+  lgn_uint res;
+  lgn_uint first_cell;  // entries [first_cell, first_cell + n) of the cell list
+  lgn_uint n;
+  lgn_uint stride;      // SoA stride of the position array
+  lgn_uint seed;
+  lgn_uint iteration;   // update counter: new jitter every update
+  lgn_uint pad0, pad1;
+} OccParams;
+LGN_STATIC_ASSERT(sizeof(OccParams) == 32, "OccParams layout is shared with OpenCL");
+
+// PCG hash (Jarzynski & Olano 2020): a stateless counter-based RNG, so every random number is a
+// function of (seed, step, ray, k) alone and the result does not depend on work-item scheduling.
+LGN_INLINE lgn_uint lgn_pcg(lgn_uint v) {
+  lgn_uint state = v * 747796405u + 2891336453u;
+  lgn_uint word = ((state >> ((state >> 28u) + 4u)) ^ state) * 277803737u;
+  return (word >> 22u) ^ word;
+}
+
+LGN_INLINE lgn_uint lgn_hash3(lgn_uint a, lgn_uint b, lgn_uint c) {
+  return lgn_pcg(a ^ lgn_pcg(b ^ lgn_pcg(c)));
+}
+
+// Uniform in [0, 1) from 24 random bits.
+LGN_INLINE float lgn_rand01(lgn_uint a, lgn_uint b, lgn_uint c, lgn_uint k) {
+  return (float)(lgn_hash3(a, b, c * 16u + k) >> 8) * (1.0f / 16777216.0f);
+}

@@ -1,0 +1,35 @@
+// Loading triangle meshes from the files shops and scanners produce — glTF 2.0 (.gltf + .bin, .glb),
+// OBJ (+MTL) and PLY — through Assimp into a TriMesh. Node transforms are baked into the vertices
+// (each mesh instance of the node hierarchy becomes one named part), materials keep the glTF
+// metallic-roughness parameters, alpha, KHR_materials_transmission / ior / volume where Assimp
+// exposes them, and base-colour textures (external files or embedded in a .glb) are decoded to
+// linear float images. Positions stay in the file's units (units_to_mm records the file's unit
+// when the format states one: glTF is metres); glasses are canonicalised afterwards (canonical.h).
+#pragma once
+#include <string>
+#include <vector>
+
+#include "mesh/trimesh.h"
+
+namespace lorgnette::mesh {
+
+struct LoadOptions {
+  bool load_textures = true;     // decode base-colour textures (off: faster, geometry only)
+  bool generate_normals = true;  // smooth normals when the file has none
+  int max_texture_size = 4096;   // larger textures are downsampled (memory: 16 bytes per texel)
+};
+
+struct LoadReport {
+  std::vector<std::string> warnings;  // missing textures, degenerate triangles dropped, ...
+  int degenerate_triangles = 0;       // zero-area triangles removed
+};
+
+// Throws std::runtime_error with the path, what is wrong and what to do for missing, unreadable,
+// corrupt or empty files (no triangles). Never returns an empty mesh.
+TriMesh load_mesh(const std::string& path, const LoadOptions& options = {}, LoadReport* report = nullptr);
+
+// Heuristic lens test on a material (transmission, translucent blend, or a glass-like name);
+// the loader sets Material::is_lens with it.
+bool looks_like_lens(const Material& m, const std::string& alpha_mode);
+
+}  // namespace lorgnette::mesh

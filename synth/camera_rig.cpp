@@ -1,0 +1,76 @@
+// Sphere-cap camera rigs; see camera_rig.h. The (yaw, pitch) samples come from the R2 sequence
+// (Roberts' generalised golden ratio) with a seeded offset: evenly spread for every prefix.
+#include "synth/camera_rig.h"
+
+#include <cmath>
+#include <random>
+#include <stdexcept>
+
+#include <Eigen/Geometry>
+#include <fmt/format.h>
+
+namespace lorgnette::synth {
+
+Camera look_at_camera(const Eigen::Vector3f& eye, const Eigen::Vector3f& target, int width, int height,
+                      float fov_y) {
+  Eigen::Vector3f back = (eye - target).normalized();  // camera +z (it looks down -z)
+  Eigen::Vector3f right = Eigen::Vector3f::UnitY().cross(back);
+  if (right.norm() < 1e-6f) right = Eigen::Vector3f::UnitX();
+  right.normalize();
+  Eigen::Vector3f up = back.cross(right);
+  Camera c{};
+  for (int r = 0; r < 3; ++r) {
+    c.c2w[4 * r + 0] = right[r];
+    c.c2w[4 * r + 1] = up[r];
+    c.c2w[4 * r + 2] = back[r];
+    c.c2w[4 * r + 3] = eye[r];
+  }
+  c.fy = 0.5f * height / std::tan(0.5f * fov_y);
+  c.fx = c.fy;
+  c.cx = 0.5f * width;
+  c.cy = 0.5f * height;
+  c.width = width;
+  c.height = height;
+  return c;
+}
+
+Eigen::Vector3f rig_position(const RigOptions& rig, float yaw_deg, float pitch_deg) {
+  float yaw = yaw_deg * float(M_PI) / 180.0f, pitch = pitch_deg * float(M_PI) / 180.0f;
+  Eigen::Vector3f dir(std::sin(yaw) * std::cos(pitch), std::sin(pitch), std::cos(yaw) * std::cos(pitch));
+  return rig.target + rig.distance * dir;
+}
+
+Camera rig_camera(const RigOptions& rig, float yaw_deg, float pitch_deg) {
+  float fov = 2.0f * std::atan(rig.frame_radius / rig.distance) * 1.05f;
+  if (rig.width < rig.height) fov = 2.0f * std::atan(std::tan(0.5f * fov) * rig.height / rig.width);
+  return look_at_camera(rig_position(rig, yaw_deg, pitch_deg), rig.target, rig.width, rig.height, fov);
+}
+
+std::vector<RigView> make_camera_rig(const RigOptions& rig) {
+  if (rig.views < 1 || rig.views > 100000)
+    throw std::runtime_error(fmt::format("camera rig: {} views requested; use 1..100000", rig.views));
+  if (rig.width < 16 || rig.height < 16 || rig.width > 8192 || rig.height > 8192)
+    throw std::runtime_error(fmt::format("camera rig: image size {}x{} is out of range (16..8192)", rig.width, rig.height));
+  if (!(rig.yaw_min_deg <= rig.yaw_max_deg) || rig.yaw_min_deg < -180 || rig.yaw_max_deg > 180)
+    throw std::runtime_error(fmt::format("camera rig: yaw range [{}, {}] must be ordered and within [-180, 180] degrees",
+                                         rig.yaw_min_deg, rig.yaw_max_deg));
+  if (!(rig.pitch_min_deg <= rig.pitch_max_deg) || rig.pitch_min_deg < -80 || rig.pitch_max_deg > 80)
+    throw std::runtime_error(fmt::format("camera rig: pitch range [{}, {}] must be ordered and within [-80, 80] degrees",
+                                         rig.pitch_min_deg, rig.pitch_max_deg));
+  if (!(rig.distance > 0) || !(rig.frame_radius > 0) || rig.frame_radius >= rig.distance)
+    throw std::runtime_error("camera rig: the distance must be positive and larger than the framed radius");
+  std::mt19937_64 rng(rig.seed);
+  std::uniform_real_distribution<double> uni(0.0, 1.0);
+  const double g = 1.32471795724474602596, a1 = 1.0 / g, a2 = 1.0 / (g * g);
+  double o1 = rig.seed == 0 ? 0.5 : uni(rng), o2 = rig.seed == 0 ? 0.5 : uni(rng);
+  std::vector<RigView> views;
+  for (int i = 0; i < rig.views; ++i) {
+    double s = std::fmod(o1 + a1 * i, 1.0), t = std::fmod(o2 + a2 * i, 1.0);
+    float yaw = rig.yaw_min_deg + float(s) * (rig.yaw_max_deg - rig.yaw_min_deg);
+    float pitch = rig.pitch_min_deg + float(t) * (rig.pitch_max_deg - rig.pitch_min_deg);
+    views.push_back({rig_camera(rig, yaw, pitch), yaw, pitch});
+  }
+  return views;
+}
+
+}  // namespace lorgnette::synth

@@ -1,0 +1,43 @@
+// Offline rendering of a textured TriMesh for dataset synthesis: Embree primary rays with stratified
+// anti-aliasing, a diffuse (Lambert) surface shaded by a soft studio setup fixed in the world frame
+// (key light with soft shadows, fill light, sky/ground ambient), so the lighting is baked
+// consistently into every view. Outputs linear RGBA with coverage alpha (straight colour, as
+// instant-ngp reads PNGs) and the depth of the pixel-centre ray.
+#pragma once
+#include <optional>
+
+#include <Eigen/Core>
+
+#include "common/camera_types.h"
+#include "host/util/image_io.h"
+#include "mesh/embree_scene.h"
+
+namespace lorgnette::synth {
+
+struct StudioLighting {
+  Eigen::Vector3f key_dir{-0.45f, 0.55f, 0.70f};  // towards the light, world frame (normalised on use)
+  float key = 0.85f;
+  float key_radius_deg = 9.0f;                    // angular radius of the key's disc: shadow softness
+  Eigen::Vector3f fill_dir{0.65f, 0.15f, 0.75f};
+  float fill = 0.30f;
+  float sky = 0.30f;     // ambient from above (hemisphere, world +y)
+  float ground = 0.12f;  // ambient from below
+  bool shadows = true;
+};
+
+struct RenderSettings {
+  int samples_per_axis = 3;  // anti-aliasing: n x n stratified samples per pixel
+  std::optional<Eigen::Vector3f> background;  // linear RGB; empty = transparent (alpha = coverage)
+  int threads = 0;           // 0 = hardware concurrency
+};
+
+struct RenderedView {
+  Image rgba;   // linear, 4 channels, straight (not premultiplied) colour
+  Image depth;  // 1 channel: distance along the unit pixel-centre ray (scene units), +inf where no hit
+};
+
+// The scene must be in the frame of the camera (the dataset frame).
+RenderedView render_view(const mesh::EmbreeScene& scene, const Camera& camera, const StudioLighting& lighting,
+                         const RenderSettings& settings);
+
+}  // namespace lorgnette::synth

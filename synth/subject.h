@@ -1,0 +1,44 @@
+// A synthetic subject: a textured mesh placed in the dataset frame, with what is known about it
+// exactly (scale in millimetres, landmarks). Two sources: the procedural head (millimetres, all
+// landmarks known, mm_per_unit exact) or a mesh file through the mesh loader (assumed +y up and
+// facing +z as glTF heads are; mm_per_unit only when the caller states the file's unit).
+// Dataset frame convention: the subject is centred near the origin and about one unit across, the
+// size instant-ngp style NeRFs expect (aabb_scale 1 with the usual 0.33 scale).
+#pragma once
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <nlohmann/json.hpp>
+
+#include "mesh/trimesh.h"
+#include "synth/procedural_head.h"
+
+namespace lorgnette::synth {
+
+// Scene scale of procedural heads: a 150 mm wide head is 0.75 units across.
+constexpr double kProceduralMmPerUnit = 200.0;
+
+struct Subject {
+  std::string source;                 // "procedural" or the mesh file path
+  mesh::TriMesh mesh;                 // in its own units (procedural: millimetres, head frame)
+  Eigen::Matrix4f mesh_to_dataset = Eigen::Matrix4f::Identity();
+  std::optional<double> mm_per_unit;  // millimetres per dataset unit, when known
+  nlohmann::json params;              // procedural parameters (null for files)
+  std::map<std::string, Eigen::Vector3f> landmarks;  // dataset frame
+  std::vector<Eigen::Vector3f> ibug68;               // dataset frame; empty when unknown
+  Eigen::Vector3f look_at{0, 0, 0};   // dataset frame: where the rig cameras look
+  float frame_radius = 0.7f;          // dataset units the views must contain around look_at
+};
+
+Subject procedural_subject(const HeadParams& params, const HeadMeshOptions& options = {});
+
+// mm_per_mesh_unit: the file's unit in millimetres if known (the loader's glTF "metres" is not
+// trusted: scanned heads are often stored at arbitrary scale). Throws on unreadable files.
+Subject mesh_subject(const std::string& path, std::optional<double> mm_per_mesh_unit = std::nullopt);
+
+Eigen::Vector3f transform_point(const Eigen::Matrix4f& m, const Eigen::Vector3f& p);
+
+}  // namespace lorgnette::synth

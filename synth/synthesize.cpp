@@ -1,0 +1,139 @@
+// Dataset synthesis; see synthesize.h. Images and depth maps are written into the staging
+// directory as each view finishes; transforms.json (through the dataset module's writer) and
+// ground_truth.json come last, and the directory is renamed into place only after all of them.
+#include "synth/synthesize.h"
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "host/dataset/dataset.h"
+#include "host/util/interrupt.h"
+#include "mesh/embree_scene.h"
+#include "synth/staged_dir.h"
+
+namespace lorgnette::synth {
+namespace {
+
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+json vec_json(const Eigen::Vector3f& v) { return json::array({v.x(), v.y(), v.z()}); }
+
+json matrix_json(const Eigen::Matrix4f& m) {
+  json rows = json::array();
+  for (int r = 0; r < 4; ++r) rows.push_back({m(r, 0), m(r, 1), m(r, 2), m(r, 3)});
+  return rows;
+}
+
+void check_options(const SynthOptions& o) {
+  if (o.samples_per_axis < 1 || o.samples_per_axis > 16)
+    throw std::runtime_error(fmt::format("synth: samples per axis {} is out of range (1..16)", o.samples_per_axis));
+  if (o.background && (o.background->minCoeff() < 0.0f || o.background->maxCoeff() > 1.0f))
+    throw std::runtime_error("synth: background colour components must lie in [0, 1]");
+}
+
+json ground_truth_json(const Subject& s, const SynthOptions& o, const std::vector<RigView>& views) {
+  json gt;
+  gt["version"] = 1;
+  gt["source"] = s.source;
+  if (s.source == "procedural") {
+    gt["seed"] = s.params.value("seed", uint64_t(0));
+    gt["params"] = s.params;
+    gt["mesh_units"] = "mm";
+  }
+  gt["mesh_to_dataset"] = matrix_json(s.mesh_to_dataset);
+  gt["mm_per_unit"] = s.mm_per_unit ? json(*s.mm_per_unit) : json(nullptr);
+  json lm = json::object();
+  for (const auto& [name, p] : s.landmarks) lm[name] = vec_json(p);
+  gt["landmarks"] = lm;
+  json ibug = json::array();
+  for (const auto& p : s.ibug68) ibug.push_back(vec_json(p));
+  gt["ibug68"] = ibug;
+  gt["ibug68_note"] = "points 0-16 are the face contour of a frontal view (view dependent); 17-67 lie on painted features";
+  gt["depth"] = {{"kind", "ray_distance"}, {"units", "dataset"}, {"miss", "inf"},
+                 {"note", "distance along the unit-length ray through the pixel centre"}};
+  gt["camera_seed"] = o.seed;
+  gt["look_at"] = vec_json(s.look_at);
+  json vj = json::array();
+  for (size_t i = 0; i < views.size(); ++i)
+    vj.push_back({{"file", fmt::format("images/{:04d}.png", i)}, {"yaw_deg", views[i].yaw_deg},
+                  {"pitch_deg", views[i].pitch_deg}});
+  gt["views"] = vj;
+  const StudioLighting& l = o.lighting;
+  gt["lighting"] = {{"model", "lambert"}, {"key_dir", vec_json(l.key_dir.normalized())}, {"key", l.key},
+                    {"key_radius_deg", l.key_radius_deg}, {"fill_dir", vec_json(l.fill_dir.normalized())},
+                    {"fill", l.fill}, {"sky", l.sky}, {"ground", l.ground}, {"shadows", l.shadows}};
+  gt["render"] = {{"samples_per_pixel", o.samples_per_axis * o.samples_per_axis},
+                  {"background", o.background ? vec_json(*o.background) : json("transparent")}};
+  return gt;
+}
+
+// Adds per-frame depth_path (instant-ngp's key) to the transforms.json the dataset writer produced.
+void add_depth_paths(const std::string& dir, size_t count) {
+  fs::path p = fs::path(dir) / "transforms.json";
+  json tj = json::parse(std::ifstream(p));
+  for (auto& f : tj.at("frames")) {
+    std::string img = f.at("file_path");
+    f["depth_path"] = "depth/" + fs::path(img).stem().string() + ".exr";
+  }
+  if (tj.at("frames").size() != count) throw std::runtime_error("synth: transforms.json frame count mismatch");
+  write_text_file_atomic(p.string(), tj.dump(2) + "\n");
+}
+
+}  // namespace
+
+RigOptions rig_for(const Subject& subject, const SynthOptions& o) {
+  RigOptions rig;
+  rig.views = o.views;
+  rig.width = o.width, rig.height = o.height;
+  rig.yaw_min_deg = o.yaw_min_deg, rig.yaw_max_deg = o.yaw_max_deg;
+  rig.pitch_min_deg = o.pitch_min_deg, rig.pitch_max_deg = o.pitch_max_deg;
+  rig.seed = o.seed;
+  rig.target = subject.look_at;
+  rig.distance = o.camera_distance;
+  rig.frame_radius = subject.frame_radius;
+  return rig;
+}
+
+SynthReport synthesize_dataset(const Subject& subject, const std::string& out_dir, const SynthOptions& o) {
+  auto t0 = std::chrono::steady_clock::now();
+  check_options(o);
+  std::vector<RigView> views = make_camera_rig(rig_for(subject, o));
+  StagedDir staged(out_dir, o.force);
+  fs::create_directories(fs::path(staged.path()) / "images");
+  fs::create_directories(fs::path(staged.path()) / "depth");
+  mesh::EmbreeScene scene(subject.mesh, subject.mesh_to_dataset);
+  RenderSettings settings{o.samples_per_axis, o.background, 0};
+  SynthReport report;
+  std::vector<Camera> cameras;
+  std::vector<std::string> files;
+  for (size_t i = 0; i < views.size(); ++i) {
+    if (interrupted()) throw std::runtime_error("synth: interrupted; nothing was written to the output directory");
+    auto r0 = std::chrono::steady_clock::now();
+    RenderedView v = render_view(scene, views[i].camera, o.lighting, settings);
+    report.render_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - r0).count();
+    std::string name = fmt::format("{:04d}", i);
+    write_image(staged.path() + "/images/" + name + ".png", v.rgba);
+    write_image(staged.path() + "/depth/" + name + ".exr", v.depth);
+    cameras.push_back(views[i].camera);
+    files.push_back("images/" + name + ".png");
+    if (o.progress) o.progress(int(i + 1), int(views.size()));
+  }
+  json extra = {{"aabb_scale", 1}, {"scale", 0.33}, {"offset", {0.5, 0.5, 0.5}}, {"synthetic", "lorgnette synth"}};
+  dataset::write_transforms_json(staged.path(), cameras, files, extra);
+  add_depth_paths(staged.path(), files.size());
+  write_text_file_atomic(staged.path() + "/ground_truth.json", ground_truth_json(subject, o, views).dump(2) + "\n");
+  if (interrupted()) throw std::runtime_error("synth: interrupted; nothing was written to the output directory");
+  staged.commit();
+  report.directory = fs::absolute(out_dir).lexically_normal().string();
+  report.views = int(views.size());
+  report.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return report;
+}
+
+}  // namespace lorgnette::synth

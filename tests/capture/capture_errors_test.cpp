@@ -1,0 +1,128 @@
+// Bad input to `lorgnette capture` gives clear errors: a missing input, a folder without images, an
+// unreadable video, COLMAP missing (a PATH without it), COLMAP failing (a fake script that exits 3),
+// COLMAP finding no model; and several disconnected models keep the largest with a warning.
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+
+#include <gtest/gtest.h>
+#include <opencv2/imgcodecs.hpp>
+
+#include "capture/capture.h"
+#include "tests/capture/synthetic_model.h"
+
+namespace fs = std::filesystem;
+using namespace lorgnette::capture;
+
+namespace {
+
+fs::path tmp_dir(const std::string& name) {
+  fs::path p = fs::path(LORGNETTE_TEST_TMP) / "capture" / name;
+  fs::remove_all(p);
+  fs::create_directories(p);
+  return p;
+}
+
+// Runs `f` and returns its exception's message ("" when it did not throw).
+template <class F>
+std::string error_of(F&& f) {
+  try {
+    f();
+  } catch (const std::exception& e) {
+    return e.what();
+  }
+  return "";
+}
+
+#define EXPECT_CONTAINS(text, part) \
+  EXPECT_NE(std::string(text).find(part), std::string::npos) << "message: " << (text)
+
+class CaptureErrors : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const char* p = std::getenv("PATH");
+    saved_path_ = p ? p : "";
+    input_ = tmp_dir(std::string("in_") + name());
+    for (int i = 0; i < 4; ++i) {
+      cv::Mat img(60, 80, CV_8UC3);
+      cv::RNG(10 + i).fill(img, cv::RNG::UNIFORM, 0, 256);
+      cv::imwrite((input_ / ("img_" + std::to_string(i) + ".png")).string(), img);
+    }
+    output_ = fs::path(LORGNETTE_TEST_TMP) / "capture" / (std::string("out_") + name());
+    fs::remove_all(output_);
+    opt_.input = input_.string();
+    opt_.output = output_.string();
+    opt_.blink_filter = false;
+  }
+  void TearDown() override { setenv("PATH", saved_path_.c_str(), 1); }
+  static const char* name() { return ::testing::UnitTest::GetInstance()->current_test_info()->name(); }
+  // A fake `colmap` (shell script) first on PATH.
+  void fake_colmap(const std::string& body) {
+    fs::path bin = tmp_dir(std::string("bin_") + name());
+    std::ofstream(bin / "colmap") << "#!/bin/sh\n" << body << "\n";
+    fs::permissions(bin / "colmap", fs::perms::owner_all);
+    setenv("PATH", (bin.string() + ":/usr/bin:/bin").c_str(), 1);
+  }
+  std::string saved_path_;
+  fs::path input_, output_;
+  CaptureOptions opt_;
+};
+
+}  // namespace
+
+TEST_F(CaptureErrors, MissingInput) {
+  opt_.input = (input_ / "nope").string();
+  EXPECT_CONTAINS(error_of([&] { run_capture(opt_); }), "does not exist");
+}
+
+TEST_F(CaptureErrors, FolderWithoutImages) {
+  opt_.input = tmp_dir("empty_folder").string();
+  EXPECT_CONTAINS(error_of([&] { run_capture(opt_); }), "no images");
+}
+
+TEST_F(CaptureErrors, UnreadableVideo) {
+  fs::path video = input_ / "clip.mp4";
+  std::ofstream(video) << "this is not a video";
+  opt_.input = video.string();
+  std::string e = error_of([&] { run_capture(opt_); });
+  EXPECT_CONTAINS(e, "video");
+  EXPECT_CONTAINS(e, "clip.mp4");
+}
+
+TEST_F(CaptureErrors, ColmapMissingNamesTheDebianPackage) {
+  setenv("PATH", tmp_dir("empty_bin").c_str(), 1);
+  std::string e = error_of([&] { run_capture(opt_); });
+  EXPECT_CONTAINS(e, "apt-get install colmap");
+  EXPECT_FALSE(fs::exists(output_ / "images")) << "it should fail before writing frames";
+}
+
+TEST_F(CaptureErrors, ColmapFailingShowsItsLog) {
+  fake_colmap("echo 'fake colmap: cannot open database'\nexit 3");
+  std::string e = error_of([&] { run_capture(opt_); });
+  EXPECT_CONTAINS(e, "colmap features failed");
+  EXPECT_CONTAINS(e, "exit status 3");
+  EXPECT_CONTAINS(e, "cannot open database");
+  EXPECT_TRUE(fs::exists(output_ / "colmap" / "features.log"));
+}
+
+TEST_F(CaptureErrors, NoModelMeansTooFewMatches) {
+  fake_colmap("exit 0");
+  EXPECT_CONTAINS(error_of([&] { run_capture(opt_); }), "too few matches");
+}
+
+TEST_F(CaptureErrors, SeveralModelsKeepTheLargest) {
+  // The fake mapper "reconstructs" two models: 3 images and 9 images.
+  fs::path models = tmp_dir("fake_models");
+  write_colmap_model(synthetic::make_synthetic_scene(3, 20, 0).model, models / "0", true);
+  write_colmap_model(synthetic::make_synthetic_scene(9, 40, 5).model, models / "1", false);
+  fake_colmap("if [ \"$1\" = mapper ]; then\n"
+              "  while [ $# -gt 0 ]; do [ \"$1\" = --output_path ] && cp -r '" + models.string() +
+              "'/. \"$2\"/; shift; done\nfi\nexit 0");
+  CaptureReport r = run_capture(opt_);
+  EXPECT_EQ(r.models, 2u);
+  EXPECT_EQ(r.registered, 9u);
+  ASSERT_FALSE(r.warnings.empty());
+  EXPECT_CONTAINS(r.warnings[0], "2 disconnected models");
+  EXPECT_TRUE(fs::exists(output_ / "transforms.json"));
+  EXPECT_TRUE(fs::exists(output_ / "capture_report.json"));
+}

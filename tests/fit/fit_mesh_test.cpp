@@ -1,0 +1,133 @@
+// The dlib adapter and the whole fit on a mesh ViewSource of the Lee Perry-Smith head scan (textured,
+// Embree ray cast). Ground truth: the same detector on mesh renders, each landmark ray cast onto the
+// mesh (fit/mesh_ground_truth.h). Skips with a message when the scan or the dlib model is missing.
+#include <filesystem>
+
+#include <gtest/gtest.h>
+
+#include "fit/camera_math.h"
+#include "fit/fit.h"
+#include "fit/glasses_input.h"
+#include "fit/landmark_ids.h"
+#include "fit/mesh_ground_truth.h"
+#include "fit/placement_json.h"
+
+namespace lorgnette::fit {
+namespace {
+
+const std::string kHead = std::string(LORGNETTE_DATA_DIR) + "/heads/lee-perry-smith/LeePerrySmith.glb";
+const std::string kGlasses = std::string(LORGNETTE_DATA_DIR) + "/glasses/glasses-06/scene.gltf";
+
+class LeePerrySmith : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    if (!std::filesystem::exists(kHead) || !std::filesystem::exists(DetectorOptions{}.model_path)) return;
+    MeshShading shading;
+    shading.flip_v = true;  // this .glb's UVs are in the OpenGL convention (see MeshShading)
+    source_ = MeshViewSource::load(kHead, std::nullopt, shading).release();  // no prior: find the front
+  }
+  static void TearDownTestSuite() { delete source_; source_ = nullptr; }
+  void SetUp() override {
+    if (!source_) GTEST_SKIP() << "needs " << kHead << " and the dlib model (Debian package libdlib-data)";
+  }
+  static MeshViewSource* source_;
+};
+MeshViewSource* LeePerrySmith::source_ = nullptr;
+
+TEST_F(LeePerrySmith, DlibFindsTheFaceFromTheFrontNotFromBehind) {
+  LandmarkDetector det;
+  Orbit o;
+  o.target = source_->bounds().center().cast<double>() + Eigen::Vector3d(0, 2.0, 0);  // the face, not the bust
+  o.distance = 14.0;
+  o.fov_y_deg = 25.0;
+  FaceDetection front = det.detect(source_->render(orbit_camera(o, 0, 0)));  // the scan faces +z
+  ASSERT_TRUE(front.found);
+  ASSERT_EQ(front.points.size(), 68u);
+  // Frontal: the nose tip in the middle between the temples, eyes above the nose.
+  EXPECT_LT(std::abs(front.points[lm::kNoseTip].x() - 0.5 * (front.points[0].x() + front.points[16].x())), 8.0);
+  EXPECT_LT(front.points[lm::kEyeOuterL].y(), front.points[lm::kNoseTip].y());
+  EXPECT_FALSE(det.detect(source_->render(orbit_camera(o, 180, 0))).found);
+}
+
+TEST_F(LeePerrySmith, FitMatchesGroundTruth) {
+  FitOptions opt;
+  GlassesInput g = load_glasses_input(kGlasses, 2000);
+  opt.frame_points = g.frame_points;
+  opt.debug_dir = std::string(LORGNETTE_TEST_TMP) + "/fit-debug";
+  FitResult r = fit_glasses(*source_, g.ref, opt);
+  GroundTruth gt = mesh_ground_truth(*source_, r.orbit, {-20, -10, 0, 10, 20}, g.ref, opt);
+  FitErrors e = compare_fit(r, gt);
+  // The targets: nose <= 2 mm, ears <= 4 mm, rotation <= 2 deg, penetration <= 0.5 mm.
+  EXPECT_LT(e.nose_mm, 2.0);
+  EXPECT_LT(e.ear_l_mm, 4.0);
+  EXPECT_LT(e.ear_r_mm, 4.0);
+  EXPECT_LT(e.rotation_deg, 2.0);
+  // The refinement seats the front (rims, bridge, pads) on the skin without clipping. The arms of
+  // this rigid frame still pass through the scan's ear flaps near the ear rests (~5 mm, reported in
+  // penetration_mm and docs/bench/fit.md): known, not hidden.
+  EXPECT_LE(r.contact.front_penetration_mm, 0.5);
+  EXPECT_GT(r.contact.penetration_mm, 0.0);
+  // The verdict judges the visible front; the arms' clipping is a warning, not a failure.
+  EXPECT_TRUE(r.ok);
+  bool warned = false;
+  for (const auto& w : r.warnings) warned |= w.find("temples pass") != std::string::npos;
+  EXPECT_TRUE(warned);
+  // The scan is "roughly 5.5-6 cm per unit" (data README); the mean face gives the estimate.
+  EXPECT_GT(r.head.mm_per_unit, 45.0);
+  EXPECT_LT(r.head.mm_per_unit, 70.0);
+  EXPECT_GT(r.head.pd_mm, 50.0);
+  EXPECT_LT(r.head.pd_mm, 75.0);
+  // The face looks along +z in the scan.
+  EXPECT_GT(r.head.d_fwd.z(), 0.97);
+  EXPECT_GE(r.views_used, opt.min_views);
+  EXPECT_TRUE(std::filesystem::exists(opt.debug_dir + "/view_00.png"));
+  PlacementFile pf = make_placement_file(r, kGlasses, "stretch");
+  EXPECT_EQ(pf.landmarks.size(), 7u);
+  EXPECT_FALSE(pf.glasses_hash.empty());
+  std::cerr << "fit errors: nose " << e.nose_mm << " mm, ears " << e.ear_l_mm << " / " << e.ear_r_mm
+            << " mm, rotation " << e.rotation_deg << " deg, mm/unit " << r.head.mm_per_unit << " (gt "
+            << gt.head.mm_per_unit << "), pd " << r.head.pd_mm << " mm, penetration " << r.contact.penetration_mm
+            << " mm (shift " << r.contact.shift_mm << "), " << r.total_seconds() << " s\n";
+}
+
+TEST_F(LeePerrySmith, TooFewViewsIsAClearError) {
+  FitOptions opt;
+  opt.cap.views = 2;
+  opt.min_views = 3;
+  try {
+    fit_glasses(*source_, GlassesRefPoints{}, opt);
+    FAIL() << "expected an error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("views"), std::string::npos) << e.what();
+  }
+}
+
+TEST(FitErrors, NoFaceAnywhereSaysWhatWasTried) {
+  // An empty scene (a small sphere): the front sweep sees no face and must say which yaws it tried.
+  class Ball : public ViewSource {
+   public:
+    Image render(const Camera& c) override { return Image(int(c.width), int(c.height), 3, 0.5f); }
+    std::vector<float> density(const std::vector<Eigen::Vector3f>& p) override { return std::vector<float>(p.size(), 0.0f); }
+    Bounds bounds() const override { return {}; }
+  } ball;
+  if (!std::filesystem::exists(DetectorOptions{}.model_path)) GTEST_SKIP() << "dlib model missing (libdlib-data)";
+  FitOptions opt;
+  opt.width = opt.height = 128;
+  try {
+    fit_glasses(ball, GlassesRefPoints{}, opt);
+    FAIL() << "expected an error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("no face found in any of the 8"), std::string::npos) << e.what();
+  }
+  DetectorOptions missing;
+  missing.model_path = "/nonexistent/shape_predictor.dat";
+  try {
+    LandmarkDetector d(missing);
+    FAIL();
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("libdlib-data"), std::string::npos);
+  }
+}
+
+}  // namespace
+}  // namespace lorgnette::fit

@@ -1,0 +1,144 @@
+// NerfModel snapshots: a save/load round trip restores everything bitwise; truncated, corrupted,
+// foreign and newer files are refused with a clear message; an existing file is replaced atomically.
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "host/nerf/model.h"
+#include "kernels/train/occupancy.h"
+
+namespace {
+
+using namespace lorgnette;
+using nerf::NerfModel;
+
+field::FieldConfig tiny_config() {
+  field::FieldConfig c;
+  c.log2_table_size = 10;
+  c.finest_resolution = 32;
+  return c;
+}
+
+std::string tmp(const std::string& name) { return std::string(LORGNETTE_TEST_TMP) + "/nerf_" + name; }
+
+std::string slurp(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+void spit(const std::string& path, const std::string& data) {
+  std::ofstream(path, std::ios::binary) << data;
+}
+
+NerfModel make_model(cl::Runtime& rt) {
+  nerf::Aabb box{{-1.0f, -0.5f, -2.0f}, {1.0f, 0.75f, 0.5f}};
+  NerfModel m(rt, tiny_config(), box, 16, 0.01f, 256, 42, true);
+  nerf::OccupancyGrid g = nerf::full_occupancy(16);
+  g.density.assign(16 * 16 * 16, 0.0f);
+  for (size_t i = 0; i < g.density.size(); ++i) g.density[i] = float(i % 17);
+  for (size_t w = 0; w < g.bits.size(); ++w) g.bits[w] = 0x9e3779b9u * uint32_t(w + 1);
+  m.set_occupancy(g);
+  m.metadata.steps = 123;
+  m.metadata.train_seconds = 4.5;
+  m.metadata.dataset_path = "/some/data";
+  m.normalisation.scale = 2.0f;
+  return m;
+}
+
+std::string expect_load_error(cl::Runtime& rt, const std::string& path) {
+  try {
+    NerfModel::load(rt, path, 256);
+  } catch (const std::runtime_error& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "loading " << path << " should fail";
+  return "";
+}
+
+TEST(NerfModel, SnapshotRoundTripIsBitwise) {
+  cl::Runtime rt({"", "", false});
+  NerfModel m = make_model(rt);
+  std::string path = tmp("roundtrip.lnerf");
+  m.save(path);
+  NerfModel back = NerfModel::load(rt, path, 256);
+  EXPECT_TRUE(back.field_config() == m.field_config());
+  EXPECT_EQ(back.field().download_params(), m.field().download_params());
+  EXPECT_EQ(back.aabb().min, m.aabb().min);
+  EXPECT_EQ(back.aabb().max, m.aabb().max);
+  EXPECT_EQ(back.step(), m.step());
+  EXPECT_EQ(back.occupancy().res, 16u);
+  EXPECT_EQ(back.occupancy().bits, m.occupancy().bits);
+  EXPECT_EQ(back.occupancy().density, m.occupancy().density);
+  EXPECT_EQ(back.occupancy_bits().read(rt), m.occupancy().bits);
+  EXPECT_EQ(back.metadata.steps, 123u);
+  EXPECT_EQ(back.metadata.dataset_path, "/some/data");
+  EXPECT_EQ(back.normalisation.scale, 2.0f);
+  // Saving again over the same path replaces it (atomic rename) and leaves no temporary file.
+  back.save(path);
+  for (auto& e : std::filesystem::directory_iterator(LORGNETTE_TEST_TMP))
+    EXPECT_EQ(e.path().string().find("roundtrip.lnerf."), std::string::npos) << e.path();
+}
+
+TEST(NerfModel, CorruptTruncatedAndForeignFilesAreRefused) {
+  cl::Runtime rt({"", "", false});
+  std::string good = tmp("good.lnerf");
+  make_model(rt).save(good);
+  std::string data = slurp(good);
+
+  std::string flipped = data;
+  flipped[flipped.size() - 100] ^= 0x5a;  // inside the last blob
+  spit(tmp("flipped.lnerf"), flipped);
+  EXPECT_NE(expect_load_error(rt, tmp("flipped.lnerf")).find("checksum"), std::string::npos);
+
+  spit(tmp("truncated.lnerf"), data.substr(0, data.size() - 10));
+  EXPECT_NE(expect_load_error(rt, tmp("truncated.lnerf")).find("truncated"), std::string::npos);
+
+  spit(tmp("foreign.lnerf"), "PNG\x0d\x0a this is not a model at all, just some bytes");
+  EXPECT_NE(expect_load_error(rt, tmp("foreign.lnerf")).find("not a Lorgnette model"), std::string::npos);
+
+  std::string bad_header = data;
+  bad_header[20] = '#';  // breaks the JSON
+  spit(tmp("badheader.lnerf"), bad_header);
+  EXPECT_NE(expect_load_error(rt, tmp("badheader.lnerf")).find("corrupt"), std::string::npos);
+
+  EXPECT_NE(expect_load_error(rt, tmp("does-not-exist.lnerf")).find("cannot open"), std::string::npos);
+}
+
+TEST(NerfModel, NewerFormatVersionIsRefused) {
+  cl::Runtime rt({"", "", false});
+  std::string path = tmp("newer.lnerf");
+  make_model(rt).save(path);
+  std::string data = slurp(path);
+  uint64_t hlen = 0;
+  std::memcpy(&hlen, data.data() + 8, 8);
+  nlohmann::json header = nlohmann::json::parse(data.substr(16, hlen));
+  header["version"] = nerf::kSnapshotVersion + 1;
+  std::string text = header.dump();
+  uint64_t new_len = text.size();
+  std::string out = data.substr(0, 8) + std::string(reinterpret_cast<const char*>(&new_len), 8) + text +
+                    data.substr(16 + hlen);
+  spit(path, out);
+  std::string msg = expect_load_error(rt, path);
+  EXPECT_NE(msg.find("newer"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("update"), std::string::npos) << msg;
+}
+
+TEST(Occupancy, IndexAndCellExitFollowTheSharedRule) {
+  EXPECT_EQ(occ_cell_index(4, 0.0f, 0.0f, 0.0f), 0);
+  EXPECT_EQ(occ_cell_index(4, 0.3f, 0.55f, 0.99f), 1 + 4 * (2 + 4 * 3));
+  EXPECT_EQ(occ_cell_index(4, 1.0f, 0.5f, 0.5f), -1);
+  EXPECT_EQ(occ_cell_index(4, -0.01f, 0.5f, 0.5f), -1);
+  EXPECT_EQ(occ_cell_index(4, NAN, 0.5f, 0.5f), -1);
+  // From x = 0.3 in a 4-cell grid moving +x at 0.5 per unit: the cell ends at 0.5 -> 0.4 units.
+  EXPECT_NEAR(occ_cell_exit(4, 0.3f, 0.1f, 0.1f, 0.5f, 0.0f, 0.0f), 0.4f, 1e-6f);
+  EXPECT_NEAR(occ_cell_exit(4, 0.3f, 0.1f, 0.1f, -1.0f, 0.0f, 0.0f), 0.05f, 1e-6f);
+  std::vector<uint32_t> bits(occ_word_count(4), 0u);
+  bits[37 >> 5] |= 1u << (37 & 31);
+  EXPECT_TRUE(occ_cell_occupied(bits.data(), 37));
+  EXPECT_FALSE(occ_cell_occupied(bits.data(), 36));
+  EXPECT_FALSE(occ_cell_occupied(bits.data(), -1));
+}
+
+}  // namespace

@@ -1,0 +1,151 @@
+// Volume rendering and loss (kernels/train/render.h, loss.cl): the constant-density slab against
+// its closed form, the gradients against central finite differences, and the kernel against the
+// host build of the same header.
+#include <cmath>
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "host/cl/kernel.h"
+#include "host/cl/runtime.h"
+#include "kernels/train/render.h"
+
+namespace {
+
+using lorgnette::cl::Buffer;
+using lorgnette::cl::Kernel;
+using lorgnette::cl::Runtime;
+
+struct Rays {
+  std::vector<uint32_t> offsets, counts;
+  std::vector<float> info, sigma, rgb;  // rgb SoA with stride
+  uint32_t stride = 0;
+};
+
+Rays random_rays(uint32_t n_rays, uint32_t seed) {
+  std::mt19937 gen(seed);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  Rays r;
+  uint32_t total = 0;
+  for (uint32_t i = 0; i < n_rays; ++i) {
+    r.offsets.push_back(total);
+    r.counts.push_back(i % 7 == 0 ? 0 : 1 + gen() % 40);
+    total += r.counts.back();
+    for (int k = 0; k < int(RAY_INFO_FLOATS); ++k) r.info.push_back(u(gen));
+  }
+  r.stride = total + 5;
+  r.sigma.resize(r.stride);
+  r.rgb.resize(3 * r.stride);
+  for (auto& s : r.sigma) s = 30.0f * u(gen) * u(gen);
+  for (auto& c : r.rgb) c = u(gen);
+  return r;
+}
+
+// Runs render_loss on the device; returns colours (4/ray), losses, dsigma, drgb.
+struct Out {
+  std::vector<float> color, loss, dsigma, drgb;
+};
+Out run_kernel(Runtime& rt, const Rays& r, float step, uint32_t loss_kind, uint32_t forward_only) {
+  uint32_t n = uint32_t(r.counts.size());
+  Buffer<uint32_t> off(rt, r.offsets), cnt(rt, r.counts);
+  Buffer<float> info(rt, r.info), sigma(rt, r.sigma), rgb(rt, r.rgb);
+  Buffer<float> dsigma(rt, r.stride), drgb(rt, 3 * r.stride), loss(rt, n), color(rt, 4 * n);
+  LossParams p{n, r.stride, forward_only, loss_kind, step, 1.0f / (3.0f * n), 1e-4f, 0.0f};
+  Kernel k(rt.program("train/loss.cl"), "render_loss");
+  k.args(p, off, cnt, info, sigma, rgb, dsigma, drgb, loss, color).launch(rt, n, 64);
+  return {color.read(rt), loss.read(rt), dsigma.read(rt), drgb.read(rt)};
+}
+
+TEST(Render, ConstantSlabMatchesClosedForm) {
+  // N samples of density sigma, spacing step: T = exp(-sigma * N * step) exactly (product of
+  // per-sample transmittances), C = c * (1 - T) + bg * T.
+  Runtime rt({"", "", false});
+  const float step = 0.01f, sigma = 7.5f;
+  const uint32_t N = 50;  // slab thickness d = 0.5 -> T = exp(-3.75) = 0.0235
+  Rays r;
+  r.offsets = {0};
+  r.counts = {N};
+  r.info = {0, 0, 0, 0.2f, 0.4f, 0.6f, 0, 0};
+  r.stride = N;
+  r.sigma.assign(N, sigma);
+  r.rgb.clear();
+  for (int c = 0; c < 3; ++c) r.rgb.insert(r.rgb.end(), N, 0.9f - 0.3f * c);
+  Out o = run_kernel(rt, r, step, LOSS_L2_SRGB, 1);
+  double T = std::exp(-double(sigma) * N * step);
+  // float32 accumulation over 50 samples: relative error ~ 50 * 6e-8; 1e-5 leaves margin.
+  EXPECT_NEAR(o.color[3], 1.0 - T, 1e-5);
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(o.color[c], (0.9 - 0.3 * c) * (1.0 - T) + r.info[3 + c] * T, 1e-5);
+}
+
+double host_loss(const Rays& r, uint32_t ray, float step, uint32_t kind) {
+  float color[4], dC[3];
+  const float* info = &r.info[RAY_INFO_FLOATS * ray];
+  render_ray_forward(r.sigma.data(), r.rgb.data(), r.stride, r.offsets[ray], r.counts[ray], step, 1e-4f, info + 3, color);
+  return render_ray_loss(color, info, kind, 1.0f, dC);
+}
+
+TEST(Render, GradientsMatchFiniteDifferences) {
+  Rays r = random_rays(8, 7);
+  const float step = 0.02f;
+  for (uint32_t kind : {LOSS_L2_SRGB, LOSS_L2_LINEAR}) {
+    for (uint32_t ray = 1; ray < 8; ++ray) {
+      uint32_t first = r.offsets[ray], count = r.counts[ray];
+      const float* info = &r.info[RAY_INFO_FLOATS * ray];
+      float color[4], dC[3];
+      std::vector<float> dsigma(r.stride), drgb(3 * r.stride);
+      uint32_t used = render_ray_forward(r.sigma.data(), r.rgb.data(), r.stride, first, count, step, 1e-4f, info + 3, color);
+      render_ray_loss(color, info, kind, 1.0f, dC);
+      render_ray_backward(r.sigma.data(), r.rgb.data(), r.stride, first, count, used, step, color, dC, dsigma.data(),
+                          drgb.data());
+      for (uint32_t k = 0; k < count; ++k) {
+        uint32_t i = first + k;
+        // Central differences in float32: eps 1e-2 on sigma (values up to 30) and 1e-3 on colours keeps
+        // the truncation error ~eps^2 and the rounding error ~1e-7/eps well below the tolerance
+        // of 1e-4 absolute + 1 % relative.
+        auto fd = [&](float& x, float eps) {
+          float save = x;
+          x = save + eps;
+          double lp = host_loss(r, ray, step, kind);
+          x = save - eps;
+          double lm = host_loss(r, ray, step, kind);
+          x = save;
+          return (lp - lm) / (2.0 * eps);
+        };
+        double g = fd(r.sigma[i], 1e-2f);
+        EXPECT_NEAR(dsigma[i], g, 1e-4 + 0.01 * std::fabs(g)) << "ray " << ray << " sample " << k;
+        for (int c = 0; c < 3; ++c) {
+          double gc = fd(r.rgb[c * r.stride + i], 1e-3f);
+          EXPECT_NEAR(drgb[c * r.stride + i], gc, 1e-4 + 0.01 * std::fabs(gc)) << "ray " << ray << " c " << c;
+        }
+      }
+    }
+  }
+}
+
+TEST(Render, KernelMatchesHostReference) {
+  Runtime rt({"", "", false});
+  Rays r = random_rays(200, 3);
+  const float step = 0.015f;
+  Out o = run_kernel(rt, r, step, LOSS_L2_SRGB, 0);
+  std::vector<float> dsigma(r.stride, 0.0f), drgb(3 * r.stride, 0.0f);
+  for (uint32_t ray = 0; ray < 200; ++ray) {
+    const float* info = &r.info[RAY_INFO_FLOATS * ray];
+    float color[4], dC[3];
+    uint32_t used = render_ray_forward(r.sigma.data(), r.rgb.data(), r.stride, r.offsets[ray], r.counts[ray], step,
+                                       1e-4f, info + 3, color);
+    float loss = render_ray_loss(color, info, LOSS_L2_SRGB, 1.0f / 600.0f, dC);
+    render_ray_backward(r.sigma.data(), r.rgb.data(), r.stride, r.offsets[ray], r.counts[ray], used, step, color, dC,
+                        dsigma.data(), drgb.data());
+    // Same float32 formulas on both sides; the device may contract to FMA or use a different exp/pow
+    // (OpenCL allows a few ulp): 1e-5 relative + 1e-7 absolute.
+    for (int c = 0; c < 4; ++c) EXPECT_NEAR(o.color[4 * ray + c], color[c], 1e-5) << ray;
+    EXPECT_NEAR(o.loss[ray], loss, 1e-5 * std::fabs(loss) + 1e-7) << ray;
+  }
+  for (uint32_t i = 0; i < r.stride - 5; ++i) {
+    EXPECT_NEAR(o.dsigma[i], dsigma[i], 1e-4 * std::fabs(dsigma[i]) + 1e-8) << i;
+    for (int c = 0; c < 3; ++c)
+      EXPECT_NEAR(o.drgb[c * r.stride + i], drgb[c * r.stride + i], 1e-4 * std::fabs(drgb[c * r.stride + i]) + 1e-8);
+  }
+}
+
+}  // namespace

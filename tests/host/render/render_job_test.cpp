@@ -1,0 +1,128 @@
+// The render job's inputs and outputs: transforms (translate/rotate/scale and 4x4 text), sizes,
+// placement and pose files, the refusal to overwrite files, and the straight-alpha conversion.
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include <gtest/gtest.h>
+
+#include "host/render/analytic_field.h"
+#include "host/render/render_job.h"
+
+using namespace lorgnette;
+using namespace lorgnette::render;
+namespace fs = std::filesystem;
+
+namespace {
+std::string tmp_dir(const std::string& name) {
+  fs::path p = fs::path(LORGNETTE_TEST_TMP) / ("render_job_" + name);
+  fs::remove_all(p);
+  fs::create_directories(p);
+  return p.string();
+}
+void write(const std::string& path, const std::string& text) { std::ofstream(path) << text; }
+}  // namespace
+
+TEST(RenderJob, TrsTransformRotatesScalesThenTranslates) {
+  Mat4 m = trs_transform({1, 2, 3}, {0, 0, 90}, 2.0f);
+  // (1, 0, 0) -> scaled (2, 0, 0) -> rotated 90 deg about z (0, 2, 0) -> translated (1, 4, 3).
+  float p[3] = {1, 0, 0}, q[3];
+  for (int i = 0; i < 3; ++i) q[i] = m[4 * i] * p[0] + m[4 * i + 1] * p[1] + m[4 * i + 2] * p[2] + m[4 * i + 3];
+  EXPECT_NEAR(q[0], 1.0f, 1e-6f);
+  EXPECT_NEAR(q[1], 4.0f, 1e-6f);
+  EXPECT_NEAR(q[2], 3.0f, 1e-6f);
+  EXPECT_THROW(trs_transform({0, 0, 0}, {0, 0, 0}, 0.0f), std::invalid_argument);
+}
+
+TEST(RenderJob, ParsesMatricesAndSizesAndRefusesBadOnes) {
+  Mat4 m = parse_matrix("[[1,0,0,5],[0,1,0,6],[0,0,1,7],[0,0,0,1]]");
+  EXPECT_EQ(m[3], 5.0f);
+  EXPECT_EQ(m[11], 7.0f);
+  EXPECT_THROW(parse_matrix("1 2 3"), std::invalid_argument);
+  EXPECT_THROW(parse_matrix("1 0 0 0 0 1 0 0 0 0 1 0 0 0 1 1"), std::invalid_argument);  // not affine
+  EXPECT_THROW(parse_matrix("1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 x"), std::invalid_argument);
+  auto s = parse_size("1280x720");
+  EXPECT_EQ(s[0], 1280u);
+  EXPECT_EQ(s[1], 720u);
+  EXPECT_THROW(parse_size("1280"), std::invalid_argument);
+  EXPECT_THROW(parse_size("0x10"), std::invalid_argument);
+}
+
+TEST(RenderJob, ReadsPlacementAndPoseFiles) {
+  std::string dir = tmp_dir("files");
+  write(dir + "/placement.json",
+        R"({"version":1,"glasses":{"path":"frame.glb"},"transform":[[0.01,0,0,0.1],[0,0.01,0,0.2],[0,0,0.01,0.3],[0,0,0,1]]})");
+  Placement p = read_placement(dir + "/placement.json");
+  EXPECT_FLOAT_EQ(p.transform[0], 0.01f);
+  EXPECT_FLOAT_EQ(p.transform[11], 0.3f);
+  EXPECT_EQ(fs::path(p.glasses_path).filename(), "frame.glb");
+  write(dir + "/bad.json", R"({"version":1})");
+  EXPECT_THROW(read_placement(dir + "/bad.json"), std::runtime_error);
+  EXPECT_THROW(read_placement(dir + "/missing.json"), std::runtime_error);
+  write(dir + "/pose.json",
+        R"({"transform_matrix":[[1,0,0,0],[0,1,0,0],[0,0,1,3],[0,0,0,1]],"fl_x":500,"w":1000,"h":500})");
+  Camera c = read_pose(dir + "/pose.json", 500, 250, 30.0f);
+  EXPECT_FLOAT_EQ(c.fx, 250.0f);
+  EXPECT_FLOAT_EQ(c.cx, 250.0f);
+  EXPECT_FLOAT_EQ(c.c2w[11], 3.0f);
+}
+
+TEST(RenderJob, RefusesToOverwriteUnlessForced) {
+  std::string dir = tmp_dir("overwrite");
+  write(dir + "/frame_0000.png", "user file");
+  try {
+    check_outputs_free(dir, {"frame_0000.png", "depth_0000.exr"}, false);
+    FAIL() << "expected a refusal";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("--force"), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("frame_0000.png"), std::string::npos);
+  }
+  EXPECT_NO_THROW(check_outputs_free(dir, {"frame_0000.png"}, true));
+  EXPECT_NO_THROW(check_outputs_free(dir, {"other.png"}, false));
+}
+
+TEST(RenderJob, OutputImagesAreStraightAlphaOrOpaqueRgb) {
+  Image rgba(1, 1, 4);
+  rgba.pixels = {0.2f, 0.1f, 0.05f, 0.5f};  // premultiplied
+  Image a = to_output_image(rgba, true);
+  ASSERT_EQ(a.channels, 4);
+  EXPECT_FLOAT_EQ(a.pixels[0], 0.4f);
+  EXPECT_FLOAT_EQ(a.pixels[3], 0.5f);
+  Image b = to_output_image(rgba, false);
+  ASSERT_EQ(b.channels, 3);
+  EXPECT_FLOAT_EQ(b.pixels[0], 0.2f);
+}
+
+// End to end on the analytic head: a 3-view orbit writes every output, and a second run into the
+// same directory is refused (then allowed with force).
+TEST(RenderJob, OrbitWritesFramesDepthVideoSheetAndSummary) {
+  cl::Runtime rt;
+  AnalyticField field(rt, analytic_head_min, analytic_head_max, analytic_head_primitives(), 1u << 14);
+  VolumeScene scene;
+  scene.aabb_min = analytic_head_min;
+  scene.aabb_max = analytic_head_max;
+  scene.step = 1.0f / 128.0f;
+  scene.field = &field;
+  Marcher marcher(rt);
+  OrbitSpec spec;
+  spec.center = {0.0f, -0.15f, 0.05f};
+  spec.half_extent = {0.6f, 0.75f, 0.65f};
+  spec.views = 3;
+  spec.width = 48;
+  spec.height = 32;
+  RenderJob job;
+  job.cameras = orbit_cameras(spec);
+  job.out_dir = tmp_dir("orbit");
+  auto render = [&](const Camera& c, const mesh::SurfaceBuffers* s) { return marcher.render(scene, c, s, job.options); };
+  nlohmann::json out = run_render_job(job, render);
+  EXPECT_EQ(out["views"], 3);
+  for (const auto& name : render_job_outputs(job)) EXPECT_TRUE(fs::exists(fs::path(job.out_dir) / name)) << name;
+  Image depth = read_image(job.out_dir + "/depth_0001.exr");
+  EXPECT_EQ(depth.width, 48);
+  Image frame = read_image(job.out_dir + "/frame_0000.png");
+  EXPECT_LT(frame.at(24, 12, 2), 0.9f) << "the head is in the middle of the frame";
+  EXPECT_GT(frame.at(1, 1, 2), 0.99f) << "white background in the corner";
+  EXPECT_THROW(run_render_job(job, render), std::runtime_error);
+  job.force = true;
+  EXPECT_NO_THROW(run_render_job(job, render));
+}

@@ -1,0 +1,141 @@
+// `lorgnette bench frames [--json] [--model M] [--glasses F [--placement P]]`: the paper's Table 1
+// (frame times at 480p/720p/1080p, head alone and head + glasses, samples per ray) on every OpenCL
+// device found. Without --model an analytic head stands in (and the rows say so). Logic lives in
+// host/render/frame_bench.
+#include <iostream>
+#include <memory>
+
+#include <Eigen/Core>
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+#include <spdlog/spdlog.h>
+
+#include "host/cl/device.h"
+#include "host/nerf/model.h"
+#include "host/render/analytic_field.h"
+#include "host/render/frame_bench.h"
+#include "host/render/renderer.h"
+#include "mesh/glasses.h"
+#include "mesh/surface_pass.h"
+#include "tools/lorgnette/command.h"
+
+namespace lorgnette::cli {
+namespace {
+
+struct BenchArgs {
+  std::string model, glasses, placement, sizes;
+  uint32_t repeats = 3, surface_spp = 4;
+  float step_scale = 1.0f;
+  bool json = false;
+};
+
+nlohmann::json bench_device(const BenchArgs& a, const cl::DeviceInfo& dev, GlobalOptions& global) {
+  cl::RuntimeOptions ro = global.runtime();
+  ro.device = std::to_string(dev.index);
+  cl::Runtime rt(ro);
+  std::unique_ptr<nerf::NerfModel> model;
+  std::unique_ptr<render::AnalyticField> analytic;
+  std::unique_ptr<cl::Buffer<uint32_t>> occ;
+  render::VolumeScene scene;
+  if (!a.model.empty()) {
+    model = std::make_unique<nerf::NerfModel>(nerf::NerfModel::load(rt, a.model));
+    scene.aabb_min = model->aabb().min;
+    scene.aabb_max = model->aabb().max;
+  } else {
+    analytic = std::make_unique<render::AnalyticField>(rt, render::analytic_head_min, render::analytic_head_max,
+                                                       render::analytic_head_primitives(), 1u << 18);
+    occ = std::make_unique<cl::Buffer<uint32_t>>(rt, analytic->occupancy_bits(64));
+    scene.aabb_min = render::analytic_head_min;
+    scene.aabb_max = render::analytic_head_max;
+    scene.step = 1.7f / 1024.0f;  // like a NeRF's sqrt(3)/1024 over a unit box
+    scene.occupancy = {LGN_MARCH_OCC_LINEAR, 64, occ.get()};
+    scene.field = analytic.get();
+  }
+  render::FrameBenchSpec spec;
+  spec.repeats = a.repeats;
+  spec.device = dev.name;
+  spec.scene = a.model.empty() ? "analytic head" : a.model;
+  if (!a.sizes.empty()) {
+    spec.sizes.clear();
+    for (const auto& s : CLI::detail::split(a.sizes, ',')) spec.sizes.push_back(render::parse_size(s));
+  }
+  spec.camera = [&](uint32_t w, uint32_t h) {
+    render::OrbitSpec o;
+    for (int i = 0; i < 3; ++i) {
+      o.center[i] = 0.5f * (scene.aabb_min[i] + scene.aabb_max[i]);
+      o.half_extent[i] = 0.5f * (scene.aabb_max[i] - scene.aabb_min[i]);
+    }
+    o.width = w;
+    o.height = h;
+    return render::orbit_cameras(o)[0];
+  };
+  std::unique_ptr<mesh::SurfacePass> pass;
+  if (!a.glasses.empty()) {
+    mesh::Glasses g = mesh::load_glasses(a.glasses);
+    render::Mat4 p = a.placement.empty() ? render::rough_glasses_placement(float(g.metrics.total_width_mm),
+                                                                          scene.aabb_min, scene.aabb_max)
+                                         : render::read_placement(a.placement).transform;
+    Eigen::Matrix4f m;
+    for (int i = 0; i < 16; ++i) m(i / 4, i % 4) = p[i];
+    pass = std::make_unique<mesh::SurfacePass>(g.mesh, m);
+    mesh::SurfaceParams sp;
+    sp.samples_per_pixel = int(a.surface_spp);
+    spec.surfaces = [&pass, sp](const Camera& cam) { return pass->render(cam, sp); };
+  }
+  render::RenderOptions opts;
+  opts.step_scale = a.step_scale;
+  render::Renderer renderer(rt);
+  render::Marcher marcher(rt);
+  return render::run_frame_bench(spec, [&](const Camera& cam, const mesh::SurfaceBuffers* s) {
+    return model ? renderer.render(*model, cam, s, opts) : marcher.render(scene, cam, s, opts);
+  });
+}
+
+void add_frames(CLI::App& bench, GlobalOptions& global) {
+  auto a = std::make_shared<BenchArgs>();
+  auto* cmd = bench.add_subcommand("frames", "Table 1: frame times per resolution, head alone and with glasses");
+  cmd->add_option("--model", a->model, "trained model (.lnerf); default: an analytic head")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--glasses", a->glasses, "glasses frame for the head + glasses rows")->check(CLI::ExistingFile);
+  cmd->add_option("--placement", a->placement, "placement.json (default: a rough automatic placement)")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--repeats", a->repeats, "timed frames per row, after one warm-up")->capture_default_str()
+      ->check(CLI::Range(1, 100));
+  cmd->add_option("--sizes", a->sizes, "comma-separated WxH list (default 854x480,1280x720,1920x1080)");
+  cmd->add_option("--surface-spp", a->surface_spp, "glasses samples per pixel")->capture_default_str();
+  cmd->add_option("--step-scale", a->step_scale, "marching step multiplier")->capture_default_str();
+  cmd->add_flag("--json", a->json, "print the rows as one JSON array on stdout");
+  cmd->callback([a, &global] {
+    nlohmann::json rows = nlohmann::json::array();
+    for (const auto& dev : cl::list_devices()) {
+      if (!global.device.empty() && cl::select_device(global.device).index != dev.index) continue;
+      for (auto& r : bench_device(*a, dev, global)) rows.push_back(r);
+    }
+    if (a->json) {
+      std::cout << rows.dump(2) << "\n";
+      return;
+    }
+    std::cout << fmt::format("{:<28} {:>10} {:>8} {:>10} {:>10} {:>12}\n", "device", "resolution", "glasses",
+                             "median_ms", "march_ms", "samples/ray");
+    for (const auto& r : rows)
+      std::cout << fmt::format("{:<28} {:>10} {:>8} {:>10.1f} {:>10.1f} {:>12.2f}\n",
+                               r["device"].get<std::string>().substr(0, 28), r["resolution"].get<std::string>(),
+                               r["glasses"].get<bool>() ? "yes" : "no", r["median_ms"].get<double>(),
+                               r["march_ms"].get<double>(), r["samples_per_ray"].get<double>());
+  });
+}
+
+void add_bench(CLI::App& app, GlobalOptions& global) {
+  CLI::App* bench = nullptr;
+  try {
+    bench = app.get_subcommand("bench");  // another module may have created it
+  } catch (const CLI::OptionNotFound&) {
+    bench = app.add_subcommand("bench", "benchmarks (frames: the paper's Table 1)");
+    bench->require_subcommand(1);
+  }
+  add_frames(*bench, global);
+}
+
+}  // namespace
+LGN_REGISTER_COMMAND(90, add_bench);
+}  // namespace lorgnette::cli

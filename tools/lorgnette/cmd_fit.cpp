@@ -1,0 +1,92 @@
+// `lorgnette fit MODEL --glasses FRAME -o placement.json [--views K] [--debug DIR]`: places the
+// frame on the NeRF head (paper Sec. 3.1 + contact refinement) and writes placement.json. Needs the
+// NeRF core (host/nerf + host/render) and the mesh module; without them the command explains that.
+#include <filesystem>
+#include <iostream>
+#include <memory>
+
+#include <nlohmann/json.hpp>
+#include <spdlog/spdlog.h>
+
+#include "tools/lorgnette/command.h"
+
+#if defined(LGN_FIT_HAVE_NERF) && defined(LGN_FIT_HAVE_MESH)
+#include "fit/fit.h"
+#include "fit/glasses_input.h"
+#include "fit/nerf_view_source.h"
+#include "fit/placement_json.h"
+#endif
+
+namespace lorgnette::cli {
+namespace {
+
+struct FitArgs {
+  std::string model, glasses, output = "placement.json", debug, policy = "stretch", dataset, mean_face, landmarks;
+  int views = 12, resolution = 384, upsample = 0;
+  double yaw_range = 20.0, pitch_range = 15.0;
+  bool json = false;
+};
+
+#if defined(LGN_FIT_HAVE_NERF) && defined(LGN_FIT_HAVE_MESH)
+void run_fit(const FitArgs& a, GlobalOptions& global) {
+  fit::FitOptions opt;
+  opt.cap.views = a.views;
+  opt.cap.yaw_range_deg = a.yaw_range;
+  opt.cap.pitch_range_deg = a.pitch_range;
+  opt.width = opt.height = a.resolution;
+  opt.detector.upsample = a.upsample;
+  if (!a.landmarks.empty()) opt.detector.model_path = a.landmarks;
+  if (!a.mean_face.empty()) opt.mean_face_path = a.mean_face;
+  opt.scale_policy = fit::parse_scale_policy(a.policy);
+  opt.debug_dir = a.debug;
+  fit::GlassesInput glasses = fit::load_glasses_input(a.glasses);
+  opt.frame_points = glasses.frame_points;
+  cl::Runtime rt(global.runtime());
+  nerf::NerfModel model = nerf::NerfModel::load(rt, a.model);
+  std::string transforms = a.dataset.empty() ? model.metadata.dataset_path : a.dataset;
+  if (!transforms.empty() && std::filesystem::is_directory(transforms)) transforms += "/transforms.json";
+  fit::ViewPrior prior = fit::prior_from_transforms(transforms, model);
+  fit::NerfViewSource source(model, prior);
+  fit::FitResult r = fit::fit_glasses(source, glasses.ref, opt);
+  fit::PlacementFile pf = fit::make_placement_file(r, a.glasses, a.policy);
+  fit::write_placement(a.output, pf);
+  for (const auto& w : r.warnings) spdlog::warn("fit: {}", w);
+  if (a.json) {
+    std::cout << fit::to_json(pf).dump(2) << "\n";
+  } else {
+    std::cerr << "placed " << a.glasses << " (" << r.views_used << "/" << r.views.size() << " views, PD "
+              << pf.pd_mm << " mm, " << pf.mm_per_unit << " mm/unit, penetration " << pf.penetration_mm
+              << " mm, " << r.total_seconds() << " s" << (pf.ok ? "" : ", NOT ok: see warnings") << ") -> "
+              << a.output << "\n";
+  }
+}
+#else
+void run_fit(const FitArgs&, GlobalOptions&) {
+  throw std::runtime_error("this build has no NeRF core or mesh module (host/nerf, host/render, mesh/): "
+                           "`fit` needs them; rebuild with those modules");
+}
+#endif
+
+void add_fit(CLI::App& app, GlobalOptions& global) {
+  auto a = std::make_shared<FitArgs>();
+  auto* cmd = app.add_subcommand("fit", "place a glasses frame on a trained NeRF head (writes placement.json)");
+  cmd->add_option("model", a->model, "trained model (.lnerf)")->required()->check(CLI::ExistingFile);
+  cmd->add_option("--glasses", a->glasses, "glasses file (glTF/OBJ/PLY)")->required()->check(CLI::ExistingFile);
+  cmd->add_option("-o,--output", a->output, "placement.json to write")->capture_default_str();
+  cmd->add_option("--views", a->views, "number of rendered views K")->capture_default_str()->check(CLI::Range(2, 200));
+  cmd->add_option("--yaw-range", a->yaw_range, "views span +-this yaw (deg; dlib works to ~45)")->capture_default_str();
+  cmd->add_option("--pitch-range", a->pitch_range, "views span +-this pitch (deg)")->capture_default_str();
+  cmd->add_option("--resolution", a->resolution, "view size in pixels")->capture_default_str()->check(CLI::Range(64, 4096));
+  cmd->add_option("--upsample", a->upsample, "detector up-sampling steps for small faces")->check(CLI::Range(0, 3));
+  cmd->add_option("--scale-policy", a->policy, "stretch (paper) or true-size")->capture_default_str();
+  cmd->add_option("--dataset", a->dataset, "transforms.json of the capture (prior front/up; default: the model's)");
+  cmd->add_option("--mean-face", a->mean_face, "68-point mean face (204 numbers)");
+  cmd->add_option("--landmark-model", a->landmarks, "dlib 68-point shape predictor (.dat)");
+  cmd->add_option("--debug", a->debug, "write annotated views to this directory");
+  cmd->add_flag("--json", a->json, "print placement.json on stdout");
+  cmd->callback([a, &global] { run_fit(*a, global); });
+}
+
+}  // namespace
+LGN_REGISTER_COMMAND(60, add_fit);
+}  // namespace lorgnette::cli

@@ -1,0 +1,161 @@
+// `lorgnette render MODEL [--glasses FRAME --placement P.json | --transform 4x4 | --translate x y z
+// --rotate rx ry rz --scale s] (--orbit N | --pose JSON) --size WxH [--spp N] [--alpha] -o DIR`:
+// try-on renders of a trained head with a glasses frame (host/render/render_job.h does the work).
+#include <iostream>
+#include <memory>
+
+#include <Eigen/Core>
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+#include <spdlog/spdlog.h>
+
+#include "host/dataset/dataset.h"
+#include "host/nerf/model.h"
+#include "host/render/render_job.h"
+#include "host/render/renderer.h"
+#include "mesh/glasses.h"
+#include "mesh/surface_pass.h"
+#include "tools/lorgnette/command.h"
+
+namespace lorgnette::cli {
+namespace {
+
+struct RenderArgs {
+  std::string model, glasses, placement, transform, pose, size = "854x480", out;
+  std::vector<float> translate, rotate, background, front;
+  float scale = 1.0f, fov = 30.0f, elevation = 0.0f, step_scale = 1.0f;
+  uint32_t orbit = 0, spp = 1, surface_spp = 4;
+  bool alpha = false, force = false, json = false, no_video = false;
+};
+
+render::Vec3 vec3(const std::vector<float>& v, render::Vec3 fallback) {
+  return v.empty() ? fallback : render::Vec3{v[0], v[1], v[2]};
+}
+
+// Where the capture's cameras were (the face's front), from the model's dataset when it is there.
+void capture_axes(const nerf::NerfModel& model, render::Vec3& front, render::Vec3& up) {
+  const std::string& path = model.metadata.dataset_path;
+  if (path.empty()) return;
+  try {
+    dataset::LoadOptions lo;
+    lo.load_images = false;
+    lo.skip_missing_images = true;
+    auto ds = dataset::load_dataset(path, lo);
+    std::vector<Camera> cams;
+    for (const auto& f : ds.frames) cams.push_back(f.camera);
+    front = render::front_from_cameras(cams);
+    up = render::up_from_cameras(cams);
+    spdlog::info("orbit front from the capture's {} cameras: ({:.2f}, {:.2f}, {:.2f})", cams.size(), front[0],
+                 front[1], front[2]);
+  } catch (const std::exception& e) {
+    spdlog::warn("could not read the model's dataset '{}' for the orbit's front ({}); using +z", path, e.what());
+  }
+}
+
+render::Mat4 glasses_transform(const RenderArgs& a, std::string& glasses_path) {
+  int given = !a.placement.empty() + !a.transform.empty() +
+              (!a.translate.empty() || !a.rotate.empty() || a.scale != 1.0f);
+  if (given > 1)
+    throw std::runtime_error("give one of --placement, --transform, or --translate/--rotate/--scale");
+  if (!a.placement.empty()) {
+    render::Placement p = render::read_placement(a.placement);
+    if (glasses_path.empty()) glasses_path = p.glasses_path;
+    return p.transform;
+  }
+  if (!a.transform.empty()) return render::parse_matrix(a.transform);
+  return render::trs_transform(vec3(a.translate, {0, 0, 0}), vec3(a.rotate, {0, 0, 0}), a.scale);
+}
+
+void run(const RenderArgs& a, GlobalOptions& global) {
+  if ((a.orbit > 0) == !a.pose.empty()) throw std::runtime_error("give either --orbit N or --pose JSON");
+  auto size = render::parse_size(a.size);
+  cl::Runtime rt(global.runtime());
+  nerf::NerfModel model = nerf::NerfModel::load(rt, a.model);
+
+  render::RenderJob job;
+  job.out_dir = a.out;
+  job.force = a.force;
+  job.video = !a.no_video;
+  job.options.spp = a.spp;
+  job.options.alpha = a.alpha;
+  job.options.step_scale = a.step_scale;
+  if (!a.background.empty()) job.options.background = vec3(a.background, {1, 1, 1});
+  if (a.orbit > 0) {
+    render::OrbitSpec spec;
+    const auto& box = model.aabb();
+    spec.center = box.center();
+    spec.half_extent = {0.5f * box.extent(0), 0.5f * box.extent(1), 0.5f * box.extent(2)};
+    capture_axes(model, spec.front, spec.up);
+    spec.front = vec3(a.front, spec.front);
+    spec.views = a.orbit;
+    spec.elevation_deg = a.elevation;
+    spec.fov_y_deg = a.fov;
+    spec.width = size[0];
+    spec.height = size[1];
+    job.cameras = render::orbit_cameras(spec);
+  } else {
+    job.cameras = {render::read_pose(a.pose, size[0], size[1], a.fov)};
+  }
+
+  std::string glasses_path = a.glasses;
+  render::Mat4 placement = glasses_transform(a, glasses_path);
+  std::unique_ptr<mesh::SurfacePass> pass;
+  if (!glasses_path.empty()) {
+    mesh::Glasses g = mesh::load_glasses(glasses_path);
+    Eigen::Matrix4f m;
+    for (int i = 0; i < 16; ++i) m(i / 4, i % 4) = placement[i];
+    pass = std::make_unique<mesh::SurfacePass>(g.mesh, m);
+    mesh::SurfaceParams sp;
+    sp.samples_per_pixel = int(a.surface_spp);
+    job.surfaces = [&pass, sp](const Camera& cam) { return pass->render(cam, sp); };
+  } else if (!a.placement.empty() || !a.transform.empty()) {
+    throw std::runtime_error("a placement was given but no glasses: add --glasses FRAME");
+  }
+
+  render::Renderer renderer(rt);
+  nlohmann::json summary = render::run_render_job(job, [&](const Camera& cam, const mesh::SurfaceBuffers* s) {
+    return renderer.render(model, cam, s, job.options);
+  });
+  summary["model"] = a.model;
+  if (!glasses_path.empty()) summary["glasses_path"] = glasses_path;
+  summary["device"] = rt.device().name;
+  if (a.json) std::cout << summary.dump(2) << "\n";
+  else spdlog::info("wrote {} view(s) to {} (median {:.0f} ms/frame, {:.1f} samples/ray)", job.cameras.size(),
+                    a.out, summary["median_march_ms"].get<double>(), summary["samples_per_ray"].get<double>());
+}
+
+void add_render(CLI::App& app, GlobalOptions& global) {
+  auto a = std::make_shared<RenderArgs>();
+  auto* cmd = app.add_subcommand("render", "render a trained head (.lnerf) with or without glasses");
+  cmd->add_option("model", a->model, "trained model snapshot (.lnerf)")->required()->check(CLI::ExistingFile);
+  cmd->add_option("--glasses", a->glasses, "glasses frame (glTF/GLB/OBJ/PLY)")->check(CLI::ExistingFile);
+  cmd->add_option("--placement", a->placement, "placement.json from `lorgnette fit`")->check(CLI::ExistingFile);
+  cmd->add_option("--transform", a->transform, "canonical mm -> scene, 16 numbers row-major");
+  cmd->add_option("--translate", a->translate, "glasses translation (scene units)")->expected(3);
+  cmd->add_option("--rotate", a->rotate, "glasses rotation about x, y, z (degrees, applied x then y then z)")
+      ->expected(3);
+  cmd->add_option("--scale", a->scale, "scene units per millimetre of the frame");
+  cmd->add_option("--orbit", a->orbit, "N views on a circle around the head, starting at its front");
+  cmd->add_option("--pose", a->pose, "one camera: JSON with transform_matrix (+ fl_x, w, h or fov_y_deg)")
+      ->check(CLI::ExistingFile);
+  cmd->add_option("--size", a->size, "image size WIDTHxHEIGHT")->capture_default_str();
+  cmd->add_option("--spp", a->spp, "NeRF rays per pixel")->capture_default_str()->check(CLI::Range(1, 64));
+  cmd->add_option("--surface-spp", a->surface_spp, "glasses samples per pixel (anti-aliasing)")->capture_default_str()
+      ->check(CLI::Range(1, 256));
+  cmd->add_option("--step-scale", a->step_scale, "marching step multiplier (>1 faster, coarser)")->capture_default_str()
+      ->check(CLI::Range(0.25f, 8.0f));
+  cmd->add_option("--fov", a->fov, "vertical field of view, degrees")->capture_default_str()->check(CLI::Range(5.0f, 120.0f));
+  cmd->add_option("--elevation", a->elevation, "orbit elevation, degrees")->capture_default_str()->check(CLI::Range(-80.0f, 80.0f));
+  cmd->add_option("--front", a->front, "orbit start direction (default: the capture's mean camera)")->expected(3);
+  cmd->add_option("--background", a->background, "linear RGB background (default white)")->expected(3);
+  cmd->add_flag("--alpha", a->alpha, "transparent background (RGBA PNGs)");
+  cmd->add_flag("--no-video", a->no_video, "skip the MP4");
+  cmd->add_flag("--force", a->force, "overwrite existing outputs in the directory");
+  cmd->add_flag("--json", a->json, "print the summary (render.json) on stdout");
+  cmd->add_option("-o,--out", a->out, "output directory")->required();
+  cmd->callback([a, &global] { run(*a, global); });
+}
+
+}  // namespace
+LGN_REGISTER_COMMAND(60, add_render);
+}  // namespace lorgnette::cli

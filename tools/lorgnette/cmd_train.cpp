@@ -1,0 +1,133 @@
+// `lorgnette train DATA -o MODEL`: loads the training split, sizes the model from the data (every
+// value overridable), trains with a progress bar and saves the .lnerf snapshot (also on Ctrl-C;
+// a diverging run keeps its last good snapshot and exits non-zero).
+#include <filesystem>
+#include <sstream>
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include "host/dataset/dataset.h"
+#include "host/nerf/sizing.h"
+#include "host/nerf/trainer.h"
+#include "host/util/interrupt.h"
+#include "tools/lorgnette/command.h"
+
+namespace lorgnette::cli {
+namespace {
+
+struct TrainArgs {
+  std::string data, output, aabb;
+  uint64_t steps = 0;
+  double seconds = 0.0;
+  uint32_t seed = 1337, batch_log2 = 16, finest = 0, log2_table = 0, levels = 0, occ_res = 0, downscale = 1;
+  uint32_t max_side = 0;
+  float step = 0.0f, lr = 1e-2f, aabb_scale = 0.0f;
+  double snapshot_every = 120.0;
+  bool deterministic = false, force = false, no_masks = false, linear_loss = false;
+};
+
+std::optional<nerf::Aabb> parse_aabb(const std::string& text) {
+  if (text.empty()) return std::nullopt;
+  std::stringstream ss(text);
+  nerf::Aabb box;
+  char comma;
+  for (int i = 0; i < 6; ++i) {
+    float v;
+    if (!(ss >> v)) throw std::runtime_error("--aabb needs six numbers: minx,miny,minz,maxx,maxy,maxz");
+    (i < 3 ? box.min[i] : box.max[i - 3]) = v;
+    if (i < 5) ss >> comma;
+  }
+  if (!box.valid()) throw std::runtime_error("--aabb: max must exceed min on every axis");
+  return box;
+}
+
+std::string dataset_hash(const dataset::Dataset& ds) {
+  uint64_t h = 1469598103934665603ull;
+  for (const auto& f : ds.frames)
+    for (char c : f.image_path + std::to_string(f.camera.c2w[3]) + std::to_string(f.camera.fx))
+      h = (h ^ uint8_t(c)) * 1099511628211ull;
+  return fmt::format("{:016x}", h);
+}
+
+void run_train(const TrainArgs& a, GlobalOptions& global) {
+  if (a.steps == 0 && a.seconds <= 0.0) throw std::runtime_error("give --steps N or --seconds S");
+  if (std::filesystem::exists(a.output) && !a.force)
+    throw std::runtime_error("'" + a.output + "' exists: pass --force to overwrite it or choose another -o");
+  if (a.batch_log2 < 10 || a.batch_log2 > 22) throw std::runtime_error("--batch-log2 must be within 10..22");
+  dataset::LoadOptions lo;
+  lo.downscale = int(a.downscale);
+  lo.max_side = int(a.max_side);
+  lo.splits = {dataset::Split::Train};
+  dataset::Dataset ds = dataset::load_dataset(a.data, lo);
+  std::vector<nerf::View> views;
+  for (const dataset::Frame* f : ds.split(dataset::Split::Train)) views.push_back({f->camera, &f->image});
+  if (views.empty()) throw std::runtime_error("'" + a.data + "' has no training frames: check the dataset");
+  spdlog::info("dataset: {} training views ({}), {}x{}", views.size(), ds.format, views[0].camera.width,
+               views[0].camera.height);
+
+  nerf::SizingOverrides ov;
+  ov.aabb = parse_aabb(a.aabb);
+  if (a.finest) ov.finest_resolution = a.finest;
+  if (a.log2_table) ov.log2_table_size = a.log2_table;
+  if (a.levels) ov.levels = a.levels;
+  if (a.occ_res) ov.occupancy_resolution = a.occ_res;
+  if (a.step > 0.0f) ov.step = a.step;
+  ov.aabb_scale = a.aabb_scale > 0.0f ? a.aabb_scale : ds.aabb_scale;
+  ov.use_masks = !a.no_masks;
+  nerf::ModelSizing sizing = nerf::choose_model_size(views, ov);
+  spdlog::info("{}", sizing.summary());
+
+  cl::Runtime rt(global.runtime());
+  nerf::NerfModel model(rt, sizing.field, sizing.aabb, sizing.occupancy_resolution, sizing.step,
+                        1u << a.batch_log2, a.seed, a.deterministic);
+  model.metadata.dataset_path = std::filesystem::absolute(a.data).string();
+  model.metadata.dataset_hash = dataset_hash(ds);
+  model.metadata.device = rt.device().name;
+  nerf::TrainOptions to;
+  to.steps = a.steps;
+  to.seconds = a.seconds;
+  to.seed = a.seed;
+  to.adam.lr = a.lr;
+  to.loss_kind = a.linear_loss ? LOSS_L2_LINEAR : LOSS_L2_SRGB;
+  to.snapshot_path = a.output;
+  to.snapshot_every_seconds = a.snapshot_every;
+  to.progress = !global.quiet;
+  nerf::Trainer trainer(model, views, to, sizing.occupancy_mask);
+  nerf::TrainResult r = trainer.run();
+  if (r.interrupted)
+    spdlog::warn("interrupted after {} steps: the model so far is saved in '{}'", r.steps, a.output);
+  else
+    spdlog::info("trained {} steps ({} samples) in {:.1f} s; saved '{}'", r.steps, r.samples, r.seconds, a.output);
+}
+
+void add_train(CLI::App& app, GlobalOptions& global) {
+  auto* cmd = app.add_subcommand("train", "train a NeRF on a dataset (transforms.json or NeRF-synthetic)");
+  auto a = std::make_shared<TrainArgs>();
+  cmd->add_option("DATA", a->data, "dataset directory or json file")->required();
+  cmd->add_option("-o,--output", a->output, "model file to write (.lnerf)")->required();
+  auto* steps = cmd->add_option("--steps", a->steps, "training steps");
+  cmd->add_option("--seconds", a->seconds, "training time budget in seconds")->excludes(steps);
+  cmd->add_option("--seed", a->seed, "random seed");
+  cmd->add_flag("--deterministic", a->deterministic, "bitwise reproducible (same seed, same device)");
+  cmd->add_flag("--force", a->force, "overwrite an existing model file");
+  cmd->add_option("--batch-log2", a->batch_log2, "log2 of the samples per step (default 16)");
+  cmd->add_option("--lr", a->lr, "base learning rate (default 1e-2)");
+  cmd->add_option("--aabb", a->aabb, "bounding box minx,miny,minz,maxx,maxy,maxz (scene units)");
+  cmd->add_option("--aabb-scale", a->aabb_scale, "box size factor for datasets without alpha (default: dataset)");
+  cmd->add_option("--finest-res", a->finest, "finest hash-grid resolution");
+  cmd->add_option("--log2-table", a->log2_table, "log2 of the hash-table size per level");
+  cmd->add_option("--levels", a->levels, "hash-grid levels");
+  cmd->add_option("--occ-res", a->occ_res, "occupancy grid resolution");
+  cmd->add_option("--step", a->step, "marching step in scene units");
+  cmd->add_option("--downscale", a->downscale, "integer image downscale factor");
+  cmd->add_option("--max-side", a->max_side, "shrink images so the longer side is at most this");
+  cmd->add_flag("--no-masks", a->no_masks, "ignore alpha masks when sizing the box");
+  cmd->add_flag("--linear-loss", a->linear_loss, "L2 on linear instead of sRGB colour");
+  cmd->add_option("--snapshot-every", a->snapshot_every, "seconds between snapshots (0: only at the end)");
+  cmd->callback([a, &global] { run_train(*a, global); });
+}
+
+}  // namespace
+LGN_REGISTER_COMMAND(20, add_train);
+}  // namespace lorgnette::cli
