@@ -35,25 +35,11 @@ Camera look_at_camera(const Eigen::Vector3d& eye, const Eigen::Vector3d& target,
                       const Eigen::Vector3d& up, double fov_y_deg, int width, int height) {
   Eigen::Vector3d back = eye - target;  // camera +z points away from what it looks at
   if (back.norm() < 1e-12) throw std::runtime_error("look_at_camera: eye and target coincide");
-  back.normalize();
-  Eigen::Vector3d right = up.cross(back);
-  if (right.norm() < 1e-9) throw std::runtime_error("look_at_camera: up is parallel to the view direction");
-  right.normalize();
-  Eigen::Vector3d cam_up = back.cross(right);
-  Camera cam{};
-  for (int r = 0; r < 3; ++r) {
-    cam.c2w[r * 4 + 0] = float(right[r]);
-    cam.c2w[r * 4 + 1] = float(cam_up[r]);
-    cam.c2w[r * 4 + 2] = float(back[r]);
-    cam.c2w[r * 4 + 3] = float(eye[r]);
-  }
-  double f = 0.5 * height / std::tan(0.5 * fov_y_deg * M_PI / 180.0);
-  cam.fx = cam.fy = float(f);
-  cam.cx = 0.5f * width;
-  cam.cy = 0.5f * height;
-  cam.width = static_cast<lgn_uint>(width);
-  cam.height = static_cast<lgn_uint>(height);
-  return cam;
+  if (up.cross(back.normalized()).norm() < 1e-9)
+    throw std::runtime_error("look_at_camera: up is parallel to the view direction");
+  auto v = [](const Eigen::Vector3d& p) { return lgn_vec3(float(p.x()), float(p.y()), float(p.z())); };
+  return camera_look_at(v(eye), v(target), v(up), float(fov_y_deg), static_cast<lgn_uint>(width),
+                        static_cast<lgn_uint>(height));
 }
 
 }  // namespace lorgnette::fit

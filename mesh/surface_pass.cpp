@@ -166,24 +166,9 @@ SurfaceBuffers SurfacePass::render(const Camera& cam, const SurfaceParams& param
 
 Camera look_at_camera(const Eigen::Vector3f& eye, const Eigen::Vector3f& target, const Eigen::Vector3f& up,
                       float fov_y_deg, int width, int height) {
-  Eigen::Vector3f f = (target - eye).normalized();
-  Eigen::Vector3f x = f.cross(up).normalized();
-  Eigen::Vector3f y = x.cross(f);
-  Eigen::Vector3f z = -f;
-  Camera cam{};
-  for (int r = 0; r < 3; ++r) {
-    cam.c2w[4 * r + 0] = x[r];
-    cam.c2w[4 * r + 1] = y[r];
-    cam.c2w[4 * r + 2] = z[r];
-    cam.c2w[4 * r + 3] = eye[r];
-  }
-  cam.fy = 0.5f * height / std::tan(0.5f * fov_y_deg * kPi / 180.0f);
-  cam.fx = cam.fy;
-  cam.cx = 0.5f * width;
-  cam.cy = 0.5f * height;
-  cam.width = static_cast<lgn_uint>(width);
-  cam.height = static_cast<lgn_uint>(height);
-  return cam;
+  auto v = [](const Eigen::Vector3f& p) { return lgn_vec3(p.x(), p.y(), p.z()); };
+  return camera_look_at(v(eye), v(target), v(up), fov_y_deg, static_cast<lgn_uint>(width),
+                        static_cast<lgn_uint>(height));
 }
 
 }  // namespace lorgnette::mesh

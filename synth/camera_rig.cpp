@@ -13,25 +13,13 @@ namespace lorgnette::synth {
 
 Camera look_at_camera(const Eigen::Vector3f& eye, const Eigen::Vector3f& target, int width, int height,
                       float fov_y) {
-  Eigen::Vector3f back = (eye - target).normalized();  // camera +z (it looks down -z)
-  Eigen::Vector3f right = Eigen::Vector3f::UnitY().cross(back);
-  if (right.norm() < 1e-6f) right = Eigen::Vector3f::UnitX();
-  right.normalize();
-  Eigen::Vector3f up = back.cross(right);
-  Camera c{};
-  for (int r = 0; r < 3; ++r) {
-    c.c2w[4 * r + 0] = right[r];
-    c.c2w[4 * r + 1] = up[r];
-    c.c2w[4 * r + 2] = back[r];
-    c.c2w[4 * r + 3] = eye[r];
-  }
-  c.fy = 0.5f * height / std::tan(0.5f * fov_y);
-  c.fx = c.fy;
-  c.cx = 0.5f * width;
-  c.cy = 0.5f * height;
-  c.width = width;
-  c.height = height;
-  return c;
+  Eigen::Vector3f back = (eye - target).normalized();
+  // World +y is up, unless the camera looks straight up or down: then the image's up is -z or +z.
+  Eigen::Vector3f up = Eigen::Vector3f::UnitY();
+  if (up.cross(back).norm() < 1e-6f) up = back.y() > 0 ? Eigen::Vector3f(0, 0, -1) : Eigen::Vector3f(0, 0, 1);
+  auto v = [](const Eigen::Vector3f& p) { return lgn_vec3(p.x(), p.y(), p.z()); };
+  return camera_look_at(v(eye), v(target), v(up), fov_y * 180.0f / float(M_PI), static_cast<lgn_uint>(width),
+                        static_cast<lgn_uint>(height));
 }
 
 Eigen::Vector3f rig_position(const RigOptions& rig, float yaw_deg, float pitch_deg) {

@@ -32,23 +32,10 @@ Camera look_at(const Vec3& eye, const Vec3& target, const Vec3& up, uint32_t wid
   if (width == 0 || height == 0) throw std::invalid_argument("camera: image size must be positive");
   if (!(fov_y_deg > 0.0f && fov_y_deg < 179.0f))
     throw std::invalid_argument("camera: vertical field of view must be in (0, 179) degrees");
-  Vec3 back = normalized(sub(eye, target), "eye - target");  // camera +z points away from the view
-  Vec3 right = normalized(cross(up, back), "up x view direction (up parallel to the view?)");
-  Vec3 cam_up = cross(back, right);
-  Camera c{};
-  for (int r = 0; r < 3; ++r) {
-    c.c2w[4 * r + 0] = right[r];
-    c.c2w[4 * r + 1] = cam_up[r];
-    c.c2w[4 * r + 2] = back[r];
-    c.c2w[4 * r + 3] = eye[r];
-  }
-  c.fy = 0.5f * float(height) / std::tan(0.5f * fov_y_deg * kPi / 180.0f);
-  c.fx = c.fy;
-  c.cx = 0.5f * float(width);
-  c.cy = 0.5f * float(height);
-  c.width = width;
-  c.height = height;
-  return c;
+  Vec3 back = normalized(sub(eye, target), "eye - target");
+  normalized(cross(up, back), "up x view direction (up parallel to the view?)");  // throws when degenerate
+  return camera_look_at(lgn_vec3(eye[0], eye[1], eye[2]), lgn_vec3(target[0], target[1], target[2]),
+                        lgn_vec3(up[0], up[1], up[2]), fov_y_deg, width, height);
 }
 
 float framing_distance(float radius, float fov_y_deg, uint32_t width, uint32_t height, float margin) {

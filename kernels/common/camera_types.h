@@ -88,3 +88,30 @@ LGN_INLINE float camera_project(const Camera* cam, LgnVec3 p, float* u, float* v
   *v = cam->fy * yd + cam->cy;
   return depth;
 }
+
+// An ideal pinhole at `eye` looking at `target` with `up` (not parallel to the view direction:
+// callers check), vertical field of view in degrees, principal point at the image centre. The one
+// look-at rule of the project: orbits, synthetic rigs, surface previews and fit views all use it.
+LGN_INLINE Camera camera_look_at(LgnVec3 eye, LgnVec3 target, LgnVec3 up, float fov_y_deg, lgn_uint width,
+                                 lgn_uint height) {
+  float bx = eye.x - target.x, by = eye.y - target.y, bz = eye.z - target.z;  // camera +z (looks down -z)
+  float bn = 1.0f / sqrt(bx * bx + by * by + bz * bz);
+  bx *= bn, by *= bn, bz *= bn;
+  float rx = up.y * bz - up.z * by, ry = up.z * bx - up.x * bz, rz = up.x * by - up.y * bx;  // up x back
+  float rn = 1.0f / sqrt(rx * rx + ry * ry + rz * rz);
+  rx *= rn, ry *= rn, rz *= rn;
+  float ux = by * rz - bz * ry, uy = bz * rx - bx * rz, uz = bx * ry - by * rx;  // back x right
+  Camera c;
+  c.c2w[0] = rx, c.c2w[1] = ux, c.c2w[2] = bx, c.c2w[3] = eye.x;
+  c.c2w[4] = ry, c.c2w[5] = uy, c.c2w[6] = by, c.c2w[7] = eye.y;
+  c.c2w[8] = rz, c.c2w[9] = uz, c.c2w[10] = bz, c.c2w[11] = eye.z;
+  c.fy = 0.5f * (float)height / tan(0.5f * fov_y_deg * 3.14159265358979f / 180.0f);
+  c.fx = c.fy;
+  c.cx = 0.5f * (float)width;
+  c.cy = 0.5f * (float)height;
+  c.k1 = c.k2 = c.p1 = c.p2 = 0.0f;
+  c.width = width;
+  c.height = height;
+  c.pad0 = c.pad1 = 0;
+  return c;
+}

@@ -27,4 +27,5 @@ using std::fabs;
 using std::fmin;
 using std::fmax;
 using std::floor;
+using std::tan;
 #endif
