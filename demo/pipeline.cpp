@@ -14,8 +14,7 @@
 #include "fit/placement_json.h"
 #include "host/dataset/dataset.h"
 #include "host/nerf/evaluate.h"
-#include "host/nerf/sizing.h"
-#include "host/nerf/trainer.h"
+#include "host/nerf/train_job.h"
 #include "host/render/orbit.h"
 #include "host/render/render_job.h"
 #include "host/render/renderer.h"
@@ -101,25 +100,16 @@ synth::Subject stage_synthesize(Context& c) {
 nerf::NerfModel stage_train(Context& c, cl::Runtime& rt, dataset::Dataset& ds) {
   c.begin("train the NeRF head");
   Stopwatch sw;
-  std::vector<nerf::View> views;
-  for (const dataset::Frame* f : ds.split(dataset::Split::Train)) views.push_back({f->camera, &f->image});
-  nerf::SizingOverrides ov;
-  ov.aabb_scale = ds.aabb_scale;
-  nerf::ModelSizing sizing = nerf::choose_model_size(views, ov);
-  spdlog::info("{}", sizing.summary());
-  nerf::NerfModel model(rt, sizing.field, sizing.aabb, sizing.occupancy_resolution, sizing.step,
-                        c.opt.quick ? (1u << 15) : (1u << 16), static_cast<uint32_t>(c.opt.seed), false);
-  model.metadata.dataset_path = fs::absolute(c.path("dataset")).string();
-  model.metadata.device = rt.device().name;
-  nerf::TrainOptions to;
-  to.seconds = c.opt.train_seconds;
-  to.seed = static_cast<uint32_t>(c.opt.seed);
-  to.snapshot_path = c.path("head.lnerf");
-  to.progress = c.opt.progress;
-  nerf::Trainer trainer(model, views, to, sizing.occupancy_mask);
-  nerf::TrainResult r = trainer.run();
+  nerf::TrainJob job;
+  job.batch_log2 = c.opt.quick ? 15 : 16;
+  job.train.seconds = c.opt.train_seconds;
+  job.train.seed = static_cast<uint32_t>(c.opt.seed);
+  job.train.snapshot_path = c.path("head.lnerf");  // written at the end (and on Ctrl-C)
+  job.train.progress = c.opt.progress;
+  nerf::TrainJobResult out = nerf::train_on_dataset(rt, ds, job);
+  const nerf::TrainResult& r = out.result;
   if (r.interrupted) throw std::runtime_error("interrupted during training (the model so far is in head.lnerf)");
-  model.save(c.path("head.lnerf"));
+  const nerf::ModelSizing& sizing = out.sizing;
   c.report.train_steps = r.steps;
   c.report.train_seconds = r.seconds;
   c.report.model_mb = sizing.megabytes();
@@ -131,7 +121,7 @@ nerf::NerfModel stage_train(Context& c, cl::Runtime& rt, dataset::Dataset& ds) {
   write_chart(c.path("training_psnr.png"), {"training batch PSNR (sRGB)", "step", "dB"}, {{"batch PSNR", x, y}});
   c.report.loss_chart = "training_psnr.png";
   c.report.stages.push_back({"train", sw.seconds()});
-  return model;
+  return std::move(out.model);
 }
 
 void stage_evaluate(Context& c, nerf::NerfModel& model, dataset::Dataset& ds) {

@@ -8,8 +8,7 @@
 #include <spdlog/spdlog.h>
 
 #include "host/dataset/dataset.h"
-#include "host/nerf/sizing.h"
-#include "host/nerf/trainer.h"
+#include "host/nerf/train_job.h"
 #include "host/util/interrupt.h"
 #include "tools/lorgnette/command.h"
 
@@ -42,14 +41,6 @@ std::optional<nerf::Aabb> parse_aabb(const std::string& text) {
   return box;
 }
 
-std::string dataset_hash(const dataset::Dataset& ds) {
-  uint64_t h = 1469598103934665603ull;
-  for (const auto& f : ds.frames)
-    for (char c : f.image_path + std::to_string(f.camera.c2w[3]) + std::to_string(f.camera.fx))
-      h = (h ^ uint8_t(c)) * 1099511628211ull;
-  return fmt::format("{:016x}", h);
-}
-
 void run_train(const TrainArgs& a, GlobalOptions& global) {
   if (a.steps == 0 && a.seconds <= 0.0) throw std::runtime_error("give --steps N or --seconds S");
   if (std::filesystem::exists(a.output) && !a.force)
@@ -60,31 +51,20 @@ void run_train(const TrainArgs& a, GlobalOptions& global) {
   lo.max_side = int(a.max_side);
   lo.splits = {dataset::Split::Train};
   dataset::Dataset ds = dataset::load_dataset(a.data, lo);
-  std::vector<nerf::View> views;
-  for (const dataset::Frame* f : ds.split(dataset::Split::Train)) views.push_back({f->camera, &f->image});
-  if (views.empty()) throw std::runtime_error("'" + a.data + "' has no training frames: check the dataset");
-  spdlog::info("dataset: {} training views ({}), {}x{}", views.size(), ds.format, views[0].camera.width,
-               views[0].camera.height);
+  spdlog::info("dataset: {} ({}), {} frames", a.data, ds.format, ds.frames.size());
 
-  nerf::SizingOverrides ov;
-  ov.aabb = parse_aabb(a.aabb);
-  if (a.finest) ov.finest_resolution = a.finest;
-  if (a.log2_table) ov.log2_table_size = a.log2_table;
-  if (a.levels) ov.levels = a.levels;
-  if (a.occ_res) ov.occupancy_resolution = a.occ_res;
-  if (a.step > 0.0f) ov.step = a.step;
-  ov.aabb_scale = a.aabb_scale > 0.0f ? a.aabb_scale : ds.aabb_scale;
-  ov.use_masks = !a.no_masks;
-  nerf::ModelSizing sizing = nerf::choose_model_size(views, ov);
-  spdlog::info("{}", sizing.summary());
-
-  cl::Runtime rt(global.runtime());
-  nerf::NerfModel model(rt, sizing.field, sizing.aabb, sizing.occupancy_resolution, sizing.step,
-                        1u << a.batch_log2, a.seed, a.deterministic);
-  model.metadata.dataset_path = std::filesystem::absolute(a.data).string();
-  model.metadata.dataset_hash = dataset_hash(ds);
-  model.metadata.device = rt.device().name;
-  nerf::TrainOptions to;
+  nerf::TrainJob job;
+  job.sizing.aabb = parse_aabb(a.aabb);
+  if (a.finest) job.sizing.finest_resolution = a.finest;
+  if (a.log2_table) job.sizing.log2_table_size = a.log2_table;
+  if (a.levels) job.sizing.levels = a.levels;
+  if (a.occ_res) job.sizing.occupancy_resolution = a.occ_res;
+  if (a.step > 0.0f) job.sizing.step = a.step;
+  job.sizing.use_masks = !a.no_masks;
+  job.aabb_scale = a.aabb_scale;
+  job.batch_log2 = a.batch_log2;
+  job.deterministic = a.deterministic;
+  nerf::TrainOptions& to = job.train;
   to.steps = a.steps;
   to.seconds = a.seconds;
   to.seed = a.seed;
@@ -93,8 +73,9 @@ void run_train(const TrainArgs& a, GlobalOptions& global) {
   to.snapshot_path = a.output;
   to.snapshot_every_seconds = a.snapshot_every;
   to.progress = !global.quiet;
-  nerf::Trainer trainer(model, views, to, sizing.occupancy_mask);
-  nerf::TrainResult r = trainer.run();
+  cl::Runtime rt(global.runtime());
+  nerf::TrainJobResult out = nerf::train_on_dataset(rt, ds, job);
+  const nerf::TrainResult& r = out.result;
   if (r.interrupted)
     spdlog::warn("interrupted after {} steps: the model so far is saved in '{}'", r.steps, a.output);
   else

@@ -1,0 +1,42 @@
+// One-call training from a dataset; see train_job.h.
+#include "host/nerf/train_job.h"
+
+#include <filesystem>
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+namespace lorgnette::nerf {
+
+std::vector<View> training_views(const dataset::Dataset& ds) {
+  std::vector<View> views;
+  for (const dataset::Frame* f : ds.split(dataset::Split::Train)) views.push_back({f->camera, &f->image});
+  if (views.empty())
+    throw std::runtime_error("'" + ds.root + "' has no training frames: check the dataset's frame list and splits");
+  return views;
+}
+
+std::string dataset_fingerprint(const dataset::Dataset& ds) {
+  uint64_t h = 1469598103934665603ull;  // FNV-1a over each frame's path, position and focal length
+  for (const auto& f : ds.frames)
+    for (char c : f.image_path + std::to_string(f.camera.c2w[3]) + std::to_string(f.camera.fx))
+      h = (h ^ uint8_t(c)) * 1099511628211ull;
+  return fmt::format("{:016x}", h);
+}
+
+TrainJobResult train_on_dataset(cl::Runtime& rt, const dataset::Dataset& ds, TrainJob job) {
+  std::vector<View> views = training_views(ds);
+  job.sizing.aabb_scale = job.aabb_scale > 0.0f ? job.aabb_scale : ds.aabb_scale;
+  ModelSizing sizing = choose_model_size(views, job.sizing);
+  spdlog::info("{}", sizing.summary());
+  NerfModel model(rt, sizing.field, sizing.aabb, sizing.occupancy_resolution, sizing.step, 1u << job.batch_log2,
+                  job.train.seed, job.deterministic);
+  model.metadata.dataset_path = std::filesystem::absolute(ds.root).string();
+  model.metadata.dataset_hash = dataset_fingerprint(ds);
+  model.metadata.device = rt.device().name;
+  Trainer trainer(model, views, job.train, sizing.occupancy_mask);
+  TrainResult result = trainer.run();
+  return {std::move(model), std::move(sizing), std::move(result)};
+}
+
+}  // namespace lorgnette::nerf

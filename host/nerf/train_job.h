@@ -1,0 +1,40 @@
+// Training a model from a loaded dataset in one call: the training views, the automatic model size
+// (with the caller's overrides), a fresh NerfModel on the runtime, its metadata (dataset path and
+// fingerprint, device) and the Trainer run. `lorgnette train` and the demo both go through here.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "host/dataset/dataset.h"
+#include "host/nerf/model.h"
+#include "host/nerf/sizing.h"
+#include "host/nerf/trainer.h"
+
+namespace lorgnette::nerf {
+
+struct TrainJob {
+  SizingOverrides sizing;   // its aabb_scale is replaced by `aabb_scale` below
+  float aabb_scale = 0.0f;  // box size factor for mask-less datasets; 0 = the dataset's own hint
+  uint32_t batch_log2 = 16; // samples per step = 2^batch_log2
+  bool deterministic = false;
+  TrainOptions train;       // steps/seconds, seed, snapshot path, progress ...
+};
+
+struct TrainJobResult {
+  NerfModel model;
+  ModelSizing sizing;
+  TrainResult result;
+};
+
+// The training split's views (pointers into `ds`, which must outlive them). Throws a clear error
+// when the dataset has no training frames.
+std::vector<View> training_views(const dataset::Dataset& ds);
+
+// A short fingerprint of the dataset's frames (paths and poses) for the snapshot header.
+std::string dataset_fingerprint(const dataset::Dataset& ds);
+
+// Sizes, builds and trains a model on `ds`'s training split; logs the chosen size.
+TrainJobResult train_on_dataset(cl::Runtime& rt, const dataset::Dataset& ds, TrainJob job);
+
+}  // namespace lorgnette::nerf
