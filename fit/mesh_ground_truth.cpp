@@ -9,22 +9,9 @@
 
 #include "fit/camera_math.h"
 #include "fit/landmark_ids.h"
+#include "fit/surface_landmarks.h"
 
 namespace lorgnette::fit {
-namespace {
-
-Eigen::Vector3d median3(std::vector<Eigen::Vector3d> v) {
-  Eigen::Vector3d m;
-  for (int c = 0; c < 3; ++c) {
-    std::vector<double> x;
-    for (const auto& p : v) x.push_back(p[c]);
-    std::nth_element(x.begin(), x.begin() + x.size() / 2, x.end());
-    m[c] = x[x.size() / 2];
-  }
-  return m;
-}
-
-}  // namespace
 
 GroundTruth mesh_ground_truth(MeshViewSource& source, const Orbit& orbit, const std::vector<double>& yaws,
                               const GlassesRefPoints& glasses, const FitOptions& options) {
@@ -44,7 +31,7 @@ GroundTruth mesh_ground_truth(MeshViewSource& source, const Orbit& orbit, const 
   gt.points.assign(lm::kCount, Eigen::Vector3d::Zero());
   gt.valid.assign(lm::kCount, false);
   for (int k = 0; k < lm::kCount; ++k)
-    if (!hits[k].empty()) gt.points[k] = median3(hits[k]), gt.valid[k] = true;
+    if (!hits[k].empty()) gt.points[k] = component_median(hits[k]), gt.valid[k] = true;
   if (std::count(gt.valid.begin(), gt.valid.end(), true) < 40)
     throw std::runtime_error("ground truth: the detector found no face on the mesh renders");
   gt.head = estimate_head_frame(gt.points, gt.valid, load_mean_face(options.mean_face_path));

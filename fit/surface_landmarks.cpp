@@ -3,25 +3,24 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include "fit/camera_math.h"
 #include "fit/front_search.h"
 
 namespace lorgnette::fit {
-namespace {
 
-Eigen::Vector3d median3(const std::vector<Eigen::Vector3d>& v) {
+Eigen::Vector3d component_median(std::vector<Eigen::Vector3d> v) {
+  if (v.empty()) throw std::invalid_argument("component_median of no points");
   Eigen::Vector3d m;
+  std::vector<double> x(v.size());
   for (int c = 0; c < 3; ++c) {
-    std::vector<double> x;
-    for (const auto& p : v) x.push_back(p[c]);
+    for (size_t i = 0; i < v.size(); ++i) x[i] = v[i][c];
     std::nth_element(x.begin(), x.begin() + x.size() / 2, x.end());
     m[c] = x[x.size() / 2];
   }
   return m;
 }
-
-}  // namespace
 
 void cast_surface_landmarks(ViewSource& source, const std::vector<ViewRecord>& views, const Orbit& orbit,
                             const SurfaceCastOptions& opt, std::vector<TriangulatedPoint>& points) {
@@ -39,7 +38,7 @@ void cast_surface_landmarks(ViewSource& source, const std::vector<ViewRecord>& v
     }
     if (hits.empty()) continue;
     TriangulatedPoint p;
-    p.position = median3(hits);
+    p.position = component_median(hits);
     p.ok = true;
     p.inliers = used;
     p.reprojection_px.assign(views.size(), -1.0);

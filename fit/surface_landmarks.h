@@ -11,6 +11,9 @@
 
 namespace lorgnette::fit {
 
+// Per-axis median of 3D points (robust centre of a landmark's surface hits); throws on none.
+Eigen::Vector3d component_median(std::vector<Eigen::Vector3d> points);
+
 struct SurfaceCastOptions {
   int first = 0, last = 16;     // landmark index range (the jaw contour)
   double max_yaw_deg = 25.0;    // only views this close to the front
