@@ -154,6 +154,7 @@ std::vector<FrameSpec> collect_frames(const Source& src, Dataset& ds, const Load
       if (auto it = doc.find("scale"); it != doc.end() && it->is_number()) ds.scale = it->get<float>();
       if (auto it = doc.find("offset"); it != doc.end() && it->is_array() && it->size() == 3)
         ds.offset = std::array<float, 3>{(*it)[0].get<float>(), (*it)[1].get<float>(), (*it)[2].get<float>()};
+      if (auto it = doc.find("aabb"); it != doc.end()) ds.aabb = detail::parse_aabb(*it, file);
       if (auto it = doc.find("applied_transform"); it != doc.end()) {
         ds.applied_transform = detail::parse_pose(*it, file + ": applied_transform");
         ds.has_applied_transform = true;

@@ -70,6 +70,9 @@ struct Dataset {
   std::optional<float> scale;                  // instant-ngp "scale" if present (not applied)
   std::optional<std::array<float, 3>> offset;  // instant-ngp "offset" if present (not applied)
   std::optional<double> mm_per_unit;           // from ground_truth.json beside the json, if any
+  // "aabb": [[min x, y, z], [max x, y, z]] in scene units, the subject's box (written by `capture`);
+  // training uses it instead of the automatic box so the room behind a head is ignored.
+  std::optional<std::array<std::array<float, 3>, 2>> aabb;
   nlohmann::json ground_truth;                 // its full content (null when absent)
 
   // Frames of a split, in dataset order; an empty list when the split has none.

@@ -109,6 +109,26 @@ DeclaredIntrinsics parse_intrinsics(const json& obj, const DeclaredIntrinsics& b
   return d;
 }
 
+std::array<std::array<float, 3>, 2> parse_aabb(const json& value, const std::string& where) {
+  auto bad = [&] {
+    return std::runtime_error(fmt::format("{}: 'aabb' must be [[min x, y, z], [max x, y, z]] with finite numbers and "
+                                          "max > min on every axis; fix or remove it",
+                                          where));
+  };
+  if (!value.is_array() || value.size() != 2) throw bad();
+  std::array<std::array<float, 3>, 2> box{};
+  for (int c = 0; c < 2; ++c) {
+    if (!value[c].is_array() || value[c].size() != 3) throw bad();
+    for (int i = 0; i < 3; ++i) {
+      if (!value[c][i].is_number() || !std::isfinite(value[c][i].get<double>())) throw bad();
+      box[c][i] = value[c][i].get<float>();
+    }
+  }
+  for (int i = 0; i < 3; ++i)
+    if (!(box[1][i] > box[0][i])) throw bad();
+  return box;
+}
+
 Eigen::Matrix4d parse_pose(const json& value, const std::string& where) {
   const char* fix = "; each frame needs a 4x4 camera-to-world 'transform_matrix' with a rigid rotation";
   if (!value.is_array() || (value.size() != 4 && value.size() != 3))

@@ -5,6 +5,7 @@
 #pragma once
 #include <Eigen/Core>
 #include <nlohmann/json.hpp>
+#include <array>
 #include <optional>
 #include <string>
 #include <vector>
@@ -42,6 +43,8 @@ std::vector<FrameSpec> parse_frames(const nlohmann::json& doc, const std::string
 // The 4x4 (or 3x4) matrix under `key`, checked: numbers only, finite, rigid (orthonormal rotation
 // with det +1 to 1e-3), bottom row 0 0 0 1.
 Eigen::Matrix4d parse_pose(const nlohmann::json& value, const std::string& where);
+// "aabb": [[min x, y, z], [max x, y, z]], finite, max > min on every axis; throws naming `where`.
+std::array<std::array<float, 3>, 2> parse_aabb(const nlohmann::json& value, const std::string& where);
 
 // Throws when all camera centres coincide (no parallax: nothing can be reconstructed).
 void check_not_degenerate(const std::vector<FrameSpec>& frames);

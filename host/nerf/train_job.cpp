@@ -27,6 +27,13 @@ std::string dataset_fingerprint(const dataset::Dataset& ds) {
 TrainJobResult train_on_dataset(cl::Runtime& rt, const dataset::Dataset& ds, TrainJob job) {
   std::vector<View> views = training_views(ds);
   job.sizing.aabb_scale = job.aabb_scale > 0.0f ? job.aabb_scale : ds.aabb_scale;
+  if (!job.sizing.aabb && ds.aabb) {  // the subject's box recorded with the dataset (e.g. by capture)
+    Aabb box;
+    box.min = (*ds.aabb)[0];
+    box.max = (*ds.aabb)[1];
+    job.sizing.aabb = box;
+    spdlog::info("using the dataset's subject box 'aabb' instead of the automatic one");
+  }
   ModelSizing sizing = choose_model_size(views, job.sizing);
   spdlog::info("{}", sizing.summary());
   NerfModel model(rt, sizing.field, sizing.aabb, sizing.occupancy_resolution, sizing.step, 1u << job.batch_log2,

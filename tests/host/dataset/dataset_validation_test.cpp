@@ -311,3 +311,14 @@ TEST(DatasetLoader, NerfSyntheticTripleWithAlphaAndHints) {
              }()),
              "--split test");
 }
+
+TEST(DatasetLoader, SubjectBoxIsReadAndValidated) {
+  std::string dir = make_dataset("aabb", 9, [](json& d) { d["aabb"] = {{-1.0, -2.0, -0.5}, {1.0, 0.5, 0.75}}; });
+  Dataset ds = load_dataset(dir);
+  ASSERT_TRUE(ds.aabb.has_value());
+  EXPECT_FLOAT_EQ((*ds.aabb)[0][1], -2.0f);
+  EXPECT_FLOAT_EQ((*ds.aabb)[1][2], 0.75f);
+  EXPECT_FALSE(load_dataset(make_dataset("no-aabb", 9)).aabb.has_value());
+  std::string inverted = make_dataset("bad-aabb", 9, [](json& d) { d["aabb"] = {{1, 0, 0}, {0, 1, 1}}; });
+  EXPECT_HAS(load_error(inverted), "'aabb' must be");
+}
