@@ -213,14 +213,9 @@ void stage_render(Context& c, cl::Runtime& rt, nerf::NerfModel& model, const std
   Stopwatch sw;
   render::RenderJob job;
   job.out_dir = c.path("orbit");
-  render::OrbitSpec spec;
-  const auto& box = model.aabb();
-  spec.center = box.center();
-  spec.half_extent = {0.5f * box.extent(0), 0.5f * box.extent(1), 0.5f * box.extent(2)};
   std::vector<Camera> cams;
   for (const auto& f : ds.frames) cams.push_back(f.camera);
-  spec.front = render::front_from_cameras(cams);
-  spec.up = render::up_from_cameras(cams);
+  render::OrbitSpec spec = render::model_orbit(model, cams);
   spec.views = static_cast<uint32_t>(c.opt.orbit_frames);
   spec.elevation_deg = 10.0f;
   spec.width = spec.height = static_cast<uint32_t>(c.opt.orbit_size);

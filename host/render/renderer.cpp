@@ -21,4 +21,16 @@ RenderResult render(nerf::NerfModel& model, const Camera& cam, const mesh::Surfa
   return r.render(model, cam, surfaces, options);
 }
 
+OrbitSpec model_orbit(const nerf::NerfModel& model, const std::vector<Camera>& capture_cameras) {
+  OrbitSpec spec;
+  const nerf::Aabb& box = model.aabb();
+  spec.center = box.center();
+  spec.half_extent = {0.5f * box.extent(0), 0.5f * box.extent(1), 0.5f * box.extent(2)};
+  if (!capture_cameras.empty()) {
+    spec.front = front_from_cameras(capture_cameras);
+    spec.up = up_from_cameras(capture_cameras);
+  }
+  return spec;
+}
+
 }  // namespace lorgnette::render

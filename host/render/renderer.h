@@ -5,6 +5,7 @@
 #pragma once
 #include "host/nerf/model.h"
 #include "host/render/marcher.h"
+#include "host/render/orbit.h"
 
 namespace lorgnette::render {
 
@@ -36,5 +37,9 @@ class Renderer {
 // One-shot convenience (builds the marcher; kernels come from the runtime's cache).
 RenderResult render(nerf::NerfModel& model, const Camera& cam, const mesh::SurfaceBuffers* surfaces,
                     const RenderOptions& options);
+
+// An orbit framing the model's box; its front and up come from the capture's cameras (the face's
+// front) when given, else +z and +y. Views, elevation, field of view and size keep their defaults.
+OrbitSpec model_orbit(const nerf::NerfModel& model, const std::vector<Camera>& capture_cameras);
 
 }  // namespace lorgnette::render

@@ -16,12 +16,7 @@ using namespace lorgnette::capture;
 
 namespace {
 
-fs::path tmp_dir(const std::string& name) {
-  fs::path p = fs::path(LORGNETTE_TEST_TMP) / "capture" / name;
-  fs::remove_all(p);
-  fs::create_directories(p);
-  return p;
-}
+using synthetic::tmp_dir;
 
 // Runs `f` and returns its exception's message ("" when it did not throw).
 template <class F>

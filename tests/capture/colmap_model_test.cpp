@@ -14,12 +14,7 @@ using namespace lorgnette::capture;
 
 namespace {
 
-fs::path tmp_dir(const std::string& name) {
-  fs::path p = fs::path(LORGNETTE_TEST_TMP) / "capture" / name;
-  fs::remove_all(p);
-  fs::create_directories(p);
-  return p;
-}
+using synthetic::tmp_dir;
 
 // Exact comparison: both layouts must reproduce every double bit for bit.
 void expect_same(const ColmapModel& a, const ColmapModel& b) {

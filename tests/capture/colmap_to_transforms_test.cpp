@@ -17,12 +17,7 @@ using namespace lorgnette::capture;
 
 namespace {
 
-fs::path tmp_dir(const std::string& name) {
-  fs::path p = fs::path(LORGNETTE_TEST_TMP) / "capture" / name;
-  fs::remove_all(p);
-  fs::create_directories(p);
-  return p;
-}
+using synthetic::tmp_dir;
 
 Eigen::Vector3d to_scene(const ConvertedScene& s, const Eigen::Vector3d& p) {
   return s.colmap_to_scene.block<3, 3>(0, 0) * p + s.colmap_to_scene.block<3, 1>(0, 3);

@@ -2,6 +2,8 @@
 // a "head" (a sphere of points seen by every camera) in a room (far points seen by two cameras).
 #pragma once
 #include <cmath>
+#include <filesystem>
+#include <string>
 #include <random>
 #include <vector>
 
@@ -11,6 +13,14 @@
 #include "capture/colmap_to_transforms.h"
 
 namespace lorgnette::capture::synthetic {
+
+// A fresh, empty directory for one test under the build's test-tmp/capture.
+inline std::filesystem::path tmp_dir(const std::string& name) {
+  std::filesystem::path p = std::filesystem::path(LORGNETTE_TEST_TMP) / "capture" / name;
+  std::filesystem::remove_all(p);
+  std::filesystem::create_directories(p);
+  return p;
+}
 
 struct SyntheticScene {
   ColmapModel model;

@@ -32,10 +32,10 @@ render::Vec3 vec3(const std::vector<float>& v, render::Vec3 fallback) {
   return v.empty() ? fallback : render::Vec3{v[0], v[1], v[2]};
 }
 
-// Where the capture's cameras were (the face's front), from the model's dataset when it is there.
-void capture_axes(const nerf::NerfModel& model, render::Vec3& front, render::Vec3& up) {
+// The capture's cameras (they mark the face's front), from the model's dataset when it is there.
+std::vector<Camera> capture_cameras(const nerf::NerfModel& model) {
   const std::string& path = model.metadata.dataset_path;
-  if (path.empty()) return;
+  if (path.empty()) return {};
   try {
     dataset::LoadOptions lo;
     lo.load_images = false;
@@ -43,12 +43,11 @@ void capture_axes(const nerf::NerfModel& model, render::Vec3& front, render::Vec
     auto ds = dataset::load_dataset(path, lo);
     std::vector<Camera> cams;
     for (const auto& f : ds.frames) cams.push_back(f.camera);
-    front = render::front_from_cameras(cams);
-    up = render::up_from_cameras(cams);
-    spdlog::info("orbit front from the capture's {} cameras: ({:.2f}, {:.2f}, {:.2f})", cams.size(), front[0],
-                 front[1], front[2]);
+    spdlog::info("orbit front from the capture's {} cameras", cams.size());
+    return cams;
   } catch (const std::exception& e) {
     spdlog::warn("could not read the model's dataset '{}' for the orbit's front ({}); using +z", path, e.what());
+    return {};
   }
 }
 
@@ -81,11 +80,7 @@ void run(const RenderArgs& a, GlobalOptions& global) {
   job.options.step_scale = a.step_scale;
   if (!a.background.empty()) job.options.background = vec3(a.background, {1, 1, 1});
   if (a.orbit > 0) {
-    render::OrbitSpec spec;
-    const auto& box = model.aabb();
-    spec.center = box.center();
-    spec.half_extent = {0.5f * box.extent(0), 0.5f * box.extent(1), 0.5f * box.extent(2)};
-    capture_axes(model, spec.front, spec.up);
+    render::OrbitSpec spec = render::model_orbit(model, capture_cameras(model));
     spec.front = vec3(a.front, spec.front);
     spec.views = a.orbit;
     spec.elevation_deg = a.elevation;
