@@ -58,6 +58,7 @@ Eigen::Vector3f shade_opaque(const ShadeContext& c, const Hit& h, const BrdfPara
 struct SampleResult {
   Eigen::Vector3f color = Eigen::Vector3f::Zero();
   float alpha = 0.0f;
+  Eigen::Vector3f transmit = Eigen::Vector3f::Ones();  // per-channel transmittance to what lies behind
   float depth = std::numeric_limits<float>::infinity();
 };
 
@@ -96,6 +97,7 @@ SampleResult trace_sample(const ShadeContext& c, Eigen::Vector3f origin, const E
     tnear = c.eps;
   }
   s.alpha = 1.0f - throughput.mean();
+  s.transmit = throughput;
   return s;
 }
 
@@ -146,19 +148,23 @@ SurfaceBuffers SurfacePass::render(const Camera& cam, const SurfaceParams& param
     for (int x = rect[0]; x < rect[2]; ++x) {
       PixelRng rng(pixel_seed(params.seed, x, y));
       stratified_jitter(n, rng, offsets);
-      Eigen::Vector3f color = Eigen::Vector3f::Zero();
+      Eigen::Vector3f color = Eigen::Vector3f::Zero(), transmit = Eigen::Vector3f::Zero();
       float alpha = 0.0f, depth = std::numeric_limits<float>::infinity();
       for (const auto& o : offsets) {
         LgnVec3 d = camera_ray_dir(&cam, x + o.x(), y + o.y());
         SampleResult s = trace_sample(c, origin, Eigen::Vector3f(d.x, d.y, d.z));
         color += s.color;
         alpha += s.alpha;
+        transmit += s.transmit;
         depth = std::min(depth, s.depth);
       }
       size_t i = static_cast<size_t>(y) * out.width + x;
       for (int k = 0; k < 3; ++k) out.color_alpha[4 * i + k] = color[k] / n;
       out.color_alpha[4 * i + 3] = alpha / n;
       out.depth[i] = depth;
+      // F = mean per-channel transmittance / its mean over channels (1 - S_α); 1 when nothing passes.
+      const float mean_t = transmit.mean();
+      for (int k = 0; k < 3; ++k) out.filter[3 * i + k] = mean_t > 1e-6f ? transmit[k] / mean_t : 1.0f;
     }
   });
   return out;

@@ -5,6 +5,8 @@
 // - S_α: the mean over samples of (1 - transmittance to what lies behind): a miss adds 0, an opaque
 //   hit 1, a lens 1 - T with T = (1 - F) * transmission * tint (mean over RGB), so the eyes stay
 //   visible; alpha-blended materials pass (1 - alpha);
+// - F: the tint of what passes, per channel: the mean transmittance per channel over samples divided
+//   by its mean over channels (1 - S_α), so a green lens shows the eyes behind it green;
 // - S_t: the NEAREST first-hit distance over the pixel's samples (along the unit primary ray, scene
 //   units; +inf when no sample hits). Nearest rather than a coverage-weighted mean so that the
 //   marcher never composites NeRF density that lies in front of any visible part of the frame.

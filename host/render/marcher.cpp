@@ -79,8 +79,8 @@ void Marcher::march_tile(const VolumeScene& scene, MarchParams p, RenderResult& 
       gather_.args(p, rays_, live_, counts_, offsets_, seg_, pos_, dir_).launch(rt_, n_live, kLocal);
       scene.field->evaluate(pos_, dir_, total, sigma_, rgb_);
     }
-    composite_.args(p, rays_, live_, counts_, offsets_, seg_, sigma_, rgb_, surf_ca_, out_rgba_, out_depth_,
-                    out_samples_, flags_)
+    composite_.args(p, rays_, live_, counts_, offsets_, seg_, sigma_, rgb_, surf_ca_, surf_filter_, out_rgba_,
+                    out_depth_, out_samples_, flags_)
         .launch(rt_, n_live, kLocal);
     uint32_t survivors = scan(n_live, flags_, offsets_);
     if (survivors > 0) {
@@ -112,7 +112,8 @@ void validate(const VolumeScene& scene, const Camera& cam, const mesh::SurfaceBu
   if (surfaces) {
     if (surfaces->width != int(cam.width) || surfaces->height != int(cam.height) ||
         surfaces->color_alpha.size() != surfaces->pixel_count() * 4 ||
-        surfaces->depth.size() != surfaces->pixel_count())
+        surfaces->depth.size() != surfaces->pixel_count() ||
+        (!surfaces->filter.empty() && surfaces->filter.size() != surfaces->pixel_count() * 3))
       throw std::invalid_argument(fmt::format(
           "render: surface buffers are {}x{} but the camera is {}x{}: run the surface pass with the same camera",
           surfaces->width, surfaces->height, cam.width, cam.height));
@@ -137,9 +138,12 @@ RenderResult Marcher::render(const VolumeScene& scene, const Camera& cam, const 
   if (surfaces) {
     surf_ca_ = cl::Buffer<float>(rt_, surfaces->color_alpha);
     surf_depth_ = cl::Buffer<float>(rt_, surfaces->depth);
+    surf_filter_ = surfaces->filter.empty() ? cl::Buffer<float>(rt_, std::vector<float>(3ull * pixels, 1.0f))
+                                            : cl::Buffer<float>(rt_, surfaces->filter);
   } else if (surf_ca_.size() == 0) {
     surf_ca_ = cl::Buffer<float>(rt_, 4);
     surf_depth_ = cl::Buffer<float>(rt_, 1);
+    surf_filter_ = cl::Buffer<float>(rt_, 3);
   }
 
   MarchParams p{};

@@ -70,7 +70,7 @@ class Marcher {
   cl::Buffer<uint32_t> live_, live_next_, counts_, offsets_, flags_, block_sums_, total_, occ_dummy_;
   cl::Buffer<cl_float2> seg_;
   cl::Buffer<float> pos_, dir_, sigma_, rgb_;
-  cl::Buffer<float> surf_ca_, surf_depth_, out_rgba_, out_depth_;
+  cl::Buffer<float> surf_ca_, surf_depth_, surf_filter_, out_rgba_, out_depth_;
   cl::Buffer<uint32_t> out_samples_;
 };
 

@@ -159,15 +159,16 @@ LGN_INLINE void march_add_pixel_surface(MarchAccum* acc, float ts, __global cons
   march_add_surface(acc, ts, ca[0], ca[1], ca[2], ca[3]);
 }
 
-// Writes a finished ray into the outputs (each pass adds its sample_weight share).
-LGN_INLINE void march_write_pixel(const MarchParams* p, const MarchAccum* acc, uint pixel, uint samples,
+// Writes a finished ray into the outputs (each pass adds its sample_weight share); the background
+// is seen through the surface's colour filter f.
+LGN_INLINE void march_write_pixel(const MarchParams* p, const MarchAccum* acc, const float* f, uint pixel, uint samples,
                                   __global float* out_rgba, __global float* out_depth,
                                   __global uint* out_samples) {
   const float w = p->sample_weight;
   const float bg = p->alpha_mode ? 0.0f : 1.0f;
-  out_rgba[4 * pixel + 0] += w * (acc->r + bg * acc->T * p->background[0]);
-  out_rgba[4 * pixel + 1] += w * (acc->g + bg * acc->T * p->background[1]);
-  out_rgba[4 * pixel + 2] += w * (acc->b + bg * acc->T * p->background[2]);
+  out_rgba[4 * pixel + 0] += w * (acc->r + bg * acc->T * f[0] * p->background[0]);
+  out_rgba[4 * pixel + 1] += w * (acc->g + bg * acc->T * f[1] * p->background[1]);
+  out_rgba[4 * pixel + 2] += w * (acc->b + bg * acc->T * f[2] * p->background[2]);
   out_rgba[4 * pixel + 3] += w * (1.0f - acc->T);
   out_depth[pixel] += w * march_expected_depth(acc);
   out_samples[pixel] += samples;
@@ -179,7 +180,7 @@ __kernel void march_composite(const MarchParams p, __global MarchRay* rays, __gl
                               __global const uint* counts, __global const uint* offsets,
                               __global const float2* seg, __global const float* sigma,
                               __global const float* rgb, __global const float* surf_ca,
-                              __global float* out_rgba, __global float* out_depth,
+                              __global const float* surf_filter, __global float* out_rgba, __global float* out_depth,
                               __global uint* out_samples, __global uint* flags) {
   const uint i = get_global_id(0);
   if (i >= p.live_count) return;
@@ -189,21 +190,29 @@ __kernel void march_composite(const MarchParams p, __global MarchRay* rays, __gl
   uint surface = r->surface, samples = r->samples;
   const float ts = r->t_surface;
   __global const float* ca = surf_ca + 4 * r->pixel;
+  __global const float* fl = surf_filter + 3 * r->pixel;
+  float f[3] = {1.0f, 1.0f, 1.0f};  // colour filter of the surface once passed
+  if (surface == LGN_SURF_PASSED) f[0] = fl[0], f[1] = fl[1], f[2] = fl[2];
   int done = 0;
   for (uint k = 0; k < n && !done; ++k) {
     float2 s = seg[i * K + k];
     if (surface == LGN_SURF_PENDING && s.x >= ts) {
       march_add_pixel_surface(&acc, ts, ca);
-      surface = LGN_SURF_NONE;
+      surface = LGN_SURF_PASSED;
+      f[0] = fl[0], f[1] = fl[1], f[2] = fl[2];
       if (acc.T < p.min_transmittance) { done = 1; break; }
     }
     uint j = off + k;
-    march_add_segment(&acc, s.x, s.y, sigma[j], rgb[j], rgb[S + j], rgb[2 * S + j]);
+    march_add_segment(&acc, s.x, s.y, sigma[j], f[0] * rgb[j], f[1] * rgb[S + j], f[2] * rgb[2 * S + j]);
     ++samples;
     if (acc.T < p.min_transmittance) done = 1;
   }
   if (!done && r->t >= r->t_end) {  // the march is over: a surface behind it still shows
-    if (surface == LGN_SURF_PENDING) march_add_pixel_surface(&acc, ts, ca);
+    if (surface == LGN_SURF_PENDING) {
+      march_add_pixel_surface(&acc, ts, ca);
+      surface = LGN_SURF_PASSED;
+      f[0] = fl[0], f[1] = fl[1], f[2] = fl[2];
+    }
     done = 1;
   }
   r->transmittance = acc.T;
@@ -211,6 +220,6 @@ __kernel void march_composite(const MarchParams p, __global MarchRay* rays, __gl
   r->depth_sum = acc.depth_sum;
   r->samples = samples;
   r->surface = surface;
-  if (done) march_write_pixel(&p, &acc, r->pixel, samples, out_rgba, out_depth, out_samples);
+  if (done) march_write_pixel(&p, &acc, f, r->pixel, samples, out_rgba, out_depth, out_samples);
   flags[i] = done ? 0u : 1u;
 }

@@ -6,7 +6,9 @@
 // transmittance T, a NeRF segment of length Δ, density σ and colour c adds T·(1 − e^{−σΔ})·c and
 // multiplies T by e^{−σΔ}; the surface at t_s adds T(t_s)·S_c and multiplies T by (1 − S_α). So
 //   X = C(t_n, t_s) + T(t_s)·S_c + T(t_s)·(1 − S_α)·C_s(t_s, t_f)
-// where C_s integrates with transmittance restarted at t_s. S_α = 1 ends the ray at t_s (the march
+// where C_s integrates with transmittance restarted at t_s. A tinted lens filters C_s (and the
+// background) per channel by F (surface_buffers.h): the caller multiplies colours behind t_s by F.
+// S_α = 1 ends the ray at t_s (the march
 // never goes past it); S_α = 0 (no hit) leaves the ray bit-for-bit the NeRF-only one.
 #pragma once
 #include "march/march_types.h"

@@ -37,6 +37,7 @@ LGN_STATIC_ASSERT(sizeof(MarchParams) == sizeof(Camera) + 4 * 14 + 4 * 10, "Marc
 // Surface compositing state of a ray (MarchRay.surface).
 #define LGN_SURF_NONE 0     // no surface on this ray (or already composited)
 #define LGN_SURF_PENDING 1  // the surface at t_s is still ahead of the march
+#define LGN_SURF_PASSED 2   // composited: what follows is seen through its colour filter F
 
 typedef struct MarchRay {
   float ox, oy, oz;       // origin

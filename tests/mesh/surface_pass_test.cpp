@@ -127,6 +127,31 @@ TEST(SurfacePass, ClearLensCoversItsFresnelReflectance) {
   EXPECT_TRUE(std::isfinite(b.depth[4]));
 }
 
+TEST(SurfacePass, TintedLensPassesItsTintPerChannel) {
+  // Normal incidence on a green lens: per-channel transmittance (1 - F) * tint with F = 0.04, so
+  // 1 - S_α is its mean and the filter is tint / mean(tint) (both within 1e-4 for 0.5 degrees).
+  Material lens;
+  lens.name = "lens";
+  lens.transmission = 1.0f;
+  lens.tint = {0.3f, 0.8f, 0.4f};
+  lens.roughness = 0.0f;
+  lens.ior = 1.5f;
+  lens.is_lens = true;
+  SurfacePass pass(half_plane(0.0f, -1.0f, 1000.0f, lens), Eigen::Matrix4f::Identity());
+  Camera cam = look_at_camera({0, 5, 0}, {0, 5, -1}, {0, 1, 0}, 1.0f, 3, 3);
+  SurfaceParams p;
+  p.samples_per_pixel = 4;
+  SurfaceBuffers b = pass.render(cam, p);
+  const float mean_tint = 0.5f;
+  EXPECT_NEAR(b.color_alpha[4 * 4 + 3], 1.0f - 0.96f * mean_tint, 1e-4f);
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(b.filter[3 * 4 + k], lens.tint[k] / mean_tint, 1e-4f);
+  // A pixel that misses everything (none here: the lens fills the view) would keep F = 1; an opaque
+  // frame too: checked on the half plane's other side below.
+  SurfacePass opaque_pass(half_plane(0.0f, -1.0f, 1000.0f, opaque()), Eigen::Matrix4f::Identity());
+  SurfaceBuffers o = opaque_pass.render(cam, p);
+  for (int k = 0; k < 3; ++k) EXPECT_EQ(o.filter[3 * 4 + k], 1.0f);
+}
+
 TEST(SurfacePass, DeterministicAndThreadCountIndependent) {
   ParametricFrame f = make_parametric_frame({});
   Eigen::Matrix4f place = Eigen::Matrix4f::Identity();

@@ -141,6 +141,37 @@ TEST(Marcher, HalfCoverageMatchesClosedFormWithBackgroundAndAlpha) {
     }
 }
 
+// A tinted lens (per-channel transmittance F·(1 - S_α)): the volume and background behind it are
+// filtered per channel, X = C(tn, ts) + T·S_c + T·(1 - S_α)·F ⊙ C'(ts, tf); in front of it nothing
+// changes. Same closed form as (b) with the straight colours behind the lens multiplied by F.
+TEST(Marcher, TintedLensFiltersWhatLiesBehindPerChannel) {
+  SlabScene s;
+  mesh::SurfaceBuffers surf(32, 24);
+  const Vec3f lens{0.05f, 0.05f, 0.05f};
+  const float a = 0.6f, filter[3] = {0.4f, 1.9f, 0.7f};  // mean 1: a green lens
+  for (int y = 0; y < 24; ++y)
+    for (int x = 0; x < 32; ++x) {
+      double tn, tf;
+      s.clip(x, y, &tn, &tf);
+      set_surface(surf, x, y, lens, a, float(tn + 0.37 * (tf - tn)));
+      for (int c = 0; c < 3; ++c) surf.filter[3 * (size_t(y) * 32 + x) + c] = filter[c];
+    }
+  Marcher m(runtime());
+  RenderResult r = m.render(s.scene, s.cam, &surf, s.opts);
+  for (int y = 1; y < 24; y += 4)
+    for (int x = 0; x < 32; x += 5) {
+      double tn, tf, ts = surf.depth[size_t(y) * 32 + x];
+      s.clip(x, y, &tn, &tf);
+      double e1 = std::exp(-kSigma * (ts - tn)), e2 = std::exp(-kSigma * (tf - ts));
+      for (int c = 0; c < 3; ++c) {
+        double behind = filter[c] * (kSlabRgb[c] * (1 - e2) + e2 * kBg[c]);
+        double expect = kSlabRgb[c] * (1 - e1) + e1 * a * lens[c] + e1 * (1 - a) * behind;
+        EXPECT_NEAR(r.rgba.at(x, y, c), expect, kTol);
+      }
+      EXPECT_NEAR(r.rgba.at(x, y, 3), 1 - e1 * (1 - a) * e2, kTol) << "coverage stays the mean transmittance";
+    }
+}
+
 // Exact-depth insertion: a surface half-way between two sample boundaries lands where it is.
 TEST(Marcher, SurfaceBetweenTwoSamplesIsInsertedAtItsExactDepth) {
   SlabScene s;
