@@ -13,7 +13,7 @@
 #include "fit/nerf_view_source.h"
 #include "fit/placement_json.h"
 #include "host/dataset/dataset.h"
-#include "host/nerf/evaluate.h"
+#include "host/render/evaluate.h"
 #include "host/nerf/train_job.h"
 #include "host/render/orbit.h"
 #include "host/render/render_job.h"
@@ -129,11 +129,11 @@ void stage_evaluate(Context& c, nerf::NerfModel& model, dataset::Dataset& ds) {
   Stopwatch sw;
   std::vector<nerf::View> views;
   for (const dataset::Frame* f : ds.split(dataset::Split::Holdout)) views.push_back({f->camera, &f->image});
-  nerf::EvalOptions eo;
+  render::EvalOptions eo;
   eo.max_views = c.opt.quick ? 3 : 6;
   eo.output_dir = c.path("heldout");
   fs::create_directories(eo.output_dir);
-  nerf::EvalResult e = nerf::evaluate(model, views, eo);
+  render::EvalResult e = render::evaluate(model, views, eo);
   c.report.psnr = e.psnr;
   c.report.ssim = e.ssim;
   c.report.heldout_views = static_cast<int>(e.views);

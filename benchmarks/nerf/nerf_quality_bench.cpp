@@ -15,7 +15,7 @@
 #include <spdlog/spdlog.h>
 
 #include "host/dataset/dataset.h"
-#include "host/nerf/evaluate.h"
+#include "host/render/evaluate.h"
 #include "host/nerf/sizing.h"
 #include "host/nerf/trainer.h"
 #include "host/util/chart.h"
@@ -60,7 +60,7 @@ int main(int argc, char** argv) {
     to.seconds = seconds;
     to.progress = false;
     nerf::Trainer trainer(model, train, to, sizing.occupancy_mask);
-    nerf::EvalOptions eo;
+    render::EvalOptions eo;
     eo.max_views = eval_views;
     std::vector<std::vector<std::string>> rows;
     ChartSeries series{label + " (" + fmt::format("{:.1f} MB", sizing.megabytes()) + ")", {}, {}};
@@ -74,7 +74,7 @@ int main(int argc, char** argv) {
         trained += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         t0 = std::chrono::steady_clock::now();
       }
-      nerf::EvalResult e = nerf::evaluate(model, test, eo);
+      render::EvalResult e = render::evaluate(model, test, eo);
       double sps = double(trainer.samples_done()) / trained;
       rows.push_back({fmt::format("{:.1f}", trained), std::to_string(trainer.steps_done()),
                       std::to_string(trainer.samples_done()), fmt::format("{:.0f}", sps), fmt::format("{:.3f}", e.psnr),

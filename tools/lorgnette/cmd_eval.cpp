@@ -8,7 +8,7 @@
 #include <spdlog/spdlog.h>
 
 #include "host/dataset/dataset.h"
-#include "host/nerf/evaluate.h"
+#include "host/render/evaluate.h"
 #include "tools/lorgnette/command.h"
 
 namespace lorgnette::cli {
@@ -38,11 +38,11 @@ void run_eval(const EvalArgs& a, GlobalOptions& global) {
   dataset::Dataset ds = dataset::load_dataset(a.data, lo);
   std::vector<nerf::View> views;
   for (const dataset::Frame* f : ds.require_split(split)) views.push_back({f->camera, &f->image});
-  nerf::EvalOptions eo;
+  render::EvalOptions eo;
   eo.max_views = a.max_views;
   eo.output_dir = a.output;
-  if (a.black) eo.render.background = {0.0f, 0.0f, 0.0f};
-  nerf::EvalResult r = nerf::evaluate(model, views, eo);
+  if (a.black) eo.background = {0.0f, 0.0f, 0.0f};
+  render::EvalResult r = render::evaluate(model, views, eo);
   if (a.json) {
     nlohmann::json out = {{"psnr", r.psnr}, {"ssim", r.ssim}, {"views", r.views},
                           {"split", dataset::to_string(split)}, {"train_seconds", model.metadata.train_seconds},

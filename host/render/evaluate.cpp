@@ -1,5 +1,5 @@
-// Evaluation renderer and metrics over held-out views.
-#include "host/nerf/evaluate.h"
+// Held-out views rendered by the marcher, and their metrics (see evaluate.h).
+#include "host/render/evaluate.h"
 
 #include <algorithm>
 #include <chrono>
@@ -10,9 +10,9 @@
 #include <spdlog/spdlog.h>
 
 #include "host/dataset/metrics.h"
-#include "host/nerf/ray_batch.h"
+#include "host/render/renderer.h"
 
-namespace lorgnette::nerf {
+namespace lorgnette::render {
 
 namespace {
 // The render already holds the background behind the model: keep its RGB.
@@ -23,33 +23,6 @@ Image rgb_of(const Image& rgba) {
   return out;
 }
 }  // namespace
-
-Image render_view(NerfModel& model, const Camera& camera, const RenderOptions& options) {
-  cl::Runtime& rt = model.runtime();
-  DeviceViews views(rt, {View{camera, nullptr}}, false);
-  RayBatch batch(model, options.max_rays);
-  const uint32_t pixels = camera.width * camera.height, budget = model.field().max_batch();
-  Image out(int(camera.width), int(camera.height), 4);
-  SampleParams p = sample_params_for(model, views);
-  p.mode = SAMPLE_MODE_VIEW;
-  p.camera = 0;
-  for (int c = 0; c < 3; ++c) p.bg[c] = options.background[c];
-  for (uint32_t first = 0; first < pixels; first += options.max_rays) {
-    p.first_pixel = first;
-    p.n_rays = std::min(options.max_rays, pixels - first);
-    batch.count(p, views);
-    for (uint32_t begin = 0; begin < p.n_rays;) {
-      uint32_t end = batch.fit(begin, budget);
-      uint32_t n = batch.write(p, views, begin, end);
-      if (n > 0) model.field().forward(batch.positions(), batch.directions(), n, batch.sigma(), batch.rgb(), false);
-      batch.render(LOSS_L2_SRGB, true);
-      std::vector<float> colors = batch.colors();
-      std::copy(colors.begin(), colors.end(), out.pixels.begin() + size_t(first + begin) * 4);
-      begin = end;
-    }
-  }
-  return out;
-}
 
 void write_comparison(const std::string& path, const Image& prediction, const Image& truth) {
   const int w = truth.width, h = truth.height;
@@ -66,18 +39,21 @@ void write_comparison(const std::string& path, const Image& prediction, const Im
   write_image(path, sheet);
 }
 
-EvalResult evaluate(NerfModel& model, const std::vector<View>& views, const EvalOptions& options) {
+EvalResult evaluate(nerf::NerfModel& model, const std::vector<nerf::View>& views, const EvalOptions& options) {
   if (views.empty()) throw std::runtime_error("nothing to evaluate: the evaluation split has no views");
   auto start = std::chrono::steady_clock::now();
   size_t n = options.max_views ? std::min<size_t>(options.max_views, views.size()) : views.size();
   if (!options.output_dir.empty()) std::filesystem::create_directories(options.output_dir);
   EvalResult r;
+  Renderer renderer(model.runtime());
+  RenderOptions ro;
+  ro.background = options.background;
   for (size_t k = 0; k < n; ++k) {
     size_t i = k * views.size() / n;
-    const View& v = views[i];
+    const nerf::View& v = views[i];
     if (!v.image) throw std::runtime_error(fmt::format("evaluation view {} has no image", i));
-    Image pred = rgb_of(render_view(model, v.camera, options.render));
-    Image truth = dataset::composite_over(*v.image, options.render.background);
+    Image pred = rgb_of(renderer.render(model, v.camera, nullptr, ro).rgba);
+    Image truth = dataset::composite_over(*v.image, options.background);
     r.view_psnr.push_back(dataset::psnr(pred, truth));
     r.view_ssim.push_back(dataset::ssim(pred, truth));
     spdlog::debug("view {}: PSNR {:.2f} dB, SSIM {:.4f}", i, r.view_psnr.back(), r.view_ssim.back());
@@ -93,4 +69,4 @@ EvalResult evaluate(NerfModel& model, const std::vector<View>& views, const Eval
   return r;
 }
 
-}  // namespace lorgnette::nerf
+}  // namespace lorgnette::render
