@@ -35,7 +35,8 @@ void init_layer(const LayerShape& L, std::vector<float>& params, std::mt19937_64
 
 }  // namespace
 
-Field::Field(cl::Runtime& rt, const FieldConfig& cfg, uint32_t max_batch, uint64_t seed, bool deterministic)
+Field::Field(cl::Runtime& rt, const FieldConfig& cfg, uint32_t max_batch, uint64_t seed, bool deterministic,
+             KernelVariant variant)
     : rt_(rt), cfg_(cfg), layout_(make_layout(cfg)), deterministic_(deterministic) {
   if (max_batch == 0 || max_batch > (1u << 24))
     throw std::invalid_argument("Field max_batch = " + std::to_string(max_batch) + " (expected 1..16777216)");
@@ -57,8 +58,8 @@ Field::Field(cl::Runtime& rt, const FieldConfig& cfg, uint32_t max_batch, uint64
   // Padded rows are never written by the kernels and must read as zero.
   for (auto* b : {&acts_, &deltas_, &pos_copy_, &grads_, &adam_m_, &adam_v_}) b->fill(rt, 0.0f);
 
-  hash_ = std::make_unique<HashGrid>(rt, cfg_, layout_, max_batch_);
-  mlp_ = std::make_unique<Mlp>(rt, max_batch_);
+  hash_ = std::make_unique<HashGrid>(rt, cfg_, layout_, max_batch_, variant);
+  mlp_ = std::make_unique<Mlp>(rt, max_batch_, variant);
   adam_ = std::make_unique<Adam>(rt);
 
   std::mt19937_64 rng(seed);

@@ -3,7 +3,7 @@
 // geometry features -> RGB), trained by Adam. All parameters live in one flat device buffer and
 // their gradients in another; every kernel is deterministic (no float atomics) unless the caller
 // asks for the non-deterministic GPU path. The two MLPs run as one fused chain (all layers per
-// 32-sample slab, kernels/mlp/mlp_chain.cl); activations and deltas are kept per sample for the
+// 32-sample slab on a CPU, kernels/mlp/mlp_chain.cl; per sample on a GPU, mlp_chain_per_sample.cl); activations and deltas are kept per sample for the
 // backward pass, about 2 x 260 floats per sample of max_batch with the default shapes.
 //
 // Per-sample arrays are structure-of-arrays Buffer<float> with stride max_batch():
@@ -17,6 +17,7 @@
 #include "host/cl/buffer.h"
 #include "host/cl/runtime.h"
 #include "host/field/field_config.h"
+#include "host/field/kernel_variant.h"
 #include "kernels/mlp/mlp_types.h"
 
 namespace lorgnette::field {
@@ -27,7 +28,9 @@ class Adam;
 
 class Field {
  public:
-  Field(cl::Runtime& rt, const FieldConfig& cfg, uint32_t max_batch, uint64_t seed, bool deterministic);
+  // variant: the kernels shaped for the device (Auto) or forced (tests run the GPU ones on PoCL).
+  Field(cl::Runtime& rt, const FieldConfig& cfg, uint32_t max_batch, uint64_t seed, bool deterministic,
+        KernelVariant variant = KernelVariant::Auto);
   ~Field();
   Field(const Field&) = delete;
   Field& operator=(const Field&) = delete;

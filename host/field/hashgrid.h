@@ -7,15 +7,12 @@
 #include "host/cl/kernel.h"
 #include "host/cl/runtime.h"
 #include "host/field/field_config.h"
+#include "host/field/kernel_variant.h"
 #include "kernels/hashgrid/hashgrid_types.h"
 
 namespace lorgnette::field {
 
 HashgridParams make_hashgrid_params(const FieldConfig& cfg, const ParamLayout& layout, uint32_t stride);
-
-// Which kernel variant to build: the device's own (Auto), or a forced one, so the GPU variant
-// can be tested on a CPU device too.
-enum class KernelVariant { Auto, Cpu, Gpu };
 
 class HashGrid {
  public:

@@ -7,6 +7,7 @@
 namespace lorgnette::field {
 namespace {
 constexpr size_t kLocal = 8;  // 32-sample work-items per work-group (2, 8 and 16 measured alike)
+constexpr size_t kLocalPerSample = 64;  // GPU chains: one sample per work-item, two warps per group
 uint32_t round16(uint32_t n) { return (n + 15u) & ~15u; }
 }  // namespace
 
@@ -64,7 +65,8 @@ ChainPlan plan_chain(const ParamLayout& lay, uint32_t stride) {
   return plan;
 }
 
-Mlp::Mlp(cl::Runtime& rt, uint32_t stride) : rt_(rt), stride_(stride) {
+Mlp::Mlp(cl::Runtime& rt, uint32_t stride, KernelVariant variant)
+    : rt_(rt), stride_(stride), gpu_(use_gpu_variant(rt, variant)) {
   cl_program prog = rt.program("mlp/mlp.cl");
   forward_ = cl::Kernel(prog, "mlp_forward");
   backward_input_ = cl::Kernel(prog, "mlp_backward_input");
@@ -72,7 +74,7 @@ Mlp::Mlp(cl::Runtime& rt, uint32_t stride) : rt_(rt), stride_(stride) {
   grad_reduce_ = cl::Kernel(prog, "mlp_weight_grad_reduce");
   sh_ = cl::Kernel(prog, "mlp_sh_encode");
   sigma_ = cl::Kernel(prog, "mlp_sigma");
-  cl_program chain = rt.program("mlp/mlp_chain.cl");
+  cl_program chain = rt.program(gpu_ ? "mlp/mlp_chain_per_sample.cl" : "mlp/mlp_chain.cl");
   chain_fwd_ = cl::Kernel(chain, "mlp_chain_forward");
   chain_bwd_ = cl::Kernel(chain, "mlp_chain_backward");
 }
@@ -131,14 +133,20 @@ void Mlp::weight_grad(const LayerShape& L, const LayerIo& io, uint32_t n, cl::Bu
 void Mlp::chain_forward(MlpChainParams p, uint32_t n, const cl::Buffer<float>& params, cl::Buffer<float>& acts) {
   p.n = n;
   p.n16 = round16(n);
-  chain_fwd_.args(p, params, acts).launch(rt_, (p.n16 + 31) / 32, kLocal);
+  if (gpu_)
+    chain_fwd_.args(p, params, acts).launch(rt_, p.n16, kLocalPerSample);
+  else
+    chain_fwd_.args(p, params, acts).launch(rt_, (p.n16 + 31) / 32, kLocal);
 }
 
 void Mlp::chain_backward(MlpChainParams p, uint32_t n, const cl::Buffer<float>& params, const cl::Buffer<float>& acts,
                          cl::Buffer<float>& deltas, const cl::Buffer<float>& d_sigma, const cl::Buffer<float>& d_rgb) {
   p.n = n;
   p.n16 = round16(n);
-  chain_bwd_.args(p, params, acts, deltas, d_sigma, d_rgb).launch(rt_, (p.n16 + 31) / 32, kLocal);
+  if (gpu_)
+    chain_bwd_.args(p, params, acts, deltas, d_sigma, d_rgb).launch(rt_, p.n16, kLocalPerSample);
+  else
+    chain_bwd_.args(p, params, acts, deltas, d_sigma, d_rgb).launch(rt_, (p.n16 + 31) / 32, kLocal);
 }
 
 void Mlp::sh_encode(const cl::Buffer<float>& dir, uint32_t n, uint32_t sh_count, cl::Buffer<float>& out,

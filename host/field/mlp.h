@@ -1,5 +1,5 @@
 // Host side of the tiny-MLP kernels: single dense layers and fused chains of them
-// (kernels/mlp/mlp.cl, mlp_chain.cl), deterministic weight gradients (per-chunk partials +
+// (kernels/mlp/mlp.cl, mlp_chain.cl or mlp_chain_per_sample.cl), deterministic weight gradients (per-chunk partials +
 // fixed-order reduction), and the small head kernels (SH encoding, sigma) the Field uses.
 #pragma once
 #include <cstdint>
@@ -8,6 +8,7 @@
 #include "host/cl/kernel.h"
 #include "host/cl/runtime.h"
 #include "host/field/field_config.h"
+#include "host/field/kernel_variant.h"
 #include "kernels/mlp/mlp_types.h"
 
 namespace lorgnette::field {
@@ -41,7 +42,9 @@ ChainPlan plan_chain(const ParamLayout& layout, uint32_t stride);
 
 class Mlp {
  public:
-  Mlp(cl::Runtime& rt, uint32_t stride);
+  // The fused chains come in a CPU variant (mlp_chain.cl) and a GPU one (mlp_chain_per_sample.cl).
+  Mlp(cl::Runtime& rt, uint32_t stride, KernelVariant variant = KernelVariant::Auto);
+  bool gpu_chain() const { return gpu_; }
 
   // y = act(W x) for output rows [0, out_rows) (out_rows = 0: all of the layer's rows).
   void forward(const LayerShape& L, const cl::Buffer<float>& params, const LayerIo& io, uint32_t n,
@@ -67,6 +70,7 @@ class Mlp {
 
   cl::Runtime& rt_;
   uint32_t stride_;
+  bool gpu_;
   cl::Kernel forward_, backward_input_, grad_partial_, grad_reduce_, sh_, sigma_, chain_fwd_, chain_bwd_;
 };
 

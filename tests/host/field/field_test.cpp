@@ -14,8 +14,8 @@ constexpr uint32_t kN = 300;
 
 // A Field whose hash tables are random in [-0.5, 0.5] (the 1e-4 init would hide the encoding).
 struct FieldSetup {
-  explicit FieldSetup(const FieldConfig& cfg)
-      : field(test::runtime(), cfg, kN, 42, true), s(test::random_samples(kN, field.max_batch(), 9)) {
+  explicit FieldSetup(const FieldConfig& cfg, KernelVariant variant = KernelVariant::Auto)
+      : field(test::runtime(), cfg, kN, 42, true, variant), s(test::random_samples(kN, field.max_batch(), 9)) {
     auto& rt = test::runtime();
     params = field.download_params();
     auto h = test::random_vector(field.layout().hash_count, 0.5f, 77);
@@ -53,9 +53,9 @@ struct FieldSetup {
   cl::Buffer<float> pos, dir, sigma, rgb;
 };
 
-void check_against_reference(const FieldConfig& cfg) {
+void check_against_reference(const FieldConfig& cfg, KernelVariant variant = KernelVariant::Auto) {
   auto& rt = test::runtime();
-  FieldSetup t(cfg);
+  FieldSetup t(cfg, variant);
   t.forward_backward();
   const auto& lay = t.field.layout();
   ref::Forward f = ref::forward(lay, cfg, t.params, t.s);
@@ -89,6 +89,13 @@ void check_against_reference(const FieldConfig& cfg) {
 TEST(Field, ForwardAndBackwardMatchReference) { check_against_reference(test::small_config()); }
 
 TEST(Field, PaddedShapesMatchReference) { check_against_reference(test::odd_config()); }
+
+// The GPU kernels (per-sample MLP chain, per-(sample, level) hash encoding) forced on PoCL, against
+// the same double reference and tolerances: what an NVIDIA device runs is checked here too.
+TEST(Field, GpuKernelsMatchReference) {
+  check_against_reference(test::small_config(), KernelVariant::Gpu);
+  check_against_reference(test::odd_config(), KernelVariant::Gpu);
+}
 
 TEST(Field, BackwardMatchesFiniteDifferencesOfTheDeviceForward) {
   FieldSetup t(test::small_config());
