@@ -9,6 +9,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <spdlog/spdlog.h>
 
+#include "host/dataset/dataset.h"
 #include "host/util/image_io.h"
 #include "host/util/interrupt.h"
 
@@ -75,9 +76,43 @@ void copy_model_images(const ColmapModel& model, const CaptureInput& in, const f
                                           model.images.size(), in.image_dir.string()));
 }
 
+// Replaces the sparse-point box of `scene` by the head box from landmarks when faces are found.
+void choose_capture_box(const ColmapModel& model, const CaptureOptions& opt, ConvertedScene& scene,
+                        CaptureReport& report) {
+  report.aabb_from = "sparse points";
+  report.aabb_note = fmt::format("robust box of {} sparse points around the cameras' focus", scene.subject_points);
+  if (!opt.head_box) {
+    report.aabb_note += " (head box disabled)";
+    return;
+  }
+  StageTimer t(report, "head_box");
+  std::vector<fit::PosedPhoto> photos;
+  for (const auto& f : scene.frames) {
+    Camera cam = camera_from_colmap(model.cameras.at(f.colmap_camera_id));
+    dataset::set_camera_pose(cam, f.c2w);
+    photos.push_back({cam, nullptr, (fs::path(opt.output) / f.file_path).string()});
+  }
+  fit::HeadBoxOptions ho = opt.head;
+  ho.detector.model_path = opt.landmark_model;
+  try {
+    fit::HeadBox box = fit::estimate_head_box(photos, ho);
+    scene.aabb_min = box.min;
+    scene.aabb_max = box.max;
+    report.aabb_from = "landmarks";
+    report.aabb_note = box.summary();
+    spdlog::info("capture: {}", box.summary());
+  } catch (const std::exception& e) {
+    report.warnings.push_back(fmt::format("no head box, the sparse-point box is used instead: {}", e.what()));
+  }
+}
+
 void convert_and_write(const ColmapModel& model, const CaptureOptions& opt, CaptureReport& report) {
-  StageTimer t(report, "convert");
-  ConvertedScene scene = convert_colmap_model(model, opt.convert);
+  ConvertedScene scene;
+  {
+    StageTimer t(report, "convert");
+    scene = convert_colmap_model(model, opt.convert);
+  }
+  choose_capture_box(model, opt, scene, report);
   write_capture_transforms(opt.output, model, scene);
   report.registered = scene.frames.size();
   report.mean_reprojection_error = scene.mean_reprojection_error;
@@ -110,6 +145,7 @@ nlohmann::json CaptureReport::to_json() const {
           {"faces_found", faces_found}, {"registered", registered}, {"models", models},
           {"mean_reprojection_error_px", mean_reprojection_error}, {"subject_points", subject_points},
           {"aabb", {{aabb_min.x(), aabb_min.y(), aabb_min.z()}, {aabb_max.x(), aabb_max.y(), aabb_max.z()}}},
+          {"aabb_from", aabb_from}, {"aabb_note", aabb_note},
           {"dropped", dropped_j}, {"warnings", warnings}, {"seconds", seconds_j},
           {"transforms", transforms_path}, {"workspace", workspace}};
 }

@@ -12,6 +12,7 @@
 #include "capture/colmap_to_transforms.h"
 #include "capture/frame_filter.h"
 #include "capture/frame_source.h"
+#include "fit/head_box.h"
 
 namespace lorgnette::capture {
 
@@ -26,6 +27,10 @@ struct CaptureOptions {
   BlinkOptions blink;
   std::string landmark_model = "/usr/share/dlib/shape_predictor_68_face_landmarks.dat";
   ConvertOptions convert;
+  // The subject box: the head box from landmarks triangulated on the photos (fit/head_box.h) when
+  // faces are found, else the sparse-point box of the conversion.
+  bool head_box = true;
+  fit::HeadBoxOptions head;  // its detector model path is taken from landmark_model
 };
 
 struct DroppedFrame {
@@ -43,6 +48,8 @@ struct CaptureReport {
   double mean_reprojection_error = 0;
   size_t subject_points = 0;
   Eigen::Vector3d aabb_min = Eigen::Vector3d::Zero(), aabb_max = Eigen::Vector3d::Zero();
+  std::string aabb_from;  // "landmarks" (head box) or "sparse points"
+  std::string aabb_note;  // how the box was made, or why the head box was not used
   std::vector<DroppedFrame> dropped;
   std::vector<std::string> warnings;
   std::vector<StageSeconds> seconds;  // per stage, in order

@@ -24,6 +24,7 @@
 #include "mesh/gltf_writer.h"
 #include "mesh/parametric.h"
 #include "mesh/preview.h"
+#include "mesh/placed_glasses.h"
 #include "mesh/surface_pass.h"
 #include "synth/procedural_head.h"
 #include "synth/subject.h"
@@ -220,12 +221,13 @@ void stage_render(Context& c, cl::Runtime& rt, nerf::NerfModel& model, const std
   spec.elevation_deg = 10.0f;
   spec.width = spec.height = static_cast<uint32_t>(c.opt.orbit_size);
   job.cameras = render::orbit_cameras(spec);
-  mesh::Glasses g = mesh::load_glasses(glasses_path);
-  Eigen::Matrix4f m = fitted.placement.transform.cast<float>();  // canonical mm -> scene
-  mesh::SurfacePass pass(g.mesh, m);
+  // canonical mm -> scene, temples spread as the fit chose
+  mesh::PlacedGlasses placed = mesh::load_placed_glasses(glasses_path, fitted.placement.transform.cast<float>(),
+                                                         fitted.temples.bend);
+  const mesh::Glasses& g = placed.glasses;
   mesh::SurfaceParams sp;
   sp.samples_per_pixel = 4;
-  job.surfaces = [&pass, sp](const Camera& cam) { return pass.render(cam, sp); };
+  job.surfaces = [&placed, sp](const Camera& cam) { return placed.pass->render(cam, sp); };
   render::Renderer renderer(rt);
   nlohmann::json summary = render::run_render_job(job, [&](const Camera& cam, const mesh::SurfaceBuffers* s) {
     return renderer.render(model, cam, s, job.options);

@@ -111,49 +111,29 @@ void summarise(FitResult& r, const FitOptions& opt) {
       r.ok = false;
       r.warnings.push_back(fmt::format("{}: reprojection residual {:.1f} px > {:.1f}", name, l.residual_px, opt.max_residual_px));
     }
-  // The front (rims, bridge, pads) must not clip: that is visible in every frontal view. The rigid
-  // temples may still pass into the ear flaps (real temples flex around them); that is reported.
+  // The front (rims, bridge, pads) must not clip: that is visible in every frontal view. The temples
+  // flex: they are spread at the hinges (temple_fit.h) and fail only when that cannot clear them.
   if (r.contact.refined && r.contact.front_penetration_mm > opt.max_penetration_mm) {
     r.ok = false;
     r.warnings.push_back(fmt::format("the front of the frame still penetrates the face by {:.2f} mm",
                                      r.contact.front_penetration_mm));
-  } else if (r.contact.refined && r.contact.penetration_mm > opt.max_penetration_mm) {
-    r.warnings.push_back(fmt::format("the temples pass {:.2f} mm into the head near the ears (rigid frame)",
-                                     r.contact.penetration_mm));
+  }
+  if (r.temples.fitted) {
+    for (int side : {+1, -1})
+      if (const TempleSideFit& t = side > 0 ? r.temples.left : r.temples.right; t.spread_deg > 0.0)
+        spdlog::info("fit: {} temple spread {:.2f} deg outwards: penetration {:.2f} -> {:.2f} mm",
+                     side > 0 ? "left" : "right", t.spread_deg, t.penetration_before_mm, t.penetration_mm);
+    std::vector<std::string> w = temple_warnings(r.temples);
+    r.ok = r.ok && w.empty();
+    r.warnings.insert(r.warnings.end(), w.begin(), w.end());
+  } else if (r.contact.refined && r.contact.front_penetration_mm <= opt.max_penetration_mm &&
+             r.contact.penetration_mm > opt.max_penetration_mm) {
+    r.warnings.push_back(fmt::format("the temples pass {:.2f} mm into the head near the ears (rigid frame: the "
+                                     "glasses have no hinges to spread them at)", r.contact.penetration_mm));
   }
 }
 
 }  // namespace
-
-std::vector<ViewRecord> detect_views(ViewSource& source, const LandmarkDetector& detector,
-                                     const std::vector<Camera>& cameras, const FitOptions& opt) {
-  std::mt19937 rng(opt.seed);
-  std::normal_distribution<double> noise(0.0, 1.0);
-  std::vector<ViewRecord> out;
-  for (const auto& cam : cameras) {
-    ViewRecord v;
-    v.camera = cam;
-    Image img = source.render(cam);
-    v.detection = detector.detect(img);
-    if (opt.detector_noise_px > 0.0)
-      for (auto& p : v.detection.points) p += opt.detector_noise_px * Eigen::Vector2d(noise(rng), noise(rng));
-    if (!opt.debug_dir.empty()) v.image = std::move(img);
-    out.push_back(std::move(v));
-  }
-  return out;
-}
-
-std::vector<TriangulatedPoint> triangulate_landmarks(const std::vector<ViewRecord>& views,
-                                                     const TriangulateOptions& options) {
-  std::vector<TriangulatedPoint> pts(lm::kCount);
-  for (int k = 0; k < lm::kCount; ++k) {
-    std::vector<Observation> obs;
-    for (const auto& v : views)
-      if (v.detection.found) obs.push_back({&v.camera, v.detection.points[k]});
-    pts[k] = triangulate_point(obs, options);
-  }
-  return pts;
-}
 
 FitResult fit_glasses(ViewSource& source, const GlassesRefPoints& glasses, const FitOptions& opt) {
   FitResult r;
@@ -216,13 +196,23 @@ FitResult fit_glasses(ViewSource& source, const GlassesRefPoints& glasses, const
     r.placement = place_glasses(glasses, pi, opt.scale_policy);
   }
   if (opt.refine_contact && !opt.frame_points.empty()) {
-    StageTimer t{r, "contact"};
     DensityFn density = [&source](const std::vector<Eigen::Vector3f>& p) { return source.density(p); };
     Eigen::Vector3d axis = 0.5 * (r.ears.f_l + r.ears.f_r);
     ContactOptions co = opt.contact;
     co.tip_z_mm = std::min(glasses.g_l.z(), glasses.g_r.z());
-    r.contact = refine_contact(r.placement, opt.frame_points, density, r.head.d_fwd, r.head.d_up, axis,
-                               r.head.mm_per_unit, co);
+    {
+      StageTimer t{r, "contact"};
+      r.contact = refine_contact(r.placement, opt.frame_points, density, r.head.d_fwd, r.head.d_up, axis,
+                                 r.head.mm_per_unit, co);
+    }
+    if (opt.temples.enabled && glasses.has_hinges) {  // spread the temples, then re-measure the frame
+      StageTimer tt{r, "temples"};
+      TempleFitInputs ti{r.placement.transform, glasses.hinge_l, glasses.hinge_r, axis, r.head.d_up,
+                         r.head.mm_per_unit};
+      r.temples = fit_temples(ti, opt.frame_points, density, co, opt.max_penetration_mm, opt.temples);
+      measure_contact(r.contact, r.placement, opt.frame_points, mesh::bend_points(r.temples.bend, opt.frame_points),
+                      density, r.head.d_up, axis, r.head.mm_per_unit, co);
+    }
   }
   summarise(r, opt);
   if (!opt.debug_dir.empty()) write_debug_views(opt.debug_dir, r);

@@ -1,8 +1,9 @@
 // The placement pipeline (paper Sec. 3.1 plus contact refinement) on any ViewSource: find the front
 // of the head, render K views on a cap around it, detect 68 landmarks per view (dlib), triangulate
 // them robustly, align the mean face (d_fwd, mm per unit, PD), estimate the ears (Eq. 2-3), place
-// the frame (scale, Kabsch, Eq. 4-5) and let it rest on the skin. Fatal problems (no face, too few
-// views, degenerate geometry) throw std::runtime_error saying what was seen and what to try.
+// the frame (scale, Kabsch, Eq. 4-5), let it rest on the skin and spread the temples where they
+// would clip (temple_fit.h). Fatal problems (no face, too few views, degenerate geometry) throw
+// std::runtime_error saying what was seen and what to try.
 #pragma once
 #include <map>
 #include <string>
@@ -13,6 +14,7 @@
 #include "fit/head_frame.h"
 #include "fit/landmarks_dlib.h"
 #include "fit/place.h"
+#include "fit/temple_fit.h"
 #include "fit/triangulate.h"
 #include "fit/view_planning.h"
 #include "fit/view_source.h"
@@ -48,6 +50,7 @@ struct FitOptions {
   double max_penetration_mm = 0.5;    // ok = false above this after refinement
   double max_residual_px = 6.0;       // ok = false when a used landmark's RMS residual is above this
   std::string debug_dir;              // non-empty: write annotated views there
+  TempleFitOptions temples;           // spread the temples where they clip (needs the glasses' hinges)
 };
 
 struct NamedLandmark {
@@ -78,6 +81,7 @@ struct FitResult {
   std::vector<ViewRecord> views;                   // the final cap
   int views_used = 0;                              // views with a face
   std::vector<std::pair<std::string, double>> seconds;  // per stage, in order
+  TempleFitResult temples;                         // the temple spread after the contact refinement
   double total_seconds() const;
 };
 

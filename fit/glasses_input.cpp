@@ -4,6 +4,7 @@
 #include "mesh/canonical.h"
 #include "mesh/glasses.h"
 #include "mesh/refpoints.h"
+#include "mesh/temple_bend.h"
 
 namespace lorgnette::fit {
 
@@ -16,13 +17,21 @@ GlassesInput load_glasses_input(const std::string& path, int samples, unsigned s
   in.ref.g_c = g.ref.g_c.cast<double>();
   in.ref.g_l = g.ref.g_l.cast<double>();
   in.ref.g_r = g.ref.g_r.cast<double>();
+  std::string why;
+  if (auto h = mesh::detect_temple_hinges(g.mesh, &why)) {
+    in.ref.has_hinges = true;
+    in.ref.hinge_l = h->left;
+    in.ref.hinge_r = h->right;
+  } else {
+    in.notes.push_back(why + ": the temples stay rigid in the fit");
+  }
   std::vector<bool> lens = mesh::lens_triangles(g.mesh);
   std::vector<bool> frame(lens.size());
   for (size_t i = 0; i < lens.size(); ++i) frame[i] = !lens[i];
   std::vector<Eigen::Vector3f> pts = mesh::sample_surface(g.mesh, samples, seed, &frame);
   if (pts.empty()) pts = mesh::sample_surface(g.mesh, samples, seed);  // lens-only mesh: use everything
   for (const auto& p : pts) in.frame_points.push_back(p.cast<double>());
-  in.notes = g.notes;
+  in.notes.insert(in.notes.begin(), g.notes.begin(), g.notes.end());
   return in;
 }
 

@@ -1,5 +1,6 @@
 // The glasses as the fit needs them, from the mesh module: reference points g_c g_l g_r and surface
-// samples of the frame (lenses excluded) in canonical millimetres, for the contact refinement.
+// samples of the frame (lenses excluded) in canonical millimetres, for the contact refinement, and the
+// temple hinges (mesh/temple_bend.h) for the temple spread.
 #pragma once
 #include <string>
 #include <vector>

@@ -17,23 +17,77 @@ struct LandmarkDetector::Impl {
   dlib::frontal_face_detector detector = dlib::get_frontal_face_detector();
   dlib::shape_predictor predictor;
   int upsample = 0;
+  double hog_face_px = 0.0;
+
+  // Face boxes of the HOG detector on `img`, run at about `hog_scale` and mapped back to img's
+  // pixels. The shrink is k steps of the detector's own pyramid (pyramid_down<6>, 5/6 per step), k
+  // the most that keeps the scale >= hog_scale: the detector's pyramid on the shrunk image is then
+  // exactly the full image's pyramid from level k on, so a face found at a level >= k gets the same
+  // box (to a pixel of rounding) while the k finest levels, the costly ones, are never scanned.
+  std::vector<dlib::rect_detection> faces(const dlib::array2d<dlib::rgb_pixel>& img, double hog_scale) {
+    std::vector<dlib::rect_detection> dets;
+    const int k = hog_scale < 1.0 ? int(std::floor(std::log(hog_scale) / std::log(5.0 / 6.0) + 1e-9)) : 0;
+    if (k <= 0) {
+      detector(img, dets, 0.0);
+      return dets;
+    }
+    dlib::pyramid_down<6> pyr;
+    dlib::array2d<dlib::rgb_pixel> small, tmp;
+    pyr(img, small);
+    for (int i = 1; i < k; ++i) {
+      pyr(small, tmp);
+      dlib::swap(small, tmp);
+    }
+    detector(small, dets, 0.0);
+    for (auto& d : dets) d.rect = box_up(d.rect, k);
+    return dets;
+  }
+
+  // Maps a box found on the image shrunk by k pyramid steps to the full image exactly as the
+  // detector maps its own boxes: it found the integer window R at pyramid level m (its box is
+  // round(rect_up(R, m))); R and m are recovered (the window is W0 wide at level 0) and mapped up
+  // by m + k levels in one go, as a full-resolution run would. Falls back to a plain map.
+  dlib::rectangle box_up(const dlib::rectangle& box, int k) {
+    dlib::pyramid_down<6> pyr;
+    if (window0 == 0)  // the smallest box the scanner reports (its level-0 window), away from the border
+      window0 = detector.get_scanner()
+                    .get_best_matching_rect(dlib::centered_rect(dlib::point(1000, 1000), 1, 1))
+                    .width();
+    int best = -1;
+    double best_err = 1e9;
+    for (int m = 0; m < 40; ++m) {
+      double err = std::abs(pyr.rect_down(dlib::drectangle(box), unsigned(m)).width() - double(window0));
+      if (err < best_err) best_err = err, best = m;
+    }
+    const dlib::rectangle r = pyr.rect_down(dlib::drectangle(box), unsigned(best));
+    if (dlib::rectangle(pyr.rect_up(dlib::drectangle(r), unsigned(best))) == box)
+      return pyr.rect_up(dlib::drectangle(r), unsigned(best + k));
+    return pyr.rect_up(dlib::drectangle(box), unsigned(k));
+  }
+  unsigned long window0 = 0;  // width of the detector's window at pyramid level 0 (pixels)
 };
 
 LandmarkDetector::LandmarkDetector(const DetectorOptions& opt) : impl_(std::make_unique<Impl>()) {
   if (!std::filesystem::is_regular_file(opt.model_path))
-    throw std::runtime_error(fmt::format(
-        "dlib landmark model '{}' not found: install the Debian package libdlib-data "
-        "(apt-get install libdlib-data) or pass its path", opt.model_path));
+    throw std::runtime_error(
+        fmt::format("dlib landmark model '{}' not found: install the Debian package libdlib-data "
+                    "(apt-get install libdlib-data) or pass its path",
+                    opt.model_path));
   try {
     dlib::deserialize(opt.model_path) >> impl_->predictor;
   } catch (const std::exception& e) {
-    throw std::runtime_error(fmt::format("cannot read the dlib landmark model '{}': {}", opt.model_path, e.what()));
+    throw std::runtime_error(
+        fmt::format("cannot read the dlib landmark model '{}': {}", opt.model_path, e.what()));
   }
   if (impl_->predictor.num_parts() != 68)
     throw std::runtime_error(fmt::format("'{}' predicts {} points, expected the 68-point model",
                                          opt.model_path, impl_->predictor.num_parts()));
   if (opt.upsample < 0 || opt.upsample > 3) throw std::runtime_error("detector upsample must be 0..3");
+  if (opt.hog_face_px != 0.0 && !(opt.hog_face_px >= 80.0))
+    throw std::runtime_error(fmt::format(
+        "detector hog_face_px must be 0 (off) or >= 80 (dlib's window), got {}", opt.hog_face_px));
   impl_->upsample = opt.upsample;
+  impl_->hog_face_px = opt.hog_face_px;
 }
 
 LandmarkDetector::~LandmarkDetector() = default;
@@ -55,7 +109,7 @@ std::vector<unsigned char> to_srgb8(const Image& img, float background) {
   return out;
 }
 
-FaceDetection LandmarkDetector::detect(const Image& image) const {
+FaceDetection LandmarkDetector::detect(const Image& image, double face_px) const {
   std::vector<unsigned char> rgb = to_srgb8(image);
   dlib::array2d<dlib::rgb_pixel> img(image.height, image.width);
   for (int y = 0; y < image.height; ++y)
@@ -68,14 +122,15 @@ FaceDetection LandmarkDetector::detect(const Image& image) const {
     dlib::pyramid_up(img);
     factor *= 2.0;
   }
-  std::vector<dlib::rect_detection> dets;
-  impl_->detector(img, dets, 0.0);
+  // The face's expected width at the detector's scale (after up-sampling) sets the HOG resize.
+  const double hog_scale =
+      impl_->hog_face_px > 0.0 && face_px > 0.0 ? impl_->hog_face_px / (face_px * factor) : 1.0;
+  std::vector<dlib::rect_detection> dets = impl_->faces(img, hog_scale);
   FaceDetection out;
   out.faces = int(dets.size());
   if (dets.empty()) return out;
-  auto best = std::max_element(dets.begin(), dets.end(), [](const auto& a, const auto& b) {
-    return a.rect.area() < b.rect.area();
-  });
+  auto best = std::max_element(dets.begin(), dets.end(),
+                               [](const auto& a, const auto& b) { return a.rect.area() < b.rect.area(); });
   dlib::full_object_detection shape = impl_->predictor(img, best->rect);
   const dlib::rectangle r = best->rect;
   out.found = shape.num_parts() == 68;

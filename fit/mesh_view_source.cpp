@@ -46,10 +46,7 @@ Image MeshViewSource::render(const Camera& cam) {
         const mesh::Material& mat = m.materials[hit.material];
         albedo = mat.base_color;
         if (mat.base_color_texture >= 0 && !m.uvs.empty())
-        {
-          Eigen::Vector2f uv = shading_.flip_v ? Eigen::Vector2f(hit.uv.x(), 1.0f - hit.uv.y()) : hit.uv;
-          albedo = albedo.cwiseProduct(mesh::sample_texture(m.textures[mat.base_color_texture], uv).head<3>());
-        }
+          albedo = albedo.cwiseProduct(mesh::sample_texture(m.textures[mat.base_color_texture], hit.uv).head<3>());
       }
       float lambert = std::abs(hit.shading_normal.dot(rays[i].dir));  // light at the camera
       c = albedo * (shading_.ambient + shading_.diffuse * lambert);

@@ -17,9 +17,8 @@ struct MeshShading {
   float diffuse = 0.55f;    // Lambert term from a light at the camera
   Eigen::Vector3f background{1.0f, 1.0f, 1.0f};
   int threads = 0;          // 0 = hardware concurrency
-  // Sample textures at (u, 1 - v). The Lee Perry-Smith .glb (repacked from a three.js asset) stores
-  // its UVs in the OpenGL convention, so the colour map lands upside down without this.
-  bool flip_v = false;
+  // No UV option here: TriMesh UVs are in the glTF convention, the loader fixes files that break it
+  // (mesh::LoadOptions::flip_v), so every consumer of a mesh samples its textures the same way.
 };
 
 class MeshViewSource : public ViewSource {

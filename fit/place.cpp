@@ -117,10 +117,10 @@ ContactResult refine_contact(Placement& placement, const std::vector<Eigen::Vect
                              const Eigen::Vector3d& axis_point, double mm_per_unit, const ContactOptions& opt) {
   ContactResult res;
   if (frame_points.empty() || !(mm_per_unit > 0.0)) return res;
-  std::vector<Eigen::Vector3d> front_canon, body_canon, tip_canon;
+  std::vector<Eigen::Vector3d> front_canon, body_canon;
   for (const auto& p : frame_points) {
     if (p.z() > opt.front_z_mm) front_canon.push_back(p);
-    (p.z() >= opt.tip_z_mm ? body_canon : tip_canon).push_back(p);
+    if (p.z() >= opt.tip_z_mm) body_canon.push_back(p);
   }
   res.penetration_before_mm = penetration_depth_mm(density, transform_points(placement.transform, body_canon),
                                                    axis_point, d_up, mm_per_unit, opt);
@@ -142,13 +142,28 @@ ContactResult refine_contact(Placement& placement, const std::vector<Eigen::Vect
   placement.transform.block<3, 1>(0, 3) += shift * unit;
   res.shift_mm = shift;
   res.refined = true;
-  res.penetration_mm = penetration_depth_mm(density, transform_points(placement.transform, body_canon), axis_point,
-                                            d_up, mm_per_unit, opt, &res.points_inside);
-  res.front_penetration_mm = penetration_depth_mm(density, transform_points(placement.transform, front_canon),
-                                                  axis_point, d_up, mm_per_unit, opt);
-  res.tip_penetration_mm = penetration_depth_mm(density, transform_points(placement.transform, tip_canon), axis_point,
-                                                d_up, mm_per_unit, opt);
+  measure_contact(res, placement, frame_points, {}, density, d_up, axis_point, mm_per_unit, opt);
   return res;
+}
+
+void measure_contact(ContactResult& res, const Placement& placement, const std::vector<Eigen::Vector3d>& frame_points,
+                     const std::vector<Eigen::Vector3d>& deformed, const DensityFn& density,
+                     const Eigen::Vector3d& d_up, const Eigen::Vector3d& axis_point, double mm_per_unit,
+                     const ContactOptions& opt) {
+  if (!deformed.empty() && deformed.size() != frame_points.size())
+    throw std::runtime_error("measure_contact: deformed points must match the frame points one to one");
+  std::vector<Eigen::Vector3d> front, body, tip;
+  for (size_t i = 0; i < frame_points.size(); ++i) {
+    const Eigen::Vector3d& p = frame_points[i];
+    const Eigen::Vector3d& q = deformed.empty() ? p : deformed[i];
+    if (p.z() > opt.front_z_mm) front.push_back(q);
+    (p.z() >= opt.tip_z_mm ? body : tip).push_back(q);
+  }
+  const Eigen::Matrix4d& t = placement.transform;
+  res.penetration_mm = penetration_depth_mm(density, transform_points(t, body), axis_point, d_up, mm_per_unit, opt,
+                                            &res.points_inside);
+  res.front_penetration_mm = penetration_depth_mm(density, transform_points(t, front), axis_point, d_up, mm_per_unit, opt);
+  res.tip_penetration_mm = penetration_depth_mm(density, transform_points(t, tip), axis_point, d_up, mm_per_unit, opt);
 }
 
 }  // namespace lorgnette::fit

@@ -16,6 +16,10 @@ namespace lorgnette::fit {
 struct GlassesRefPoints {
   Eigen::Vector3d g_c{0, 0, 0};  // nose bridge (the canonical origin)
   Eigen::Vector3d g_l{70, 0, -100}, g_r{-70, 0, -100};  // temple tips where they rest on the ears
+  // Where the temples join the front (mesh/temple_bend.h), for the temple spread; without them the
+  // temples stay rigid.
+  bool has_hinges = false;
+  Eigen::Vector3d hinge_l{0, 0, 0}, hinge_r{0, 0, 0};
 };
 
 // R minimising sum w_i |R a_i - b_i|^2 over proper rotations (det R = +1: the SVD's smallest
@@ -69,6 +73,15 @@ struct ContactResult {
 double penetration_depth_mm(const DensityFn& density, const std::vector<Eigen::Vector3d>& scene_points,
                             const Eigen::Vector3d& axis_point, const Eigen::Vector3d& d_up,
                             double mm_per_unit, const ContactOptions& opt, int* inside_count = nullptr);
+
+// Fills penetration_mm (front and arms), points_inside, front_penetration_mm and tip_penetration_mm
+// of `res` for the frame as placed. `frame_points` (canonical mm) decide which group a sample is in;
+// `deformed` (same size, or empty = undeformed) are where the samples actually are (the temple
+// spread, mesh/temple_bend.h).
+void measure_contact(ContactResult& res, const Placement& placement, const std::vector<Eigen::Vector3d>& frame_points,
+                     const std::vector<Eigen::Vector3d>& deformed, const DensityFn& density,
+                     const Eigen::Vector3d& d_up, const Eigen::Vector3d& axis_point, double mm_per_unit,
+                     const ContactOptions& opt);
 
 // Slides `placement` along d_fwd: outwards until the front clears the head, or inwards until it first
 // touches (nose pads resting on the skin). `frame_points` are canonical mm samples of the frame.

@@ -46,8 +46,42 @@ PlacementFile make_placement_file(const FitResult& r, const std::string& glasses
   p.seconds = r.seconds;
   p.warnings = r.warnings;
   p.ok = r.ok;
+  p.has_temples = r.temples.fitted;
+  p.temples = r.temples;
   return p;
 }
+
+namespace {
+
+nlohmann::json temples_json(const TempleFitResult& t) {
+  nlohmann::json j = mesh::temple_bend_to_json(t.bend);
+  for (const auto* side : {&t.left, &t.right})
+    j[side == &t.left ? "left" : "right"] = {{"penetration_before_mm", side->penetration_before_mm},
+                                             {"penetration_mm", side->penetration_mm},
+                                             {"points", side->points},
+                                             {"clear", side->clear}};
+  return j;
+}
+
+TempleFitResult temples_from_json(const nlohmann::json& placement) {
+  TempleFitResult t;
+  t.fitted = true;
+  t.bend = mesh::temple_bend_from_placement(placement);
+  const nlohmann::json& j = placement["temples"];
+  for (auto* side : {&t.left, &t.right}) {
+    side->spread_deg = side == &t.left ? t.bend.left.spread_deg : t.bend.right.spread_deg;
+    const char* key = side == &t.left ? "left" : "right";
+    if (!j.contains(key)) continue;
+    const nlohmann::json& s = j[key];
+    side->penetration_before_mm = s.value("penetration_before_mm", 0.0);
+    side->penetration_mm = s.value("penetration_mm", 0.0);
+    side->points = s.value("points", 0);
+    side->clear = s.value("clear", true);
+  }
+  return t;
+}
+
+}  // namespace
 
 nlohmann::json to_json(const PlacementFile& p) {
   using nlohmann::json;
@@ -59,7 +93,7 @@ nlohmann::json to_json(const PlacementFile& p) {
   double total = 0;
   for (const auto& [name, s] : p.seconds) seconds[name] = s, total += s;
   seconds["total"] = total;
-  return {{"version", p.version},
+  json out = {{"version", p.version},
           {"glasses", {{"path", p.glasses_path}, {"hash", p.glasses_hash}}},
           {"transform", t},
           {"scale_policy", p.scale_policy},
@@ -77,6 +111,8 @@ nlohmann::json to_json(const PlacementFile& p) {
           {"seconds", seconds},
           {"warnings", p.warnings},
           {"ok", p.ok}};
+  if (p.has_temples) out["temples"] = temples_json(p.temples);
+  return out;
 }
 
 namespace {
@@ -130,6 +166,14 @@ PlacementFile placement_from_json(const nlohmann::json& j) {
     if (name != "total") p.seconds.emplace_back(name, s.get<double>());
   p.warnings = j.value("warnings", std::vector<std::string>{});
   p.ok = field<bool>(j, "ok");
+  p.has_temples = j.contains("temples") && !j["temples"].is_null();
+  if (p.has_temples) {
+    try {
+      p.temples = temples_from_json(j);
+    } catch (const nlohmann::json::exception& e) {
+      throw std::runtime_error(fmt::format("placement.json: field 'temples' is malformed ({})", e.what()));
+    }
+  }
   return p;
 }
 

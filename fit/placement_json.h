@@ -1,7 +1,7 @@
 // placement.json (ARCHITECTURE.md): what `fit` writes and `render` / the viewer read — the 4x4
 // transform from the frame's canonical millimetres to the scene, the scale and its policy, the
 // metric estimates (mm per unit, PD), named 3D landmarks with uncertainty and residuals, views used,
-// remaining penetration, seconds per stage and an overall ok flag. Versioned; read() refuses newer
+// remaining penetration, the temple spread, seconds per stage and an overall ok flag. Versioned; read() refuses newer
 // versions and malformed files with a message naming the field.
 #pragma once
 #include <map>
@@ -11,6 +11,8 @@
 
 #include <Eigen/Core>
 #include <nlohmann/json.hpp>
+
+#include "fit/temple_fit.h"
 
 namespace lorgnette::fit {
 
@@ -35,6 +37,11 @@ struct PlacementFile {
   std::vector<std::pair<std::string, double>> seconds;
   std::vector<std::string> warnings;
   bool ok = false;
+  // "temples" (optional; a file without it means rigid temples): hinges and spreads (the mesh's
+  // TempleBend codec, mesh/temple_bend.h) plus per side "left"/"right": penetration_before_mm,
+  // penetration_mm, points, clear.
+  bool has_temples = false;
+  TempleFitResult temples;
 };
 
 // Content hash of a file (FNV-1a 64, hex); throws when it cannot be read.

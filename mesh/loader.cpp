@@ -10,6 +10,7 @@
 
 #include <Eigen/Geometry>
 #include <assimp/GltfMaterial.h>
+#include <assimp/commonMetaData.h>
 #include <assimp/Importer.hpp>
 #include <assimp/material.h>
 #include <assimp/postprocess.h>
@@ -198,6 +199,28 @@ bool looks_like_lens(const Material& m, const std::string& alpha_mode) {
   return alpha_mode == "BLEND" && m.alpha < 0.6f && m.base_color_texture < 0;
 }
 
+bool uv_flip_for_generator(const std::string& generator) { return generator == "probe js2glb.py"; }
+
+namespace {
+
+// Applies LoadOptions::flip_v to the loaded UVs (v -> 1 - v), saying so in the report.
+void fix_uv_convention(LoadContext& ctx, const std::string& path) {
+  bool flip = ctx.options.flip_v == FlipV::kYes;
+  aiString generator;
+  if (ctx.options.flip_v == FlipV::kAuto && ctx.scene->mMetaData != nullptr &&
+      ctx.scene->mMetaData->Get(AI_METADATA_SOURCE_GENERATOR, generator))
+    flip = uv_flip_for_generator(generator.C_Str());
+  if (!flip || ctx.mesh.uvs.empty()) return;
+  for (Eigen::Vector2f& uv : ctx.mesh.uvs) uv.y() = 1.0f - uv.y();
+  if (ctx.options.flip_v != FlipV::kAuto) return;
+  std::string msg =
+      fmt::format("'{}': generator '{}' stores OpenGL-convention UVs; flipped v", path, generator.C_Str());
+  spdlog::info("{}", msg);
+  if (ctx.report) ctx.report->warnings.push_back(msg);
+}
+
+}  // namespace
+
 TriMesh load_mesh(const std::string& path, const LoadOptions& options, LoadReport* report) {
   Assimp::Importer importer;
   LoadContext ctx;
@@ -217,6 +240,7 @@ TriMesh load_mesh(const std::string& path, const LoadOptions& options, LoadRepor
   bool any_uv = std::any_of(ctx.mesh.materials.begin(), ctx.mesh.materials.end(),
                             [](const Material& m) { return m.base_color_texture >= 0; });
   if (!any_uv) tm.uvs.clear();
+  fix_uv_convention(ctx, path);
   std::string ext = lower(fs::path(path).extension().string());
   tm.units_to_mm = (ext == ".gltf" || ext == ".glb") ? 1000.0 : 1.0;  // glTF is metres by specification
   if (report && report->degenerate_triangles > 0)

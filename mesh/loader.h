@@ -13,7 +13,18 @@
 
 namespace lorgnette::mesh {
 
+// How texture v is read. TriMesh::uvs use the glTF convention ((0, 0) = top-left texel), which
+// Assimp delivers for every format (its glTF importer flips to OpenGL and aiProcess_FlipUVs flips
+// back). Some files break their format's rule: kAuto flips v only for glTF files whose generator is
+// known to copy OpenGL-convention UVs unchanged (uv_flip_for_generator); kYes / kNo force it.
+enum class FlipV { kAuto, kNo, kYes };
+
+// True for glTF generators known to store OpenGL-convention UVs (e.g. "probe js2glb.py", which
+// repacked three.js's Lee Perry-Smith head without flipping v).
+bool uv_flip_for_generator(const std::string& generator);
+
 struct LoadOptions {
+  FlipV flip_v = FlipV::kAuto;
   bool load_textures = true;     // decode base-colour textures (off: faster, geometry only)
   bool generate_normals = true;  // smooth normals when the file has none
   int max_texture_size = 4096;   // larger textures are downsampled (memory: 16 bytes per texel)

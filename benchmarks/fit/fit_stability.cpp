@@ -103,9 +103,7 @@ int main(int argc, char** argv) {
   }
   auto want = [&](const char* name) { return sweeps.find(name) != std::string::npos; };
   std::filesystem::create_directories(out);
-  MeshShading shading;
-  shading.flip_v = true;  // this .glb's UVs are in the OpenGL convention
-  auto src = MeshViewSource::load(kData + "/heads/lee-perry-smith/LeePerrySmith.glb", std::nullopt, shading);
+  auto src = MeshViewSource::load(kData + "/heads/lee-perry-smith/LeePerrySmith.glb");
   GlassesInput g = load_glasses_input(kData + "/glasses/glasses-06/scene.gltf", 2000);
   FitOptions base;
   base.frame_points = g.frame_points;

@@ -1,6 +1,7 @@
 // End to end (LABELS slow, ~20 s): 12 consecutive fox photos (instant-ngp's sample capture) at
 // 360x640 through frames -> COLMAP -> transforms.json; the recovered poses must match the provided
 // transforms.json (COLMAP at full size by instant-ngp's authors) up to a similarity transform.
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -58,4 +59,8 @@ TEST(CaptureEndToEnd, FoxPosesMatchTheReferenceUpToASimilarity) {
   // Intrinsics: the reference fl_x (1375.52 px at 1080 wide) scaled to 360 wide, within 5%.
   EXPECT_NEAR(ds.frames[0].camera.fx, 1375.52 * 360.0 / 1080.0, 0.05 * 458.5);
   EXPECT_GT(report.subject_points, 50u);
+  // No human face in the fox photos: the sparse-point box is written, with a warning saying why.
+  EXPECT_EQ(report.aabb_from, "sparse points");
+  EXPECT_TRUE(std::any_of(report.warnings.begin(), report.warnings.end(),
+                          [](const std::string& w) { return w.find("no head box") != std::string::npos; }));
 }

@@ -1,9 +1,14 @@
-// placement.json round trip, and refusal of newer versions and malformed files with named fields.
+// placement.json round trip (with and without the temple spread; the renderer's reader of the
+// spread, mesh/placed_glasses.h, reads what the fit writes), and refusal of newer versions and malformed files with named fields.
 #include "fit/placement_json.h"
 
 #include <fstream>
 
 #include <gtest/gtest.h>
+
+#if LGN_FIT_HAVE_MESH
+#include "mesh/placed_glasses.h"
+#endif
 
 namespace lorgnette::fit {
 namespace {
@@ -38,6 +43,51 @@ TEST(PlacementJson, RoundTrip) {
   EXPECT_EQ(q.residuals_px.at("nose"), 1.25);
   EXPECT_EQ(q.seconds, p.seconds);
   EXPECT_TRUE(q.ok);
+}
+
+TEST(PlacementJson, TemplesRoundTrip) {
+  PlacementFile p;
+  p.has_temples = true;
+  p.temples.fitted = true;
+  p.temples.bend.left.hinge = {66.5, 11.25, -3.5};
+  p.temples.bend.right.hinge = {-66.5, 11.25, -3.5};
+  p.temples.bend.left.spread_deg = p.temples.left.spread_deg = 4.75;
+  p.temples.bend.right.spread_deg = p.temples.right.spread_deg = 0.0;
+  p.temples.bend.ramp_mm = 3.0;
+  p.temples.left = {4.75, 11.5, 0.25, 420, true};
+  p.temples.right = {0.0, 0.0, 0.0, 410, true};
+  const std::string path = std::string(LORGNETTE_TEST_TMP) + "/placement_temples.json";
+  write_placement(path, p);
+  PlacementFile q = read_placement(path);
+  ASSERT_TRUE(q.has_temples);
+  EXPECT_EQ(q.temples.bend.left.hinge, p.temples.bend.left.hinge);
+  EXPECT_EQ(q.temples.bend.right.hinge, p.temples.bend.right.hinge);
+  EXPECT_EQ(q.temples.bend.left.spread_deg, 4.75);
+  EXPECT_EQ(q.temples.bend.ramp_mm, 3.0);
+  EXPECT_EQ(q.temples.left.spread_deg, 4.75);
+  EXPECT_EQ(q.temples.left.penetration_before_mm, 11.5);
+  EXPECT_EQ(q.temples.left.penetration_mm, 0.25);
+  EXPECT_EQ(q.temples.right.points, 410);
+#if LGN_FIT_HAVE_MESH
+  mesh::TempleBend b = mesh::read_placement_temples(path);  // what `lorgnette render` applies
+  EXPECT_EQ(b.left.hinge, p.temples.bend.left.hinge);
+  EXPECT_EQ(b.left.spread_deg, 4.75);
+  EXPECT_EQ(b.right.spread_deg, 0.0);
+  EXPECT_EQ(b.ramp_mm, 3.0);
+#endif
+  // Without temples (as every file written before them): no "temples" key, read back as rigid.
+  PlacementFile rigid;
+  EXPECT_FALSE(to_json(rigid).contains("temples"));
+  write_placement(path, rigid);
+  q = read_placement(path);
+  EXPECT_FALSE(q.has_temples);
+  EXPECT_FALSE(q.temples.bend.active());
+#if LGN_FIT_HAVE_MESH
+  EXPECT_FALSE(mesh::read_placement_temples(path).active());
+#endif
+  nlohmann::json bad = to_json(p);
+  bad["temples"]["spread_l_deg"] = "wide";
+  EXPECT_THROW(placement_from_json(bad), std::runtime_error);
 }
 
 TEST(PlacementJson, RefusesNewerAndMalformed) {

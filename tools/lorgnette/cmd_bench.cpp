@@ -15,8 +15,7 @@
 #include "host/render/analytic_field.h"
 #include "host/render/frame_bench.h"
 #include "host/render/renderer.h"
-#include "mesh/glasses.h"
-#include "mesh/surface_pass.h"
+#include "mesh/placed_glasses.h"
 #include "tools/lorgnette/command.h"
 
 namespace lorgnette::cli {
@@ -75,9 +74,8 @@ nlohmann::json bench_device(const BenchArgs& a, const cl::DeviceInfo& dev, Globa
     render::Mat4 p = a.placement.empty() ? render::rough_glasses_placement(float(g.metrics.total_width_mm),
                                                                           scene.aabb_min, scene.aabb_max)
                                          : render::read_placement(a.placement).transform;
-    Eigen::Matrix4f m;
-    for (int i = 0; i < 16; ++i) m(i / 4, i % 4) = p[i];
-    pass = std::make_unique<mesh::SurfacePass>(g.mesh, m);
+    mesh::TempleBend temples = a.placement.empty() ? mesh::TempleBend{} : mesh::read_placement_temples(a.placement);
+    pass = mesh::place_glasses_mesh(std::move(g), mesh::row_major_matrix(p), temples).pass;
     mesh::SurfaceParams sp;
     sp.samples_per_pixel = int(a.surface_spp);
     spec.surfaces = [&pass, sp](const Camera& cam) { return pass->render(cam, sp); };

@@ -16,6 +16,7 @@ void print_summary(const capture::CaptureReport& r) {
                            r.models == 1 ? "" : "s", r.mean_reprojection_error);
   for (const auto& d : r.dropped) std::cerr << fmt::format("  dropped {}: {}\n", d.name, d.reason);
   for (const auto& s : r.seconds) std::cerr << fmt::format("  {:<9} {:8.1f} s\n", s.stage, s.seconds);
+  std::cerr << fmt::format("subject box from {}: {}\n", r.aabb_from, r.aabb_note);
   std::cerr << fmt::format("wrote {}\n", r.transforms_path);
 }
 
@@ -25,6 +26,7 @@ void add_capture(CLI::App& app, GlobalOptions& global) {
   auto opt = std::make_shared<capture::CaptureOptions>();
   auto json = std::make_shared<bool>(false);
   auto no_blur = std::make_shared<bool>(false), no_blink = std::make_shared<bool>(false);
+  auto no_head_box = std::make_shared<bool>(false);
   cmd->add_option("INPUT", opt->input, "video file, folder of images, or folder with a COLMAP model (sparse/0)")
       ->required();
   cmd->add_option("-o,--output", opt->output, "dataset folder to write (new, empty, or an earlier capture)")
@@ -42,9 +44,11 @@ void add_capture(CLI::App& app, GlobalOptions& global) {
   cmd->add_option("--colmap", opt->colmap.executable, "COLMAP executable (default: colmap on PATH)");
   cmd->add_flag("--no-blur-filter", *no_blur, "keep blurred frames");
   cmd->add_flag("--no-blink-filter", *no_blink, "keep frames with closed eyes (and skip face detection)");
+  cmd->add_flag("--no-head-box", *no_head_box, "box the sparse points instead of the head found by its landmarks");
   cmd->add_flag("--json", *json, "print the capture report as one JSON object on stdout");
-  cmd->callback([opt, json, no_blur, no_blink] {
+  cmd->callback([opt, json, no_blur, no_blink, no_head_box] {
     opt->blur_filter = !*no_blur;
+    opt->head_box = !*no_head_box;
     opt->blink_filter = !*no_blink;
     capture::CaptureReport report = capture::run_capture(*opt);
     if (*json) std::cout << report.to_json().dump(2) << "\n";

@@ -13,8 +13,7 @@
 #include "host/nerf/model.h"
 #include "host/render/render_job.h"
 #include "host/render/renderer.h"
-#include "mesh/glasses.h"
-#include "mesh/surface_pass.h"
+#include "mesh/placed_glasses.h"
 #include "tools/lorgnette/command.h"
 
 namespace lorgnette::cli {
@@ -51,7 +50,8 @@ std::vector<Camera> capture_cameras(const nerf::NerfModel& model) {
   }
 }
 
-render::Mat4 glasses_transform(const RenderArgs& a, std::string& glasses_path) {
+// The placement transform, and the temple spread when it comes from a placement.json.
+render::Mat4 glasses_transform(const RenderArgs& a, std::string& glasses_path, mesh::TempleBend& temples) {
   int given = !a.placement.empty() + !a.transform.empty() +
               (!a.translate.empty() || !a.rotate.empty() || a.scale != 1.0f);
   if (given > 1)
@@ -59,6 +59,7 @@ render::Mat4 glasses_transform(const RenderArgs& a, std::string& glasses_path) {
   if (!a.placement.empty()) {
     render::Placement p = render::read_placement(a.placement);
     if (glasses_path.empty()) glasses_path = p.glasses_path;
+    temples = mesh::read_placement_temples(a.placement);
     return p.transform;
   }
   if (!a.transform.empty()) return render::parse_matrix(a.transform);
@@ -93,13 +94,11 @@ void run(const RenderArgs& a, GlobalOptions& global) {
   }
 
   std::string glasses_path = a.glasses;
-  render::Mat4 placement = glasses_transform(a, glasses_path);
+  mesh::TempleBend temples;
+  render::Mat4 placement = glasses_transform(a, glasses_path, temples);
   std::unique_ptr<mesh::SurfacePass> pass;
   if (!glasses_path.empty()) {
-    mesh::Glasses g = mesh::load_glasses(glasses_path);
-    Eigen::Matrix4f m;
-    for (int i = 0; i < 16; ++i) m(i / 4, i % 4) = placement[i];
-    pass = std::make_unique<mesh::SurfacePass>(g.mesh, m);
+    pass = mesh::load_placed_glasses(glasses_path, mesh::row_major_matrix(placement), temples).pass;
     mesh::SurfaceParams sp;
     sp.samples_per_pixel = int(a.surface_spp);
     job.surfaces = [&pass, sp](const Camera& cam) { return pass->render(cam, sp); };

@@ -23,6 +23,8 @@ struct SynthArgs {
   std::vector<float> yaw{-35.0f, 35.0f}, pitch{-12.0f, 18.0f};
   uint64_t seed = 0;
   double mesh_mm = 0.0;
+  std::vector<float> look_at;  // empty = the subject's (bounding-box centre for mesh files)
+  float frame_radius = 0.0f;   // 0 = the subject's
 };
 
 std::pair<int, int> parse_size(const std::string& s) {
@@ -63,6 +65,8 @@ void run_synth(const SynthArgs& a) {
   synth::Subject subject = a.procedural
       ? synth::procedural_subject(synth::random_head_params(a.seed))
       : synth::mesh_subject(a.mesh, a.mesh_mm > 0 ? std::optional<double>(a.mesh_mm) : std::nullopt);
+  if (!a.look_at.empty()) subject.look_at = Eigen::Vector3f(a.look_at[0], a.look_at[1], a.look_at[2]);
+  if (a.frame_radius > 0.0f) subject.frame_radius = a.frame_radius;
   Progress progress("synth", o.views, "views");
   o.progress = [&](int done, int) { progress.update(done); };
   synth::SynthReport r = synth::synthesize_dataset(subject, a.out, o);
@@ -92,6 +96,10 @@ void add_synth(CLI::App& app, GlobalOptions&) {
   cmd->add_option("--background", a->background, "transparent, or r,g,b in 0-255 sRGB");
   cmd->add_option("--samples", a->samples, "anti-aliasing samples per pixel axis")->check(CLI::Range(1, 16));
   cmd->add_option("--mesh-mm-per-unit", a->mesh_mm, "millimetres per mesh unit, when known (ground truth scale)");
+  cmd->add_option("--look-at", a->look_at, "point the cameras aim at, dataset units (x y z; default: the subject's)")
+      ->expected(3);
+  cmd->add_option("--frame-radius", a->frame_radius, "dataset units around --look-at each view must contain")
+      ->check(CLI::PositiveNumber);
   cmd->add_flag("--force", a->force, "replace a non-empty output directory");
   cmd->add_flag("--json", a->json, "print one JSON object on stdout");
   cmd->callback([a] { run_synth(*a); });

@@ -1,5 +1,6 @@
-// `lorgnette train DATA -o MODEL`: loads the training split, sizes the model from the data (every
-// value overridable), trains with a progress bar and saves the .lnerf snapshot (also on Ctrl-C;
+// `lorgnette train DATA -o MODEL`: loads the training split, chooses the subject box (--box: the
+// dataset's aabb, the alpha-mask hull, the head box from landmarks, or the cameras; see
+// capture/subject_box.h), sizes the model from the data (every value overridable), trains with a progress bar and saves the .lnerf snapshot (also on Ctrl-C;
 // a diverging run keeps its last good snapshot and exits non-zero).
 #include <filesystem>
 #include <sstream>
@@ -7,6 +8,7 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include "capture/subject_box.h"
 #include "host/dataset/dataset.h"
 #include "host/nerf/train_job.h"
 #include "host/util/interrupt.h"
@@ -16,7 +18,7 @@ namespace lorgnette::cli {
 namespace {
 
 struct TrainArgs {
-  std::string data, output, aabb;
+  std::string data, output, aabb, box = "auto";
   uint64_t steps = 0;
   double seconds = 0.0;
   uint32_t seed = 1337, batch_log2 = 16, finest = 0, log2_table = 0, levels = 0, occ_res = 0, downscale = 1;
@@ -41,6 +43,23 @@ std::optional<nerf::Aabb> parse_aabb(const std::string& text) {
   return box;
 }
 
+// Chooses the box (capture/subject_box.h) and sets it up: an explicit box, or the dataset's aabb
+// removed so the sizing carves the mask hull or builds the camera box.
+void apply_subject_box(dataset::Dataset& ds, const TrainArgs& a, nerf::TrainJob& job) {
+  capture::SubjectBoxChoice c =
+      capture::choose_subject_box(ds, capture::box_source_from_string(a.box), !a.no_masks);
+  spdlog::info("subject box: {}", c.why);
+  ds.aabb.reset();
+  job.sizing.use_masks = c.use_masks;
+  if (c.aabb) {
+    nerf::Aabb box;
+    box.min = (*c.aabb)[0];
+    box.max = (*c.aabb)[1];
+    if (!box.valid()) throw std::runtime_error("the chosen subject box is empty: give --aabb or --box cameras");
+    job.sizing.aabb = box;
+  }
+}
+
 void run_train(const TrainArgs& a, GlobalOptions& global) {
   if (a.steps == 0 && a.seconds <= 0.0) throw std::runtime_error("give --steps N or --seconds S");
   if (std::filesystem::exists(a.output) && !a.force)
@@ -55,12 +74,16 @@ void run_train(const TrainArgs& a, GlobalOptions& global) {
 
   nerf::TrainJob job;
   job.sizing.aabb = parse_aabb(a.aabb);
+  job.sizing.use_masks = !a.no_masks;
+  if (job.sizing.aabb)
+    spdlog::info("subject box: --aabb (given on the command line)");
+  else
+    apply_subject_box(ds, a, job);
   if (a.finest) job.sizing.finest_resolution = a.finest;
   if (a.log2_table) job.sizing.log2_table_size = a.log2_table;
   if (a.levels) job.sizing.levels = a.levels;
   if (a.occ_res) job.sizing.occupancy_resolution = a.occ_res;
   if (a.step > 0.0f) job.sizing.step = a.step;
-  job.sizing.use_masks = !a.no_masks;
   job.aabb_scale = a.aabb_scale;
   job.batch_log2 = a.batch_log2;
   job.deterministic = a.deterministic;
@@ -95,6 +118,9 @@ void add_train(CLI::App& app, GlobalOptions& global) {
   cmd->add_option("--batch-log2", a->batch_log2, "log2 of the samples per step (default 16)");
   cmd->add_option("--lr", a->lr, "base learning rate (default 1e-2)");
   cmd->add_option("--aabb", a->aabb, "bounding box minx,miny,minz,maxx,maxy,maxz (scene units)");
+  cmd->add_option("--box", a->box,
+                  "subject box: auto (dataset aabb, else mask hull, else head box from landmarks, else "
+                  "cameras), dataset, masks, head or cameras (default auto; --aabb overrides)");
   cmd->add_option("--aabb-scale", a->aabb_scale, "box size factor for datasets without alpha (default: dataset)");
   cmd->add_option("--finest-res", a->finest, "finest hash-grid resolution");
   cmd->add_option("--log2-table", a->log2_table, "log2 of the hash-table size per level");

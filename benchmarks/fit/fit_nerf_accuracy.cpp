@@ -1,0 +1,322 @@
+// Fit accuracy and time on trained NeRFs of synthetic subjects (issue 5): for each case (a .lnerf
+// and the dataset it was trained on, made by `lorgnette synth`), the subject's mesh is rebuilt from
+// the dataset's ground_truth.json (the mesh file, or the procedural head from its seed) and placed in
+// the model frame; ground truth is the same detector on renders of that mesh, each 2D landmark ray
+// cast onto it (fit/mesh_ground_truth.h). The fit then runs on the NeRF under several option
+// variants, interleaved per repeat so that machine load hits them alike, and on the mesh itself
+// (the method's error without the NeRF). Also a per-view profile of rendering vs detection.
+// Usage: bench_fit_nerf OUT_DIR --case NAME MODEL.lnerf DATASET_DIR [--case ...]
+//        [--variants baseline,overlap,hog,crop75,crop65,step15,fast,fast_k8,thr50,...]
+//        [--gt-shading studio|camera]
+//        [--repeats N] [--glasses FILE] [--debug]
+// Writes OUT_DIR/fit_nerf.csv (one row per fit), fit_nerf_profile.csv, fit_nerf_time.png and, with
+// --debug, the annotated views of the first fast fit per case in OUT_DIR/<case>-debug/.
+#include <chrono>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <iostream>
+#include <map>
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include "fit/camera_math.h"
+#include "fit/detect_views.h"
+#include "fit/fit.h"
+#include "fit/glasses_input.h"
+#include "fit/landmark_ids.h"
+#include "fit/mesh_ground_truth.h"
+#include "fit/nerf_view_source.h"
+#include "host/util/chart.h"
+#include "mesh/loader.h"
+#include "synth/head_params.h"
+#include "synth/studio_render.h"
+#include "synth/subject.h"
+
+using namespace lorgnette;
+using namespace lorgnette::fit;
+namespace fs = std::filesystem;
+
+namespace {
+
+const std::string kData = LORGNETTE_DATA_DIR;
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+struct Case {
+  std::string name, model, dataset;
+};
+
+struct Variant {
+  std::string name;
+  std::function<void(FitOptions&)> set;
+  float step_scale = 1.0f;  // NeRF marching step multiplier (render::RenderOptions)
+};
+
+// The speed options compared (DetectorOptions in fit/landmarks_dlib.h; K in FitOptions::cap).
+void plain(FitOptions& o) {
+  o.detector.overlap_render = false, o.detector.hog_face_px = 0.0, o.detector.render_crop = 0.0;
+}
+void fast(FitOptions& o) {
+  o.detector.overlap_render = true, o.detector.hog_face_px = 100.0, o.detector.render_crop = 0.75;
+}
+
+const std::vector<Variant>& all_variants() {
+  // Each starts from the speed options all off ("baseline", the fit before this work).
+  static const std::vector<Variant> v = {
+      {"baseline", [](FitOptions&) {}},
+      {"overlap", [](FitOptions& o) { o.detector.overlap_render = true; }},
+      {"hog", [](FitOptions& o) { o.detector.hog_face_px = 100.0; }},
+      {"crop75", [](FitOptions& o) { o.detector.render_crop = 0.75; }},
+      {"crop65", [](FitOptions& o) { o.detector.render_crop = 0.65; }},
+      {"step15", [](FitOptions&) {}, 1.5f},
+      {"fast", [](FitOptions& o) { fast(o); }},
+      {"fast_k8", [](FitOptions& o) { fast(o), o.cap.views = 8; }},
+      {"fast_step15", [](FitOptions& o) { fast(o); }, 1.5f},
+      {"thr50", [](FitOptions& o) { fast(o), o.contact.density_threshold = 50.0f; }},
+      {"thr200", [](FitOptions& o) { fast(o), o.contact.density_threshold = 200.0f; }},
+      {"thr1000", [](FitOptions& o) { fast(o), o.contact.density_threshold = 1000.0f; }},
+  };
+  return v;
+}
+
+struct Row {
+  std::string name, variant;
+  int repeat = 0;
+  FitErrors e;
+  double seconds = 0, load_seconds = 0, front_penetration = 0;
+  double temple_r_mm = 0, temple_l_mm = 0, eye_r_mm = 0, eye_l_mm = 0;  // diagnostics: inputs of Eq. 1-3
+  int views_used = 0, views = 0;
+  std::string stages, error;
+};
+
+Eigen::Matrix4f matrix_from_json(const nlohmann::json& j) {
+  Eigen::Matrix4f m;
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) m(r, c) = j.at(r).at(c).get<float>();
+  return m;
+}
+
+// The mesh lit as in the dataset (synth's studio lighting, fixed in the world frame; the model frame is
+// the dataset frame scaled and shifted, so the light directions carry over) over white: the views
+// dlib sees look like the NeRF's. MeshViewSource's own shading (a light at the camera) is kept with
+// --gt-shading camera.
+class StudioMeshSource : public MeshViewSource {
+ public:
+  using MeshViewSource::MeshViewSource;
+  Image render(const Camera& cam) override {
+    synth::RenderSettings rs;
+    rs.samples_per_axis = 2;
+    rs.background = Eigen::Vector3f(1.0f, 1.0f, 1.0f);
+    Image rgba = synth::render_view(scene(), cam, synth::StudioLighting{}, rs).rgba;
+    Image out(rgba.width, rgba.height, 3);
+    for (size_t i = 0; i < size_t(out.width) * out.height; ++i)
+      for (int c = 0; c < 3; ++c) out.pixels[i * 3 + c] = rgba.pixels[i * 4 + c];
+    return out;
+  }
+};
+
+// The subject's mesh as synthesized (ground_truth.json), in the model frame.
+std::unique_ptr<MeshViewSource> subject_source(const std::string& dataset, const nerf::NerfModel& model,
+                                               ViewPrior prior, bool studio) {
+  std::ifstream in(dataset + "/ground_truth.json");
+  if (!in)
+    throw std::runtime_error(dataset +
+                             "/ground_truth.json is missing: the case must be a `lorgnette synth` dataset");
+  nlohmann::json gt = nlohmann::json::parse(in);
+  mesh::TriMesh m;
+  if (gt.at("source") == "procedural") {
+    synth::Subject s = synth::procedural_subject(synth::random_head_params(gt.at("seed").get<uint64_t>()));
+    if (s.params != gt.at("params"))
+      throw std::runtime_error("the procedural head of seed " + gt.at("seed").dump() +
+                               " differs from the dataset's");
+    m = std::move(s.mesh);
+  } else {
+    m = mesh::load_mesh(gt.at("source").get<std::string>());
+  }
+  Eigen::Matrix4f to_model = Eigen::Matrix4f::Identity();
+  to_model.topLeftCorner<3, 3>() *= model.normalisation.scale;
+  for (int i = 0; i < 3; ++i) to_model(i, 3) = model.normalisation.offset[i];
+  const Eigen::Matrix4f to_scene = to_model * matrix_from_json(gt.at("mesh_to_dataset"));
+  if (studio) return std::make_unique<StudioMeshSource>(std::move(m), to_scene, prior);
+  return std::make_unique<MeshViewSource>(std::move(m), to_scene, prior);
+}
+
+Row run_fit(ViewSource& src, const GlassesInput& g, const GroundTruth& gt, const FitOptions& opt) {
+  Row row;
+  try {
+    FitResult r = fit_glasses(src, g.ref, opt);
+    row.e = compare_fit(r, gt);
+    for (const auto& [name, s] : r.seconds) {
+      if (name == "load_detector")
+        row.load_seconds += s;  // a one-off per process in a real app
+      else
+        row.seconds += s;
+      row.stages += fmt::format("{}{}={:.3f}", row.stages.empty() ? "" : ";", name, s);
+    }
+    row.front_penetration = r.contact.front_penetration_mm;
+    auto err = [&](int k) { return (r.points[k].position - gt.points[k]).norm() * gt.head.mm_per_unit; };
+    row.temple_r_mm = err(lm::kTempleR), row.temple_l_mm = err(lm::kTempleL);
+    row.eye_r_mm = err(lm::kEyeOuterR), row.eye_l_mm = err(lm::kEyeOuterL);
+    row.views_used = r.views_used;
+    row.views = int(r.views.size());
+  } catch (const std::exception& ex) {
+    row.error = ex.what();
+  }
+  return row;
+}
+
+void write_rows(const std::string& out, const std::vector<Row>& rows) {
+  std::vector<std::vector<std::string>> csv;
+  for (const auto& r : rows)
+    csv.push_back({r.name, r.variant, std::to_string(r.repeat), fmt::format("{:.3f}", r.e.nose_mm),
+                   fmt::format("{:.3f}", r.e.ear_l_mm), fmt::format("{:.3f}", r.e.ear_r_mm),
+                   fmt::format("{:.3f}", r.e.rotation_deg), fmt::format("{:.4f}", r.e.mm_per_unit_rel),
+                   fmt::format("{:.3f}", r.front_penetration), fmt::format("{:.3f}", r.temple_l_mm),
+                   fmt::format("{:.3f}", r.temple_r_mm), fmt::format("{:.3f}", r.eye_l_mm),
+                   fmt::format("{:.3f}", r.eye_r_mm), fmt::format("{}/{}", r.views_used, r.views),
+                   fmt::format("{:.3f}", r.seconds), fmt::format("{:.3f}", r.load_seconds), r.stages,
+                   r.error.empty() ? "ok" : "error: " + r.error.substr(0, 200)});
+  write_csv(out + "/fit_nerf.csv",
+            {"case", "variant", "repeat", "nose_mm", "ear_l_mm", "ear_r_mm", "rotation_deg",
+             "mm_per_unit_rel_err", "front_penetration_mm", "temple_l_mm", "temple_r_mm", "eye_l_mm",
+             "eye_r_mm", "views_used", "seconds_excl_model_load", "model_load_seconds", "stages", "status"},
+            csv);
+  std::vector<ChartSeries> series;
+  std::map<std::string, size_t> index;
+  for (const auto& r : rows) {
+    if (!r.error.empty() || r.variant == "mesh") continue;
+    std::string key = r.name + " " + r.variant;
+    if (!index.count(key)) index[key] = series.size(), series.push_back({key, {}, {}});
+    series[index[key]].x.push_back(r.repeat), series[index[key]].y.push_back(r.seconds);
+  }
+  if (!series.empty())
+    write_chart(out + "/fit_nerf_time.png",
+                {"Fit time on a NeRF per variant (excl. dlib model load)", "repeat", "s"}, series);
+}
+
+// Per view of a cap: full and cropped (0.75) rendering, full-resolution and hinted detection, and
+// how far the cropped render and the hinted detection are from the full ones.
+void profile(const Case& c, ViewSource& src, const std::vector<ViewRecord>& views, const FitOptions& opt,
+             std::vector<std::vector<std::string>>& csv) {
+  DetectorOptions full_opt = opt.detector;
+  full_opt.hog_face_px = 0.0;
+  LandmarkDetector full(full_opt);
+  DetectorOptions hinted_opt = opt.detector;
+  hinted_opt.hog_face_px = 100.0;
+  LandmarkDetector hinted(hinted_opt);
+  const double face_px = opt.face_fraction * opt.width;
+  for (size_t i = 0; i < views.size(); ++i) {
+    auto t0 = Clock::now();
+    Image img = src.render(views[i].camera);
+    double tr = since(t0);
+    t0 = Clock::now();
+    Image crop = render_cropped(src, views[i].camera, 0.75);
+    double tc = since(t0);
+    t0 = Clock::now();
+    FaceDetection a = full.detect(img);
+    double tf = since(t0);
+    t0 = Clock::now();
+    FaceDetection b = hinted.detect(img, face_px);
+    double th = since(t0);
+    FaceDetection d = hinted.detect(crop, face_px);
+    auto worst = [](const FaceDetection& x, const FaceDetection& y) {
+      double m = 0.0;
+      if (x.found && y.found)
+        for (int k = 0; k < 68; ++k) m = std::max(m, (x.points[k] - y.points[k]).norm());
+      return m;
+    };
+    csv.push_back({c.name, std::to_string(i), fmt::format("{:.4f}", tr), fmt::format("{:.4f}", tc),
+                   fmt::format("{:.4f}", tf), fmt::format("{:.4f}", th), std::to_string(a.found),
+                   std::to_string(b.found), std::to_string(d.found), fmt::format("{:.3f}", worst(a, b)),
+                   fmt::format("{:.3f}", worst(a, d))});
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 2) {
+    std::cerr
+        << "usage: bench_fit_nerf OUT_DIR --case NAME MODEL DATASET [...] [--variants a,b] [--repeats N] "
+           "[--glasses FILE] [--debug]\n";
+    return 2;
+  }
+  const std::string out = argv[1];
+  std::vector<Case> cases;
+  std::string variants = "baseline,fast", glasses = kData + "/glasses/glasses-06/scene.gltf";
+  int repeats = 2;
+  bool debug = false, studio = true;
+  for (int i = 2; i < argc; ++i) {
+    if (std::strcmp(argv[i], "--case") == 0 && i + 3 < argc)
+      cases.push_back({argv[i + 1], argv[i + 2], argv[i + 3]}), i += 3;
+    else if (std::strcmp(argv[i], "--variants") == 0 && i + 1 < argc)
+      variants = argv[++i];
+    else if (std::strcmp(argv[i], "--repeats") == 0 && i + 1 < argc)
+      repeats = std::atoi(argv[++i]);
+    else if (std::strcmp(argv[i], "--glasses") == 0 && i + 1 < argc)
+      glasses = argv[++i];
+    else if (std::strcmp(argv[i], "--debug") == 0)
+      debug = true;
+    else if (std::strcmp(argv[i], "--gt-shading") == 0 && i + 1 < argc)
+      studio = std::strcmp(argv[++i], "camera") != 0;
+    else
+      return std::cerr << "unknown argument " << argv[i] << "\n", 2;
+  }
+  fs::create_directories(out);
+  cl::Runtime rt;
+  GlassesInput g = load_glasses_input(glasses, 2000);
+  std::vector<Row> rows;
+  std::vector<std::vector<std::string>> prof;
+  for (const Case& c : cases) {
+    nerf::NerfModel model = nerf::NerfModel::load(rt, c.model);
+    ViewPrior prior = prior_from_transforms(c.dataset + "/transforms.json", model);
+    std::map<float, std::unique_ptr<NerfViewSource>> nerf_srcs;  // one per step scale
+    auto nerf_src = [&](float step_scale) -> NerfViewSource& {
+      auto& p = nerf_srcs[step_scale];
+      render::RenderOptions ro;
+      ro.step_scale = step_scale;
+      if (!p) p = std::make_unique<NerfViewSource>(model, prior, ro);
+      return *p;
+    };
+    auto mesh_src = subject_source(c.dataset, model, prior, studio);
+    FitOptions base;
+    base.frame_points = g.frame_points;
+    FitResult ref = fit_glasses(*mesh_src, g.ref, base);
+    GroundTruth gt = mesh_ground_truth(*mesh_src, ref.orbit, {-20, -10, 0, 10, 20}, g.ref, base);
+    std::cerr << fmt::format("{}: ground truth mm/unit {:.2f}, PD {:.1f} mm\n", c.name, gt.head.mm_per_unit,
+                             gt.head.pd_mm);
+    Row mesh_row = run_fit(*mesh_src, g, gt, base);
+    mesh_row.name = c.name, mesh_row.variant = "mesh";
+    rows.push_back(mesh_row);
+    for (int rep = 0; rep < repeats; ++rep)
+      for (const Variant& v : all_variants()) {
+        if (("," + variants + ",").find("," + v.name + ",") == std::string::npos) continue;
+        FitOptions o = base;
+        plain(o);
+        v.set(o);
+        if (debug && rep == 0 && v.name == "fast") o.debug_dir = out + "/" + c.name + "-debug";
+        if (!o.debug_dir.empty()) fs::create_directories(o.debug_dir);
+        Row row = run_fit(nerf_src(v.step_scale), g, gt, o);
+        row.name = c.name, row.variant = v.name, row.repeat = rep;
+        std::cerr << fmt::format(
+            "{} {} #{}: nose {:.2f} mm, ears {:.2f}/{:.2f} mm, rot {:.2f} deg, {:.2f} s [{}] {}\n", c.name,
+            v.name, rep, row.e.nose_mm, row.e.ear_l_mm, row.e.ear_r_mm, row.e.rotation_deg, row.seconds,
+            row.stages, row.error.substr(0, 160));
+        rows.push_back(row);
+        write_rows(out, rows);
+      }
+    FitOptions po = base;
+    FitResult pr = fit_glasses(nerf_src(1.0f), g.ref, po);
+    profile(c, nerf_src(1.0f), pr.views, po, prof);
+    write_csv(
+        out + "/fit_nerf_profile.csv",
+        {"case", "view", "render_s", "render_crop75_s", "detect_full_s", "detect_hinted_s", "found_full",
+         "found_hinted", "found_crop75", "hinted_max_landmark_diff_px", "crop75_max_landmark_diff_px"},
+        prof);
+  }
+  write_rows(out, rows);
+  return 0;
+}

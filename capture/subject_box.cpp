@@ -1,0 +1,108 @@
+// The subject-box choice for training (see subject_box.h).
+#include "capture/subject_box.h"
+
+#include <stdexcept>
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+namespace lorgnette::capture {
+namespace {
+
+std::array<std::array<float, 3>, 2> to_array(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
+  return {{{float(lo.x()), float(lo.y()), float(lo.z())}, {float(hi.x()), float(hi.y()), float(hi.z())}}};
+}
+
+SubjectBoxChoice head_choice(const dataset::Dataset& ds, const fit::HeadBoxOptions& opt) {
+  fit::HeadBox box = fit::estimate_head_box(posed_photos(ds), opt);
+  SubjectBoxChoice c;
+  c.source = BoxSource::Head;
+  c.aabb = to_array(box.min, box.max);
+  c.why = box.summary();
+  return c;
+}
+
+SubjectBoxChoice cameras_choice(const std::string& why) {
+  SubjectBoxChoice c;
+  c.source = BoxSource::Cameras;
+  c.why = why;
+  return c;
+}
+
+}  // namespace
+
+const char* to_string(BoxSource s) {
+  switch (s) {
+    case BoxSource::Auto: return "auto";
+    case BoxSource::Dataset: return "dataset";
+    case BoxSource::Masks: return "masks";
+    case BoxSource::Head: return "head";
+    case BoxSource::Cameras: return "cameras";
+  }
+  return "?";
+}
+
+BoxSource box_source_from_string(const std::string& name) {
+  for (BoxSource s : {BoxSource::Auto, BoxSource::Dataset, BoxSource::Masks, BoxSource::Head, BoxSource::Cameras})
+    if (name == to_string(s)) return s;
+  throw std::runtime_error(fmt::format("unknown box source '{}': use auto, dataset, masks, head or cameras", name));
+}
+
+bool has_alpha_masks(const dataset::Dataset& ds) {
+  if (!ds.has_alpha) return false;
+  for (const dataset::Frame* f : ds.split(dataset::Split::Train)) {
+    const Image& im = f->image;
+    if (im.channels != 4) continue;
+    for (size_t i = 3; i < im.pixels.size(); i += 4)
+      if (im.pixels[i] < 1.0f) return true;
+  }
+  return false;
+}
+
+std::vector<fit::PosedPhoto> posed_photos(const dataset::Dataset& ds) {
+  std::vector<fit::PosedPhoto> out;
+  for (const dataset::Frame* f : ds.split(dataset::Split::Train))
+    out.push_back({f->camera, f->image.empty() ? nullptr : &f->image, f->image_path});
+  return out;
+}
+
+SubjectBoxChoice choose_subject_box(const dataset::Dataset& ds, BoxSource requested, bool masks_allowed,
+                                    const fit::HeadBoxOptions& head_options) {
+  const bool masks = masks_allowed && has_alpha_masks(ds);
+  SubjectBoxChoice c;
+  switch (requested) {
+    case BoxSource::Dataset:
+      if (!ds.aabb) throw std::runtime_error("--box dataset: the dataset has no 'aabb' (use --box auto or head)");
+      break;
+    case BoxSource::Masks:
+      if (!masks) throw std::runtime_error("--box masks: the training images have no alpha masks" +
+                                           std::string(masks_allowed ? "" : " (or --no-masks was given)"));
+      c.source = BoxSource::Masks, c.use_masks = true, c.why = "the visual hull of the alpha masks (--box masks)";
+      return c;
+    case BoxSource::Head: return head_choice(ds, head_options);
+    case BoxSource::Cameras: return cameras_choice("the box around the cameras' look-at point (--box cameras)");
+    case BoxSource::Auto: break;
+  }
+  if (ds.aabb) {
+    c.source = BoxSource::Dataset;
+    c.aabb = *ds.aabb;
+    c.why = requested == BoxSource::Dataset ? "the dataset's 'aabb' (--box dataset)"
+                                            : "the dataset's own subject box 'aabb' (auto: it has one)";
+    return c;
+  }
+  if (masks) {
+    c.source = BoxSource::Masks, c.use_masks = true;
+    c.why = "the visual hull of the alpha masks (auto: no 'aabb' in the dataset, the images have alpha)";
+    return c;
+  }
+  try {
+    SubjectBoxChoice h = head_choice(ds, head_options);
+    h.why += " (auto: no 'aabb', no alpha masks, faces found)";
+    return h;
+  } catch (const std::exception& e) {
+    return cameras_choice(fmt::format("the box around the cameras' look-at point (auto: no 'aabb', no alpha "
+                                      "masks, and no head box: {})", e.what()));
+  }
+}
+
+}  // namespace lorgnette::capture

@@ -1,0 +1,42 @@
+// Which box a NeRF of a dataset trains in ("subject box"): the dataset's own "aabb" (written by
+// `lorgnette capture`), the visual hull of its alpha masks, the head box from landmarks triangulated
+// on its photos (fit/head_box.h), or the automatic box around the cameras' look-at point. `auto`
+// takes the first that applies in that order and says why; naming one forces it (with a clear
+// error when it does not apply). Used by `lorgnette train --box`.
+#pragma once
+#include <array>
+#include <optional>
+#include <string>
+
+#include "fit/head_box.h"
+#include "host/dataset/dataset.h"
+
+namespace lorgnette::capture {
+
+enum class BoxSource { Auto, Dataset, Masks, Head, Cameras };
+
+// "auto", "dataset", "masks", "head", "cameras"; box_source_from_string throws listing the names.
+const char* to_string(BoxSource s);
+BoxSource box_source_from_string(const std::string& name);
+
+struct SubjectBoxChoice {
+  BoxSource source = BoxSource::Cameras;  // never Auto
+  // Dataset and Head: the box (scene units, [min, max]); Masks and Cameras: empty (the model
+  // sizing carves the hull or builds the camera box itself).
+  std::optional<std::array<std::array<float, 3>, 2>> aabb;
+  bool use_masks = false;  // let the sizing carve the alpha-mask hull
+  std::string why;         // one sentence for the log
+};
+
+// True when any training image has an alpha value below 1 (the sizing's test for masks).
+bool has_alpha_masks(const dataset::Dataset& ds);
+
+// Chooses the box for training on `ds`'s training frames. `masks_allowed` = false ignores alpha
+// (train --no-masks). Throws when a forced source does not apply (no aabb, no masks, no faces).
+SubjectBoxChoice choose_subject_box(const dataset::Dataset& ds, BoxSource requested, bool masks_allowed = true,
+                                    const fit::HeadBoxOptions& head_options = {});
+
+// The dataset's training frames as posed photos for fit::estimate_head_box (pointers into `ds`).
+std::vector<fit::PosedPhoto> posed_photos(const dataset::Dataset& ds);
+
+}  // namespace lorgnette::capture

@@ -1,0 +1,43 @@
+// Load, spread the temples, build the surface pass (see placed_glasses.h).
+#include "mesh/placed_glasses.h"
+
+#include <fstream>
+#include <stdexcept>
+
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+namespace lorgnette::mesh {
+
+PlacedGlasses place_glasses_mesh(Glasses glasses, const Eigen::Matrix4f& transform, const TempleBend& temples) {
+  PlacedGlasses p;
+  p.temples = temples;
+  p.transform = transform;
+  if (temples.active()) {
+    spdlog::info("glasses: temples spread {:.2f} deg (left) / {:.2f} deg (right) at the hinges",
+                 temples.left.spread_deg, temples.right.spread_deg);
+    bend_mesh(temples, glasses.mesh);
+  }
+  p.glasses = std::move(glasses);
+  p.pass = std::make_unique<SurfacePass>(p.glasses.mesh, transform);
+  return p;
+}
+
+PlacedGlasses load_placed_glasses(const std::string& glasses_path, const Eigen::Matrix4f& transform,
+                                  const TempleBend& temples, const GlassesOptions& options) {
+  return place_glasses_mesh(load_glasses(glasses_path, options), transform, temples);
+}
+
+TempleBend read_placement_temples(const std::string& placement_path) {
+  std::ifstream in(placement_path);
+  if (!in) throw std::runtime_error(fmt::format("cannot open placement file '{}'", placement_path));
+  nlohmann::json j;
+  try {
+    in >> j;
+    return temple_bend_from_placement(j);
+  } catch (const std::exception& e) {
+    throw std::runtime_error(fmt::format("placement '{}': {}", placement_path, e.what()));
+  }
+}
+
+}  // namespace lorgnette::mesh

@@ -1,0 +1,95 @@
+// Tests of the training box choice (capture/subject_box.h): auto takes the dataset's aabb, else the
+// alpha-mask hull, else the head box when faces are found, else the cameras (saying why); forced
+// sources that do not apply fail clearly. Datasets are built in memory; the face case renders a
+// small procedural-head dataset (a few seconds).
+#include <gtest/gtest.h>
+
+#include "capture/subject_box.h"
+#include "face_dataset.h"
+
+namespace lorgnette::capture {
+namespace {
+
+// Four opaque grey frames with cameras on a small arc: no face anywhere.
+dataset::Dataset blank_dataset(float alpha = 1.0f) {
+  dataset::Dataset ds;
+  ds.root = "memory";
+  ds.format = "transforms";
+  for (int i = 0; i < 4; ++i) {
+    dataset::Frame f;
+    f.name = "f" + std::to_string(i);
+    f.camera.width = f.camera.height = 64;
+    f.camera.fx = f.camera.fy = 64;
+    f.camera.cx = f.camera.cy = 32;
+    Eigen::Matrix4d c2w = Eigen::Matrix4d::Identity();
+    c2w(0, 3) = 0.3 * i;
+    c2w(2, 3) = 3.0;
+    dataset::set_camera_pose(f.camera, c2w);
+    f.image = Image(64, 64, 4, 0.5f);
+    for (size_t p = 3; p < f.image.pixels.size(); p += 4) f.image.pixels[p] = alpha;
+    ds.frames.push_back(std::move(f));
+  }
+  ds.has_alpha = alpha < 1.0f;
+  return ds;
+}
+
+const dataset::Dataset& face_dataset() {
+  static const dataset::Dataset ds = [] {
+    dataset::LoadOptions lo;
+    lo.splits = {dataset::Split::Train};
+    return dataset::load_dataset(test::face_dataset_dir(), lo);
+  }();
+  return ds;
+}
+
+TEST(SubjectBox, AutoPrefersTheDatasetsBox) {
+  dataset::Dataset ds = blank_dataset(0.0f);  // masks too: the aabb still wins
+  ds.aabb = std::array<std::array<float, 3>, 2>{{{-1, -1, -1}, {1, 1, 1}}};
+  SubjectBoxChoice c = choose_subject_box(ds, BoxSource::Auto);
+  EXPECT_EQ(c.source, BoxSource::Dataset);
+  ASSERT_TRUE(c.aabb.has_value());
+  EXPECT_EQ((*c.aabb)[1][2], 1.0f);
+}
+
+TEST(SubjectBox, AutoUsesMasksThenFallsBackToCamerasWithoutFaces) {
+  dataset::Dataset masked = blank_dataset(0.0f);
+  SubjectBoxChoice c = choose_subject_box(masked, BoxSource::Auto);
+  EXPECT_EQ(c.source, BoxSource::Masks);
+  EXPECT_TRUE(c.use_masks);
+  EXPECT_FALSE(c.aabb.has_value());
+  // --no-masks: masks ignored; no face in grey frames -> cameras, and the reason is given.
+  c = choose_subject_box(masked, BoxSource::Auto, false);
+  EXPECT_EQ(c.source, BoxSource::Cameras);
+  EXPECT_FALSE(c.use_masks);
+  EXPECT_NE(c.why.find("face in 0 of the 4 photos"), std::string::npos) << c.why;
+}
+
+TEST(SubjectBox, AutoUsesTheHeadBoxWhenFacesAreFound) {
+  SubjectBoxChoice c = choose_subject_box(face_dataset(), BoxSource::Auto);
+  EXPECT_EQ(c.source, BoxSource::Head) << c.why;
+  ASSERT_TRUE(c.aabb.has_value());
+  // The procedural head is ~0.75 units wide (200 mm per unit): the box is a head, not a room.
+  for (int a = 0; a < 3; ++a) {
+    float extent = (*c.aabb)[1][a] - (*c.aabb)[0][a];
+    EXPECT_GT(extent, 0.75f) << a;
+    EXPECT_LT(extent, 2.5f) << a;
+  }
+}
+
+TEST(SubjectBox, ForcedSourcesThatDoNotApplyFailClearly) {
+  dataset::Dataset ds = blank_dataset();
+  EXPECT_THROW(choose_subject_box(ds, BoxSource::Dataset), std::runtime_error);
+  EXPECT_THROW(choose_subject_box(ds, BoxSource::Masks), std::runtime_error);
+  try {
+    choose_subject_box(ds, BoxSource::Head);
+    FAIL() << "expected an error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("face in 0 of the 4 photos tried"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(choose_subject_box(ds, BoxSource::Cameras).source, BoxSource::Cameras);
+  EXPECT_EQ(box_source_from_string("head"), BoxSource::Head);
+  EXPECT_THROW(box_source_from_string("room"), std::runtime_error);
+}
+
+}  // namespace
+}  // namespace lorgnette::capture
