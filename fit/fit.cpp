@@ -200,12 +200,19 @@ FitResult fit_glasses(ViewSource& source, const GlassesRefPoints& glasses, const
     Eigen::Vector3d axis = 0.5 * (r.ears.f_l + r.ears.f_r);
     ContactOptions co = opt.contact;
     co.tip_z_mm = std::min(glasses.g_l.z(), glasses.g_r.z());
+    const bool spread = opt.temples.enabled && glasses.has_hinges;
+    // With hinges the temples are fitted by spreading them (below): the front that the slide along
+    // d_fwd must clear ends where the spread takes over (the hinges plus its ramp), or a temple
+    // touching the side of the head would push the whole frame off the nose.
+    if (spread)
+      co.front_z_mm = std::max(co.front_z_mm,
+                               std::min(glasses.hinge_l.z(), glasses.hinge_r.z()) - opt.temples.ramp_mm);
     {
       StageTimer t{r, "contact"};
       r.contact = refine_contact(r.placement, opt.frame_points, density, r.head.d_fwd, r.head.d_up, axis,
                                  r.head.mm_per_unit, co);
     }
-    if (opt.temples.enabled && glasses.has_hinges) {  // spread the temples, then re-measure the frame
+    if (spread) {  // spread the temples, then re-measure the frame
       StageTimer tt{r, "temples"};
       TempleFitInputs ti{r.placement.transform, glasses.hinge_l, glasses.hinge_r, axis, r.head.d_up,
                          r.head.mm_per_unit};

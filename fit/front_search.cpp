@@ -1,6 +1,7 @@
 // Front sweep and face framing (see front_search.h).
 #include "fit/front_search.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -86,6 +87,32 @@ FrontSearchResult find_front(ViewSource& source, const LandmarkDetector& detecto
         best_det = d;
         best_cam = cam;
       }
+    }
+  }
+  // Secant refinement of the yaw on the signed asymmetry (it grows with yaw through the front).
+  auto try_yaw = [&](double yaw) {
+    Camera cam = orbit_camera(o, yaw, 0.0);
+    FaceDetection d = detector.detect(source.render(cam));
+    res.tried_yaws.push_back(yaw);
+    res.found.push_back(d.found);
+    if (d.found && std::abs(face_asymmetry(d)) < std::abs(face_asymmetry(best_det))) {
+      best = int(res.tried_yaws.size()) - 1;
+      best_det = d;
+      best_cam = cam;
+    }
+    return d;
+  };
+  if (best >= 0) {
+    double y0 = res.tried_yaws[best], a0 = face_asymmetry(best_det);
+    double y1 = y0 - 40.0 * a0;  // first guess: asymmetry ~ yaw / 40 deg, sign found by the probe
+    for (int k = 0; k < opt.refine_views && std::abs(face_asymmetry(best_det)) > opt.asymmetry_tolerance; ++k) {
+      y1 = std::clamp(y1, y0 - 45.0, y0 + 45.0);
+      FaceDetection d = try_yaw(y1);
+      if (!d.found) break;
+      double a1 = face_asymmetry(d);
+      if (std::abs(a1 - a0) < 1e-6) break;
+      double next = y1 - a1 * (y1 - y0) / (a1 - a0);
+      y0 = y1, a0 = a1, y1 = next;
     }
   }
   if (best < 0)
