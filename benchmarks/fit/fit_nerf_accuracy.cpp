@@ -9,9 +9,11 @@
 //        [--variants baseline,overlap,hog,crop75,crop65,step15,fast,fast_k8,thr50,...]
 //        [--gt-shading studio|camera]
 //        [--repeats N] [--glasses FILE] [--debug]
-// Writes OUT_DIR/fit_nerf.csv (one row per fit), fit_nerf_profile.csv, fit_nerf_time.png and, with
+// Writes OUT_DIR/fit_nerf.csv (one row per fit), fit_nerf_profile.csv, fit_nerf_time.png,
+// fit_nerf_training.png (error against training time, for cases named NAME@SECONDS) and, with
 // --debug, the annotated views of the first fast fit per case in OUT_DIR/<case>-debug/.
 #include <chrono>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -195,6 +197,19 @@ void write_rows(const std::string& out, const std::vector<Row>& rows) {
   if (!series.empty())
     write_chart(out + "/fit_nerf_time.png",
                 {"Fit time on a NeRF per variant (excl. dlib model load)", "repeat", "s"}, series);
+  // Cases named NAME@SECONDS (the same head trained for different times): error against training time.
+  std::vector<ChartSeries> trained{{"nose mm", {}, {}}, {"ear l mm", {}, {}}, {"ear r mm", {}, {}},
+                                   {"rotation deg", {}, {}}};
+  for (const auto& r : rows) {
+    size_t at = r.name.rfind('@');
+    if (at == std::string::npos || r.repeat != 0 || r.variant == "mesh" || !r.error.empty()) continue;
+    double x = std::atof(r.name.c_str() + at + 1);
+    double y[4] = {r.e.nose_mm, r.e.ear_l_mm, r.e.ear_r_mm, r.e.rotation_deg};
+    for (int k = 0; k < 4; ++k) trained[k].x.push_back(x), trained[k].y.push_back(y[k]);
+  }
+  if (!trained[0].x.empty())
+    write_chart(out + "/fit_nerf_training.png",
+                {"Fit error against NeRF training time", "training s", "error (mm, deg)"}, trained);
 }
 
 // Per view of a cap: full and cropped (0.75) rendering, full-resolution and hinted detection, and
