@@ -138,6 +138,7 @@ void summarise(FitResult& r, const FitOptions& opt) {
 FitResult fit_glasses(ViewSource& source, const GlassesRefPoints& glasses, const FitOptions& opt) {
   FitResult r;
   Face68 mean_face = load_mean_face(opt.mean_face_path);
+  const float surface = opt.surface_density > 0.0f ? opt.surface_density : source.surface_density();
   std::unique_ptr<LandmarkDetector> detector;
   {
     StageTimer t{r, "load_detector"};
@@ -146,7 +147,7 @@ FitResult fit_glasses(ViewSource& source, const GlassesRefPoints& glasses, const
   {
     StageTimer t{r, "front"};
     FrontSearchOptions fo{opt.width, opt.height, opt.fov_y_deg, opt.sweep_views, opt.face_fraction,
-                          opt.contact.density_threshold};
+                          surface};
     r.orbit = find_front(source, *detector, fo).orbit;
   }
   std::vector<bool> valid(lm::kCount);
@@ -161,7 +162,7 @@ FitResult fit_glasses(ViewSource& source, const GlassesRefPoints& glasses, const
       if (opt.cast_contour) {
         SurfaceCastOptions so;
         so.max_yaw_deg = opt.contour_max_yaw_deg;
-        so.density_threshold = opt.contact.density_threshold;
+        so.density_threshold = surface;
         cast_surface_landmarks(source, r.views, r.orbit, so, r.points);
       }
       for (int k = 0; k < lm::kCount; ++k) valid[k] = r.points[k].ok;
@@ -170,7 +171,7 @@ FitResult fit_glasses(ViewSource& source, const GlassesRefPoints& glasses, const
       require_points(r.points);
       r.head = estimate_head_frame(p, valid, mean_face);
       if (opt.snap_to_skin) {
-        snap_to_surface(source, r.views, opt.snap_reach_mm / r.head.mm_per_unit, opt.contact.density_threshold,
+        snap_to_surface(source, r.views, opt.snap_reach_mm / r.head.mm_per_unit, surface,
                         r.points, lm::kTempleR, opt.cast_contour ? lm::kTempleL : -1);
         p.clear();
         for (const auto& q : r.points) p.push_back(q.position);
@@ -199,6 +200,7 @@ FitResult fit_glasses(ViewSource& source, const GlassesRefPoints& glasses, const
     DensityFn density = [&source](const std::vector<Eigen::Vector3f>& p) { return source.density(p); };
     Eigen::Vector3d axis = 0.5 * (r.ears.f_l + r.ears.f_r);
     ContactOptions co = opt.contact;
+    co.density_threshold = surface * opt.solid_factor;
     co.tip_z_mm = std::min(glasses.g_l.z(), glasses.g_r.z());
     const bool spread = opt.temples.enabled && glasses.has_hinges;
     // With hinges the temples are fitted by spreading them (below): the front that the slide along

@@ -45,7 +45,14 @@ struct FitOptions {
   double nose_blend = 0.5;            // f_c between dlib 27 (0) and 28 (1)
   ScalePolicy scale_policy = ScalePolicy::kStretch;
   bool refine_contact = true;
-  ContactOptions contact;
+  ContactOptions contact;              // its density_threshold is replaced by surface_density below
+  float surface_density = 0.0f;        // skin for the surface casts and framing; 0: the source's own
+  // Contact and penetration count as solid only `solid_factor` x that (0.2 optical depth per NeRF step,
+  // 18 % opacity per ~1.3 mm): the haze a short training leaves around a real capture (hair, the sides
+  // of a frontal capture) then no longer blocks the frame. in2n-face: temples 25 deg and still 4.75 mm
+  // in at 1x, 20 / 23 deg and clear at 5x; fangzhou-frontal: 15 mm slide and 5.5 mm front penetration
+  // at 1x, 4 mm and 0 mm at 5x; the quick demo head: 12.75 -> 10.5 mm slide.
+  float solid_factor = 5.0f;
   std::vector<Eigen::Vector3d> frame_points;  // canonical-mm samples of the frame (contact, penetration)
   double max_penetration_mm = 0.5;    // ok = false above this after refinement
   double max_residual_px = 6.0;       // ok = false when a used landmark's RMS residual is above this

@@ -52,6 +52,8 @@ std::vector<float> NerfViewSource::density(const std::vector<Eigen::Vector3f>& p
   return out;
 }
 
+float NerfViewSource::surface_density() const { return kSurfaceOpticalDepth / model_.step(); }
+
 Bounds NerfViewSource::bounds() const {
   Bounds b;
   for (int a = 0; a < 3; ++a) b.min[a] = model_.aabb().min[a], b.max[a] = model_.aabb().max[a];

@@ -35,6 +35,10 @@ class ViewSource {
   virtual std::vector<float> density(const std::vector<Eigen::Vector3f>& points) = 0;
   virtual Bounds bounds() const = 0;
   virtual ViewPrior prior() const { return {}; }
+  // Density above which a point counts as inside the head (skin, for the contact and the surface
+  // casts). A density is per scene unit, and scene units differ by 15x between captures (in2n-face
+  // ~69 mm, fangzhou ~21 mm, the demo 200 mm): a NeRF source derives it from its marching step.
+  virtual float surface_density() const { return 10.0f; }
 };
 
 }  // namespace lorgnette::fit

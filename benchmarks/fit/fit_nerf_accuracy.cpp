@@ -8,11 +8,14 @@
 // Usage: bench_fit_nerf OUT_DIR --case NAME MODEL.lnerf DATASET_DIR [--case ...]
 //        [--variants baseline,overlap,hog,crop75,crop65,step15,fast,fast_k8,thr50,...]
 //        [--gt-shading studio|camera]
-//        [--repeats N] [--glasses FILE] [--debug]
+//        [--repeats N] [--glasses FILE] [--debug] [--mesh-only]
 // Writes OUT_DIR/fit_nerf.csv (one row per fit), fit_nerf_profile.csv, fit_nerf_time.png,
 // fit_nerf_training.png (error against training time, for cases named NAME@SECONDS) and, with
-// --debug, the annotated views of the first fast fit per case in OUT_DIR/<case>-debug/.
+// --debug, the annotated views of the first fast fit per case in OUT_DIR/<case>-debug/. --mesh-only
+// fits the mesh alone (the ground-truth geometry: head pitch, contact slide) and skips the NeRF.
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
@@ -77,9 +80,9 @@ const std::vector<Variant>& all_variants() {
       {"fast", [](FitOptions& o) { fast(o); }},
       {"fast_k8", [](FitOptions& o) { fast(o), o.cap.views = 8; }},
       {"fast_step15", [](FitOptions& o) { fast(o); }, 1.5f},
-      {"thr50", [](FitOptions& o) { fast(o), o.contact.density_threshold = 50.0f; }},
-      {"thr200", [](FitOptions& o) { fast(o), o.contact.density_threshold = 200.0f; }},
-      {"thr1000", [](FitOptions& o) { fast(o), o.contact.density_threshold = 1000.0f; }},
+      {"thr50", [](FitOptions& o) { fast(o), o.surface_density = 50.0f; }},
+      {"thr200", [](FitOptions& o) { fast(o), o.surface_density = 200.0f; }},
+      {"thr1000", [](FitOptions& o) { fast(o), o.surface_density = 1000.0f; }},
   };
   return v;
 }
@@ -89,6 +92,7 @@ struct Row {
   int repeat = 0;
   FitErrors e;
   double seconds = 0, load_seconds = 0, front_penetration = 0;
+  double contact_shift_mm = 0, head_pitch_deg = 0;  // slide along d_fwd; d_fwd against the scene's horizontal
   double temple_r_mm = 0, temple_l_mm = 0, eye_r_mm = 0, eye_l_mm = 0;  // diagnostics: inputs of Eq. 1-3
   int views_used = 0, views = 0;
   std::string stages, error;
@@ -146,7 +150,8 @@ std::unique_ptr<MeshViewSource> subject_source(const std::string& dataset, const
   return std::make_unique<MeshViewSource>(std::move(m), to_scene, prior);
 }
 
-Row run_fit(ViewSource& src, const GlassesInput& g, const GroundTruth& gt, const FitOptions& opt) {
+Row run_fit(ViewSource& src, const GlassesInput& g, const GroundTruth& gt, const FitOptions& opt,
+            const Eigen::Vector3d& scene_up) {
   Row row;
   try {
     FitResult r = fit_glasses(src, g.ref, opt);
@@ -159,6 +164,8 @@ Row run_fit(ViewSource& src, const GlassesInput& g, const GroundTruth& gt, const
       row.stages += fmt::format("{}{}={:.3f}", row.stages.empty() ? "" : ";", name, s);
     }
     row.front_penetration = r.contact.front_penetration_mm;
+    row.contact_shift_mm = r.contact.shift_mm;
+    row.head_pitch_deg = std::asin(std::clamp(r.head.d_fwd.dot(scene_up.normalized()), -1.0, 1.0)) * 180.0 / M_PI;
     auto err = [&](int k) { return (r.points[k].position - gt.points[k]).norm() * gt.head.mm_per_unit; };
     row.temple_r_mm = err(lm::kTempleR), row.temple_l_mm = err(lm::kTempleL);
     row.eye_r_mm = err(lm::kEyeOuterR), row.eye_l_mm = err(lm::kEyeOuterL);
@@ -176,14 +183,15 @@ void write_rows(const std::string& out, const std::vector<Row>& rows) {
     csv.push_back({r.name, r.variant, std::to_string(r.repeat), fmt::format("{:.3f}", r.e.nose_mm),
                    fmt::format("{:.3f}", r.e.ear_l_mm), fmt::format("{:.3f}", r.e.ear_r_mm),
                    fmt::format("{:.3f}", r.e.rotation_deg), fmt::format("{:.4f}", r.e.mm_per_unit_rel),
-                   fmt::format("{:.3f}", r.front_penetration), fmt::format("{:.3f}", r.temple_l_mm),
+                   fmt::format("{:.3f}", r.front_penetration), fmt::format("{:.2f}", r.contact_shift_mm),
+                   fmt::format("{:.2f}", r.head_pitch_deg), fmt::format("{:.3f}", r.temple_l_mm),
                    fmt::format("{:.3f}", r.temple_r_mm), fmt::format("{:.3f}", r.eye_l_mm),
                    fmt::format("{:.3f}", r.eye_r_mm), fmt::format("{}/{}", r.views_used, r.views),
                    fmt::format("{:.3f}", r.seconds), fmt::format("{:.3f}", r.load_seconds), r.stages,
                    r.error.empty() ? "ok" : "error: " + r.error.substr(0, 200)});
   write_csv(out + "/fit_nerf.csv",
             {"case", "variant", "repeat", "nose_mm", "ear_l_mm", "ear_r_mm", "rotation_deg",
-             "mm_per_unit_rel_err", "front_penetration_mm", "temple_l_mm", "temple_r_mm", "eye_l_mm",
+             "mm_per_unit_rel_err", "front_penetration_mm", "contact_shift_mm", "head_pitch_deg", "temple_l_mm", "temple_r_mm", "eye_l_mm",
              "eye_r_mm", "views_used", "seconds_excl_model_load", "model_load_seconds", "stages", "status"},
             csv);
   std::vector<ChartSeries> series;
@@ -263,7 +271,7 @@ int main(int argc, char** argv) {
   std::vector<Case> cases;
   std::string variants = "baseline,fast", glasses = kData + "/glasses/glasses-06/scene.gltf";
   int repeats = 2;
-  bool debug = false, studio = true;
+  bool debug = false, studio = true, mesh_only = false;
   for (int i = 2; i < argc; ++i) {
     if (std::strcmp(argv[i], "--case") == 0 && i + 3 < argc)
       cases.push_back({argv[i + 1], argv[i + 2], argv[i + 3]}), i += 3;
@@ -273,6 +281,8 @@ int main(int argc, char** argv) {
       repeats = std::atoi(argv[++i]);
     else if (std::strcmp(argv[i], "--glasses") == 0 && i + 1 < argc)
       glasses = argv[++i];
+    else if (std::strcmp(argv[i], "--mesh-only") == 0)
+      mesh_only = true;
     else if (std::strcmp(argv[i], "--debug") == 0)
       debug = true;
     else if (std::strcmp(argv[i], "--gt-shading") == 0 && i + 1 < argc)
@@ -303,9 +313,17 @@ int main(int argc, char** argv) {
     GroundTruth gt = mesh_ground_truth(*mesh_src, ref.orbit, {-20, -10, 0, 10, 20}, g.ref, base);
     std::cerr << fmt::format("{}: ground truth mm/unit {:.2f}, PD {:.1f} mm\n", c.name, gt.head.mm_per_unit,
                              gt.head.pd_mm);
-    Row mesh_row = run_fit(*mesh_src, g, gt, base);
+    Row mesh_row = run_fit(*mesh_src, g, gt, base, prior.up);
     mesh_row.name = c.name, mesh_row.variant = "mesh";
     rows.push_back(mesh_row);
+    std::cerr << fmt::format("{} mesh: nose {:.2f} mm, ears {:.2f}/{:.2f} mm, rot {:.2f} deg, head pitch {:.1f} deg, "
+                             "contact shift {:.2f} mm\n", c.name, mesh_row.e.nose_mm, mesh_row.e.ear_l_mm,
+                             mesh_row.e.ear_r_mm, mesh_row.e.rotation_deg, mesh_row.head_pitch_deg,
+                             mesh_row.contact_shift_mm);
+    if (mesh_only) {
+      write_rows(out, rows);
+      continue;
+    }
     for (int rep = 0; rep < repeats; ++rep)
       for (const Variant& v : all_variants()) {
         if (("," + variants + ",").find("," + v.name + ",") == std::string::npos) continue;
@@ -314,7 +332,7 @@ int main(int argc, char** argv) {
         v.set(o);
         if (debug && rep == 0 && v.name == "fast") o.debug_dir = out + "/" + c.name + "-debug";
         if (!o.debug_dir.empty()) fs::create_directories(o.debug_dir);
-        Row row = run_fit(nerf_src(v.step_scale), g, gt, o);
+        Row row = run_fit(nerf_src(v.step_scale), g, gt, o, prior.up);
         row.name = c.name, row.variant = v.name, row.repeat = rep;
         std::cerr << fmt::format(
             "{} {} #{}: nose {:.2f} mm, ears {:.2f}/{:.2f} mm, rot {:.2f} deg, {:.2f} s [{}] {}\n", c.name,
