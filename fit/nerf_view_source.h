@@ -19,7 +19,7 @@ class NerfViewSource : public ViewSource {
   std::vector<float> density(const std::vector<Eigen::Vector3f>& points) override;
   Bounds bounds() const override;
   ViewPrior prior() const override { return prior_; }
-  // kSurfaceOpticalDepth per marching step: the models size their step to ~1.3 mm whatever the scene
+  // kSurfaceOpticalDepth per marching step: the models size their step to 1.1-1.3 mm whatever the scene
   // unit, so this is the same physical threshold everywhere (10 per unit on the 324 mm/unit scan).
   float surface_density() const override;
   static constexpr float kSurfaceOpticalDepth = 0.04f;
