@@ -58,7 +58,13 @@ float HeadShape::face_part(const V3& p) const {
   const float w = 0.5f * P.head_width, g = glabella_z_, F = P.face_length;
   const FaceLayout& L = layout_;
   float d = ellipsoid(p, V3(0, P.crown_height - 108.0f, g - 100.0f), V3(w, 108.0f, 0.5f * P.head_depth));
-  d = smin(d, ellipsoid(p, V3(0, -0.45f * F, g - 55.0f), V3(0.8f * w, 0.56f * F, 56.0f)), 20.0f);
+  // Lower face: a broad ellipsoid set back (the cheeks beside the nose lie 7-8 mm behind the nasion,
+  // where a frame's lower rims pass) and a narrow midline one for the maxilla and lips, so the profile
+  // slopes forward from the nasion to the lips as the mean face's does (subnasale +4.5 mm, upper lip
+  // +6.7 mm; the mean face has +12.6 / +10.4). The earlier single blunt ellipsoid gave a flat,
+  // receding lower face: the fit then tilted the frame ~12 deg and the cheeks pushed it off the nose.
+  d = smin(d, ellipsoid(p, V3(0, -0.45f * F, g - 62.0f), V3(0.8f * w, 0.56f * F, 56.0f)), 12.0f);
+  d = smin(d, ellipsoid(p, V3(0, -0.52f * F, g - 20.0f), V3(24.0f, 0.3f * F, 28.0f)), 12.0f);
   d = smin(d, ellipsoid(p, V3(0, -0.6f * F, -2.0f), V3(0.84f * w, 0.33f * F, 76.0f)), 16.0f);
   const float ex = 0.5f * P.eye_distance;
   for (int s = -1; s <= 1; s += 2) {
@@ -73,9 +79,9 @@ float HeadShape::face_part(const V3& p) const {
   // Lips and chin.
   const float my = L.mouth_y, hw = L.mouth_half_width, lt = P.lip_thickness;
   float tip_z = eye_corner_z() + P.nose_protrusion;
-  d = smin(d, ellipsoid(p, V3(0, my + 5.0f * lt, tip_z - 25.0f), V3(0.9f * hw, 7.5f * lt, 8.0f)), 6.0f);
-  d = smin(d, ellipsoid(p, V3(0, my - 6.0f * lt, tip_z - 27.0f), V3(0.78f * hw, 6.5f * lt, 8.0f)), 6.0f);
-  d = smin(d, sphere(p, V3(0, -F + 15.0f, eye_corner_z() - 13.0f), 15.0f), 14.0f);
+  d = smin(d, ellipsoid(p, V3(0, my + 5.0f * lt, tip_z - 17.0f), V3(0.9f * hw, 7.5f * lt, 8.0f)), 6.0f);
+  d = smin(d, ellipsoid(p, V3(0, my - 6.0f * lt, tip_z - 19.0f), V3(0.78f * hw, 6.5f * lt, 8.0f)), 6.0f);
+  d = smin(d, sphere(p, V3(0, -F + 15.0f, eye_corner_z() - 3.0f), 15.0f), 14.0f);
   return d;
 }
 
@@ -84,10 +90,12 @@ float HeadShape::nose_part(const V3& p) const {
   const FaceLayout& L = layout_;
   const float bridge_y = L.ibug[27].y(), tip_y = L.ibug[30].y();
   const float tip_z = eye_corner_z() + P.nose_protrusion;
-  V3 bridge(0, bridge_y, glabella_z_ - 10.0f), tip(0, tip_y - 1.0f, tip_z - 9.0f);
+  // Tip sphere centred 3 mm behind tip_z: the tip landmark (30) then lands 28.2 mm in front of the
+  // inner eye corners for nose_protrusion 27.8 (seed 7); with 9 mm it fell 5.6 mm short.
+  V3 bridge(0, bridge_y, glabella_z_ - 10.0f), tip(0, tip_y - 1.0f, tip_z - 3.0f);
   float d = round_cone(p, bridge, tip, 5.0f, 9.0f);
   for (int s = -1; s <= 1; s += 2) {
-    V3 ala(s * 0.3f * P.nose_width, tip_y - 8.0f, tip_z - 17.0f);
+    V3 ala(s * 0.3f * P.nose_width, tip_y - 8.0f, tip_z - 13.0f);
     d = smin(d, sphere(p, ala, 0.25f * P.nose_width), 6.0f);
   }
   return d;
