@@ -15,10 +15,16 @@ namespace lorgnette::fit {
 
 GroundTruth mesh_ground_truth(MeshViewSource& source, const Orbit& orbit, const std::vector<double>& yaws,
                               const GlassesRefPoints& glasses, const FitOptions& options) {
+  std::vector<Camera> cams;
+  for (double yaw : yaws) cams.push_back(orbit_camera(orbit, yaw, 0.0));
+  return mesh_ground_truth(source, cams, glasses, options);
+}
+
+GroundTruth mesh_ground_truth(MeshViewSource& source, const std::vector<Camera>& cameras,
+                              const GlassesRefPoints& glasses, const FitOptions& options) {
   LandmarkDetector detector(options.detector);
   std::vector<std::vector<Eigen::Vector3d>> hits(lm::kCount);
-  for (double yaw : yaws) {
-    Camera cam = orbit_camera(orbit, yaw, 0.0);
+  for (const Camera& cam : cameras) {
     FaceDetection d = detector.detect(source.render(cam));
     if (!d.found) continue;
     for (int k = 0; k < lm::kCount; ++k) {

@@ -23,6 +23,12 @@ struct GroundTruth {
 GroundTruth mesh_ground_truth(MeshViewSource& source, const Orbit& orbit, const std::vector<double>& yaws,
                               const GlassesRefPoints& glasses, const FitOptions& options);
 
+// The same from given cameras, e.g. a fit's own views: the jaw contour (temples, hence ears) is view
+// dependent, so ground truth from the fit's cameras separates the reconstruction's error from the
+// landmark definition's dependence on the views.
+GroundTruth mesh_ground_truth(MeshViewSource& source, const std::vector<Camera>& cameras,
+                              const GlassesRefPoints& glasses, const FitOptions& options);
+
 struct FitErrors {
   double nose_mm = 0, ear_l_mm = 0, ear_r_mm = 0, rotation_deg = 0, mm_per_unit_rel = 0;
 };
