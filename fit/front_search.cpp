@@ -90,8 +90,13 @@ FrontSearchResult find_front(ViewSource& source, const LandmarkDetector& detecto
     }
   }
   // Secant refinement of the yaw on the signed asymmetry (it grows with yaw through the front).
+  Orbit probe = o;  // smaller renders: the asymmetry does not depend on the image size
+  if (opt.refine_size > 0) {
+    probe.width = std::min(o.width, opt.refine_size);
+    probe.height = std::min(o.height, opt.refine_size);
+  }
   auto try_yaw = [&](double yaw) {
-    Camera cam = orbit_camera(o, yaw, 0.0);
+    Camera cam = orbit_camera(probe, yaw, 0.0);
     FaceDetection d = detector.detect(source.render(cam));
     res.tried_yaws.push_back(yaw);
     res.found.push_back(d.found);

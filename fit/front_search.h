@@ -23,6 +23,7 @@ struct FrontSearchOptions {
   // had to re-plan and render every view a second time.
   int refine_views = 3;
   double asymmetry_tolerance = 0.06;
+  int refine_size = 256;  // refinement renders (px; 0 = the sweep's size)
 };
 
 struct FrontSearchResult {
