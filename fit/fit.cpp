@@ -5,7 +5,6 @@
 #include <chrono>
 #include <memory>
 #include <cmath>
-#include <random>
 #include <stdexcept>
 
 #include <Eigen/Geometry>
