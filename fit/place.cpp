@@ -85,31 +85,47 @@ std::vector<Eigen::Vector3d> transform_points(const Eigen::Matrix4d& t, const st
 
 }  // namespace
 
-double penetration_depth_mm(const DensityFn& density, const std::vector<Eigen::Vector3d>& scene_points,
-                            const Eigen::Vector3d& axis_point, const Eigen::Vector3d& d_up,
-                            double mm_per_unit, const ContactOptions& opt, int* inside_count) {
+std::vector<double> penetration_depths_mm(const DensityFn& density, const std::vector<Eigen::Vector3d>& scene_points,
+                                          const Eigen::Vector3d& axis_point, const Eigen::Vector3d& d_up,
+                                          double mm_per_unit, const ContactOptions& opt, int max_probes) {
+  std::vector<double> depth(scene_points.size(), 0.0);
   auto in = inside(density, scene_points, opt.density_threshold);
   std::vector<Eigen::Vector3d> pts, dirs;
+  std::vector<size_t> who;
   for (size_t i = 0; i < scene_points.size(); ++i) {
     if (!in[i]) continue;
     Eigen::Vector3d r = scene_points[i] - axis_point;
     r -= r.dot(d_up) * d_up;  // horizontal, away from the head's vertical axis
     pts.push_back(scene_points[i]);
     dirs.push_back(r.norm() > 1e-12 ? r.normalized() : Eigen::Vector3d(d_up.unitOrthogonal()));
+    who.push_back(i);
+    depth[i] = (max_probes + 1) * opt.step_mm;  // until a probe finds it outside
   }
-  if (inside_count) *inside_count = int(pts.size());
-  double step = opt.step_mm / mm_per_unit, depth_mm = 0.0;
-  for (double d = opt.step_mm; !pts.empty() && d <= 2.0 * opt.max_shift_mm + 1e-9; d += opt.step_mm) {
-    std::vector<Eigen::Vector3d> probe, keep_p, keep_d;
-    for (size_t i = 0; i < pts.size(); ++i) probe.push_back(pts[i] + dirs[i] * step * (d / opt.step_mm));
+  const double step = opt.step_mm / mm_per_unit;
+  for (int k = 1; k <= max_probes && !pts.empty(); ++k) {
+    std::vector<Eigen::Vector3d> probe;
+    for (size_t i = 0; i < pts.size(); ++i) probe.push_back(pts[i] + dirs[i] * (k * step));
     auto still = inside(density, probe, opt.density_threshold);
-    for (size_t i = 0; i < pts.size(); ++i)
-      if (still[i]) keep_p.push_back(pts[i]), keep_d.push_back(dirs[i]);
-    depth_mm = d;
-    pts.swap(keep_p);
-    dirs.swap(keep_d);
+    size_t n = 0;
+    for (size_t i = 0; i < pts.size(); ++i) {
+      if (still[i])
+        pts[n] = pts[i], dirs[n] = dirs[i], who[n] = who[i], ++n;
+      else
+        depth[who[i]] = k * opt.step_mm;
+    }
+    pts.resize(n), dirs.resize(n), who.resize(n);
   }
-  return depth_mm;
+  return depth;
+}
+
+double penetration_depth_mm(const DensityFn& density, const std::vector<Eigen::Vector3d>& scene_points,
+                            const Eigen::Vector3d& axis_point, const Eigen::Vector3d& d_up,
+                            double mm_per_unit, const ContactOptions& opt, int* inside_count) {
+  const int probes = static_cast<int>(std::floor(2.0 * opt.max_shift_mm / opt.step_mm + 1e-9));
+  auto depth = penetration_depths_mm(density, scene_points, axis_point, d_up, mm_per_unit, opt, probes);
+  if (inside_count) *inside_count = int(std::count_if(depth.begin(), depth.end(), [](double d) { return d > 0.0; }));
+  double deepest = depth.empty() ? 0.0 : *std::max_element(depth.begin(), depth.end());
+  return std::min(deepest, probes * opt.step_mm);  // still inside at the last probe: that far at least
 }
 
 ContactResult refine_contact(Placement& placement, const std::vector<Eigen::Vector3d>& frame_points,

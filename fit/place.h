@@ -68,8 +68,15 @@ struct ContactResult {
   bool refined = false;
 };
 
-// Deepest penetration (mm) of the frame's sample points: for each point inside, the distance outwards
-// (horizontally away from the head's vertical axis through `axis_point`) to the first point outside.
+// Penetration (mm) of each sample point: 0 when it is outside; else k * step_mm for the first of the
+// probes k = 1..max_probes, taken outwards (horizontally away from the head's vertical axis through
+// `axis_point`), that is outside; (max_probes + 1) * step_mm when every probe is still inside. One
+// density query per probe step for all points, so callers batch (the temple search: 8 angles).
+std::vector<double> penetration_depths_mm(const DensityFn& density, const std::vector<Eigen::Vector3d>& scene_points,
+                                          const Eigen::Vector3d& axis_point, const Eigen::Vector3d& d_up,
+                                          double mm_per_unit, const ContactOptions& opt, int max_probes);
+
+// Deepest penetration (mm) of the frame's sample points (the above, probing up to 2 max_shift_mm).
 double penetration_depth_mm(const DensityFn& density, const std::vector<Eigen::Vector3d>& scene_points,
                             const Eigen::Vector3d& axis_point, const Eigen::Vector3d& d_up,
                             double mm_per_unit, const ContactOptions& opt, int* inside_count = nullptr);

@@ -25,21 +25,8 @@ std::vector<Eigen::Vector3d> placed(const TempleFitInputs& in, const mesh::Templ
   return out;
 }
 
-std::vector<bool> inside(const DensityFn& density, const std::vector<Eigen::Vector3d>& pts, float thr) {
-  std::vector<Eigen::Vector3f> q;
-  q.reserve(pts.size());
-  for (const auto& p : pts) q.push_back(p.cast<float>());
-  std::vector<float> sigma = density(q);
-  if (sigma.size() != pts.size())
-    throw std::runtime_error(fmt::format("density query returned {} values for {} points", sigma.size(), pts.size()));
-  std::vector<bool> out(pts.size());
-  for (size_t i = 0; i < pts.size(); ++i) out[i] = sigma[i] > thr;
-  return out;
-}
-
-// For each angle: true when the side's samples, spread by it, penetrate at most `limit_mm` — the
-// walk of penetration_depth_mm (place.cpp) stopped at the limit: no sample that starts inside stays
-// inside at every outward probe step_mm, 2 step_mm, ... up to the limit.
+// For each angle: true when the side's samples, spread by it, penetrate at most `limit_mm`
+// (penetration_depths_mm stopped at the limit; all angles of the batch in one walk).
 std::vector<bool> passes(const TempleFitInputs& in, mesh::TempleBend bend, int side,
                          const std::vector<Eigen::Vector3d>& pts, const std::vector<double>& angles,
                          const DensityFn& density, const ContactOptions& c, double limit_mm) {
@@ -49,29 +36,11 @@ std::vector<bool> passes(const TempleFitInputs& in, mesh::TempleBend bend, int s
     (side > 0 ? bend.left : bend.right).spread_deg = angles[a];
     for (const auto& p : placed(in, bend, pts)) q.push_back(p), owner.push_back(a);
   }
-  auto in0 = inside(density, q, c.density_threshold);
-  std::vector<Eigen::Vector3d> pos, dir;
-  std::vector<size_t> who;
-  for (size_t i = 0; i < q.size(); ++i) {
-    if (!in0[i]) continue;
-    Eigen::Vector3d r = q[i] - in.axis_point;
-    r -= r.dot(in.d_up) * in.d_up;
-    pos.push_back(q[i]);
-    dir.push_back(r.norm() > 1e-12 ? r.normalized() : Eigen::Vector3d(in.d_up.unitOrthogonal()));
-    who.push_back(owner[i]);
-  }
   const int probes = static_cast<int>(std::floor(limit_mm / c.step_mm + 1e-9));
-  for (int k = 1; k <= probes && !pos.empty(); ++k) {
-    std::vector<Eigen::Vector3d> probe;
-    for (size_t i = 0; i < pos.size(); ++i) probe.push_back(pos[i] + dir[i] * (k * c.step_mm / in.mm_per_unit));
-    auto still = inside(density, probe, c.density_threshold);
-    size_t n = 0;
-    for (size_t i = 0; i < pos.size(); ++i)
-      if (still[i]) pos[n] = pos[i], dir[n] = dir[i], who[n] = who[i], ++n;
-    pos.resize(n), dir.resize(n), who.resize(n);
-  }
+  auto depth = penetration_depths_mm(density, q, in.axis_point, in.d_up, in.mm_per_unit, c, probes);
   std::vector<bool> ok(angles.size(), true);
-  for (size_t w : who) ok[w] = false;
+  for (size_t i = 0; i < q.size(); ++i)
+    if (depth[i] > probes * c.step_mm + 1e-9) ok[owner[i]] = false;
   return ok;
 }
 
