@@ -71,23 +71,26 @@ FrontSearchResult find_front(ViewSource& source, const LandmarkDetector& detecto
   int best = -1;
   FaceDetection best_det;
   Camera best_cam{};
+  // Renders and detects one yaw on `orbit`, keeping the most frontal face seen so far.
+  auto try_view = [&](const Orbit& orbit, double yaw) {
+    Camera cam = orbit_camera(orbit, yaw, 0.0);
+    FaceDetection d = detector.detect(source.render(cam));
+    res.tried_yaws.push_back(yaw);
+    res.found.push_back(d.found);
+    if (d.found && (best < 0 || std::abs(face_asymmetry(d)) < std::abs(face_asymmetry(best_det)))) {
+      best = int(res.tried_yaws.size()) - 1;
+      best_det = d;
+      best_cam = cam;
+    }
+    return d;
+  };
   for (size_t pass = 0; pass < 2 && best < 0; ++pass) {
     if (pass == 1) {
       if (!source.prior().front) break;
       yaws = sweep_yaws(opt.sweep_views);  // the prior's front showed no face: sweep after all
       yaws.erase(yaws.begin());
     }
-    for (double yaw : yaws) {
-      Camera cam = orbit_camera(o, yaw, 0.0);
-      FaceDetection d = detector.detect(source.render(cam));
-      res.tried_yaws.push_back(yaw);
-      res.found.push_back(d.found);
-      if (d.found && (best < 0 || std::abs(face_asymmetry(d)) < std::abs(face_asymmetry(best_det)))) {
-        best = int(res.tried_yaws.size()) - 1;
-        best_det = d;
-        best_cam = cam;
-      }
-    }
+    for (double yaw : yaws) try_view(o, yaw);
   }
   // Secant refinement of the yaw on the signed asymmetry (it grows with yaw through the front).
   Orbit probe = o;  // smaller renders: the asymmetry does not depend on the image size
@@ -95,24 +98,12 @@ FrontSearchResult find_front(ViewSource& source, const LandmarkDetector& detecto
     probe.width = std::min(o.width, opt.refine_size);
     probe.height = std::min(o.height, opt.refine_size);
   }
-  auto try_yaw = [&](double yaw) {
-    Camera cam = orbit_camera(probe, yaw, 0.0);
-    FaceDetection d = detector.detect(source.render(cam));
-    res.tried_yaws.push_back(yaw);
-    res.found.push_back(d.found);
-    if (d.found && std::abs(face_asymmetry(d)) < std::abs(face_asymmetry(best_det))) {
-      best = int(res.tried_yaws.size()) - 1;
-      best_det = d;
-      best_cam = cam;
-    }
-    return d;
-  };
   if (best >= 0) {
     double y0 = res.tried_yaws[best], a0 = face_asymmetry(best_det);
     double y1 = y0 - 40.0 * a0;  // first guess: asymmetry ~ yaw / 40 deg, sign found by the probe
     for (int k = 0; k < opt.refine_views && std::abs(face_asymmetry(best_det)) > opt.asymmetry_tolerance; ++k) {
       y1 = std::clamp(y1, y0 - 45.0, y0 + 45.0);
-      FaceDetection d = try_yaw(y1);
+      FaceDetection d = try_view(probe, y1);
       if (!d.found) break;
       double a1 = face_asymmetry(d);
       if (std::abs(a1 - a0) < 1e-6) break;
