@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "capture/capture.h"
+#include "host/dataset/dataset.h"
 #include "face_dataset.h"
 #include "synthetic_model.h"
 

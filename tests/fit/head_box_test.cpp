@@ -3,38 +3,20 @@
 // photos without a face give the clear error; the geometric half (oriented box from a head frame)
 // is exact on a hand-made frame; even_subset spreads its picks.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cstdio>
-#include <filesystem>
 
 #include "fit/head_box.h"
 #include "host/dataset/dataset.h"
-#include "synth/synthesize.h"
-#include "tests/synth/test_head.h"
+#include "tests/synth/face_dataset.h"
 
 namespace lorgnette::fit {
 namespace {
 
-namespace fs = std::filesystem;
-
-// 8 opaque 320x320 views over +-35 deg yaw: the face spans ~130 px, enough for dlib's HOG detector
-// (it needs ~80 px); one sample per pixel keeps the rendering to a few seconds.
+// 8 views over +-35 deg yaw of the default head (tests/synth/face_dataset.h).
 const dataset::Dataset& face_dataset() {
-  static const dataset::Dataset ds = [] {
-    fs::path dir = fs::path(LORGNETTE_TEST_TMP) / "fit" /
-               ("head_box_faces_" + std::to_string(::getpid()));  // per process: ctest -j
-    fs::remove_all(dir);
-    fs::create_directories(dir.parent_path());
-    synth::SynthOptions o;
-    o.views = 8;
-    o.width = o.height = 320;
-    o.samples_per_axis = 1;
-    o.background = Eigen::Vector3f(0.5f, 0.5f, 0.5f);
-    o.seed = 3;
-    synth::synthesize_dataset(synth::test::default_head(), dir.string(), o);
-    return dataset::load_dataset(dir.string());
-  }();
+  static const dataset::Dataset ds =
+      dataset::load_dataset(synth::test::render_face_dataset("fit", "head_box_faces", 8, 3));
   return ds;
 }
 
