@@ -1,6 +1,7 @@
 // The subject-box choice for training (see subject_box.h).
 #include "capture/subject_box.h"
 
+#include <algorithm>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -50,13 +51,8 @@ BoxSource box_source_from_string(const std::string& name) {
 
 bool has_alpha_masks(const dataset::Dataset& ds) {
   if (!ds.has_alpha) return false;
-  for (const dataset::Frame* f : ds.split(dataset::Split::Train)) {
-    const Image& im = f->image;
-    if (im.channels != 4) continue;
-    for (size_t i = 3; i < im.pixels.size(); i += 4)
-      if (im.pixels[i] < 1.0f) return true;
-  }
-  return false;
+  auto train = ds.split(dataset::Split::Train);
+  return std::any_of(train.begin(), train.end(), [](const dataset::Frame* f) { return f->image.has_transparency(); });
 }
 
 std::vector<fit::PosedPhoto> posed_photos(const dataset::Dataset& ds) {

@@ -28,7 +28,7 @@ struct SubjectBoxChoice {
   std::string why;         // one sentence for the log
 };
 
-// True when any training image has an alpha value below 1 (the sizing's test for masks).
+// True when any training image has a transparent pixel (Image::has_transparency, the sizing's test).
 bool has_alpha_masks(const dataset::Dataset& ds);
 
 // Chooses the box for training on `ds`'s training frames. `masks_allowed` = false ignores alpha

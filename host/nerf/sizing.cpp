@@ -23,12 +23,7 @@ Eigen::Vector3d cam_origin(const Camera& c) { return {c.c2w[3], c.c2w[7], c.c2w[
 Eigen::Vector3d cam_forward(const Camera& c) { return -Eigen::Vector3d(c.c2w[2], c.c2w[6], c.c2w[10]).normalized(); }
 
 bool has_alpha(const std::vector<View>& views) {
-  for (const auto& v : views) {
-    if (!v.image || v.image->channels != 4) continue;
-    for (size_t i = 3; i < v.image->pixels.size(); i += 4)
-      if (v.image->pixels[i] < 0.99f) return true;
-  }
-  return false;
+  return std::any_of(views.begin(), views.end(), [](const View& v) { return v.image && v.image->has_transparency(); });
 }
 
 struct Carve {

@@ -20,6 +20,14 @@ struct Image {
   float& at(int x, int y, int c) { return pixels[(static_cast<size_t>(y) * width + x) * channels + c]; }
   float at(int x, int y, int c) const { return pixels[(static_cast<size_t>(y) * width + x) * channels + c]; }
   bool empty() const { return pixels.empty(); }
+  // True for a 4-channel image with any pixel's alpha below 0.99: an alpha mask, not just an alpha
+  // channel that is opaque everywhere.
+  bool has_transparency() const {
+    if (channels != 4) return false;
+    for (size_t i = 3; i < pixels.size(); i += 4)
+      if (pixels[i] < 0.99f) return true;
+    return false;
+  }
 };
 
 float srgb_to_linear(float c);
