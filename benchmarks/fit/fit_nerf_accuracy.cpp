@@ -201,7 +201,8 @@ void write_rows(const std::string& out, const std::vector<Row>& rows) {
             {"case", "variant", "repeat", "nose_mm", "ear_l_mm", "ear_r_mm", "rotation_deg",
              "nose_own_views_mm", "ear_l_own_views_mm", "ear_r_own_views_mm", "rotation_own_views_deg",
              "mm_per_unit_rel_err", "front_penetration_mm", "contact_shift_mm", "head_pitch_deg", "temple_l_mm",
-             "temple_r_mm", "eye_l_mm", "eye_r_mm", "views_used", "seconds_excl_model_load", "model_load_seconds", "stages", "status"},
+             "temple_r_mm", "eye_l_mm", "eye_r_mm", "views_used", "seconds_excl_model_load", "model_load_seconds",
+             "stages", "status"},
             csv);
   std::vector<ChartSeries> series;
   std::map<std::string, size_t> index;

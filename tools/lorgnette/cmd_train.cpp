@@ -1,7 +1,8 @@
 // `lorgnette train DATA -o MODEL`: loads the training split, chooses the subject box (--box: the
 // dataset's aabb, the alpha-mask hull, the head box from landmarks, or the cameras; see
-// capture/subject_box.h), sizes the model from the data (every value overridable), trains with a progress bar and saves the .lnerf snapshot (also on Ctrl-C;
-// a diverging run keeps its last good snapshot and exits non-zero).
+// capture/subject_box.h), sizes the model from the data (every value overridable), trains with a
+// progress bar and saves the .lnerf snapshot (also on Ctrl-C; a diverging run keeps its last good
+// snapshot and exits non-zero).
 #include <filesystem>
 #include <sstream>
 
