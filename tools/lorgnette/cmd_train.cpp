@@ -121,7 +121,8 @@ void add_train(CLI::App& app, GlobalOptions& global) {
   cmd->add_option("--aabb", a->aabb, "bounding box minx,miny,minz,maxx,maxy,maxz (scene units)");
   cmd->add_option("--box", a->box,
                   "subject box: auto (dataset aabb, else mask hull, else head box from landmarks, else "
-                  "cameras), dataset, masks, head or cameras (default auto; --aabb overrides)");
+                  "cameras), dataset, masks, head or cameras (default auto; --aabb overrides)")
+      ->check(CLI::IsMember({"auto", "dataset", "masks", "head", "cameras"}));  // before loading the data
   cmd->add_option("--aabb-scale", a->aabb_scale, "box size factor for datasets without alpha (default: dataset)");
   cmd->add_option("--finest-res", a->finest, "finest hash-grid resolution");
   cmd->add_option("--log2-table", a->log2_table, "log2 of the hash-table size per level");
