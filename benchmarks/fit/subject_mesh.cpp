@@ -1,0 +1,70 @@
+// Rebuilds a synthetic subject's mesh in a model's frame (see subject_mesh.h).
+#include "subject_mesh.h"
+
+#include <fstream>
+#include <stdexcept>
+
+#include <nlohmann/json.hpp>
+
+#include "mesh/loader.h"
+#include "synth/head_params.h"
+#include "synth/studio_render.h"
+#include "synth/subject.h"
+
+namespace lorgnette::fit {
+namespace {
+
+Eigen::Matrix4f matrix_from_json(const nlohmann::json& j) {
+  Eigen::Matrix4f m;
+  for (int r = 0; r < 4; ++r)
+    for (int c = 0; c < 4; ++c) m(r, c) = j.at(r).at(c).get<float>();
+  return m;
+}
+
+// The mesh lit as in the dataset (synth's studio lighting, fixed in the world frame; the model frame is
+// the dataset frame scaled and shifted, so the light directions carry over) over white: the views
+// dlib sees look like the NeRF's. MeshViewSource's own shading (a light at the camera) is kept with
+// --gt-shading camera.
+class StudioMeshSource : public MeshViewSource {
+ public:
+  using MeshViewSource::MeshViewSource;
+  Image render(const Camera& cam) override {
+    synth::RenderSettings rs;
+    rs.samples_per_axis = 2;
+    rs.background = Eigen::Vector3f(1.0f, 1.0f, 1.0f);
+    Image rgba = synth::render_view(scene(), cam, synth::StudioLighting{}, rs).rgba;
+    Image out(rgba.width, rgba.height, 3);
+    for (size_t i = 0; i < size_t(out.width) * out.height; ++i)
+      for (int c = 0; c < 3; ++c) out.pixels[i * 3 + c] = rgba.pixels[i * 4 + c];
+    return out;
+  }
+};
+
+}  // namespace
+
+std::unique_ptr<MeshViewSource> subject_source(const std::string& dataset, const nerf::NerfModel& model,
+                                               ViewPrior prior, bool studio) {
+  std::ifstream in(dataset + "/ground_truth.json");
+  if (!in)
+    throw std::runtime_error(dataset +
+                             "/ground_truth.json is missing: the case must be a `lorgnette synth` dataset");
+  nlohmann::json gt = nlohmann::json::parse(in);
+  mesh::TriMesh m;
+  if (gt.at("source") == "procedural") {
+    synth::Subject s = synth::procedural_subject(synth::random_head_params(gt.at("seed").get<uint64_t>()));
+    if (s.params != gt.at("params"))
+      throw std::runtime_error("the procedural head of seed " + gt.at("seed").dump() +
+                               " differs from the dataset's");
+    m = std::move(s.mesh);
+  } else {
+    m = mesh::load_mesh(gt.at("source").get<std::string>());
+  }
+  Eigen::Matrix4f to_model = Eigen::Matrix4f::Identity();
+  to_model.topLeftCorner<3, 3>() *= model.normalisation.scale;
+  for (int i = 0; i < 3; ++i) to_model(i, 3) = model.normalisation.offset[i];
+  const Eigen::Matrix4f to_scene = to_model * matrix_from_json(gt.at("mesh_to_dataset"));
+  if (studio) return std::make_unique<StudioMeshSource>(std::move(m), to_scene, prior);
+  return std::make_unique<MeshViewSource>(std::move(m), to_scene, prior);
+}
+
+}  // namespace lorgnette::fit

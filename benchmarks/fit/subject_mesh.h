@@ -1,0 +1,19 @@
+// The synthetic subject's mesh, rebuilt from a `lorgnette synth` dataset's ground_truth.json (the mesh
+// file, or the procedural head from its seed) and placed in a trained model's frame, as a
+// MeshViewSource: the ground-truth geometry that the fit benchmarks compare a NeRF fit against.
+#pragma once
+#include <memory>
+#include <string>
+
+#include "fit/mesh_view_source.h"
+#include "host/nerf/model.h"
+
+namespace lorgnette::fit {
+
+// `studio`: the views are lit as in the dataset (synth's studio lighting, fixed in the world frame)
+// over white, so dlib sees what it sees on the NeRF; otherwise MeshViewSource's camera light.
+// Throws when the dataset has no ground_truth.json or its procedural head differs from the seed's.
+std::unique_ptr<MeshViewSource> subject_source(const std::string& dataset, const nerf::NerfModel& model,
+                                               ViewPrior prior, bool studio);
+
+}  // namespace lorgnette::fit
