@@ -161,6 +161,8 @@ FitResult fit_glasses(ViewSource& source, const GlassesRefPoints& glasses, const
       if (opt.cast_contour) {
         SurfaceCastOptions so;
         so.max_yaw_deg = opt.contour_max_yaw_deg;
+        so.side_tolerance = opt.contour_side_tolerance;
+        so.opacity = opt.contour_opacity;
         so.density_threshold = surface;
         cast_surface_landmarks(source, r.views, r.orbit, so, r.points);
       }

@@ -36,6 +36,8 @@ struct FitOptions {
   int min_views = 3;                  // views with a face needed
   bool cast_contour = true;           // jaw contour (temples) by surface casting, not triangulation
   double contour_max_yaw_deg = 25.0;  // views used for that
+  double contour_side_tolerance = 0.025;  // ... and only those that show the landmark's side (surface_landmarks.h)
+  double contour_opacity = 0.5;       // a contour ray's surface point: opacity reached (0: first density crossing)
   bool snap_to_skin = true;           // move triangulated landmarks along their rays onto the skin
   double snap_reach_mm = 12.0;        // how far (estimated with the mean face's scale)
   double detector_noise_px = 0.0;     // added Gaussian noise on 2D landmarks (stability study)

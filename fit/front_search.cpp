@@ -12,6 +12,7 @@
 
 #include "fit/camera_math.h"
 #include "fit/landmark_ids.h"
+#include "fit/ray_surface.h"
 
 namespace lorgnette::fit {
 
@@ -20,26 +21,6 @@ double face_asymmetry(const FaceDetection& d) {
   double a = std::abs(d.points[lm::kNoseTip].x() - d.points[lm::kTempleR].x());
   double b = std::abs(d.points[lm::kTempleL].x() - d.points[lm::kNoseTip].x());
   return (a + b) > 0 ? (a - b) / (a + b) : 1.0;
-}
-
-bool first_surface_hit(ViewSource& source, const Eigen::Vector3d& origin, const Eigen::Vector3d& dir, double t0,
-                       double t1, float threshold, double* t_hit) {
-  // Coarse pass over [t0, t1], then a fine pass over the step that crossed the threshold.
-  const int n = 512, m = 64;
-  auto sample = [&](double a, double b, int count) {
-    std::vector<Eigen::Vector3f> pts;
-    for (int i = 0; i < count; ++i) pts.push_back((origin + (a + (b - a) * i / (count - 1)) * dir).cast<float>());
-    std::vector<float> d = source.density(pts);
-    for (int i = 0; i < count && i < int(d.size()); ++i)
-      if (d[i] > threshold) return i;
-    return -1;
-  };
-  int i = sample(t0, t1, n);
-  if (i < 0) return false;
-  double step = (t1 - t0) / (n - 1), hi = t0 + step * i, lo = std::max(t0, hi - step);
-  int j = i > 0 ? sample(lo, hi, m) : 0;
-  *t_hit = j >= 0 ? lo + (hi - lo) * j / (m - 1) : hi;
-  return true;
 }
 
 namespace {

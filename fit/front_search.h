@@ -39,9 +39,4 @@ double face_asymmetry(const FaceDetection& d);
 // Throws std::runtime_error naming the yaws tried when no view shows a face.
 FrontSearchResult find_front(ViewSource& source, const LandmarkDetector& detector, const FrontSearchOptions& opt);
 
-// First point along the ray where density exceeds `threshold`, searched in [t0, t1]; returns false
-// when none.
-bool first_surface_hit(ViewSource& source, const Eigen::Vector3d& origin, const Eigen::Vector3d& dir, double t0,
-                       double t1, float threshold, double* t_hit);
-
 }  // namespace lorgnette::fit

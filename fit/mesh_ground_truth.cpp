@@ -24,16 +24,23 @@ GroundTruth mesh_ground_truth(MeshViewSource& source, const std::vector<Camera>&
                               const GlassesRefPoints& glasses, const FitOptions& options) {
   LandmarkDetector detector(options.detector);
   std::vector<std::vector<Eigen::Vector3d>> hits(lm::kCount);
+  std::vector<std::vector<Eigen::Vector3d>> side_hits(lm::kCount);  // jaw contour: from its own side only
   for (const Camera& cam : cameras) {
     FaceDetection d = detector.detect(source.render(cam));
     if (!d.found) continue;
     for (int k = 0; k < lm::kCount; ++k) {
       Ray r = camera_ray(cam, d.points[k]);
       mesh::Hit h = source.cast(r.origin.cast<float>(), r.dir.cast<float>());
-      if (h.hit) hits[k].push_back(h.position.cast<double>());
+      if (!h.hit) continue;
+      hits[k].push_back(h.position.cast<double>());
+      if (contour_side_visible(k, d, options.contour_side_tolerance)) side_hits[k].push_back(hits[k].back());
     }
   }
+  // The fit's rule for the jaw contour (surface_landmarks.h), unless no view shows a landmark's side.
+  for (int k = 0; k < lm::kCount; ++k)
+    if (!side_hits[k].empty()) hits[k] = side_hits[k];
   GroundTruth gt;
+  gt.contour_side_tolerance = options.contour_side_tolerance;
   gt.points.assign(lm::kCount, Eigen::Vector3d::Zero());
   gt.valid.assign(lm::kCount, false);
   for (int k = 0; k < lm::kCount; ++k)

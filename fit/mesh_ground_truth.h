@@ -1,7 +1,8 @@
 // Ground truth for the fit on a mesh head: the same detector on renders of the mesh, each 2D landmark
 // ray cast onto the mesh surface, the hits combined per landmark (component-wise median over the
-// views); from those, the reference placement's f_c, f_l, f_r and head axes, to which a fit is
-// compared (3D errors in mm, rotation error in degrees).
+// views; for the jaw contour, over the views that show its side, as the fit does: FitOptions::
+// contour_side_tolerance, a huge value restores all views); from those, the reference placement's
+// f_c, f_l, f_r and head axes, to which a fit is compared (3D errors in mm, rotation error in degrees).
 #pragma once
 #include <vector>
 
@@ -17,6 +18,7 @@ struct GroundTruth {
   EarPoints ears;
   Eigen::Vector3d f_c = Eigen::Vector3d::Zero();
   Placement placement;
+  double contour_side_tolerance = 0.0;  // the jaw-contour view rule it was made with
 };
 
 // Views at the given yaws (pitch 0) on `orbit`; throws when no view shows a face.

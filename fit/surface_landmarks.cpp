@@ -7,6 +7,7 @@
 
 #include "fit/camera_math.h"
 #include "fit/front_search.h"
+#include "fit/ray_surface.h"
 
 namespace lorgnette::fit {
 
@@ -22,19 +23,31 @@ Eigen::Vector3d component_median(std::vector<Eigen::Vector3d> v) {
   return m;
 }
 
+bool contour_side_visible(int k, const FaceDetection& detection, double tolerance) {
+  if (k < 0 || k > 16 || k == 8) return true;
+  const double a = face_asymmetry(detection);  // > 0: the subject's right half is the wider
+  return k < 8 ? a >= -tolerance : a <= tolerance;
+}
+
 void cast_surface_landmarks(ViewSource& source, const std::vector<ViewRecord>& views, const Orbit& orbit,
                             const SurfaceCastOptions& opt, std::vector<TriangulatedPoint>& points) {
+  const double t0 = opt.near * orbit.distance, t1 = opt.far * orbit.distance;
   for (int k = opt.first; k <= opt.last && k < int(points.size()); ++k) {
+    std::vector<size_t> usable;
+    for (size_t v = 0; v < views.size(); ++v)
+      if (views[v].detection.found && std::abs(views[v].yaw_deg) <= opt.max_yaw_deg) usable.push_back(v);
+    std::vector<size_t> near_side;
+    for (size_t v : usable)
+      if (contour_side_visible(k, views[v].detection, opt.side_tolerance)) near_side.push_back(v);
+    if (!near_side.empty()) usable = near_side;
     std::vector<Eigen::Vector3d> hits;
     std::vector<int> used;
-    for (size_t v = 0; v < views.size(); ++v) {
-      const ViewRecord& view = views[v];
-      if (!view.detection.found || std::abs(view.yaw_deg) > opt.max_yaw_deg) continue;
-      Ray r = camera_ray(view.camera, view.detection.points[k]);
+    for (size_t v : usable) {
+      Ray r = camera_ray(views[v].camera, views[v].detection.points[k]);
       double t = 0.0;
-      if (first_surface_hit(source, r.origin, r.dir, opt.near * orbit.distance, opt.far * orbit.distance,
-                            opt.density_threshold, &t))
-        hits.push_back(r.origin + t * r.dir), used.push_back(int(v));
+      const bool hit = opt.opacity > 0.0 ? opacity_depth(source, r.origin, r.dir, t0, t1, opt.opacity, &t)
+                                         : first_surface_hit(source, r.origin, r.dir, t0, t1, opt.density_threshold, &t);
+      if (hit) hits.push_back(r.origin + t * r.dir), used.push_back(int(v));
     }
     if (hits.empty()) continue;
     TriangulatedPoint p;

@@ -2,8 +2,12 @@
 // (0-16, which holds the temple points 0 and 16) follows the silhouette, so the same index marks
 // different 3D points in different views and its rays do not meet: triangulating them put the
 // temples ~25 mm too far forward on the Lee Perry-Smith scan. Here each such landmark is the
-// component-wise median of the first density hits along its rays from the near-frontal views (the
-// issue's ground-truth rule, with the view source's own density instead of the mesh).
+// component-wise median of its rays' surface points (the ground-truth rule, with the view
+// source's own density instead of the mesh), taken only from the views that turn its side of the
+// face towards the camera. In a view that turns that side away, the point lies on the silhouette:
+// its ray grazes the skin, and a lateral shift of a pixel or a slightly softer surface moves the hit
+// by centimetres along the ray (and onto the ear or the cheek behind). From the near side the ray
+// meets the skin at an angle and the hit is stable (docs/bench/fit-accuracy.md, contour rays).
 #pragma once
 #include <vector>
 
@@ -17,11 +21,22 @@ Eigen::Vector3d component_median(std::vector<Eigen::Vector3d> points);
 struct SurfaceCastOptions {
   int first = 0, last = 16;     // landmark index range (the jaw contour)
   double max_yaw_deg = 25.0;    // only views this close to the front
+  double side_tolerance = 0.025;  // see contour_side_visible
+  // The surface point of a ray: where its opacity reaches this level (0, 1), as a render shows it;
+  // 0 = the first density crossing of density_threshold (stops at a NeRF's haze and floaters).
+  double opacity = 0.5;
   float density_threshold = 10.0f;
   double near = 0.5, far = 1.3; // search range along the ray, as fractions of the orbit distance
 };
 
-// Replaces points[first..last] with surface casts where at least one view hits; others unchanged.
+// Whether a detection shows jaw-contour landmark `k`'s side of the face turned towards the camera:
+// 0-7 are the subject's right, 9-16 the left (by face_asymmetry, the image half-widths), with
+// `tolerance` of asymmetry (0.025 is about 1 deg of yaw) so that a frontal view serves both sides.
+// The chin (8) and landmarks off the contour are visible in every view.
+bool contour_side_visible(int k, const FaceDetection& detection, double tolerance);
+
+// Replaces points[first..last] with surface casts where at least one view hits; others unchanged. A
+// landmark that no view shows from its side (a cap far off the face's front) uses all views.
 void cast_surface_landmarks(ViewSource& source, const std::vector<ViewRecord>& views, const Orbit& orbit,
                             const SurfaceCastOptions& options, std::vector<TriangulatedPoint>& points);
 

@@ -7,7 +7,7 @@
 // (the method's error without the NeRF). Also a per-view profile of rendering vs detection.
 // Usage: bench_fit_nerf OUT_DIR --case NAME MODEL.lnerf DATASET_DIR [--case ...]
 //        [--variants baseline,overlap,hog,crop75,crop65,step15,fast,fast_k8,thr50,...]
-//        [--gt-shading studio|camera]
+//        [--gt-shading studio|camera] [--gt-contour side|all]
 //        [--repeats N] [--glasses FILE] [--debug] [--mesh-only]
 // Writes OUT_DIR/fit_nerf.csv (one row per fit), fit_nerf_profile.csv, fit_nerf_time.png,
 // fit_nerf_training.png (error against training time, for cases named NAME@SECONDS) and, with
@@ -77,6 +77,11 @@ const std::vector<Variant>& all_variants() {
       {"fast", [](FitOptions& o) { fast(o); }},
       {"fast_k8", [](FitOptions& o) { fast(o), o.cap.views = 8; }},
       {"fast_step15", [](FitOptions& o) { fast(o); }, 1.5f},
+      // The jaw contour cast from every view at its first density crossing (the fit before the
+      // near-side views and the opacity depth), and each of the two changes alone.
+      {"contour_all_first", [](FitOptions& o) { fast(o), o.contour_side_tolerance = 1e9, o.contour_opacity = 0.0; }},
+      {"contour_all", [](FitOptions& o) { fast(o), o.contour_side_tolerance = 1e9; }},
+      {"contour_first", [](FitOptions& o) { fast(o), o.contour_opacity = 0.0; }},
       {"thr50", [](FitOptions& o) { fast(o), o.surface_density = 50.0f; }},
       {"thr200", [](FitOptions& o) { fast(o), o.surface_density = 200.0f; }},
       {"thr1000", [](FitOptions& o) { fast(o), o.surface_density = 1000.0f; }},
@@ -105,7 +110,9 @@ Row run_fit(ViewSource& src, const GlassesInput& g, const GroundTruth& gt, const
     if (mesh) {
       std::vector<Camera> cams;
       for (const auto& v : r.views) cams.push_back(v.camera);
-      row.own = compare_fit(r, mesh_ground_truth(*mesh, cams, g.ref, opt));
+      FitOptions gt_opt = opt;  // the same contour rule as the main ground truth
+      gt_opt.contour_side_tolerance = gt.contour_side_tolerance;
+      row.own = compare_fit(r, mesh_ground_truth(*mesh, cams, g.ref, gt_opt));
     }
     for (const auto& [name, s] : r.seconds) {
       if (name == "load_detector")
@@ -226,7 +233,7 @@ int main(int argc, char** argv) {
   std::vector<Case> cases;
   std::string variants = "baseline,fast", glasses = kData + "/glasses/glasses-06/scene.gltf";
   int repeats = 2;
-  bool debug = false, studio = true, mesh_only = false;
+  bool debug = false, studio = true, mesh_only = false, gt_all_views = false;
   for (int i = 2; i < argc; ++i) {
     if (std::strcmp(argv[i], "--case") == 0 && i + 3 < argc)
       cases.push_back({argv[i + 1], argv[i + 2], argv[i + 3]}), i += 3;
@@ -240,6 +247,8 @@ int main(int argc, char** argv) {
       mesh_only = true;
     else if (std::strcmp(argv[i], "--debug") == 0)
       debug = true;
+    else if (std::strcmp(argv[i], "--gt-contour") == 0 && i + 1 < argc)
+      gt_all_views = std::strcmp(argv[++i], "all") == 0;
     else if (std::strcmp(argv[i], "--gt-shading") == 0 && i + 1 < argc)
       studio = std::strcmp(argv[++i], "camera") != 0;
     else
@@ -265,7 +274,9 @@ int main(int argc, char** argv) {
     FitOptions base;
     base.frame_points = g.frame_points;
     FitResult ref = fit_glasses(*mesh_src, g.ref, base);
-    GroundTruth gt = mesh_ground_truth(*mesh_src, ref.orbit, {-20, -10, 0, 10, 20}, g.ref, base);
+    FitOptions gt_opt = base;  // --gt-contour all: the jaw contour from every view (the old rule)
+    if (gt_all_views) gt_opt.contour_side_tolerance = 1e9;
+    GroundTruth gt = mesh_ground_truth(*mesh_src, ref.orbit, {-20, -10, 0, 10, 20}, g.ref, gt_opt);
     std::cerr << fmt::format("{}: ground truth mm/unit {:.2f}, PD {:.1f} mm\n", c.name, gt.head.mm_per_unit,
                              gt.head.pd_mm);
     Row mesh_row = run_fit(*mesh_src, g, gt, base, prior.up);
