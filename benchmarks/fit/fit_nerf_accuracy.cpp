@@ -55,6 +55,7 @@ struct Variant {
   std::string name;
   std::function<void(FitOptions&)> set;
   float step_scale = 1.0f;  // NeRF marching step multiplier (render::RenderOptions)
+  float min_transmittance = 0.0f;  // the views' early termination (0: NerfViewSource's default)
 };
 
 // The speed options compared (DetectorOptions in fit/landmarks_dlib.h; K in FitOptions::cap).
@@ -77,6 +78,7 @@ const std::vector<Variant>& all_variants() {
       {"fast", [](FitOptions& o) { fast(o); }},
       {"fast_k8", [](FitOptions& o) { fast(o), o.cap.views = 8; }},
       {"fast_step15", [](FitOptions& o) { fast(o); }, 1.5f},
+      {"fast_t1e4", [](FitOptions& o) { fast(o); }, 1.0f, 1e-4f},  // render's own early termination
       // The jaw contour cast from every view at its first density crossing (the fit before the
       // near-side views and the opacity depth), and each of the two changes alone.
       {"contour_all_first", [](FitOptions& o) { fast(o), o.contour_side_tolerance = 1e9, o.contour_opacity = 0.0; }},
@@ -269,11 +271,12 @@ int main(int argc, char** argv) {
   for (const Case& c : cases) {
     nerf::NerfModel model = nerf::NerfModel::load(rt, c.model);
     ViewPrior prior = prior_from_transforms(c.dataset + "/transforms.json", model);
-    std::map<float, std::unique_ptr<NerfViewSource>> nerf_srcs;  // one per step scale
-    auto nerf_src = [&](float step_scale) -> NerfViewSource& {
-      auto& p = nerf_srcs[step_scale];
-      render::RenderOptions ro;
+    std::map<std::pair<float, float>, std::unique_ptr<NerfViewSource>> nerf_srcs;  // per render setting
+    auto nerf_src = [&](float step_scale, float min_transmittance = 0.0f) -> NerfViewSource& {
+      auto& p = nerf_srcs[{step_scale, min_transmittance}];
+      render::RenderOptions ro = NerfViewSource::default_render_options();
       ro.step_scale = step_scale;
+      if (min_transmittance > 0.0f) ro.min_transmittance = min_transmittance;
       if (!p) p = std::make_unique<NerfViewSource>(model, prior, ro);
       return *p;
     };
@@ -315,7 +318,7 @@ int main(int argc, char** argv) {
         v.set(o);
         if (debug && rep == 0 && v.name == "fast") o.debug_dir = out + "/" + c.name + "-debug";
         if (!o.debug_dir.empty()) fs::create_directories(o.debug_dir);
-        Row row = run_fit(nerf_src(v.step_scale), g, gt_for(o), o, prior.up, mesh_src.get());
+        Row row = run_fit(nerf_src(v.step_scale, v.min_transmittance), g, gt_for(o), o, prior.up, mesh_src.get());
         row.name = c.name, row.variant = v.name, row.repeat = rep;
         std::cerr << fmt::format(
             "{} {} #{}: nose {:.2f} mm, ears {:.2f}/{:.2f} mm, rot {:.2f} deg (own views: ears {:.2f}/{:.2f}), "
