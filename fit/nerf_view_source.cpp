@@ -16,12 +16,6 @@ NerfViewSource::NerfViewSource(nerf::NerfModel& model, ViewPrior prior, render::
   options_.background = {1.0f, 1.0f, 1.0f};
 }
 
-render::RenderOptions NerfViewSource::default_render_options() {
-  render::RenderOptions o;
-  o.min_transmittance = kViewTransmittance;
-  return o;
-}
-
 Image NerfViewSource::render(const Camera& cam) {
   render::RenderResult r = renderer_.render(model_, cam, nullptr, options_);
   Image out(r.rgba.width, r.rgba.height, 3);

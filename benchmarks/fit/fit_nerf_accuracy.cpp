@@ -55,7 +55,7 @@ struct Variant {
   std::string name;
   std::function<void(FitOptions&)> set;
   float step_scale = 1.0f;  // NeRF marching step multiplier (render::RenderOptions)
-  float min_transmittance = 0.0f;  // the views' early termination (0: NerfViewSource's default)
+  float min_transmittance = 0.0f;  // the views' early termination (0: the renderer's default)
 };
 
 // The speed options compared (DetectorOptions in fit/landmarks_dlib.h; K in FitOptions::cap).
@@ -78,7 +78,7 @@ const std::vector<Variant>& all_variants() {
       {"fast", [](FitOptions& o) { fast(o); }},
       {"fast_k8", [](FitOptions& o) { fast(o), o.cap.views = 8; }},
       {"fast_step15", [](FitOptions& o) { fast(o); }, 1.5f},
-      {"fast_t1e4", [](FitOptions& o) { fast(o); }, 1.0f, 1e-4f},  // render's own early termination
+      {"fast_t4e3", [](FitOptions& o) { fast(o); }, 1.0f, 1.0f / 255.0f},  // stop below one 8-bit level
       // The jaw contour cast from every view at its first density crossing (the fit before the
       // near-side views and the opacity depth), and each of the two changes alone.
       {"contour_all_first", [](FitOptions& o) { fast(o), o.contour_side_tolerance = 1e9, o.contour_opacity = 0.0; }},
@@ -274,7 +274,7 @@ int main(int argc, char** argv) {
     std::map<std::pair<float, float>, std::unique_ptr<NerfViewSource>> nerf_srcs;  // per render setting
     auto nerf_src = [&](float step_scale, float min_transmittance = 0.0f) -> NerfViewSource& {
       auto& p = nerf_srcs[{step_scale, min_transmittance}];
-      render::RenderOptions ro = NerfViewSource::default_render_options();
+      render::RenderOptions ro;
       ro.step_scale = step_scale;
       if (min_transmittance > 0.0f) ro.min_transmittance = min_transmittance;
       if (!p) p = std::make_unique<NerfViewSource>(model, prior, ro);
