@@ -9,8 +9,9 @@
 //        [--variants baseline,overlap,hog,crop75,crop65,step15,fast,fast_k8,thr50,...]
 //        [--gt-shading studio|camera] [--gt-contour side|all] [--gt-yaws a,b,...]
 //        [--repeats N] [--glasses FILE] [--debug] [--mesh-only]
+//        bench_fit_nerf OUT_DIR --replot EARLIER/fit_nerf.csv   (the charts again, from a CSV)
 // Writes OUT_DIR/fit_nerf.csv (one row per fit), fit_nerf_profile.csv, fit_nerf_time.png,
-// fit_nerf_training.png (error against training time, for cases named NAME@SECONDS) and, with
+// fit_nerf_training.png (error against training time, for cases named NAME@N, N seconds or steps) and, with
 // --debug, the annotated views of the first fast fit per case in OUT_DIR/<case>-debug/. --mesh-only
 // fits the mesh alone (the ground-truth geometry: head pitch, contact slide) and skips the NeRF.
 #include <algorithm>
@@ -23,6 +24,7 @@
 #include <functional>
 #include <iostream>
 #include <map>
+#include <sstream>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -172,19 +174,49 @@ void write_rows(const std::string& out, const std::vector<Row>& rows) {
   if (!series.empty())
     write_chart(out + "/fit_nerf_time.png",
                 {"Fit time on a NeRF per variant (excl. dlib model load)", "repeat", "s"}, series);
-  // Cases named NAME@SECONDS (the same head trained for different times): error against training time.
-  std::vector<ChartSeries> trained{{"nose mm", {}, {}}, {"ear l mm", {}, {}}, {"ear r mm", {}, {}},
-                                   {"rotation deg", {}, {}}};
+  // Cases named NAME@N (the same head trained for N seconds or steps): error against training, one
+  // line per quantity and variant.
+  std::vector<ChartSeries> trained;
+  std::map<std::string, size_t> line;
   for (const auto& r : rows) {
     size_t at = r.name.rfind('@');
     if (at == std::string::npos || r.repeat != 0 || r.variant == "mesh" || !r.error.empty()) continue;
     double x = std::atof(r.name.c_str() + at + 1);
-    double y[4] = {r.e.nose_mm, r.e.ear_l_mm, r.e.ear_r_mm, r.e.rotation_deg};
-    for (int k = 0; k < 4; ++k) trained[k].x.push_back(x), trained[k].y.push_back(y[k]);
+    const std::pair<const char*, double> ys[4] = {
+        {"nose mm", r.e.nose_mm}, {"ear l mm", r.e.ear_l_mm}, {"ear r mm", r.e.ear_r_mm}, {"rotation deg", r.e.rotation_deg}};
+    for (const auto& [what, y] : ys) {
+      std::string key = std::string(what) + " " + r.variant;
+      if (!line.count(key)) line[key] = trained.size(), trained.push_back({key, {}, {}});
+      trained[line[key]].x.push_back(x), trained[line[key]].y.push_back(y);
+    }
   }
-  if (!trained[0].x.empty())
+  if (!trained.empty())
     write_chart(out + "/fit_nerf_training.png",
-                {"Fit error against NeRF training time", "training s", "error (mm, deg)"}, trained);
+                {"Fit error against NeRF training", "training (the N of case NAME@N: seconds or steps)",
+                 "error (mm, deg)"}, trained);
+}
+
+// --replot CSV: the rows of an earlier run (its fit_nerf.csv) for redrawing the charts.
+std::vector<Row> read_rows(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error("cannot read " + path + ": give the fit_nerf.csv of an earlier run");
+  std::vector<Row> rows;
+  std::string text;
+  std::getline(in, text);  // header (write_rows' column order)
+  while (std::getline(in, text)) {
+    std::vector<std::string> f;
+    std::stringstream ss(text);
+    for (std::string cell; std::getline(ss, cell, ',');) f.push_back(cell);
+    if (f.size() < 24) throw std::runtime_error(path + ": a row has " + std::to_string(f.size()) + " columns, not 24");
+    Row r;
+    r.name = f[0], r.variant = f[1], r.repeat = std::atoi(f[2].c_str());
+    r.e.nose_mm = std::atof(f[3].c_str()), r.e.ear_l_mm = std::atof(f[4].c_str());
+    r.e.ear_r_mm = std::atof(f[5].c_str()), r.e.rotation_deg = std::atof(f[6].c_str());
+    r.seconds = std::atof(f[20].c_str());
+    if (f.back() != "ok") r.error = f.back();
+    rows.push_back(r);
+  }
+  return rows;
 }
 
 // Per view of a cap: full and cropped (0.75) rendering, full-resolution and hinted detection, and
@@ -240,6 +272,7 @@ int main(int argc, char** argv) {
   int repeats = 2;
   bool debug = false, studio = true, mesh_only = false, gt_all_views = false;
   std::vector<double> gt_yaws = {-20, -10, 0, 10, 20};
+  std::string replot;
   for (int i = 2; i < argc; ++i) {
     if (std::strcmp(argv[i], "--case") == 0 && i + 3 < argc)
       cases.push_back({argv[i + 1], argv[i + 2], argv[i + 3]}), i += 3;
@@ -249,6 +282,8 @@ int main(int argc, char** argv) {
       repeats = std::atoi(argv[++i]);
     else if (std::strcmp(argv[i], "--glasses") == 0 && i + 1 < argc)
       glasses = argv[++i];
+    else if (std::strcmp(argv[i], "--replot") == 0 && i + 1 < argc)
+      replot = argv[++i];
     else if (std::strcmp(argv[i], "--mesh-only") == 0)
       mesh_only = true;
     else if (std::strcmp(argv[i], "--debug") == 0)
@@ -264,6 +299,12 @@ int main(int argc, char** argv) {
       return std::cerr << "unknown argument " << argv[i] << "\n", 2;
   }
   fs::create_directories(out);
+  if (!replot.empty()) {
+    if (fs::exists(out + "/fit_nerf.csv") && fs::equivalent(replot, out + "/fit_nerf.csv"))
+      return std::cerr << "--replot: give an OUT_DIR other than the CSV's own folder (it is rewritten)\n", 2;
+    write_rows(out, read_rows(replot));
+    return 0;
+  }
   cl::Runtime rt;
   GlassesInput g = load_glasses_input(glasses, 2000);
   std::vector<Row> rows;
