@@ -1,6 +1,8 @@
 // Study (not a benchmark): where the jaw-contour rays (dlib 0/16 = the temples) meet a NeRF and
 // the subject's mesh. Per level view at each yaw: the density intervals along the ray through the
-// detected point, in the ground truth's head frame (mm from f_c: x = d_eye, y = d_up, z = d_fwd).
+// detected point (M@m: mesh at the mesh's detection, N@m / N@n: NeRF at the mesh's / NeRF's
+// detection) and the NeRF's opacity-0.5 depth (O@m / O@n), in the ground truth's head frame (mm from
+// f_c: x = d_eye, y = d_up, z = d_fwd).
 // Usage: contour_study --case MODEL DATASET
 #include <cmath>
 #include <cstring>
@@ -15,6 +17,7 @@
 #include "fit/landmark_ids.h"
 #include "fit/mesh_ground_truth.h"
 #include "fit/nerf_view_source.h"
+#include "fit/ray_surface.h"
 #include "subject_mesh.h"
 
 using namespace lorgnette;
@@ -39,25 +42,6 @@ std::vector<Interval> intervals(ViewSource& s, const Ray& r, double t0, double t
     else if (inside && d[i] <= thr) out.back().out = t, inside = false;
   }
   return out;
-}
-
-// Depth where the accumulated opacity along the ray reaches `level` (the volume-rendering surface).
-bool opacity_depth(ViewSource& s, const Ray& r, double t0, double t1, double level, double* t) {
-  const int n = 4096;
-  std::vector<Eigen::Vector3f> p;
-  for (int i = 0; i < n; ++i) p.push_back((r.origin + (t0 + (t1 - t0) * i / (n - 1)) * r.dir).cast<float>());
-  std::vector<float> d = s.density(p);
-  const double dt = (t1 - t0) / (n - 1), target = -std::log(1.0 - level);
-  double tau = 0.0;
-  for (int i = 1; i < n; ++i) {
-    double step = 0.5 * (d[i - 1] + d[i]) * dt;
-    if (tau + step >= target) {
-      *t = t0 + dt * (i - 1 + (target - tau) / step);
-      return true;
-    }
-    tau += step;
-  }
-  return false;
 }
 
 }  // namespace
