@@ -93,7 +93,7 @@ int main(int argc, char** argv) {
                                    std::tuple{"O@n", (ViewSource*)&nerf, dn.points[k]}}) {
         Ray r = camera_ray(cam, uv);
         double t = 0;
-        if (opacity_depth(*src, r, t0, t1, 0.5, &t)) line += fmt::format(" | {} {}", name, head(r.origin + t * r.dir));
+        if (opacity_depth(*src, r.origin, r.dir, t0, t1, 0.5, &t)) line += fmt::format(" | {} {}", name, head(r.origin + t * r.dir));
       }
       std::cout << line << "\n";
     }
