@@ -32,14 +32,14 @@ bool contour_side_visible(int k, const FaceDetection& detection, double toleranc
 void cast_surface_landmarks(ViewSource& source, const std::vector<ViewRecord>& views, const Orbit& orbit,
                             const SurfaceCastOptions& opt, std::vector<TriangulatedPoint>& points) {
   const double t0 = opt.near * orbit.distance, t1 = opt.far * orbit.distance;
+  std::vector<size_t> in_range;  // views with a face within max_yaw_deg
+  for (size_t v = 0; v < views.size(); ++v)
+    if (views[v].detection.found && std::abs(views[v].yaw_deg) <= opt.max_yaw_deg) in_range.push_back(v);
   for (int k = opt.first; k <= opt.last && k < int(points.size()); ++k) {
     std::vector<size_t> usable;
-    for (size_t v = 0; v < views.size(); ++v)
-      if (views[v].detection.found && std::abs(views[v].yaw_deg) <= opt.max_yaw_deg) usable.push_back(v);
-    std::vector<size_t> near_side;
-    for (size_t v : usable)
-      if (contour_side_visible(k, views[v].detection, opt.side_tolerance)) near_side.push_back(v);
-    if (!near_side.empty()) usable = near_side;
+    for (size_t v : in_range)
+      if (contour_side_visible(k, views[v].detection, opt.side_tolerance)) usable.push_back(v);
+    if (usable.empty()) usable = in_range;
     std::vector<Eigen::Vector3d> hits;
     std::vector<int> used;
     for (size_t v : usable) {

@@ -142,6 +142,8 @@ Row run_fit(ViewSource& src, const GlassesInput& g, const GroundTruth& gt, const
   return row;
 }
 
+void write_charts(const std::string& out, const std::vector<Row>& rows);
+
 void write_rows(const std::string& out, const std::vector<Row>& rows) {
   std::vector<std::vector<std::string>> csv;
   for (const auto& r : rows)
@@ -163,6 +165,11 @@ void write_rows(const std::string& out, const std::vector<Row>& rows) {
              "temple_r_mm", "eye_l_mm", "eye_r_mm", "views_used", "seconds_excl_model_load", "model_load_seconds",
              "stages", "status"},
             csv);
+  write_charts(out, rows);
+}
+
+// The time chart and, for cases named NAME@N, the error-against-training chart.
+void write_charts(const std::string& out, const std::vector<Row>& rows) {
   std::vector<ChartSeries> series;
   std::map<std::string, size_t> index;
   for (const auto& r : rows) {
@@ -196,7 +203,7 @@ void write_rows(const std::string& out, const std::vector<Row>& rows) {
                  "error (mm, deg)"}, trained);
 }
 
-// --replot CSV: the rows of an earlier run (its fit_nerf.csv) for redrawing the charts.
+// --replot CSV: the rows of an earlier run (its fit_nerf.csv), with the columns the charts need.
 std::vector<Row> read_rows(const std::string& path) {
   std::ifstream in(path);
   if (!in) throw std::runtime_error("cannot read " + path + ": give the fit_nerf.csv of an earlier run");
@@ -299,10 +306,12 @@ int main(int argc, char** argv) {
       return std::cerr << "unknown argument " << argv[i] << "\n", 2;
   }
   fs::create_directories(out);
-  if (!replot.empty()) {
-    if (fs::exists(out + "/fit_nerf.csv") && fs::equivalent(replot, out + "/fit_nerf.csv"))
-      return std::cerr << "--replot: give an OUT_DIR other than the CSV's own folder (it is rewritten)\n", 2;
-    write_rows(out, read_rows(replot));
+  if (!replot.empty()) {  // charts only: the CSV is not rewritten
+    try {
+      write_charts(out, read_rows(replot));
+    } catch (const std::exception& ex) {
+      return std::cerr << "--replot: " << ex.what() << "\n", 1;
+    }
     return 0;
   }
   cl::Runtime rt;
