@@ -15,15 +15,10 @@
 #include "fit/debug_draw.h"
 #include "fit/front_search.h"
 #include "fit/landmark_ids.h"
+#include "fit/mean_face.h"
 #include "fit/surface_landmarks.h"
 
-#ifndef LGN_MEAN_FACE_PATH
-#define LGN_MEAN_FACE_PATH "faces/mean-face-68.txt"
-#endif
-
 namespace lorgnette::fit {
-
-std::string default_mean_face_path() { return LGN_MEAN_FACE_PATH; }
 
 double FitResult::total_seconds() const {
   double s = 0.0;
@@ -136,7 +131,7 @@ void summarise(FitResult& r, const FitOptions& opt) {
 
 FitResult fit_glasses(ViewSource& source, const GlassesRefPoints& glasses, const FitOptions& opt) {
   FitResult r;
-  Face68 mean_face = load_mean_face(opt.mean_face_path);
+  Face68 mean_face = mean_face_or_builtin(opt.mean_face_path);
   const float surface = opt.surface_density > 0.0f ? opt.surface_density : source.surface_density();
   std::unique_ptr<LandmarkDetector> detector;
   {

@@ -21,9 +21,6 @@
 
 namespace lorgnette::fit {
 
-// The mean face shipped with the team data (LORGNETTE_DATA_DIR at build time); overridable.
-std::string default_mean_face_path();
-
 struct FitOptions {
   CapOptions cap;                     // K views and the yaw/pitch range around the front
   int width = 384, height = 384;      // view resolution (pixels)
@@ -42,7 +39,7 @@ struct FitOptions {
   double snap_reach_mm = 12.0;        // how far (estimated with the mean face's scale)
   double detector_noise_px = 0.0;     // added Gaussian noise on 2D landmarks (stability study)
   unsigned seed = 1;
-  std::string mean_face_path = default_mean_face_path();
+  std::string mean_face_path;         // empty: the built-in mean face (mean_face.h)
   double alpha = 0.5;                 // Eq. 3
   double nose_blend = 0.5;            // f_c between dlib 27 (0) and 28 (1)
   ScalePolicy scale_policy = ScalePolicy::kStretch;

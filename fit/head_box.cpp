@@ -13,6 +13,7 @@
 
 #include "fit/fit.h"
 #include "fit/landmark_ids.h"
+#include "fit/mean_face.h"
 
 namespace lorgnette::fit {
 namespace {
@@ -57,12 +58,6 @@ ViewRecord detect_photo(const PosedPhoto& photo, const LandmarkDetector& det, in
   for (auto& p : v.detection.points) p *= scale;  // continuous pixel coordinates scale exactly
   v.detection.box *= scale;
   return v;
-}
-
-// The team's mean face (the same file as fit::default_mean_face_path(), named here so this file
-// does not pull in the whole fit pipeline).
-std::string mean_face_path(const HeadBoxOptions& opt) {
-  return opt.mean_face_path.empty() ? std::string(LGN_MEAN_FACE_PATH) : opt.mean_face_path;
 }
 
 std::string no_face_message(int tried, int found, int needed) {
@@ -135,14 +130,14 @@ HeadBox estimate_head_box(const std::vector<PosedPhoto>& photos, const HeadBoxOp
   for (const auto& q : pts) p.push_back(q.position), valid.push_back(q.ok), ok += q.ok;
   HeadFrame head;
   try {
-    head = estimate_head_frame(p, valid, load_mean_face(mean_face_path(opt)));
+    head = estimate_head_frame(p, valid, mean_face_or_builtin(opt.mean_face_path));
   } catch (const std::exception& e) {
     throw std::runtime_error(fmt::format("head box: faces in {} of {} photos, but the landmarks do not give a "
                                          "head frame ({}): {}", found, tried, e.what(), kWhatToDo));
   }
   // Anchor: the outer-corner midpoint at eye level, at the inner corners' depth. From the triangulated
   // corners: their centroid, moved forward by the mean face's offset between the two depths.
-  Face68 mean = load_mean_face(mean_face_path(opt));
+  Face68 mean = mean_face_or_builtin(opt.mean_face_path);
   const int corners[4] = {lm::kEyeOuterR, lm::kEyeInnerR, lm::kEyeInnerL, lm::kEyeOuterL};
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero(), mean_centroid = Eigen::Vector3d::Zero();
   for (int k : corners) {

@@ -24,7 +24,7 @@ namespace lorgnette::fit {
 // corners, y = eye level (mean height of the four eye corners), z = the inner eye corners' depth.
 // Sources: ANSUR II (Gordon et al. 2014, US Army anthropometric survey; means men / women) for
 // head breadth and length; Farkas, "Anthropometry of the Head and Face" (1994) for facial heights
-// and nose projection; the team's 68-point mean face (faces/mean-face-68.txt) for where the eye
+// and nose projection; the 68-point mean face (fit/mean_face.h) for where the eye
 // corners, the chin and the nose tip sit. Values are about the 99th percentile of adult men, so
 // ordinary heads (and a +-10 % error of the mean-face scale) fit inside; the margins then add what
 // the skull measurements leave out.
@@ -57,7 +57,7 @@ struct HeadBoxOptions {
   int detect_max_side = 640;  // photos are shrunk to this for detection (faces in head captures are large)
   DetectorOptions detector;
   TriangulateOptions triangulate;
-  std::string mean_face_path;  // empty: the team's mean face (fit::default_mean_face_path())
+  std::string mean_face_path;  // empty: the built-in mean face (fit/mean_face.h)
   HeadExtents extents;
 };
 

@@ -2,7 +2,6 @@
 #include "fit/head_frame.h"
 
 #include <cmath>
-#include <fstream>
 #include <stdexcept>
 
 #include <Eigen/Dense>
@@ -12,20 +11,6 @@
 #include "fit/landmark_ids.h"
 
 namespace lorgnette::fit {
-
-Face68 load_mean_face(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw std::runtime_error(fmt::format("cannot open the mean face '{}'", path));
-  std::vector<double> v;
-  double x;
-  while (in >> x) v.push_back(x);
-  if (v.size() != 3 * lm::kCount)
-    throw std::runtime_error(fmt::format("mean face '{}': expected 204 numbers (68 x, y, z), found {}", path, v.size()));
-  Face68 face(lm::kCount);
-  // File frame: x image-right (= wearer's left), y down, z into the face -> flip y and z.
-  for (int i = 0; i < lm::kCount; ++i) face[i] = Eigen::Vector3d(v[i], -v[68 + i], -v[136 + i]);
-  return face;
-}
 
 SimilarityFit procrustes(const std::vector<Eigen::Vector3d>& src, const std::vector<Eigen::Vector3d>& dst) {
   if (src.size() != dst.size() || src.size() < 3)

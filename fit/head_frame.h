@@ -13,10 +13,6 @@ namespace lorgnette::fit {
 // 68 points in millimetres in the head frame (x left, y up, z forward out of the face).
 using Face68 = std::vector<Eigen::Vector3d>;
 
-// Reads the mean face file (204 numbers: all x, all y, all z; mm, x towards image right, y down,
-// z away from the viewer) and converts it to the head frame. Throws naming the file when malformed.
-Face68 load_mean_face(const std::string& path);
-
 struct SimilarityFit {
   double scale = 1.0;                              // scene units per mm
   Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();  // head frame -> scene

@@ -9,6 +9,7 @@
 
 #include "fit/camera_math.h"
 #include "fit/landmark_ids.h"
+#include "fit/mean_face.h"
 #include "fit/surface_landmarks.h"
 
 namespace lorgnette::fit {
@@ -47,7 +48,7 @@ GroundTruth mesh_ground_truth(MeshViewSource& source, const std::vector<Camera>&
     if (!hits[k].empty()) gt.points[k] = component_median(hits[k]), gt.valid[k] = true;
   if (std::count(gt.valid.begin(), gt.valid.end(), true) < 40)
     throw std::runtime_error("ground truth: the detector found no face on the mesh renders");
-  gt.head = estimate_head_frame(gt.points, gt.valid, load_mean_face(options.mean_face_path));
+  gt.head = estimate_head_frame(gt.points, gt.valid, mean_face_or_builtin(options.mean_face_path));
   const auto& P = gt.points;
   gt.f_c = nose_point(P[lm::kNoseBridgeTop], P[lm::kNoseBridge2], options.nose_blend);
   EarInputs ei{P[lm::kEyeOuterL], P[lm::kEyeOuterR], P[lm::kTempleL], P[lm::kTempleR], gt.head.d_up, gt.head.d_fwd};

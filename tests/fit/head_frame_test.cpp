@@ -2,17 +2,22 @@
 // of the axes, the scale (mm per unit) and the PD; with noise, within stated tolerances.
 #include "fit/head_frame.h"
 
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
 #include <random>
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
 #include "fit/landmark_ids.h"
+#include "fit/mean_face.h"
 
 namespace lorgnette::fit {
 namespace {
 
-const std::string kMeanFace = std::string(LORGNETTE_DATA_DIR) + "/faces/mean-face-68.txt";
+const std::string kTeamMeanFace = std::string(LORGNETTE_DATA_DIR) + "/faces/mean-face-68.txt";
 
 struct Moved {
   std::vector<Eigen::Vector3d> pts;
@@ -33,7 +38,7 @@ Moved move(const Face68& f, double noise_mm, unsigned seed) {
 }
 
 TEST(MeanFace, LoadsInTheHeadFrame) {
-  Face68 f = load_mean_face(kMeanFace);
+  Face68 f = builtin_mean_face();
   ASSERT_EQ(f.size(), 68u);
   EXPECT_GT(f[lm::kEyeOuterL].x(), 40.0);  // wearer's left is +x
   EXPECT_GT(f[27].y(), f[33].y());         // bridge above the nose base: y up
@@ -41,8 +46,40 @@ TEST(MeanFace, LoadsInTheHeadFrame) {
   EXPECT_THROW(load_mean_face("/nonexistent/mean.txt"), std::runtime_error);
 }
 
+// The built-in table is the team's mean-face file, number for number (the file has 6 decimals).
+TEST(MeanFace, BuiltInEqualsTheTeamFile) {
+  if (!std::filesystem::exists(kTeamMeanFace)) GTEST_SKIP() << "team data not found: " << kTeamMeanFace;
+  Face68 file = load_mean_face(kTeamMeanFace), built = builtin_mean_face();
+  ASSERT_EQ(file.size(), built.size());
+  for (size_t i = 0; i < file.size(); ++i) EXPECT_LT((file[i] - built[i]).norm(), 1e-9) << "landmark " << i;
+}
+
+// A file in the documented layout (all x, all y, all z; y down, z away) reads back to the same points,
+// and an empty path means the built-in face; a file with too few numbers is refused by name.
+TEST(MeanFace, FileRoundTripAndErrors) {
+  const Face68& f = builtin_mean_face();
+  std::string path = std::string(LORGNETTE_TEST_TMP) + "/mean-face-roundtrip.txt";
+  {
+    std::ofstream out(path);
+    out.precision(17);
+    for (int axis = 0; axis < 3; ++axis)
+      for (const auto& p : f) out << (axis == 0 ? p.x() : -p[axis]) << "\n";
+  }
+  Face68 back = mean_face_or_builtin(path);
+  for (size_t i = 0; i < f.size(); ++i) EXPECT_LT((back[i] - f[i]).norm(), 1e-12) << "landmark " << i;
+  EXPECT_LT((mean_face_or_builtin("")[lm::kNoseTip] - f[lm::kNoseTip]).norm(), 1e-15);
+  { std::ofstream(path) << "1 2 3\n"; }
+  try {
+    load_mean_face(path);
+    FAIL() << "expected an error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("found 3"), std::string::npos) << e.what();
+  }
+  std::remove(path.c_str());
+}
+
 TEST(Procrustes, ExactSimilarity) {
-  Face68 f = load_mean_face(kMeanFace);
+  Face68 f = builtin_mean_face();
   Moved m = move(f, 0.0, 1);
   SimilarityFit s = procrustes(f, m.pts);
   EXPECT_NEAR(s.scale, m.s, 1e-12);
@@ -56,7 +93,7 @@ TEST(Procrustes, CollinearThrows) {
 }
 
 TEST(HeadFrame, AxesScaleAndPdExact) {
-  Face68 f = load_mean_face(kMeanFace);
+  Face68 f = builtin_mean_face();
   Moved m = move(f, 0.0, 1);
   HeadFrame h = estimate_head_frame(m.pts, std::vector<bool>(68, true), f);
   EXPECT_NEAR(h.mm_per_unit, 57.0, 1e-9);
@@ -74,7 +111,7 @@ TEST(HeadFrame, AxesScaleAndPdExact) {
 }
 
 TEST(HeadFrame, NoisyLandmarks) {
-  Face68 f = load_mean_face(kMeanFace);
+  Face68 f = builtin_mean_face();
   Moved m = move(f, 1.0, 5);  // 1 mm landmark noise
   HeadFrame h = estimate_head_frame(m.pts, std::vector<bool>(68, true), f);
   // 31 points with 1 mm noise over a ~90 mm face: scale within 2 %, forward within 2 deg.
@@ -83,7 +120,7 @@ TEST(HeadFrame, NoisyLandmarks) {
 }
 
 TEST(HeadFrame, TooFewLandmarksExplains) {
-  Face68 f = load_mean_face(kMeanFace);
+  Face68 f = builtin_mean_face();
   std::vector<bool> valid(68, false);
   valid[36] = valid[45] = true;
   try {
