@@ -30,6 +30,12 @@ std::string temp_name(const std::string& path) {
 
 }  // namespace
 
+std::string decode_error_text(std::string text) {
+  while (!text.empty() && (text.back() == '\n' || text.back() == ' ')) text.pop_back();
+  for (size_t i = text.find('\n'); i != std::string::npos; i = text.find('\n', i)) text.replace(i, 1, "; ");
+  return text.empty() ? "the decoder gave no reason" : text;
+}
+
 float srgb_to_linear(float c) {
   return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
 }
@@ -49,8 +55,12 @@ Image read_image(const std::string& path) {
   if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
     throw std::runtime_error(fmt::format("image '{}' has no pixels", path));
   Image img(spec.width, spec.height, spec.nchannels);
-  if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, img.pixels.data()))
-    throw std::runtime_error(fmt::format("image '{}' is corrupt or truncated: {}", path, in->geterror()));
+  // A JPEG cut inside its scan data decodes "successfully" (the missing rows come back grey) with
+  // only a recorded error, so the error state is checked as well as the return value.
+  bool ok = in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, img.pixels.data());
+  if (!ok || in->has_error())
+    throw std::runtime_error(
+        fmt::format("image '{}' is corrupt or truncated: {}", path, decode_error_text(in->geterror())));
   bool encoded = spec.format.basetype == OIIO::TypeDesc::UINT8 || spec.format.basetype == OIIO::TypeDesc::UINT16;
   if (encoded) {
     int colour = std::min(spec.nchannels, 3);

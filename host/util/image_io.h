@@ -33,8 +33,12 @@ struct Image {
 float srgb_to_linear(float c);
 float linear_to_srgb(float c);
 
-// Throws std::runtime_error naming the file and what is wrong (missing, unreadable, corrupt).
+// Throws std::runtime_error naming the file and what is wrong (missing, unreadable, corrupt or
+// truncated: a decode that reports an error counts as failed even when it returned pixels).
 Image read_image(const std::string& path);
+
+// An OpenImageIO error text (often several lines) as one line for a message; a placeholder when empty.
+std::string decode_error_text(std::string text);
 // Format from the extension: .png/.jpg (sRGB, 8-bit; alpha kept for PNG), .exr/.hdr (linear float).
 void write_image(const std::string& path, const Image& image);
 

@@ -196,6 +196,64 @@ TEST(DatasetValidation, CorruptImage) {
   EXPECT_HAS(load_error(dir, cams_only), "f_102.png");
 }
 
+namespace {
+
+// A dataset of n 192x192 noisy RGB frames (noise so the files do not compress to a few hundred
+// bytes, and a cut really removes pixel data); `ext` is ".png" or ".jpg".
+std::string make_noisy_dataset(const std::string& name, int n, const std::string& ext) {
+  fs::path dir = fs::path(LORGNETTE_TEST_TMP) / "dataset" / name;
+  fs::remove_all(dir);
+  fs::create_directories(dir / "images");
+  std::vector<Camera> cams;
+  std::vector<std::string> files;
+  uint32_t state = 12345u;
+  for (int i = 0; i < n; ++i) {
+    Image img(192, 192, 3);
+    for (float& v : img.pixels) v = ((state = state * 1664525u + 1013904223u) >> 8) / 16777216.0f;
+    std::string file = "images/g_" + std::to_string(i) + ext;
+    write_image((dir / file).string(), img);
+    Camera c = test_camera(i);
+    c.width = c.height = 192;
+    c.cx = c.cy = 96.0f;
+    cams.push_back(c);
+    files.push_back(file);
+  }
+  write_transforms_json(dir.string(), cams, files);
+  return dir.string();
+}
+
+// Keeps the first `bytes` bytes of a file.
+void truncate_file(const fs::path& path, size_t bytes) {
+  ASSERT_GT(fs::file_size(path), bytes);
+  fs::resize_file(path, bytes);
+}
+
+}  // namespace
+
+TEST(DatasetValidation, TruncatedPngIsAnErrorNamingFileAndFrame) {
+  std::string dir = make_noisy_dataset("truncated_png", 3, ".png");
+  ASSERT_EQ(load_dataset(dir).frames.size(), 3u);  // intact, it loads
+  truncate_file(fs::path(dir) / "images/g_1.png", 300);
+  std::string msg = load_error(dir);
+  EXPECT_HAS(msg, "g_1.png");
+  EXPECT_HAS(msg, "frame 1");
+  EXPECT_HAS(msg, "truncated");
+  EXPECT_HAS(msg, "remove the frame");
+}
+
+TEST(DatasetValidation, TruncatedJpegIsAnErrorNamingFileAndFrame) {
+  // libjpeg decodes a JPEG cut inside its scan data without failing (the rest of the image comes
+  // back grey) and only records a warning: the loader must look at that error state.
+  std::string dir = make_noisy_dataset("truncated_jpg", 3, ".jpg");
+  ASSERT_EQ(load_dataset(dir).frames.size(), 3u);
+  fs::path jpg = fs::path(dir) / "images/g_2.jpg";
+  truncate_file(jpg, fs::file_size(jpg) / 2);
+  std::string msg = load_error(dir);
+  EXPECT_HAS(msg, "g_2.jpg");
+  EXPECT_HAS(msg, "frame 2");
+  EXPECT_HAS(msg, "truncated");
+}
+
 TEST(DatasetValidation, ImageSizeDiffersFromIntrinsics) {
   std::string dir = make_dataset("size", 2, [](json& d) { d["w"] = 20; });
   std::string msg = load_error(dir);
