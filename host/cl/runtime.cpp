@@ -82,11 +82,11 @@ void Runtime::finish() const { LGN_CL_CHECK(clFinish(queue_.get())); }
 
 cl_program Runtime::program(const std::string& root_file, const std::string& options) {
   std::string full_options = default_build_options(device_) + " " + options;
-  std::string source = assemble_kernel_source(root_file);
+  AssembledSource source = assemble_kernel_source_mapped(root_file);
   std::string memo_key = root_file + "\n" + full_options;
   if (auto it = programs_.find(memo_key); it != programs_.end()) return it->second.get();
 
-  uint64_t key = fnv1a(source);
+  uint64_t key = fnv1a(source.text);
   key = fnv1a(full_options, key);
   key = fnv1a(device_.name + "|" + device_.version + "|" + device_.driver_version, key);
   std::string path;
@@ -111,16 +111,16 @@ cl_program Runtime::program(const std::string& root_file, const std::string& opt
   return raw;
 }
 
-ProgramHandle Runtime::build_from_source(const std::string& source, const std::string& options) {
-  const char* text = source.c_str();
-  size_t len = source.size();
+ProgramHandle Runtime::build_from_source(const AssembledSource& source, const std::string& options) {
+  const char* text = source.text.c_str();
+  size_t len = source.text.size();
   cl_int err = CL_SUCCESS;
   ProgramHandle prog(clCreateProgramWithSource(context_.get(), 1, &text, &len, &err));
   LGN_CL_CHECK(err);
   err = clBuildProgram(prog.get(), 1, &device_.id, options.c_str(), nullptr, nullptr);
   if (err != CL_SUCCESS) {
     throw Error(fmt::format("OpenCL kernel compilation failed on {} with options '{}':\n{}",
-                            device_.name, options, build_log(prog.get(), device_.id)),
+                            device_.name, options, map_build_log(build_log(prog.get(), device_.id), source.lines)),
                 err);
   }
   return prog;

@@ -8,6 +8,7 @@
 
 #include "host/cl/device.h"
 #include "host/cl/handles.h"
+#include "host/cl/kernel_sources.h"
 
 namespace lorgnette::cl {
 
@@ -40,7 +41,7 @@ class Runtime {
   int disk_hits() const { return disk_hits_; }
 
  private:
-  ProgramHandle build_from_source(const std::string& source, const std::string& options);
+  ProgramHandle build_from_source(const AssembledSource& source, const std::string& options);
   ProgramHandle load_binary(const std::string& path, const std::string& options);
   void store_binary(cl_program program, const std::string& path);
 

@@ -1,6 +1,9 @@
 // The OpenCL runtime layer on PoCL: device selection, build + disk cache, argument and launch
 // checks, and compile errors that name the file and line.
 #include <filesystem>
+#include <sstream>
+#include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -36,6 +39,69 @@ TEST(KernelSources, ResolvesIncludesWithLineDirectives) {
   EXPECT_NE(src.find("#line 1 \"common/selftest_types.h\""), std::string::npos);
   EXPECT_NE(src.find("#line 1 \"common/cl_compat.h\""), std::string::npos);
   EXPECT_THROW(cl::assemble_kernel_source("nope/missing.cl"), std::runtime_error);
+}
+
+TEST(KernelSources, LineMapPointsEveryAssembledLineAtItsOrigin) {
+  cl::AssembledSource a = cl::assemble_kernel_source_mapped("common/selftest.cl");
+  EXPECT_EQ(a.text, cl::assemble_kernel_source("common/selftest.cl"));
+  std::vector<std::string> lines;
+  std::istringstream in(a.text);
+  for (std::string l; std::getline(in, l);) lines.push_back(l);
+  ASSERT_EQ(static_cast<int>(lines.size()), a.lines.size());
+  int mapped = 0, error_line = 0;
+  for (int i = 1; i <= a.lines.size(); ++i) {
+    cl::SourceLocation loc;
+    if (!a.lines.find(i, &loc)) {  // only the added #line directives are unmapped
+      EXPECT_EQ(lines[i - 1].rfind("#line ", 0), 0u) << "assembled line " << i << ": " << lines[i - 1];
+      continue;
+    }
+    ++mapped;
+    std::istringstream file(cl::embedded_kernel_files().at(loc.file));
+    std::string original;
+    for (int k = 0; k < loc.line; ++k) std::getline(file, original);
+    if (original.find("#pragma once") != std::string::npos) original.clear();  // blanked, line kept
+    EXPECT_EQ(lines[i - 1], original) << loc.file << ":" << loc.line;
+    if (lines[i - 1].find("undefined_name_xyz") != std::string::npos) {
+      error_line = i;
+      EXPECT_EQ(loc.file, "common/selftest.cl");
+      EXPECT_EQ(loc.line, 9);
+    }
+  }
+  EXPECT_GT(mapped, 20);
+  ASSERT_GT(error_line, 9);  // the includes come first
+  // What NVIDIA's compiler (which ignores #line) reports for that line.
+  std::string log = "<kernel>:" + std::to_string(error_line) + ":3: error: use of undeclared identifier";
+  EXPECT_EQ(cl::map_build_log(log, a.lines), "common/selftest.cl:9:3: error: use of undeclared identifier");
+}
+
+TEST(KernelSources, BuildLogReferencesWithoutAFileAreMapped) {
+  // Assembled lines: 1 = a directive, 2..51 = lines 1..50 of common/x.h, 52 = a directive,
+  // 53.. = lines 7.. of hashgrid/k.cl.
+  cl::LineMap map;
+  map.push("common/x.h", 0);
+  for (int i = 1; i <= 50; ++i) map.push("common/x.h", i);
+  map.push("hashgrid/k.cl", 0);
+  for (int i = 7; i <= 20; ++i) map.push("hashgrid/k.cl", i);
+  const std::string log =
+      "<kernel>:53:3: error: use of undeclared identifier 'x'\n"
+      "    x += 1;\n"
+      "    ^\n"
+      "<kernel>:2:10: note: declared here\n"
+      "<source>:54:1: warning: unused\n"
+      ":60:5: error: no file at all\n"
+      "common/selftest.cl:9:3: error: a file name is kept\n"
+      "ratio 1:2:3 and (see <kernel>:999:1, out of range; <kernel>:52:1 is a directive)\n";
+  const std::string want =
+      "hashgrid/k.cl:7:3: error: use of undeclared identifier 'x'\n"
+      "    x += 1;\n"
+      "    ^\n"
+      "common/x.h:1:10: note: declared here\n"
+      "hashgrid/k.cl:8:1: warning: unused\n"
+      "hashgrid/k.cl:14:5: error: no file at all\n"
+      "common/selftest.cl:9:3: error: a file name is kept\n"
+      "ratio 1:2:3 and (see <kernel>:999:1, out of range; <kernel>:52:1 is a directive)\n";
+  EXPECT_EQ(cl::map_build_log(log, map), want);
+  EXPECT_EQ(cl::map_build_log("", map), "");
 }
 
 TEST(Runtime, AxpyMatchesHostAndSecondRuntimeHitsDiskCache) {
