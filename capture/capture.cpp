@@ -33,19 +33,27 @@ class StageTimer {
   std::chrono::steady_clock::time_point start_;
 };
 
-// The output folder must be new, empty, or an earlier capture (whose images/ and colmap/ are
-// replaced, so stale frames never reach COLMAP).
-void prepare_output(const fs::path& out, const fs::path& input) {
+// The output folder must be new, empty, or an earlier capture replaced with --force. Checked before
+// any work, so a slow frame selection never ends in a refusal.
+void check_output(const fs::path& out, const fs::path& input, bool force) {
   if (fs::exists(out) && !fs::is_directory(out))
     throw std::runtime_error(fmt::format("output '{}' exists and is not a folder", out.string()));
-  if (fs::exists(out) && !fs::is_empty(out)) {
-    if (!fs::exists(out / "capture_report.json"))
-      throw std::runtime_error(fmt::format("output folder '{}' is not empty and is not an earlier "
-                                           "capture: choose a new folder", out.string()));
-    if (fs::equivalent(out, input)) throw std::runtime_error("the output folder must differ from the input");
-    fs::remove_all(out / "images");
-    fs::remove_all(out / "colmap");
-  }
+  if (!fs::exists(out) || fs::is_empty(out)) return;
+  if (!fs::exists(out / "capture_report.json"))
+    throw std::runtime_error(fmt::format("output folder '{}' is not empty and is not an earlier "
+                                         "capture: choose a new folder", out.string()));
+  if (fs::equivalent(out, input)) throw std::runtime_error("the output folder must differ from the input");
+  if (!force)
+    throw std::runtime_error(fmt::format("'{}' holds an earlier capture: pass --force to replace it (its "
+                                         "images/, colmap/ and transforms.json) or choose a new folder",
+                                         out.string()));
+}
+
+// Clears an earlier capture's images/ and colmap/ (check_output allowed it), so stale frames never
+// reach COLMAP.
+void prepare_output(const fs::path& out) {
+  fs::remove_all(out / "images");
+  fs::remove_all(out / "colmap");
   fs::create_directories(out / "images");
   fs::create_directories(out / "colmap");
 }
@@ -154,12 +162,13 @@ CaptureReport run_capture(const CaptureOptions& opt) {
   if (opt.output.empty()) throw std::runtime_error("no output folder: give -o DATASET");
   CaptureInput in = classify_input(opt.input);
   fs::path out = opt.output;
+  check_output(out, in.path, opt.force);
   CaptureReport report;
   report.workspace = (out / "colmap").string();
   if (in.kind == InputKind::ColmapModel) {
     report.input_kind = "colmap-model";
     ColmapModel model = read_colmap_model(in.model_dir);
-    prepare_output(out, in.path);
+    prepare_output(out);
     copy_model_images(model, in, out, report);
     report.source_frames = report.candidate_frames = report.kept_frames = model.images.size();
     report.models = 1;
@@ -177,7 +186,7 @@ CaptureReport run_capture(const CaptureOptions& opt) {
     if (keep.size() < 3)
       throw std::runtime_error(fmt::format("only {} usable frames: COLMAP needs at least 3 overlapping "
                                            "views (give more photos or a longer video)", keep.size()));
-    prepare_output(out, in.path);
+    prepare_output(out);
     {
       StageTimer t(report, "write");
       write_frames(frames, keep, out / "images");

@@ -18,7 +18,8 @@ namespace lorgnette::capture {
 
 struct CaptureOptions {
   std::string input;   // video file, image folder, or folder with a COLMAP model
-  std::string output;  // dataset folder (created; must be empty or a previous capture)
+  std::string output;  // dataset folder (created; must be new, empty, or a previous capture and `force`)
+  bool force = false;  // replace a previous capture in `output` (its images/, colmap/, transforms.json)
   FrameOptions frames;
   ColmapSettings colmap;
   bool blur_filter = true;

@@ -121,3 +121,20 @@ TEST_F(CaptureErrors, SeveralModelsKeepTheLargest) {
   EXPECT_TRUE(fs::exists(output_ / "transforms.json"));
   EXPECT_TRUE(fs::exists(output_ / "capture_report.json"));
 }
+
+TEST_F(CaptureErrors, EarlierCaptureIsReplacedOnlyWithForce) {
+  // An earlier capture in the output folder: refused before any work (COLMAP is not even looked
+  // for: the PATH holds none), and left as it was.
+  setenv("PATH", tmp_dir("empty_bin_force").c_str(), 1);
+  fs::create_directories(output_ / "images");
+  std::ofstream(output_ / "capture_report.json") << "{}";
+  std::ofstream(output_ / "transforms.json") << "earlier";
+  std::ofstream(output_ / "images" / "old.jpg") << "old frame";
+  std::string e = error_of([&] { run_capture(opt_); });
+  EXPECT_CONTAINS(e, "earlier capture");
+  EXPECT_CONTAINS(e, "--force");
+  EXPECT_TRUE(fs::exists(output_ / "images" / "old.jpg"));
+  // With force the check passes: the run goes on to look for COLMAP (and fails there).
+  opt_.force = true;
+  EXPECT_CONTAINS(error_of([&] { run_capture(opt_); }), "apt-get install colmap");
+}

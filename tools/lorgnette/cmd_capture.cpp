@@ -29,7 +29,7 @@ void add_capture(CLI::App& app, GlobalOptions& global) {
   auto no_head_box = std::make_shared<bool>(false);
   cmd->add_option("INPUT", opt->input, "video file, folder of images, or folder with a COLMAP model (sparse/0)")
       ->required();
-  cmd->add_option("-o,--output", opt->output, "dataset folder to write (new, empty, or an earlier capture)")
+  cmd->add_option("-o,--output", opt->output, "dataset folder to write (new, empty, or an earlier capture with --force)")
       ->required();
   cmd->add_option("--fps", opt->frames.fps, "frames per second of video to sample")
       ->capture_default_str()->check(CLI::PositiveNumber);
@@ -45,6 +45,7 @@ void add_capture(CLI::App& app, GlobalOptions& global) {
   cmd->add_flag("--no-blur-filter", *no_blur, "keep blurred frames");
   cmd->add_flag("--no-blink-filter", *no_blink, "keep frames with closed eyes (and skip face detection)");
   cmd->add_flag("--no-head-box", *no_head_box, "box the sparse points instead of the head found by its landmarks");
+  cmd->add_flag("--force", opt->force, "replace an earlier capture in the output folder");
   cmd->add_flag("--json", *json, "print the capture report as one JSON object on stdout");
   cmd->callback([opt, json, no_blur, no_blink, no_head_box] {
     opt->blur_filter = !*no_blur;

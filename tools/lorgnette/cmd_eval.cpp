@@ -1,6 +1,7 @@
 // `lorgnette eval MODEL DATA`: PSNR and SSIM of a trained model over held-out views (test split for
 // NeRF-synthetic, every 8th frame of a transforms.json), optional prediction|truth|error images,
 // and `--json` for scripts.
+#include <filesystem>
 #include <iostream>
 
 #include <fmt/format.h>
@@ -17,10 +18,25 @@ namespace {
 struct EvalArgs {
   std::string model, data, split, output;
   uint32_t max_views = 0, downscale = 1, max_side = 0;
-  bool json = false, black = false;
+  bool json = false, black = false, force = false;
 };
 
+// The comparison images evaluate() writes are <index>_pred_truth_error.png: refuse a directory that
+// already holds some unless --force (they would be overwritten, or mixed with this run's).
+void check_output_dir(const EvalArgs& a) {
+  std::error_code ec;
+  if (a.output.empty() || a.force || !std::filesystem::is_directory(a.output, ec)) return;
+  const std::string suffix = "_pred_truth_error.png";
+  for (const auto& e : std::filesystem::directory_iterator(a.output, ec)) {
+    const std::string name = e.path().filename().string();
+    if (name.size() > suffix.size() && name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0)
+      throw std::runtime_error(fmt::format("'{}' already holds evaluation images ({} ...): pass --force to "
+                                           "overwrite them or choose another -o", a.output, name));
+  }
+}
+
 void run_eval(const EvalArgs& a, GlobalOptions& global) {
+  check_output_dir(a);
   cl::Runtime rt(global.runtime());
   nerf::NerfModel model = nerf::NerfModel::load(rt, a.model);
   dataset::LoadOptions lo;
@@ -69,6 +85,7 @@ void add_eval(CLI::App& app, GlobalOptions& global) {
   cmd->add_option("--max-side", a->max_side, "shrink images so the longer side is at most this");
   cmd->add_flag("--black", a->black, "black background instead of white for RGBA truth");
   cmd->add_flag("--json", a->json, "print one JSON object on stdout");
+  cmd->add_flag("--force", a->force, "overwrite evaluation images already in the -o directory");
   cmd->callback([a, &global] { run_eval(*a, global); });
 }
 

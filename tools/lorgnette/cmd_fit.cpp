@@ -24,11 +24,12 @@ struct FitArgs {
   std::string model, glasses, output = "placement.json", debug, policy = "stretch", dataset, mean_face, landmarks;
   int views = 12, resolution = 384, upsample = 0;
   double yaw_range = 20.0, pitch_range = 15.0;
-  bool json = false;
+  bool json = false, force = false;
 };
 
 #if defined(LGN_FIT_HAVE_NERF) && defined(LGN_FIT_HAVE_MESH)
 void run_fit(const FitArgs& a, GlobalOptions& global) {
+  refuse_existing_output(a.output, a.force);  // before minutes of fitting
   fit::FitOptions opt;
   opt.cap.views = a.views;
   opt.cap.yaw_range_deg = a.yaw_range;
@@ -84,6 +85,7 @@ void add_fit(CLI::App& app, GlobalOptions& global) {
   cmd->add_option("--landmark-model", a->landmarks, "dlib 68-point shape predictor (.dat)");
   cmd->add_option("--debug", a->debug, "write annotated views to this directory");
   cmd->add_flag("--json", a->json, "print placement.json on stdout");
+  cmd->add_flag("--force", a->force, "overwrite an existing placement.json");
   cmd->callback([a, &global] { run_fit(*a, global); });
 }
 

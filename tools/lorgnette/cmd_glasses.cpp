@@ -59,7 +59,7 @@ void print_text(const mesh::Glasses& g) {
 void add_inspect(CLI::App& parent) {
   struct Opts {
     std::string file, preview;
-    bool json = false;
+    bool json = false, force = false;
     double mm_per_unit = 0.0;
   };
   auto o = std::make_shared<Opts>();
@@ -68,7 +68,9 @@ void add_inspect(CLI::App& parent) {
   cmd->add_flag("--json", o->json, "print one JSON object on stdout");
   cmd->add_option("-o,--output", o->preview, "write a preview sheet (PNG) with the points marked");
   cmd->add_option("--mm-per-unit", o->mm_per_unit, "file units in millimetres (skips unit detection)");
+  cmd->add_flag("--force", o->force, "overwrite an existing preview file");
   cmd->callback([o] {
+    refuse_existing_output(o->preview, o->force);
     mesh::GlassesOptions opts;
     opts.mm_per_unit = o->mm_per_unit;
     mesh::Glasses g = mesh::load_glasses(o->file, opts);
@@ -87,7 +89,7 @@ void add_make(CLI::App& parent) {
   struct Opts {
     mesh::FrameParams p;
     std::string shape = "rect", color = "black", tint = "clear", output, preview;
-    bool json = false;
+    bool json = false, force = false;
   };
   auto o = std::make_shared<Opts>();
   auto* cmd = parent.add_subcommand("make", "make a parametric frame (.glb + .refpoints.json sidecar)");
@@ -105,7 +107,11 @@ void add_make(CLI::App& parent) {
   cmd->add_option("-o,--output", o->output, "output .glb (the sidecar goes next to it)")->required();
   cmd->add_option("--preview", o->preview, "also write a preview sheet (PNG)");
   cmd->add_flag("--json", o->json, "print one JSON object on stdout");
+  cmd->add_flag("--force", o->force, "overwrite existing output files (.glb, its sidecar, the preview)");
   cmd->callback([o] {
+    refuse_existing_output(o->output, o->force);
+    refuse_existing_output(mesh::sidecar_path(o->output), o->force);
+    refuse_existing_output(o->preview, o->force, "--preview");
     o->p.shape = mesh::parse_frame_shape(o->shape);
     o->p.color = mesh::parse_color(o->color);
     o->p.lens_tint = mesh::parse_color(o->tint);

@@ -1,7 +1,9 @@
 // Subcommand registry of the `lorgnette` CLI. Each cmd_*.cpp registers itself with
 // LGN_REGISTER_COMMAND; commands stay thin wrappers over the libraries.
 #pragma once
+#include <filesystem>
 #include <functional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -20,6 +22,13 @@ struct GlobalOptions {
 
   cl::RuntimeOptions runtime() const { return {device, kernel_cache, false}; }
 };
+
+// Throws when `path` exists and `force` is false: existing outputs are never overwritten without
+// --force (README). `option` names the flag that chose the path, for the message.
+inline void refuse_existing_output(const std::string& path, bool force, const std::string& option = "-o") {
+  if (force || path.empty() || !std::filesystem::exists(path)) return;
+  throw std::runtime_error("'" + path + "' exists: pass --force to overwrite it or choose another " + option);
+}
 
 // A command adds its CLI::App subcommand and sets its callback. The callback throws on failure;
 // main turns any exception into "error: ..." on stderr and exit status 1.

@@ -1,0 +1,141 @@
+// The `lorgnette` binary run as a user runs it, on tiny inputs: exit status, what stderr says, and
+// the files left behind. Covers the rule that existing outputs are never overwritten without
+// --force, checked before any work (so a dummy model file is enough for the refusals).
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct CliResult {
+  int status = -1;  // exit status
+  std::string err;  // stderr
+};
+
+// A fresh, empty directory for one test.
+fs::path test_dir() {
+  fs::path d = fs::path(LORGNETTE_TEST_TMP) / "cli" /
+               ::testing::UnitTest::GetInstance()->current_test_info()->name();
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+std::string read_file(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+// Runs `lorgnette <args>` in `dir` (stdout is dropped, stderr kept).
+CliResult lorgnette(const fs::path& dir, const std::string& args) {
+  const fs::path err = dir / "stderr.txt";
+  std::string cmd = "cd '" + dir.string() + "' && '" LGN_CLI_PATH "' " + args + " > /dev/null 2> '" +
+                    err.string() + "'";
+  int raw = std::system(cmd.c_str());
+  CliResult r;
+  r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+  r.err = read_file(err);
+  return r;
+}
+
+void write_file(const fs::path& p, const std::string& text) { std::ofstream(p, std::ios::binary) << text; }
+
+#define EXPECT_CONTAINS(text, part) \
+  EXPECT_NE((text).find(part), std::string::npos) << "stderr: " << (text)
+
+const std::string kKeep = "a file the user wants to keep\n";
+
+}  // namespace
+
+TEST(Cli, FitRefusesAnExistingPlacementBeforeLoadingAnything) {
+  fs::path d = test_dir();
+  write_file(d / "model.lnerf", "not a model");  // CLI11 only checks that these exist
+  write_file(d / "frame.glb", "not a mesh");
+  write_file(d / "placement.json", kKeep);
+  CliResult r = lorgnette(d, "fit model.lnerf --glasses frame.glb -o placement.json");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_CONTAINS(r.err, "'placement.json' exists");
+  EXPECT_CONTAINS(r.err, "--force");
+  EXPECT_EQ(read_file(d / "placement.json"), kKeep);
+  // The default output is placement.json too.
+  r = lorgnette(d, "fit model.lnerf --glasses frame.glb");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_CONTAINS(r.err, "--force");
+  // With --force the check passes and the command gets as far as reading the (dummy) frame.
+  r = lorgnette(d, "fit model.lnerf --glasses frame.glb -o placement.json --force");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_EQ(r.err.find("--force"), std::string::npos) << r.err;
+  EXPECT_EQ(read_file(d / "placement.json"), kKeep);
+}
+
+TEST(Cli, GlassesMakeRefusesExistingOutputsUnlessForced) {
+  fs::path d = test_dir();
+  write_file(d / "frame.glb", kKeep);
+  CliResult r = lorgnette(d, "glasses make --temple 140 -o frame.glb");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_CONTAINS(r.err, "'frame.glb' exists");
+  EXPECT_CONTAINS(r.err, "--force");
+  EXPECT_EQ(read_file(d / "frame.glb"), kKeep);
+  EXPECT_FALSE(fs::exists(d / "frame.glb.refpoints.json"));
+
+  // A new name works; a second run into the same name is refused (the .glb and its sidecar).
+  r = lorgnette(d, "glasses make --temple 140 -o new.glb");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const std::string made = read_file(d / "new.glb");
+  EXPECT_EQ(made.substr(0, 4), "glTF");
+  ASSERT_TRUE(fs::exists(d / "new.glb.refpoints.json"));
+  fs::remove(d / "new.glb");  // a stale sidecar alone is an output too
+  r = lorgnette(d, "glasses make --temple 140 -o new.glb");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_CONTAINS(r.err, "new.glb.refpoints.json' exists");
+
+  write_file(d / "preview.png", kKeep);
+  r = lorgnette(d, "glasses make -o other.glb --preview preview.png");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_CONTAINS(r.err, "--preview");
+  EXPECT_FALSE(fs::exists(d / "other.glb")) << "nothing is written when one output is refused";
+  EXPECT_EQ(read_file(d / "preview.png"), kKeep);
+
+  r = lorgnette(d, "glasses make --temple 140 -o frame.glb --force");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(read_file(d / "frame.glb").substr(0, 4), "glTF");
+}
+
+TEST(Cli, GlassesInspectRefusesAnExistingPreview) {
+  fs::path d = test_dir();
+  ASSERT_EQ(lorgnette(d, "glasses make -o frame.glb").status, 0);
+  write_file(d / "preview.png", kKeep);
+  CliResult r = lorgnette(d, "glasses inspect frame.glb -o preview.png");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_CONTAINS(r.err, "'preview.png' exists");
+  EXPECT_EQ(read_file(d / "preview.png"), kKeep);
+  r = lorgnette(d, "glasses inspect frame.glb -o preview.png --force");
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(read_file(d / "preview.png").substr(1, 3), "PNG");
+}
+
+TEST(Cli, EvalRefusesADirectoryWithEvaluationImages) {
+  fs::path d = test_dir();
+  write_file(d / "model.lnerf", "not a model");
+  fs::create_directories(d / "data");
+  fs::create_directories(d / "eval");
+  write_file(d / "eval" / "000_pred_truth_error.png", kKeep);
+  CliResult r = lorgnette(d, "eval model.lnerf data -o eval");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_CONTAINS(r.err, "evaluation images");
+  EXPECT_CONTAINS(r.err, "--force");
+  EXPECT_EQ(read_file(d / "eval" / "000_pred_truth_error.png"), kKeep);
+  // --force gets past the check to the (dummy) model.
+  r = lorgnette(d, "eval model.lnerf data -o eval --force");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_EQ(r.err.find("evaluation images"), std::string::npos) << r.err;
+}
