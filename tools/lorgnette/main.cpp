@@ -3,12 +3,14 @@
 #include <algorithm>
 #include <cstdio>
 #include <exception>
+#include <string>
 
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
 #include "tools/lorgnette/command.h"
 #include "host/util/interrupt.h"
+#include "host/util/version.h"
 
 namespace lorgnette::cli {
 std::vector<CommandRegistration>& command_registry() {
@@ -25,6 +27,7 @@ int main(int argc, char** argv) {
 
   CLI::App app{"Lorgnette: view-consistent virtual try-on of glasses (NeRF head + ray-traced frame)"};
   app.require_subcommand(1);
+  app.set_version_flag("--version", std::string("lorgnette ") + version_string() + " (commit " + git_commit() + ")");
   cli::GlobalOptions global;
   app.add_option("--device", global.device, "OpenCL device: index or name substring (see `lorgnette devices`)")
       ->envname("LORGNETTE_DEVICE");
