@@ -20,6 +20,9 @@ struct DemoOptions {
   uint64_t seed = 7;       // head shape, cameras, training
   // Sizes; 0 = the default of the chosen variant (see defaults_for()).
   int views = 0, image_size = 0, orbit_frames = 0, orbit_size = 0, fit_views = 0;
+  // Training budget: `train_steps` steps (0: the size-based default of host/nerf/train_budget.h),
+  // or, when `train_seconds` > 0, that much wall-clock time instead.
+  uint64_t train_steps = 0;
   double train_seconds = 0.0;
   bool progress = true;
 };

@@ -54,7 +54,7 @@ nlohmann::json DemoReport::to_json() const {
           {"psnr", psnr},
           {"ssim", ssim},
           {"heldout_views", heldout_views},
-          {"train", {{"steps", train_steps}, {"seconds", train_seconds}, {"model_mb", model_mb}}},
+          {"train", {{"steps", train_steps}, {"seconds", train_seconds}, {"budget", train_budget}, {"model_mb", model_mb}}},
           {"fit", fit},
           {"ground_truth", ground_truth},
           {"config", config},
@@ -97,7 +97,7 @@ pre{{background:#f6f6f6;padding:8px;overflow:auto;font-size:12px}}</style></head
 <h2>Numbers</h2>
 <table>
 <tr><td>held-out PSNR</td><td>{psnr:.2f} dB over {views} views (SSIM {ssim:.3f})</td></tr>
-<tr><td>training</td><td>{steps} steps in {train_s:.1f} s, model {mb:.1f} MB</td></tr>
+<tr><td>training</td><td>{steps} steps in {train_s:.1f} s, model {mb:.1f} MB ({budget})</td></tr>
 <tr><td>estimated PD</td><td>{pd} mm</td></tr>
 <tr><td>remaining penetration</td><td>{pen} mm</td></tr>
 <tr><td>views used by the fit</td><td>{used}</td></tr>
@@ -121,6 +121,7 @@ pre{{background:#f6f6f6;padding:8px;overflow:auto;font-size:12px}}</style></head
                      fmt::arg("version", escape(r.version)), fmt::arg("video", video), fmt::arg("sheet", sheet),
                      fmt::arg("psnr", r.psnr), fmt::arg("views", r.heldout_views), fmt::arg("ssim", r.ssim),
                      fmt::arg("steps", r.train_steps), fmt::arg("train_s", r.train_seconds),
+                     fmt::arg("budget", escape(r.train_budget)),
                      fmt::arg("mb", r.model_mb), fmt::arg("pd", number(r.fit, "pd_mm", "{:.1f}")),
                      fmt::arg("pen", number(r.fit, "penetration_mm")),
                      fmt::arg("used", r.fit.is_object() && r.fit.contains("views_used") ? r.fit["views_used"].dump() : "–"),

@@ -22,6 +22,7 @@ struct DemoReport {
   int heldout_views = 0;
   uint64_t train_steps = 0;
   double train_seconds = 0.0;
+  std::string train_budget;       // which budget applied (host/nerf/train_budget.h)
   double model_mb = 0.0;
   nlohmann::json fit;             // placement.json contents (ok, pd_mm, residuals, ...)
   nlohmann::json ground_truth;    // errors of the fit against the synthetic head's known landmarks

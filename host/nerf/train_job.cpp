@@ -41,9 +41,17 @@ TrainJobResult train_on_dataset(cl::Runtime& rt, const dataset::Dataset& ds, Tra
   model.metadata.dataset_path = std::filesystem::absolute(ds.root).string();
   model.metadata.dataset_hash = dataset_fingerprint(ds);
   model.metadata.device = rt.device().name;
+  const bool defaulted = job.train.steps == 0 && !(job.train.seconds > 0.0);
+  StepBudget budget;
+  if (defaulted) {
+    budget = default_training_steps(sizing.field.param_count(), job.batch_log2);
+    job.train.steps = budget.steps;
+  }
+  std::string budget_text = describe_budget(job.train.steps, job.train.seconds, defaulted, budget.why);
+  spdlog::info("training budget: {}", budget_text);
   Trainer trainer(model, views, job.train, sizing.occupancy_mask);
   TrainResult result = trainer.run();
-  return {std::move(model), std::move(sizing), std::move(result)};
+  return {std::move(model), std::move(sizing), std::move(result), std::move(budget_text)};
 }
 
 }  // namespace lorgnette::nerf

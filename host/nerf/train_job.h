@@ -9,6 +9,7 @@
 #include "host/dataset/dataset.h"
 #include "host/nerf/model.h"
 #include "host/nerf/sizing.h"
+#include "host/nerf/train_budget.h"
 #include "host/nerf/trainer.h"
 
 namespace lorgnette::nerf {
@@ -18,13 +19,14 @@ struct TrainJob {
   float aabb_scale = 0.0f;  // box size factor for mask-less datasets; 0 = the dataset's own hint
   uint32_t batch_log2 = 16; // samples per step = 2^batch_log2
   bool deterministic = false;
-  TrainOptions train;       // steps/seconds, seed, snapshot path, progress ...
+  TrainOptions train;       // steps/seconds (both 0: the size-based default, train_budget.h), seed, ...
 };
 
 struct TrainJobResult {
   NerfModel model;
   ModelSizing sizing;
   TrainResult result;
+  std::string budget;  // which budget applied and why (train_budget.h)
 };
 
 // The training split's views (pointers into `ds`, which must outlive them). Throws a clear error

@@ -22,7 +22,10 @@ void add_demo(CLI::App& app, GlobalOptions& global) {
   cmd->add_option("--seed", o->seed, "head shape, cameras and training seed")->capture_default_str();
   cmd->add_option("--views", o->views, "dataset views (default 48, quick 32)");
   cmd->add_option("--image-size", o->image_size, "dataset image size in pixels (default 192, quick 128)");
-  cmd->add_option("--train-seconds", o->train_seconds, "training time (default 150, quick 45)");
+  auto* steps = cmd->add_option("--train-steps", o->train_steps,
+                                "training steps (default: from the model's size, about 2000; quick 1200)");
+  cmd->add_option("--train-seconds", o->train_seconds, "train for this wall-clock time instead of a step count")
+      ->excludes(steps);
   cmd->add_option("--orbit-frames", o->orbit_frames, "orbit frames (default 36, quick 8)");
   cmd->add_option("--orbit-size", o->orbit_size, "orbit image size (default 320, quick 192)");
   cmd->add_option("--fit-views", o->fit_views, "views rendered for the fit (default 12, quick 8)");

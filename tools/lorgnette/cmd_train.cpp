@@ -62,7 +62,7 @@ void apply_subject_box(dataset::Dataset& ds, const TrainArgs& a, nerf::TrainJob&
 }
 
 void run_train(const TrainArgs& a, GlobalOptions& global) {
-  if (a.steps == 0 && a.seconds <= 0.0) throw std::runtime_error("give --steps N or --seconds S");
+  if (a.seconds < 0.0) throw std::runtime_error("--seconds must be positive (or leave it out for the default budget)");
   if (std::filesystem::exists(a.output) && !a.force)
     throw std::runtime_error("'" + a.output + "' exists: pass --force to overwrite it or choose another -o");
   if (a.batch_log2 < 10 || a.batch_log2 > 22) throw std::runtime_error("--batch-log2 must be within 10..22");
@@ -103,7 +103,8 @@ void run_train(const TrainArgs& a, GlobalOptions& global) {
   if (r.interrupted)
     spdlog::warn("interrupted after {} steps: the model so far is saved in '{}'", r.steps, a.output);
   else
-    spdlog::info("trained {} steps ({} samples) in {:.1f} s; saved '{}'", r.steps, r.samples, r.seconds, a.output);
+    spdlog::info("trained {} steps ({} samples) in {:.1f} s ({}); saved '{}'", r.steps, r.samples, r.seconds,
+                 out.budget, a.output);
 }
 
 void add_train(CLI::App& app, GlobalOptions& global) {
@@ -111,8 +112,9 @@ void add_train(CLI::App& app, GlobalOptions& global) {
   auto a = std::make_shared<TrainArgs>();
   cmd->add_option("DATA", a->data, "dataset directory or json file")->required();
   cmd->add_option("-o,--output", a->output, "model file to write (.lnerf)")->required();
-  auto* steps = cmd->add_option("--steps", a->steps, "training steps");
-  cmd->add_option("--seconds", a->seconds, "training time budget in seconds")->excludes(steps);
+  auto* steps = cmd->add_option("--steps", a->steps,
+                                "training steps (default: from the model's size, the same on every device)");
+  cmd->add_option("--seconds", a->seconds, "train for this wall-clock time instead of a step count")->excludes(steps);
   cmd->add_option("--seed", a->seed, "random seed");
   cmd->add_flag("--deterministic", a->deterministic, "bitwise reproducible (same seed, same device)");
   cmd->add_flag("--force", a->force, "overwrite an existing model file");

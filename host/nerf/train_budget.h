@@ -1,0 +1,31 @@
+// How long to train when the user names no budget: a number of steps derived from the model's size,
+// never from the clock, so every device trains the same model to the same quality and a fast GPU
+// simply finishes sooner. A hash grid with more parameters sees each one less often per step, so it
+// needs more samples: the budget is kSamplesPerParameter samples per trainable parameter, in steps of
+// the chosen batch, within [kMinSteps, kMaxSteps]. Calibrated on the demo's procedural head (a 2^18
+// table, 20 MB, which reaches ~35 dB held-out in ~2000 steps of 2^16 samples; BENCHMARKS.md).
+#pragma once
+#include <cstdint>
+#include <string>
+
+#include "host/nerf/sizing.h"
+
+namespace lorgnette::nerf {
+
+struct StepBudget {
+  uint64_t steps = 0;
+  std::string why;  // one line for logs and reports: the rule and its inputs
+};
+
+inline constexpr double kSamplesPerParameter = 25.0;
+inline constexpr uint64_t kMinSteps = 500, kMaxSteps = 20000;
+
+// The default number of training steps for a model of `parameters` floats trained with 2^batch_log2
+// samples per step.
+StepBudget default_training_steps(uint64_t parameters, uint32_t batch_log2);
+
+// A one-line description of the budget a run used: "2000 steps (default for a 5.2 M-parameter model)",
+// "--steps 500", "--seconds 60 (time budget)".
+std::string describe_budget(uint64_t steps, double seconds, bool defaulted, const std::string& default_why);
+
+}  // namespace lorgnette::nerf
