@@ -148,8 +148,7 @@ int main(int argc, char** argv) {
     std::filesystem::create_directories(a.out);
     cl::Runtime rt;
     VolumeScene scene;
-    std::unique_ptr<AnalyticField> analytic;
-    std::unique_ptr<cl::Buffer<uint32_t>> occ;
+    std::unique_ptr<AnalyticHeadScene> analytic;
     Marcher marcher(rt);
     RenderFn render;
 #ifdef LGN_HAVE_NERF
@@ -166,14 +165,8 @@ int main(int argc, char** argv) {
 #endif
     if (!render) {
       if (!a.model.empty()) throw std::runtime_error("this build has no NeRF core: --model is unavailable");
-      analytic = std::make_unique<AnalyticField>(rt, analytic_head_min, analytic_head_max, analytic_head_primitives(),
-                                                 1u << 18);
-      occ = std::make_unique<cl::Buffer<uint32_t>>(rt, analytic->occupancy_bits(64));
-      scene.aabb_min = analytic_head_min;
-      scene.aabb_max = analytic_head_max;
-      scene.step = 1.7f / 1024.0f;
-      scene.occupancy = {LGN_MARCH_OCC_LINEAR, 64, occ.get()};
-      scene.field = analytic.get();
+      analytic = std::make_unique<AnalyticHeadScene>(rt);
+      scene = analytic->scene();
       render = [&](const Camera& c, const mesh::SurfaceBuffers* s, const RenderOptions& o) {
         return marcher.render(scene, c, s, o);
       };

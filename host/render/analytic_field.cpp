@@ -116,4 +116,14 @@ std::vector<uint32_t> AnalyticField::occupancy_bits(uint32_t res) const {
   return bits;
 }
 
+AnalyticHeadScene::AnalyticHeadScene(cl::Runtime& rt, uint32_t max_batch)
+    : field_(rt, analytic_head_min, analytic_head_max, analytic_head_primitives(), max_batch),
+      occupancy_(rt, field_.occupancy_bits(64)) {
+  scene_.aabb_min = analytic_head_min;
+  scene_.aabb_max = analytic_head_max;
+  scene_.step = 1.7f / 1024.0f;
+  scene_.occupancy = {LGN_MARCH_OCC_LINEAR, 64, &occupancy_};
+  scene_.field = &field_;
+}
+
 }  // namespace lorgnette::render

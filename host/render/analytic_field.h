@@ -1,12 +1,14 @@
 // Analytic volumes for tests and benchmarks: up to four constant-density boxes or spheres
 // (kernels/march/analytic_field.cl), evaluated through the RadianceSource interface in place of
-// the NeRF field, plus an exact occupancy bitfield for them so empty-space skipping is exercised.
+// the NeRF field, plus an exact occupancy bitfield for them so empty-space skipping is exercised,
+// and the analytic head scene the frame-time benchmarks march when no trained model is given.
 #pragma once
 #include <array>
 #include <cstdint>
 #include <vector>
 
 #include "host/cl/kernel.h"
+#include "host/render/marcher.h"
 #include "host/render/radiance_source.h"
 #include "kernels/march/march_types.h"
 
@@ -42,6 +44,22 @@ class AnalyticField : public RadianceSource {
   cl::Kernel kernel_;
   AnalyticFieldParams params_{};
   uint32_t max_batch_;
+};
+
+// The analytic head as the frame-time benchmarks march it (`lorgnette bench frames` and
+// benchmarks/march without --model): the field, its exact 64^3 occupancy grid and a NeRF-like step
+// (sqrt(3)/1024 over a unit box). Not copyable or movable: scene() points at the members.
+class AnalyticHeadScene {
+ public:
+  explicit AnalyticHeadScene(cl::Runtime& rt, uint32_t max_batch = 1u << 18);
+  AnalyticHeadScene(const AnalyticHeadScene&) = delete;
+  AnalyticHeadScene& operator=(const AnalyticHeadScene&) = delete;
+  const VolumeScene& scene() const { return scene_; }
+
+ private:
+  AnalyticField field_;
+  cl::Buffer<uint32_t> occupancy_;
+  VolumeScene scene_;
 };
 
 }  // namespace lorgnette::render

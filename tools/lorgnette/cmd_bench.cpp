@@ -33,22 +33,15 @@ nlohmann::json bench_device(const BenchArgs& a, const cl::DeviceInfo& dev, Globa
   ro.device = std::to_string(dev.index);
   cl::Runtime rt(ro);
   std::unique_ptr<nerf::NerfModel> model;
-  std::unique_ptr<render::AnalyticField> analytic;
-  std::unique_ptr<cl::Buffer<uint32_t>> occ;
+  std::unique_ptr<render::AnalyticHeadScene> analytic;
   render::VolumeScene scene;
   if (!a.model.empty()) {
     model = std::make_unique<nerf::NerfModel>(nerf::NerfModel::load(rt, a.model));
     scene.aabb_min = model->aabb().min;
     scene.aabb_max = model->aabb().max;
   } else {
-    analytic = std::make_unique<render::AnalyticField>(rt, render::analytic_head_min, render::analytic_head_max,
-                                                       render::analytic_head_primitives(), 1u << 18);
-    occ = std::make_unique<cl::Buffer<uint32_t>>(rt, analytic->occupancy_bits(64));
-    scene.aabb_min = render::analytic_head_min;
-    scene.aabb_max = render::analytic_head_max;
-    scene.step = 1.7f / 1024.0f;  // like a NeRF's sqrt(3)/1024 over a unit box
-    scene.occupancy = {LGN_MARCH_OCC_LINEAR, 64, occ.get()};
-    scene.field = analytic.get();
+    analytic = std::make_unique<render::AnalyticHeadScene>(rt);
+    scene = analytic->scene();
   }
   render::FrameBenchSpec spec;
   spec.repeats = a.repeats;
