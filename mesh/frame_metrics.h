@@ -1,8 +1,11 @@
 // The sizes printed on every frame (lens width, bridge, temple length) plus total width and lens
 // height, measured on a canonical-mm mesh. Lens width and bridge come from the lens parts' extents
-// (bridge = gap between the two lenses' inner edges); temple length is the arc length of the
-// temple centreline from the hinge to the tip (approximate: +-10 mm against the printed value,
-// since the hinge position is estimated as 12 mm behind the frame front).
+// (bridge = gap between the two lenses' inner edges). Temple length is the industry's: from the
+// hinge along the temple, the bend included, to the end of the tip (the third number printed on the
+// temple). The hinge is where the temple leaves the back of the front (detect_temple_hinges, refined
+// to the front's rearmost point there); the length is that of the temple's tracked centre line,
+// averaged over both temples. Parametric frames (parametric.h) measure within 0.2 mm of the length
+// they were made with; 0 when no temple is found.
 #pragma once
 #include <string>
 #include <vector>

@@ -23,7 +23,8 @@ const char* frame_shape_name(FrameShape shape);
 struct FrameParams {
   float lens_width = 52.0f;      // mm, horizontal size of one lens
   float bridge = 18.0f;          // mm, gap between the lenses
-  float temple_length = 140.0f;  // mm, hinge to tip along the temple
+  float temple_length = 140.0f;  // mm, hinge (the rims' back face) to the tip's end along the
+                                 // temple's centre line, the bend included (as frame_metrics.h measures)
   FrameShape shape = FrameShape::kRect;
   float rim = 3.0f;              // mm, radial width of the rim around each lens
   float lens_height = 0.0f;      // mm; 0 = from the shape (round 0.9, rect 0.72, aviator 0.9, cateye 0.78 x width)
