@@ -11,6 +11,7 @@
 // S_α = 1 ends the ray at t_s (the march
 // never goes past it); S_α = 0 (no hit) leaves the ray bit-for-bit the NeRF-only one.
 #pragma once
+#include "common/composite.h"
 #include "march/march_types.h"
 #include "train/occupancy.h"
 
@@ -68,16 +69,15 @@ typedef struct MarchAccum {
   float depth_sum;
 } MarchAccum;
 
-// Adds one NeRF segment [t0, t1] of density sigma and colour (cr, cg, cb).
+// Adds one NeRF segment [t0, t1] of density sigma and colour (cr, cg, cb) by the compositing step
+// the training loss uses (common/composite.h).
 LGN_INLINE void march_add_segment(MarchAccum* acc, float t0, float t1, float sigma, float cr, float cg,
                                   float cb) {
-  float att = exp(-sigma * (t1 - t0));
-  float w = acc->T * (1.0f - att);
+  float w = lgn_composite_segment(&acc->T, sigma, t1 - t0);
   acc->r += w * cr;
   acc->g += w * cg;
   acc->b += w * cb;
   acc->depth_sum += w * 0.5f * (t0 + t1);
-  acc->T *= att;
 }
 
 // Adds the surface at depth ts: premultiplied colour (sr, sg, sb) and coverage sa.

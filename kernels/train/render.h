@@ -1,7 +1,8 @@
 // Volume rendering of one ray from its compacted samples, forward and backward, shared by the
 // training loss kernel and the host tests (the host build is the oracle). Samples are `step` apart;
 // alpha_i = 1 - exp(-sigma_i * step), T_i = prod_{j<i} (1 - alpha_j), w_i = T_i * alpha_i,
-// C = sum_i w_i c_i + T_end * bg. Accumulation stops once T drops below min_transmittance (later
+// C = sum_i w_i c_i + T_end * bg: the compositing step of common/composite.h, shared with the
+// inference marcher. Accumulation stops once T drops below min_transmittance (later
 // samples get zero weight and zero gradient), as instant-ngp does.
 //
 // Loss (LOSS_L2_SRGB, the default): mean over rays and channels of (srgb(C) - srgb(target))^2 with
@@ -14,6 +15,7 @@
 // (C includes the background term).
 #pragma once
 #include "common/cl_compat.h"
+#include "common/composite.h"
 #include "train/train_types.h"
 
 #ifndef __OPENCL_C_VERSION__
@@ -40,12 +42,10 @@ LGN_INLINE lgn_uint render_ray_forward(LGN_GLOBAL const float* sigma, LGN_GLOBAL
   for (lgn_uint k = 0; k < count; ++k) {
     if (T < min_transmittance) break;
     lgn_uint i = first + k;
-    float alpha = 1.0f - exp(-sigma[i] * step);
-    float w = T * alpha;
+    float w = lgn_composite_segment(&T, sigma[i], step);
     r += w * rgb[i];
     g += w * rgb[stride + i];
     b += w * rgb[2u * stride + i];
-    T *= 1.0f - alpha;
     used = k + 1u;
   }
   out[0] = r + T * bg[0];
@@ -96,12 +96,10 @@ LGN_INLINE void render_ray_backward(LGN_GLOBAL const float* sigma, LGN_GLOBAL co
       continue;
     }
     float cr = rgb[i], cg = rgb[stride + i], cb = rgb[2u * stride + i];
-    float alpha = 1.0f - exp(-sigma[i] * step);
-    float w = T * alpha;
+    float w = lgn_composite_segment(&T, sigma[i], step);  // T is now T_{i+1}
     acc_r += w * cr;
     acc_g += w * cg;
     acc_b += w * cb;
-    T *= 1.0f - alpha;
     drgb[i] = w * dC[0];
     drgb[stride + i] = w * dC[1];
     drgb[2u * stride + i] = w * dC[2];
