@@ -6,12 +6,6 @@
 #pragma once
 #include "mlp/mlp_types.h"
 
-inline float16 mlp_activate(float16 a, uint act) {
-  if (act == LGN_ACT_RELU) return fmax(a, (float16)(0.0f));
-  if (act == LGN_ACT_SIGMOID) return (float16)(1.0f) / ((float16)(1.0f) + exp(-a));
-  return a;
-}
-
 inline float mlp_hsum(float16 a) {
   float8 h = a.lo + a.hi;
   float4 q = h.lo + h.hi;
@@ -31,14 +25,14 @@ inline float mlp_hsum(float16 a) {
   a##6 = fma((float16)((w)[6 * (in) + (k)]), xv, a##6); \
   a##7 = fma((float16)((w)[7 * (in) + (k)]), xv, a##7)
 #define MLP_STORE8(a, o, s, act)                      \
-  vstore16(mlp_activate(a##0, act), 0, (o));          \
-  vstore16(mlp_activate(a##1, act), 0, (o) + (s));     \
-  vstore16(mlp_activate(a##2, act), 0, (o) + 2 * (s)); \
-  vstore16(mlp_activate(a##3, act), 0, (o) + 3 * (s)); \
-  vstore16(mlp_activate(a##4, act), 0, (o) + 4 * (s)); \
-  vstore16(mlp_activate(a##5, act), 0, (o) + 5 * (s)); \
-  vstore16(mlp_activate(a##6, act), 0, (o) + 6 * (s)); \
-  vstore16(mlp_activate(a##7, act), 0, (o) + 7 * (s))
+  vstore16(lgn_activate16(a##0, act), 0, (o));          \
+  vstore16(lgn_activate16(a##1, act), 0, (o) + (s));     \
+  vstore16(lgn_activate16(a##2, act), 0, (o) + 2 * (s)); \
+  vstore16(lgn_activate16(a##3, act), 0, (o) + 3 * (s)); \
+  vstore16(lgn_activate16(a##4, act), 0, (o) + 4 * (s)); \
+  vstore16(lgn_activate16(a##5, act), 0, (o) + 5 * (s)); \
+  vstore16(lgn_activate16(a##6, act), 0, (o) + 6 * (s)); \
+  vstore16(lgn_activate16(a##7, act), 0, (o) + 7 * (s))
 
 inline float16 mlp_mask(float16 d, __global const float* x, uint relu) {
   return relu ? select((float16)(0.0f), d, vload16(0, x) > 0.0f) : d;
@@ -95,10 +89,10 @@ inline void mlp_layer_forward(__global const float* restrict W, uint in, uint ou
         a3 = fma((float16)(w[3 * in + k]), xv, a3);
       }
       __global float* o = yb + jj * s + h16;
-      vstore16(mlp_activate(a0, act), 0, o);
-      vstore16(mlp_activate(a1, act), 0, o + s);
-      vstore16(mlp_activate(a2, act), 0, o + 2 * s);
-      vstore16(mlp_activate(a3, act), 0, o + 3 * s);
+      vstore16(lgn_activate16(a0, act), 0, o);
+      vstore16(lgn_activate16(a1, act), 0, o + s);
+      vstore16(lgn_activate16(a2, act), 0, o + 2 * s);
+      vstore16(lgn_activate16(a3, act), 0, o + 3 * s);
     }
   }
 }

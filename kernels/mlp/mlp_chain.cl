@@ -34,7 +34,7 @@ __kernel void mlp_chain_backward(const MlpChainParams p, __global const float* r
       float16 d = 0.0f;
       if (c < 3) {
         const float16 r = vload16(0, acts + (p.rgb_row + c) * s + i);
-        d = select((float16)(0.0f), vload16(0, d_rgb + c * s + i) * r * (1.0f - r), valid);
+        d = select((float16)(0.0f), lgn_sigmoid_backward16(vload16(0, d_rgb + c * s + i), r), valid);
       }
       vstore16(d, 0, deltas + (p.dy_row[last] + c) * s + i);
     }
@@ -48,8 +48,7 @@ __kernel void mlp_chain_backward(const MlpChainParams p, __global const float* r
       const int16 valid = mlp_valid16(i, p.n);
       __global float* dr = deltas + p.dy_row[l - 1] * s + i;
       const float16 raw = vload16(0, acts + p.raw_row * s + i);
-      const float16 sigma = exp(fmin(raw, LGN_SIGMA_MAX_RAW));
-      const float16 grad = select((float16)(0.0f), sigma, raw < LGN_SIGMA_MAX_RAW);
+      const float16 grad = lgn_sigma_grad16(raw, lgn_sigma_from_raw16(raw));
       float16 ds = 0.0f;
       if (i + 16 <= p.n) {
         ds = vload16(0, d_sigma + i);

@@ -6,12 +6,6 @@
 // inputs keep four independent FMA chains in flight.
 #include "mlp/mlp_types.h"
 
-inline float mlp_activate1(float a, uint act) {
-  if (act == LGN_ACT_RELU) return fmax(a, 0.0f);
-  if (act == LGN_ACT_SIGMOID) return 1.0f / (1.0f + exp(-a));
-  return a;
-}
-
 // y[j] = act(sum_k W[j][k] x[k]) for j < out (out is a multiple of 4); x, y point at sample i's row 0.
 inline void mlp_layer_forward1(__global const float* restrict W, uint in, uint out, uint act,
                                __global const float* x, __global float* y, uint s) {
@@ -25,10 +19,10 @@ inline void mlp_layer_forward1(__global const float* restrict W, uint in, uint o
       a2 = fma(w[2 * in + k], xk, a2);
       a3 = fma(w[3 * in + k], xk, a3);
     }
-    y[j * s] = mlp_activate1(a0, act);
-    y[(j + 1) * s] = mlp_activate1(a1, act);
-    y[(j + 2) * s] = mlp_activate1(a2, act);
-    y[(j + 3) * s] = mlp_activate1(a3, act);
+    y[j * s] = lgn_activate(a0, act);
+    y[(j + 1) * s] = lgn_activate(a1, act);
+    y[(j + 2) * s] = lgn_activate(a2, act);
+    y[(j + 3) * s] = lgn_activate(a3, act);
   }
 }
 
@@ -72,7 +66,7 @@ __kernel void mlp_chain_backward(const MlpChainParams p, __global const float* r
     float d = 0.0f;
     if (c < 3 && valid) {
       const float r = acts[(p.rgb_row + c) * s + i];
-      d = d_rgb[c * s + i] * r * (1.0f - r);
+      d = lgn_sigmoid_backward(d_rgb[c * s + i], r);
     }
     deltas[(p.dy_row[last] + c) * s + i] = d;
   }

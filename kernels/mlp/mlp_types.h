@@ -1,7 +1,8 @@
 // Parameters of the tiny-MLP kernels and the math they share with the host reference: spherical
-// harmonics of the view direction and the output activations. Activations are structure-of-arrays
-// [row][stride]; weights are row-major [out][in] inside the flat parameter vector (no biases, as
-// tiny-cuda-nn); every width is a multiple of 4 and kernels process 16 samples per work-item.
+// harmonics of the view direction, the activations and the density head (LGN_DEFINE_MLP_MATH).
+// Activations are structure-of-arrays [row][stride]; weights are row-major [out][in] inside the
+// flat parameter vector (no biases, as tiny-cuda-nn); every width is a multiple of 4 and kernels
+// process 16 samples per work-item.
 #pragma once
 #include "common/cl_compat.h"
 
@@ -50,12 +51,32 @@ typedef struct MlpChainParams {
 
 LGN_STATIC_ASSERT(sizeof(MlpChainParams) == 32 + 10 * 4 * LGN_MLP_MAX_LAYERS, "MlpChainParams layout");
 
-LGN_INLINE float lgn_sigmoid(float x) { return 1.0f / (1.0f + exp(-x)); }
+// The activations and the density head with their derivatives, written once and stamped out per
+// type (OpenCL C 1.2 has neither templates nor overloading): float (suffix none; the per-sample
+// kernels), float16 (suffix 16; the CPU kernels, OpenCL only) and double (suffix _d; the host
+// reference of tests/host/field, C++ only). On float16 the comparison selects per lane.
+#define LGN_DEFINE_MLP_MATH(T, SFX)                                                                  \
+  /* y = act(a), act one of LGN_ACT_* */                                                             \
+  LGN_INLINE T lgn_activate##SFX(T a, lgn_uint act) {                                                \
+    if (act == LGN_ACT_RELU) return fmax(a, (T)(0.0f));                                              \
+    if (act == LGN_ACT_SIGMOID) return (T)(1.0f) / ((T)(1.0f) + exp(-a));                           \
+    return a;                                                                                        \
+  }                                                                                                  \
+  /* dL/da of a sigmoid output y = sigmoid(a) given dL/dy */                                         \
+  LGN_INLINE T lgn_sigmoid_backward##SFX(T dy, T y) { return dy * y * ((T)(1.0f) - y); }             \
+  /* sigma = exp(min(raw, 15)) */                                                                    \
+  LGN_INLINE T lgn_sigma_from_raw##SFX(T raw) { return exp(fmin(raw, (T)(LGN_SIGMA_MAX_RAW))); }     \
+  /* d sigma / d raw given sigma and raw: the exact derivative of exp(min(raw, 15)) */               \
+  LGN_INLINE T lgn_sigma_grad##SFX(T raw, T sigma) {                                                 \
+    return raw < (T)(LGN_SIGMA_MAX_RAW) ? sigma : (T)(0.0f);                                         \
+  }
 
-LGN_INLINE float lgn_sigma_from_raw(float raw) { return exp(fmin(raw, LGN_SIGMA_MAX_RAW)); }
-
-// d sigma / d raw given sigma and raw: the exact derivative of exp(min(raw, 15)).
-LGN_INLINE float lgn_sigma_grad(float raw, float sigma) { return raw < LGN_SIGMA_MAX_RAW ? sigma : 0.0f; }
+LGN_DEFINE_MLP_MATH(float, )
+#ifdef __OPENCL_C_VERSION__
+LGN_DEFINE_MLP_MATH(float16, 16)
+#else
+LGN_DEFINE_MLP_MATH(double, _d)
+#endif
 
 // Real spherical harmonics of a unit direction, degree 1..4 (degree^2 coefficients), the basis
 // and constants of tiny-cuda-nn's SphericalHarmonics encoding.

@@ -28,12 +28,6 @@ void for_corners(const ParamLayout& lay, const Samples& s, Fn fn) {
   }
 }
 
-double act_fwd(double a, uint32_t act) {
-  if (act == LGN_ACT_RELU) return a > 0 ? a : 0.0;
-  if (act == LGN_ACT_SIGMOID) return 1.0 / (1.0 + std::exp(-a));
-  return a;
-}
-
 // dx = W^T dz (all padded columns).
 Rows layer_backward_input(const LayerShape& L, const std::vector<float>& params, const Rows& dz, uint32_t n) {
   Rows dx(size_t(L.in_pad) * n, 0.0);
@@ -89,7 +83,7 @@ Rows layer_forward(const LayerShape& L, const std::vector<float>& params, const 
       const double w = params[L.offset + uint64_t(j) * L.in_pad + k];
       for (uint32_t i = 0; i < n; ++i) y[size_t(j) * n + i] += w * x[size_t(k) * n + i];
     }
-    for (uint32_t i = 0; i < n; ++i) y[size_t(j) * n + i] = act_fwd(y[size_t(j) * n + i], act);
+    for (uint32_t i = 0; i < n; ++i) y[size_t(j) * n + i] = lgn_activate_d(y[size_t(j) * n + i], act);
   }
   return y;
 }
@@ -108,7 +102,7 @@ Forward forward(const ParamLayout& lay, const FieldConfig& cfg, const std::vecto
   }
   std::copy(geo.begin(), geo.end(), f.color_in.begin() + size_t(sh_pad) * n);
   f.sigma.resize(n);
-  for (uint32_t i = 0; i < n; ++i) f.sigma[i] = std::exp(std::min(geo[i], double(LGN_SIGMA_MAX_RAW)));
+  for (uint32_t i = 0; i < n; ++i) f.sigma[i] = lgn_sigma_from_raw_d(geo[i]);
   const Rows* x = &f.color_in;
   for (size_t h = 0; h < lay.color.size(); ++h) {
     const bool last = h + 1 == lay.color.size();
@@ -126,8 +120,7 @@ std::vector<double> backward(const ParamLayout& lay, const FieldConfig& cfg, con
   std::vector<double> g(lay.total, 0.0);
   Rows dz(4 * size_t(n), 0.0);
   for (size_t e = 0; e < 3 * size_t(n); ++e) {
-    const double r = f.color_acts.back()[e];
-    dz[e] = drgb[e] * r * (1 - r);
+    dz[e] = lgn_sigmoid_backward_d(drgb[e], f.color_acts.back()[e]);
   }
   for (size_t h = lay.color.size(); h-- > 0;) {
     const Rows& x = h == 0 ? f.color_in : f.color_acts[h - 1];
@@ -141,7 +134,7 @@ std::vector<double> backward(const ParamLayout& lay, const FieldConfig& cfg, con
   Rows dgeo(dz.begin() + size_t(sh_pad) * n, dz.begin() + size_t(sh_pad + geo_pad) * n);
   for (uint32_t i = 0; i < n; ++i) {
     const double raw = f.color_in[size_t(sh_pad) * n + i];
-    if (raw < LGN_SIGMA_MAX_RAW) dgeo[i] += dsigma[i] * f.sigma[i];
+    dgeo[i] += dsigma[i] * lgn_sigma_grad_d(raw, f.sigma[i]);
   }
   layer_weight_grad(lay.density[1], f.dens_hidden, dgeo, n, g);
   Rows dh = layer_backward_input(lay.density[1], params, dgeo, n);
