@@ -2,6 +2,7 @@
 // a timed stage each, and the report written beside the dataset (see capture.h).
 #include "capture/capture.h"
 
+#include <algorithm>
 #include <chrono>
 #include <stdexcept>
 
@@ -66,22 +67,56 @@ void write_frames(const FrameSet& frames, const std::vector<size_t>& keep, const
   }
 }
 
-// COLMAP model input: copy the registered images beside the transforms.
-void copy_model_images(const ColmapModel& model, const CaptureInput& in, const fs::path& out,
-                       CaptureReport& report) {
-  size_t missing = 0;
-  for (const auto& [id, im] : model.images) {
-    fs::path src = in.image_dir / im.name, dst = out / "images" / im.name;
-    if (!fs::is_regular_file(src)) {
-      ++missing;
+// COLMAP needs this many overlapping views, and so does a model given as input to be worth a dataset.
+constexpr size_t kMinUsableFrames = 3;
+
+// "'a', 'b', 'c' and 4 more" for messages about many files.
+std::string first_names(const std::vector<std::string>& names, size_t shown = 5) {
+  std::string out;
+  for (size_t i = 0; i < names.size() && i < shown; ++i) out += (i ? ", '" : "'") + names[i] + "'";
+  if (names.size() > shown) out += fmt::format(" and {} more", names.size() - shown);
+  return out;
+}
+
+// COLMAP model input: the images the model names but the image folder lacks are dropped from the
+// model (and from its points' tracks), so no frame of the dataset points at a missing file. Throws
+// when fewer than kMinUsableFrames remain.
+void drop_missing_images(ColmapModel& model, const CaptureInput& in, CaptureReport& report) {
+  std::vector<std::string> missing;
+  const size_t named = model.images.size();
+  for (auto it = model.images.begin(); it != model.images.end();) {
+    if (fs::is_regular_file(in.image_dir / it->second.name)) {
+      ++it;
       continue;
     }
+    missing.push_back(it->second.name);
+    report.dropped.push_back({it->second.name, fmt::format("image file not in '{}'", in.image_dir.string())});
+    it = model.images.erase(it);
+  }
+  if (missing.empty()) return;
+  for (auto& [id, p] : model.points)
+    p.track.erase(std::remove_if(p.track.begin(), p.track.end(),
+                                 [&](const auto& obs) { return !model.images.count(obs.first); }),
+                  p.track.end());
+  if (model.images.size() < kMinUsableFrames)
+    throw std::runtime_error(fmt::format(
+        "only {} of the {} images named by the COLMAP model in '{}' are in '{}' (missing: {}); at least "
+        "{} are needed: put the photos the model was made from into '{}' (the model's image names are "
+        "relative to it), or run `lorgnette capture` on the folder of photos to make a new model",
+        model.images.size(), named, in.model_dir.string(), in.image_dir.string(), first_names(missing),
+        kMinUsableFrames, in.image_dir.string()));
+  report.warnings.push_back(fmt::format("{} of {} images named by the COLMAP model are not in '{}' ({}): "
+                                        "their frames are left out",
+                                        missing.size(), named, in.image_dir.string(), first_names(missing)));
+}
+
+// COLMAP model input: copy the registered images beside the transforms.
+void copy_model_images(const ColmapModel& model, const CaptureInput& in, const fs::path& out) {
+  for (const auto& [id, im] : model.images) {
+    fs::path src = in.image_dir / im.name, dst = out / "images" / im.name;
     fs::create_directories(dst.parent_path());
     fs::copy_file(src, dst, fs::copy_options::overwrite_existing);
   }
-  if (missing)
-    report.warnings.push_back(fmt::format("{} of {} images named by the model are not in '{}'", missing,
-                                          model.images.size(), in.image_dir.string()));
 }
 
 // Replaces the sparse-point box of `scene` by the head box from landmarks when faces are found.
@@ -168,9 +203,11 @@ CaptureReport run_capture(const CaptureOptions& opt) {
   if (in.kind == InputKind::ColmapModel) {
     report.input_kind = "colmap-model";
     ColmapModel model = read_colmap_model(in.model_dir);
+    report.source_frames = report.candidate_frames = model.images.size();
+    drop_missing_images(model, in, report);
+    report.kept_frames = model.images.size();
     prepare_output(out);
-    copy_model_images(model, in, out, report);
-    report.source_frames = report.candidate_frames = report.kept_frames = model.images.size();
+    copy_model_images(model, in, out);
     report.models = 1;
     convert_and_write(model, opt, report);
   } else {
@@ -183,9 +220,10 @@ CaptureReport run_capture(const CaptureOptions& opt) {
       keep = select_frames(frames, opt, report);
     }
     report.kept_frames = keep.size();
-    if (keep.size() < 3)
-      throw std::runtime_error(fmt::format("only {} usable frames: COLMAP needs at least 3 overlapping "
-                                           "views (give more photos or a longer video)", keep.size()));
+    if (keep.size() < kMinUsableFrames)
+      throw std::runtime_error(fmt::format("only {} usable frames: COLMAP needs at least {} overlapping "
+                                           "views (give more photos or a longer video)", keep.size(),
+                                           kMinUsableFrames));
     prepare_output(out);
     {
       StageTimer t(report, "write");

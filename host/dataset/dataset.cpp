@@ -132,6 +132,14 @@ Source find_source(const std::string& path) {
   return s;
 }
 
+// "'a', 'b', 'c' and 4 more" for messages about many files.
+std::string first_names(const std::vector<std::string>& names, size_t shown) {
+  std::string out;
+  for (size_t i = 0; i < names.size() && i < shown; ++i) out += (i ? ", '" : "'") + names[i] + "'";
+  if (names.size() > shown) out += fmt::format(" and {} more", names.size() - shown);
+  return out;
+}
+
 bool wanted(const LoadOptions& o, Split s) {
   return o.splits.empty() || std::find(o.splits.begin(), o.splits.end(), s) != o.splits.end();
 }
@@ -165,22 +173,30 @@ std::vector<FrameSpec> collect_frames(const Source& src, Dataset& ds, const Load
   detail::check_not_degenerate(all);
   std::vector<FrameSpec> kept;
   std::vector<std::string> missing;
+  size_t wanted_frames = 0;
   for (auto& f : all) {
     if (!wanted(opt, f.split)) continue;
+    ++wanted_frames;
     if (f.image_path.empty()) {
-      if (!opt.skip_missing_images)
-        throw std::runtime_error(
-            fmt::format("{}: image file '{}' not found; restore it, remove the frame from the "
-                        "json, or skip missing images (LoadOptions::skip_missing_images)",
-                        f.where, (fs::path(src.root) / f.file_path).string()));
       missing.push_back(f.file_path);
       continue;
     }
     kept.push_back(std::move(f));
   }
-  if (!missing.empty())
-    spdlog::warn("dataset '{}': skipping {} frames whose image file is missing (first: '{}')", src.root,
-                 missing.size(), missing[0]);
+  if (missing.empty()) return kept;
+  std::string json_files;
+  for (const auto& [file, split] : src.files)
+    json_files += (json_files.empty() ? "" : ", ") + fs::path(file).filename().string();
+  std::string names = first_names(missing, 5), frames;  // "frames", or "train frames" for chosen splits
+  for (Split sp : opt.splits) frames += (frames.empty() ? "" : "/") + std::string(to_string(sp));
+  frames += frames.empty() ? "frames" : " frames";
+  if (!opt.skip_missing_images)
+    throw std::runtime_error(fmt::format(
+        "dataset '{}': {} of {} {} name an image file that is not there ({}): restore those images, "
+        "remove their frames from {}, or re-run `lorgnette capture` to make the dataset again",
+        src.root, missing.size(), wanted_frames, frames, names, json_files));
+  spdlog::warn("dataset '{}': skipping {} of {} {} whose image file is missing ({})", src.root, missing.size(),
+               wanted_frames, frames, names);
   return kept;
 }
 

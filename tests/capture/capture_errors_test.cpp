@@ -1,11 +1,14 @@
 // Bad input to `lorgnette capture` gives clear errors: a missing input, a folder without images, an
 // unreadable video, COLMAP missing (a PATH without it), COLMAP failing (a fake script that exits 3),
-// COLMAP finding no model; and several disconnected models keep the largest with a warning.
+// COLMAP finding no model; and several disconnected models keep the largest with a warning. An earlier
+// capture is replaced only with --force; a COLMAP model whose images are partly missing from the
+// folder loses those frames (named in a warning), or is refused when too few remain.
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 
 #include "capture/capture.h"
@@ -137,4 +140,55 @@ TEST_F(CaptureErrors, EarlierCaptureIsReplacedOnlyWithForce) {
   // With force the check passes: the run goes on to look for COLMAP (and fails there).
   opt_.force = true;
   EXPECT_CONTAINS(error_of([&] { run_capture(opt_); }), "apt-get install colmap");
+}
+
+namespace {
+
+// A COLMAP model input (sparse/0 + images/) whose model names 9 images, of which only the first
+// `present` are in images/ (dummy bytes: without the head box nothing reads them).
+fs::path model_input_with_images(const std::string& name, int present) {
+  fs::path in = tmp_dir(name);
+  synthetic::SyntheticScene s = synthetic::make_synthetic_scene(9);
+  fs::create_directories(in / "sparse" / "0");
+  write_colmap_model(s.model, in / "sparse" / "0", false);
+  fs::create_directories(in / "images");
+  int k = 0;
+  for (const auto& [id, im] : s.model.images)
+    if (k++ < present) std::ofstream(in / "images" / im.name) << "image " << im.name;
+  return in;
+}
+
+}  // namespace
+
+TEST_F(CaptureErrors, ModelImagesMissingFromTheFolderAreDroppedAndNamed) {
+  opt_.input = model_input_with_images("model_missing_in", 5).string();
+  opt_.head_box = false;
+  CaptureReport r = run_capture(opt_);
+  EXPECT_EQ(r.candidate_frames, 9u);
+  EXPECT_EQ(r.kept_frames, 5u);
+  EXPECT_EQ(r.registered, 5u);
+  ASSERT_EQ(r.dropped.size(), 4u);
+  EXPECT_EQ(r.dropped[0].name, "frame_1005.jpg");
+  std::string all;
+  for (const auto& w : r.warnings) all += w + "\n";
+  EXPECT_CONTAINS(all, "4 of 9 images named by the COLMAP model");
+  EXPECT_CONTAINS(all, "'frame_1005.jpg', 'frame_1006.jpg', 'frame_1007.jpg', 'frame_1008.jpg'");
+  // Every frame written points at an image that is there.
+  std::ifstream f(output_ / "transforms.json");
+  nlohmann::json t = nlohmann::json::parse(f);
+  ASSERT_EQ(t["frames"].size(), 5u);
+  for (const auto& frame : t["frames"])
+    EXPECT_TRUE(fs::is_regular_file(output_ / frame["file_path"].get<std::string>())) << frame["file_path"];
+}
+
+TEST_F(CaptureErrors, ModelWithTooFewImagesInTheFolderIsRefused) {
+  opt_.input = model_input_with_images("model_two_in", 2).string();
+  opt_.head_box = false;
+  std::string e = error_of([&] { run_capture(opt_); });
+  EXPECT_CONTAINS(e, "only 2 of the 9 images named by the COLMAP model");
+  EXPECT_CONTAINS(e, "'frame_1002.jpg'");
+  EXPECT_CONTAINS(e, "and 2 more");
+  EXPECT_CONTAINS(e, "at least 3");
+  EXPECT_CONTAINS(e, "put the photos the model was made from");
+  EXPECT_FALSE(fs::exists(output_)) << "it should fail before writing anything";
 }

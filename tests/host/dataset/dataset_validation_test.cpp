@@ -174,15 +174,27 @@ TEST(DatasetValidation, EmptyFrameList) {
   EXPECT_HAS(load_error(dir), "empty 'frames' list");
 }
 
-TEST(DatasetValidation, MissingImageNamesFrameAndSkipOption) {
-  std::string dir = make_dataset("missingimg", 3);
-  fs::remove(fs::path(dir) / "images/f_101.png");
+TEST(DatasetValidation, MissingImagesAreCountedNamedAndTheMessageSaysWhatToDo) {
+  std::string dir = make_dataset("missingimg", 12);
+  for (int i : {101, 103, 104, 105, 106, 107, 110})
+    fs::remove(fs::path(dir) / ("images/f_" + std::to_string(i) + ".png"));
   std::string msg = load_error(dir);
-  EXPECT_HAS(msg, "f_101");
-  EXPECT_HAS(msg, "not found");
+  EXPECT_HAS(msg, "7 of 12 frames");
+  EXPECT_HAS(msg, "'images/f_101.png', 'images/f_103.png', 'images/f_104.png', 'images/f_105.png', "
+                  "'images/f_106.png' and 2 more");
+  EXPECT_HAS(msg, "restore those images");
+  EXPECT_HAS(msg, "remove their frames from transforms.json");
+  EXPECT_HAS(msg, "lorgnette capture");
+  // What a user can do, not a C++ option they cannot pass.
+  EXPECT_EQ(msg.find("LoadOptions"), std::string::npos) << msg;
+  EXPECT_EQ(msg.find("skip_missing_images"), std::string::npos) << msg;
   LoadOptions skip;
   skip.skip_missing_images = true;
-  EXPECT_EQ(load_dataset(dir, skip).frames.size(), 2u);
+  EXPECT_EQ(load_dataset(dir, skip).frames.size(), 5u);
+  // Training loads the train split only (holdout: sorted indices 0 and 8, f_100 and f_108).
+  LoadOptions train;
+  train.splits = {Split::Train};
+  EXPECT_HAS(load_error(dir, train), "7 of 10 train frames");
 }
 
 TEST(DatasetValidation, CorruptImage) {
