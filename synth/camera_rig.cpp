@@ -2,6 +2,7 @@
 // (Roberts' generalised golden ratio) with a seeded offset: evenly spread for every prefix.
 #include "synth/camera_rig.h"
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <stdexcept>
@@ -29,8 +30,9 @@ Eigen::Vector3f rig_position(const RigOptions& rig, float yaw_deg, float pitch_d
 }
 
 Camera rig_camera(const RigOptions& rig, float yaw_deg, float pitch_deg) {
-  float fov = 2.0f * std::atan(rig.frame_radius / rig.distance) * 1.05f;
-  if (rig.width < rig.height) fov = 2.0f * std::atan(std::tan(0.5f * fov) * rig.height / rig.width);
+  float fov = rig.fov_y_deg > 0.0f ? rig.fov_y_deg * float(M_PI) / 180.0f
+                                   : 2.0f * std::atan(rig.frame_radius / rig.distance) * 1.05f;
+  if (rig.fov_y_deg <= 0.0f && rig.width < rig.height) fov = 2.0f * std::atan(std::tan(0.5f * fov) * rig.height / rig.width);
   return look_at_camera(rig_position(rig, yaw_deg, pitch_deg), rig.target, rig.width, rig.height, fov);
 }
 
@@ -52,6 +54,24 @@ std::vector<RigView> make_camera_rig(const RigOptions& rig) {
   const double g = 1.32471795724474602596, a1 = 1.0 / g, a2 = 1.0 / (g * g);
   double o1 = rig.seed == 0 ? 0.5 : uni(rng), o2 = rig.seed == 0 ? 0.5 : uni(rng);
   std::vector<RigView> views;
+  if (rig.handheld) {
+    // One sweep: yaw in order (a video), pitch a slow wave plus jitter inside its range.
+    const float span = rig.yaw_max_deg - rig.yaw_min_deg, step = rig.views > 1 ? span / float(rig.views - 1) : 0.0f;
+    const float phase = float(2.0 * M_PI * uni(rng)), mid = 0.5f * (rig.pitch_min_deg + rig.pitch_max_deg);
+    const float half = 0.5f * (rig.pitch_max_deg - rig.pitch_min_deg);
+    for (int i = 0; i < rig.views; ++i) {
+      float yaw = std::clamp(rig.yaw_min_deg + step * (float(i) + 0.3f * float(uni(rng) - 0.5)), rig.yaw_min_deg,
+                             rig.yaw_max_deg);
+      float wave = std::sin(phase + 3.0f * float(M_PI) * float(i) / float(std::max(1, rig.views - 1)));
+      float pitch = std::clamp(mid + half * (0.7f * wave + 0.6f * float(uni(rng) - 0.5)), rig.pitch_min_deg,
+                               rig.pitch_max_deg);
+      RigOptions r = rig;
+      r.distance = rig.distance * (1.0f + rig.distance_jitter * float(2.0 * uni(rng) - 1.0));
+      for (int a = 0; a < 3; ++a) r.target[a] += rig.aim_jitter * rig.frame_radius * float(2.0 * uni(rng) - 1.0);
+      views.push_back({rig_camera(r, yaw, pitch), yaw, pitch});
+    }
+    return views;
+  }
   for (int i = 0; i < rig.views; ++i) {
     double s = std::fmod(o1 + a1 * i, 1.0), t = std::fmod(o2 + a2 * i, 1.0);
     float yaw = rig.yaw_min_deg + float(s) * (rig.yaw_max_deg - rig.yaw_min_deg);

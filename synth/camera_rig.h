@@ -2,6 +2,8 @@
 // world +y up. Yaw turns about +y from the +z axis (positive yaw = camera towards +x, the wearer's
 // left for a head facing +z); pitch raises the camera above the target. Views are spread over the
 // (yaw, pitch) rectangle with a seeded low-discrepancy sequence, so any count covers it evenly.
+// Hand-held mode imitates a phone swept once across the face: yaw in order along the arc with a
+// little jitter, pitch wandering inside its range, distance and aim jittered, fixed phone field of view.
 #pragma once
 #include <cstdint>
 #include <vector>
@@ -21,6 +23,10 @@ struct RigOptions {
   Eigen::Vector3f target{0, 0, 0};
   float distance = 3.0f;     // scene units from the target
   float frame_radius = 0.7f; // scene units around the target that the view must contain (vertically)
+  float fov_y_deg = 0.0f;    // vertical field of view; 0 = fit frame_radius at `distance`
+  bool handheld = false;     // a sweep along the yaw range (see above) instead of the R2 cover
+  float distance_jitter = 0.08f;  // hand-held: relative distance change (uniform +-)
+  float aim_jitter = 0.05f;       // hand-held: look-at offset, in units of frame_radius (uniform +-)
 };
 
 // A camera at `eye` looking at `target` (up = world +y), vertical field of view fov_y (radians),

@@ -65,14 +65,17 @@ RenderedView render_view(const mesh::EmbreeScene& scene, const Camera& cam, cons
   if (w <= 0 || hgt <= 0 || w > 16384 || hgt > 16384)
     throw std::runtime_error(fmt::format("render: image size {}x{} is out of range (1..16384)", w, hgt));
   if (n < 1 || n > 16) throw std::runtime_error(fmt::format("render: samples per axis {} is out of range (1..16)", n));
-  RenderedView out{Image(w, hgt, 4), Image(w, hgt, 1)};
+  RenderedView out{Image(w, hgt, 4), Image(w, hgt, 1), Image()};
+  const int subject = settings.subject_triangles;
+  if (subject >= 0) out.matte = Image(w, hgt, 1);
+  auto is_subject = [subject](const mesh::Hit& h) { return subject < 0 || h.triangle < subject; };
   const float diag = scene.bounds().diagonal().norm();
   Shader shader{scene, lighting, lighting.key_dir.normalized(), lighting.fill_dir.normalized(), 1e-4f * diag};
   const V3 origin = to_v3(camera_origin(&cam));
   mesh::parallel_rows(hgt, settings.threads, [&](int y) {
     for (int x = 0; x < w; ++x) {
       V3 sum = V3::Zero();
-      float cover = 0.0f;
+      float cover = 0.0f, matte = 0.0f;
       for (int sy = 0; sy < n; ++sy)
         for (int sx = 0; sx < n; ++sx) {
           float fx = (sx + 0.5f) / n, fy = (sy + 0.5f) / n;
@@ -83,6 +86,7 @@ RenderedView render_view(const mesh::EmbreeScene& scene, const Camera& cam, cons
           int s = sy * n + sx, ls = (s * 7 + 3) % (n * n);
           sum += shader.shade(h, d, (ls / n + 0.5f) / n, (ls % n + 0.5f) / n);
           cover += 1.0f;
+          if (is_subject(h)) matte += 1.0f;
         }
       float alpha = cover / float(n * n);
       V3 c = cover > 0 ? V3(sum / cover) : V3::Zero();  // straight colour
@@ -93,7 +97,8 @@ RenderedView render_view(const mesh::EmbreeScene& scene, const Camera& cam, cons
       for (int k = 0; k < 3; ++k) out.rgba.at(x, y, k) = c[k];
       out.rgba.at(x, y, 3) = alpha;
       mesh::Hit centre = scene.intersect(origin, to_v3(camera_ray_dir(&cam, x + 0.5f, y + 0.5f)));
-      out.depth.at(x, y, 0) = centre.hit ? centre.t : std::numeric_limits<float>::infinity();
+      out.depth.at(x, y, 0) = centre.hit && is_subject(centre) ? centre.t : std::numeric_limits<float>::infinity();
+      if (subject >= 0) out.matte.at(x, y, 0) = matte / float(n * n);
     }
   });
   return out;

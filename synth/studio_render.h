@@ -29,11 +29,15 @@ struct RenderSettings {
   int samples_per_axis = 3;  // anti-aliasing: n x n stratified samples per pixel
   std::optional<Eigen::Vector3f> background;  // linear RGB; empty = transparent (alpha = coverage)
   int threads = 0;           // 0 = hardware concurrency
+  // Triangles [0, subject_triangles) are the subject, the rest its surroundings (a room): the view
+  // then also gets the subject's matte, and depth counts the subject only. -1 = all are the subject.
+  int subject_triangles = -1;
 };
 
 struct RenderedView {
   Image rgba;   // linear, 4 channels, straight (not premultiplied) colour
   Image depth;  // 1 channel: distance along the unit pixel-centre ray (scene units), +inf where no hit
+  Image matte;  // 1 channel: the subject's coverage (fraction of the pixel's samples); only with a room
 };
 
 // The scene must be in the frame of the camera (the dataset frame).

@@ -7,6 +7,8 @@
 #include <fmt/format.h>
 
 #include "mesh/loader.h"
+#include "synth/body.h"
+#include "synth/room.h"
 
 namespace lorgnette::synth {
 
@@ -14,8 +16,12 @@ Eigen::Vector3f transform_point(const Eigen::Matrix4f& m, const Eigen::Vector3f&
   return m.topLeftCorner<3, 3>() * p + m.topRightCorner<3, 1>();
 }
 
-Subject procedural_subject(const HeadParams& params, const HeadMeshOptions& options) {
+Subject procedural_subject(const HeadParams& params, const HeadMeshOptions& options, bool with_body) {
   ProceduralHead head = make_procedural_head(params, options);
+  if (with_body) {
+    append_mesh(head.mesh, make_neck_and_shoulders(params), Eigen::Matrix4f::Identity());
+    head.mesh.units_to_mm = 1.0;
+  }
   Subject s;
   s.source = "procedural";
   s.mm_per_unit = kProceduralMmPerUnit;
@@ -48,6 +54,9 @@ Subject mesh_subject(const std::string& path, std::optional<double> mm_per_mesh_
   s.mesh_to_dataset.topLeftCorner<3, 3>() *= scale;
   s.mesh_to_dataset.topRightCorner<3, 1>() = -scale * box.center();
   if (mm_per_mesh_unit) s.mm_per_unit = *mm_per_mesh_unit / scale;
+  // Unknown scale: assume a bust, about 480 mm along its largest side (the team's scan: 486 mm).
+  s.room_mm_per_unit = s.mm_per_unit ? *s.mm_per_unit : 480.0 / 1.5;
+  s.eye_point = Eigen::Vector3f(0, 0.12f * scale * box.sizes().y(), 0);
   s.look_at = Eigen::Vector3f::Zero();
   Eigen::Vector3f half = 0.5f * scale * box.sizes();
   s.frame_radius = 1.05f * std::max(half.x(), half.y());

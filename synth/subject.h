@@ -31,9 +31,14 @@ struct Subject {
   std::vector<Eigen::Vector3f> ibug68;               // dataset frame; empty when unknown
   Eigen::Vector3f look_at{0, 0, 0};   // dataset frame: where the rig cameras look
   float frame_radius = 0.7f;          // dataset units the views must contain around look_at
+  // Where a room is placed around the subject (synth/room.h): the eye point in the dataset frame
+  // and the room's scale (mm_per_unit when known, else assumed from the mesh's size).
+  Eigen::Vector3f eye_point{0, 0, 0};
+  double room_mm_per_unit = kProceduralMmPerUnit;
 };
 
-Subject procedural_subject(const HeadParams& params, const HeadMeshOptions& options = {});
+// with_body: the head also gets a neck and shoulders (synth/body.h), as a subject in a room needs.
+Subject procedural_subject(const HeadParams& params, const HeadMeshOptions& options = {}, bool with_body = false);
 
 // mm_per_mesh_unit: the file's unit in millimetres if known (the loader's glTF "metres" is not
 // trusted: scanned heads are often stored at arbitrary scale). Throws on unreadable files.

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <stdexcept>
 
 #include <fmt/format.h>
@@ -14,6 +15,8 @@
 #include "host/dataset/dataset.h"
 #include "host/util/interrupt.h"
 #include "mesh/embree_scene.h"
+#include "synth/matte.h"
+#include "synth/room.h"
 #include "synth/staged_dir.h"
 
 namespace lorgnette::synth {
@@ -33,6 +36,10 @@ json matrix_json(const Eigen::Matrix4f& m) {
 void check_options(const SynthOptions& o) {
   if (o.samples_per_axis < 1 || o.samples_per_axis > 16)
     throw std::runtime_error(fmt::format("synth: samples per axis {} is out of range (1..16)", o.samples_per_axis));
+  if (o.room < 0 || o.room > kRoomLayouts)
+    throw std::runtime_error(fmt::format("synth: room layout {} does not exist; use 1..{} (0 = no room)", o.room, kRoomLayouts));
+  if (o.room > 0 && !(o.fov_y_deg > 10.0f && o.fov_y_deg < 120.0f))
+    throw std::runtime_error(fmt::format("synth: field of view {} deg is out of range (10..120)", o.fov_y_deg));
   if (o.background && (o.background->minCoeff() < 0.0f || o.background->maxCoeff() > 1.0f))
     throw std::runtime_error("synth: background colour components must lie in [0, 1]");
 }
@@ -70,22 +77,42 @@ json ground_truth_json(const Subject& s, const SynthOptions& o, const std::vecto
                     {"fill", l.fill}, {"sky", l.sky}, {"ground", l.ground}, {"shadows", l.shadows}};
   gt["render"] = {{"samples_per_pixel", o.samples_per_axis * o.samples_per_axis},
                   {"background", o.background ? vec_json(*o.background) : json("transparent")}};
+  if (o.room > 0) {
+    gt["room"] = {{"layout", o.room}, {"mm_per_unit", s.room_mm_per_unit}, {"eye_point", vec_json(s.eye_point)},
+                  {"cameras", "hand-held sweep"}, {"fov_y_deg", o.fov_y_deg},
+                  {"distance_mm", o.phone_distance_mm},
+                  {"mattes", "mattes/NNNN.png: subject coverage 0..255 (not sRGB); frames' eval_matte_path"},
+                  {"depth_note", "depth counts the subject only (inf where the room is seen)"}};
+  }
   return gt;
 }
 
-// Adds per-frame depth_path (instant-ngp's key) to the transforms.json the dataset writer produced.
-void add_depth_paths(const std::string& dir, size_t count) {
+// Adds per-frame depth_path (instant-ngp's key) and, with mattes, eval_matte_path to the
+// transforms.json the dataset writer produced.
+void add_depth_paths(const std::string& dir, size_t count, bool mattes) {
   fs::path p = fs::path(dir) / "transforms.json";
   json tj = json::parse(std::ifstream(p));
   for (auto& f : tj.at("frames")) {
     std::string img = f.at("file_path");
     f["depth_path"] = "depth/" + fs::path(img).stem().string() + ".exr";
+    if (mattes) f["eval_matte_path"] = "mattes/" + fs::path(img).stem().string() + ".png";
   }
   if (tj.at("frames").size() != count) throw std::runtime_error("synth: transforms.json frame count mismatch");
   write_text_file_atomic(p.string(), tj.dump(2) + "\n");
 }
 
 }  // namespace
+
+RoomScene subject_in_room(const Subject& subject, int layout) {
+  RoomScene out;
+  append_mesh(out.mesh, subject.mesh, subject.mesh_to_dataset);
+  out.subject_triangles = int(out.mesh.triangles.size());
+  RoomPlacement placement{layout, Eigen::Matrix4f::Identity()};
+  placement.mm_to_dataset.topLeftCorner<3, 3>() *= float(1.0 / subject.room_mm_per_unit);
+  placement.mm_to_dataset.topRightCorner<3, 1>() = subject.eye_point;
+  append_mesh(out.mesh, make_room(placement), Eigen::Matrix4f::Identity());
+  return out;
+}
 
 RigOptions rig_for(const Subject& subject, const SynthOptions& o) {
   RigOptions rig;
@@ -97,6 +124,11 @@ RigOptions rig_for(const Subject& subject, const SynthOptions& o) {
   rig.target = subject.look_at;
   rig.distance = o.camera_distance;
   rig.frame_radius = subject.frame_radius;
+  if (o.room > 0) {
+    rig.handheld = true;
+    rig.fov_y_deg = o.fov_y_deg;
+    rig.distance = float(o.phone_distance_mm / subject.room_mm_per_unit);
+  }
   return rig;
 }
 
@@ -107,8 +139,18 @@ SynthReport synthesize_dataset(const Subject& subject, const std::string& out_di
   StagedDir staged(out_dir, o.force);
   fs::create_directories(fs::path(staged.path()) / "images");
   fs::create_directories(fs::path(staged.path()) / "depth");
-  mesh::EmbreeScene scene(subject.mesh, subject.mesh_to_dataset);
+  if (o.room > 0) fs::create_directories(fs::path(staged.path()) / "mattes");
   RenderSettings settings{o.samples_per_axis, o.background, 0};
+  std::unique_ptr<mesh::EmbreeScene> scene_ptr;
+  if (o.room > 0) {
+    RoomScene room = subject_in_room(subject, o.room);
+    settings.subject_triangles = room.subject_triangles;
+    if (!settings.background) settings.background = room_sky();
+    scene_ptr = std::make_unique<mesh::EmbreeScene>(std::move(room.mesh));
+  } else {
+    scene_ptr = std::make_unique<mesh::EmbreeScene>(subject.mesh, subject.mesh_to_dataset);
+  }
+  const mesh::EmbreeScene& scene = *scene_ptr;
   SynthReport report;
   std::vector<Camera> cameras;
   std::vector<std::string> files;
@@ -118,7 +160,15 @@ SynthReport synthesize_dataset(const Subject& subject, const std::string& out_di
     RenderedView v = render_view(scene, views[i].camera, o.lighting, settings);
     report.render_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - r0).count();
     std::string name = fmt::format("{:04d}", i);
-    write_image(staged.path() + "/images/" + name + ".png", v.rgba);
+    if (o.room > 0) {
+      Image rgb(v.rgba.width, v.rgba.height, 3);
+      for (size_t p = 0; p < size_t(rgb.width) * rgb.height; ++p)
+        for (int c = 0; c < 3; ++c) rgb.pixels[p * 3 + c] = v.rgba.pixels[p * 4 + c];
+      write_image(staged.path() + "/images/" + name + ".png", rgb);
+      write_matte(staged.path() + "/mattes/" + name + ".png", v.matte);
+    } else {
+      write_image(staged.path() + "/images/" + name + ".png", v.rgba);
+    }
     write_image(staged.path() + "/depth/" + name + ".exr", v.depth);
     cameras.push_back(views[i].camera);
     files.push_back("images/" + name + ".png");
@@ -126,7 +176,7 @@ SynthReport synthesize_dataset(const Subject& subject, const std::string& out_di
   }
   json extra = {{"aabb_scale", 1}, {"scale", 0.33}, {"offset", {0.5, 0.5, 0.5}}, {"synthetic", "lorgnette synth"}};
   dataset::write_transforms_json(staged.path(), cameras, files, extra);
-  add_depth_paths(staged.path(), files.size());
+  add_depth_paths(staged.path(), files.size(), o.room > 0);
   write_text_file_atomic(staged.path() + "/ground_truth.json", ground_truth_json(subject, o, views).dump(2) + "\n");
   if (interrupted()) throw std::runtime_error("synth: interrupted; nothing was written to the output directory");
   staged.commit();

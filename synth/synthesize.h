@@ -1,6 +1,9 @@
 // Dataset synthesis: renders a Subject from a sphere-cap camera rig and writes a training dataset
 //   transforms.json     instant-ngp / nerfstudio (exact intrinsics and poses; per-frame depth_path)
-//   images/NNNN.png     RGBA, straight alpha (transparent background) or opaque on a chosen colour
+//   images/NNNN.png     RGBA, straight alpha (transparent background) or opaque on a chosen colour;
+//                       with a room: RGB, no alpha (the room is the background)
+//   mattes/NNNN.png     with a room only: the subject's true matte (synth/matte.h), referenced from
+//                       transforms.json frames as "eval_matte_path" (evaluation only)
 //   depth/NNNN.exr      1 channel float: distance along the unit pixel-centre ray, dataset units,
 //                       +inf where the ray misses the subject
 //   ground_truth.json   source (mesh path or "procedural" + seed + params), mesh_to_dataset (4x4),
@@ -32,6 +35,12 @@ struct SynthOptions {
   float camera_distance = 3.0f;               // dataset units from the subject's look-at point
   bool force = false;                         // replace a non-empty output directory
   StudioLighting lighting;
+  // A room around the subject (synth/room.h; 0 = none). With a room the cameras are hand-held
+  // phone cameras: a sweep along the yaw range, pitch/distance/aim jitter, fov_y_deg field of view,
+  // at phone_distance_mm (converted with the subject's room scale) instead of camera_distance.
+  int room = 0;
+  float fov_y_deg = 60.0f;
+  float phone_distance_mm = 480.0f;
   std::function<void(int done, int total)> progress;  // called after each view
 };
 
@@ -41,6 +50,17 @@ struct SynthReport {
   double seconds = 0.0;         // total wall time (rendering + writing)
   double render_seconds = 0.0;  // ray tracing only
 };
+
+// The subject and room `layout` (synth/room.h) as one mesh in the dataset frame; triangles
+// [0, subject_triangles) are the subject's (what the matte counts).
+struct RoomScene {
+  mesh::TriMesh mesh;
+  int subject_triangles = 0;
+};
+RoomScene subject_in_room(const Subject& subject, int layout);
+
+// Linear RGB of rays that leave the room (it is open above and towards the cameras).
+inline Eigen::Vector3f room_sky() { return {0.55f, 0.56f, 0.58f}; }
 
 // The rig the options describe, aimed at the subject.
 RigOptions rig_for(const Subject& subject, const SynthOptions& options);

@@ -10,6 +10,7 @@
 
 #include "host/util/image_io.h"
 #include "host/util/progress.h"
+#include "synth/room.h"
 #include "synth/synthesize.h"
 #include "tools/lorgnette/command.h"
 
@@ -19,7 +20,8 @@ namespace {
 struct SynthArgs {
   std::string mesh, out, size = "256x256", background = "transparent";
   bool procedural = false, force = false, json = false;
-  int views = 24, samples = 3;
+  int views = 24, samples = 3, room = 0;
+  float fov = 60.0f, phone_mm = 480.0f;
   std::vector<float> yaw{-35.0f, 35.0f}, pitch{-12.0f, 18.0f};
   uint64_t seed = 0;
   double mesh_mm = 0.0;
@@ -62,8 +64,11 @@ void run_synth(const SynthArgs& a) {
   o.background = parse_background(a.background);
   o.samples_per_axis = a.samples;
   o.force = a.force;
+  o.room = a.room;
+  o.fov_y_deg = a.fov;
+  o.phone_distance_mm = a.phone_mm;
   synth::Subject subject = a.procedural
-      ? synth::procedural_subject(synth::random_head_params(a.seed))
+      ? synth::procedural_subject(synth::random_head_params(a.seed), {}, a.room > 0)
       : synth::mesh_subject(a.mesh, a.mesh_mm > 0 ? std::optional<double>(a.mesh_mm) : std::nullopt);
   if (!a.look_at.empty()) subject.look_at = Eigen::Vector3f(a.look_at[0], a.look_at[1], a.look_at[2]);
   if (a.frame_radius > 0.0f) subject.frame_radius = a.frame_radius;
@@ -100,6 +105,15 @@ void add_synth(CLI::App& app, GlobalOptions&) {
       ->expected(3);
   cmd->add_option("--frame-radius", a->frame_radius, "dataset units around --look-at each view must contain")
       ->check(CLI::PositiveNumber);
+  cmd->add_option("--room", a->room,
+                  fmt::format("place the subject in room layout 1..{} (RGB images without alpha, true mattes in "
+                              "mattes/, hand-held phone cameras sweeping --yaw-range; the procedural head gets "
+                              "a neck and shoulders)", synth::kRoomLayouts))
+      ->check(CLI::Range(0, synth::kRoomLayouts));
+  cmd->add_option("--fov", a->fov, "with --room: the phone's vertical field of view in degrees (default 60)")
+      ->check(CLI::Range(10.0, 120.0));
+  cmd->add_option("--phone-distance", a->phone_mm, "with --room: camera distance in millimetres (default 480)")
+      ->check(CLI::Range(150.0, 3000.0));
   cmd->add_flag("--force", a->force, "replace a non-empty output directory");
   cmd->add_flag("--json", a->json, "print one JSON object on stdout");
   cmd->callback([a] { run_synth(*a); });

@@ -1,0 +1,171 @@
+// Tests of synthetic room captures (synth/room.h, synth/body.h, the hand-held rig, mattes): the
+// written matte is the subject's coverage as the renderer computes it for the subject alone, the
+// room fills the background, the images carry no alpha and the loader sees an opaque dataset with
+// eval_matte_path on every frame, the two layouts differ, and the team's scan renders in a room.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include <nlohmann/json.hpp>
+
+#include "host/dataset/dataset.h"
+#include "mesh/embree_scene.h"
+#include "synth/body.h"
+#include "synth/matte.h"
+#include "synth/room.h"
+#include "synth/synthesize.h"
+
+namespace lorgnette::synth {
+namespace {
+
+namespace fs = std::filesystem;
+
+const Subject& head_with_body() {
+  static const Subject s = procedural_subject(random_head_params(0), HeadMeshOptions{256, 128, 512}, true);
+  return s;
+}
+
+SynthOptions room_options(int room) {
+  SynthOptions o;
+  o.room = room;
+  o.views = 4;
+  o.width = 72, o.height = 96;
+  o.samples_per_axis = 3;
+  o.seed = 3;
+  o.yaw_min_deg = -40.0f, o.yaw_max_deg = 40.0f;
+  o.pitch_min_deg = -8.0f, o.pitch_max_deg = 8.0f;
+  return o;
+}
+
+Camera first_camera(const Subject& s, const SynthOptions& o) { return make_camera_rig(rig_for(s, o))[1].camera; }
+
+RenderedView render_in_room(const Subject& s, int room, const Camera& cam) {
+  RoomScene rs = subject_in_room(s, room);
+  RenderSettings settings{3, room_sky(), 1};
+  settings.subject_triangles = rs.subject_triangles;
+  mesh::EmbreeScene scene(std::move(rs.mesh));
+  return render_view(scene, cam, StudioLighting{}, settings);
+}
+
+// The matte is exactly the coverage of the subject rendered alone (same sub-pixel rays): at most
+// 0.1 % of pixels may differ by one sample of nine (Embree edge ties between two BVHs).
+TEST(Room, MatteEqualsTheSubjectsOwnCoverage) {
+  const Subject& s = head_with_body();
+  SynthOptions o = room_options(1);
+  Camera cam = first_camera(s, o);
+  RenderedView v = render_in_room(s, 1, cam);
+  mesh::EmbreeScene alone(s.mesh, s.mesh_to_dataset);
+  RenderedView a = render_view(alone, cam, StudioLighting{}, RenderSettings{3, std::nullopt, 1});
+  int differ = 0, covered = 0;
+  for (int y = 0; y < cam.height; ++y)
+    for (int x = 0; x < int(cam.width); ++x) {
+      float d = std::abs(v.matte.at(x, y, 0) - a.rgba.at(x, y, 3));
+      EXPECT_LE(d, 1.0f / 9.0f + 1e-6f) << x << "," << y;
+      differ += d > 1e-6f;
+      covered += a.rgba.at(x, y, 3) > 0.5f;
+      EXPECT_EQ(v.rgba.at(x, y, 3), 1.0f);  // opaque everywhere
+    }
+  EXPECT_LE(differ, int(0.001 * cam.width * cam.height) + 1);
+  EXPECT_GT(covered, int(0.15 * cam.width * cam.height)) << "the subject should fill a good part of a phone view";
+}
+
+// Behind the subject the room is seen: at least 85 % of the non-subject pixels are not the sky
+// colour, and they are textured (standard deviation of luminance above 0.03).
+TEST(Room, RoomIsSeenBehindTheSubject) {
+  const Subject& s = head_with_body();
+  for (int room = 1; room <= kRoomLayouts; ++room) {
+    RenderedView v = render_in_room(s, room, first_camera(s, room_options(room)));
+    int bg = 0, room_px = 0;
+    double sum = 0, sum2 = 0;
+    for (int y = 0; y < v.rgba.height; ++y)
+      for (int x = 0; x < v.rgba.width; ++x) {
+        if (v.matte.at(x, y, 0) > 0.0f) continue;
+        ++bg;
+        Eigen::Vector3f c(v.rgba.at(x, y, 0), v.rgba.at(x, y, 1), v.rgba.at(x, y, 2));
+        if ((c - room_sky()).cwiseAbs().maxCoeff() > 1e-3f) ++room_px;
+        double l = c.mean();
+        sum += l, sum2 += l * l;
+      }
+    ASSERT_GT(bg, 0);
+    EXPECT_GT(room_px, int(0.85 * bg)) << "room " << room;
+    double mean = sum / bg;
+    EXPECT_GT(std::sqrt(std::max(0.0, sum2 / bg - mean * mean)), 0.03) << "room " << room << " looks untextured";
+  }
+}
+
+// Same camera, two layouts: the backgrounds differ (mean absolute difference above 0.05 linear),
+// the subject does not (its matte is identical).
+TEST(Room, TwoLayoutsDiffer) {
+  const Subject& s = head_with_body();
+  Camera cam = first_camera(s, room_options(1));
+  RenderedView a = render_in_room(s, 1, cam), b = render_in_room(s, 2, cam);
+  double diff = 0;
+  int n = 0;
+  for (int y = 0; y < a.rgba.height; ++y)
+    for (int x = 0; x < a.rgba.width; ++x) {
+      EXPECT_EQ(a.matte.at(x, y, 0), b.matte.at(x, y, 0));
+      if (a.matte.at(x, y, 0) > 0.0f) continue;
+      for (int c = 0; c < 3; ++c) diff += std::abs(a.rgba.at(x, y, c) - b.rgba.at(x, y, c));
+      n += 3;
+    }
+  EXPECT_GT(diff / n, 0.05);
+}
+
+// The written dataset: RGB images without alpha, a matte per frame referenced as eval_matte_path
+// (round trip through the 8-bit file within half a step), the loader sees no alpha.
+TEST(Room, DatasetHasNoAlphaAndAMattePerFrame) {
+  fs::path dir = fs::path(LORGNETTE_TEST_TMP) / "synth" / "room_dataset";
+  fs::remove_all(dir);
+  fs::create_directories(dir.parent_path());
+  SynthOptions o = room_options(2);
+  o.force = true;
+  synthesize_dataset(head_with_body(), dir.string(), o);
+  nlohmann::json tj = nlohmann::json::parse(std::ifstream(dir / "transforms.json"));
+  ASSERT_EQ(tj.at("frames").size(), 4u);
+  for (const auto& f : tj.at("frames")) {
+    Image img = read_image((dir / f.at("file_path").get<std::string>()).string());
+    EXPECT_EQ(img.channels, 3);
+    Image m = read_matte((dir / f.at("eval_matte_path").get<std::string>()).string());
+    EXPECT_EQ(m.width, img.width);
+    double cover = 0;
+    for (float v : m.pixels) cover += v;
+    EXPECT_GT(cover, 0.1 * m.pixels.size());
+  }
+  dataset::Dataset ds = dataset::load_dataset(dir.string(), {});
+  EXPECT_FALSE(ds.has_alpha);
+  nlohmann::json gt = nlohmann::json::parse(std::ifstream(dir / "ground_truth.json"));
+  EXPECT_EQ(gt.at("room").at("layout"), 2);
+  // Hand-held: the views sweep the yaw range in order.
+  for (size_t i = 1; i < gt.at("views").size(); ++i)
+    EXPECT_GT(gt["views"][i]["yaw_deg"].get<float>(), gt["views"][i - 1]["yaw_deg"].get<float>());
+}
+
+TEST(Room, MatteFileRoundTrips) {
+  Image m(5, 1, 1);
+  for (int i = 0; i < 5; ++i) m.pixels[i] = i / 4.0f;
+  fs::path p = fs::path(LORGNETTE_TEST_TMP) / "synth" / "matte.png";
+  fs::create_directories(p.parent_path());
+  write_matte(p.string(), m);
+  Image r = read_matte(p.string());
+  for (int i = 0; i < 5; ++i) EXPECT_NEAR(r.pixels[i], m.pixels[i], 0.5f / 255.0f + 1e-5f);  // half a step + float rounding
+}
+
+TEST(Room, UnknownLayoutIsRefused) { EXPECT_THROW(make_room(RoomPlacement{kRoomLayouts + 1}), std::runtime_error); }
+
+TEST(Room, ScanRendersInARoom) {
+  std::string path = std::string(LORGNETTE_DATA_DIR) + "/heads/lee-perry-smith/LeePerrySmith.glb";
+  if (!fs::exists(path)) GTEST_SKIP() << "team data not found: " << path;
+  Subject s = mesh_subject(path);
+  SynthOptions o = room_options(1);
+  RenderedView v = render_in_room(s, 1, first_camera(s, o));
+  double cover = 0;
+  for (float m : v.matte.pixels) cover += m;
+  cover /= v.matte.pixels.size();
+  EXPECT_GT(cover, 0.1);
+  EXPECT_LT(cover, 0.8) << "the room should be seen around the scan";
+}
+
+}  // namespace
+}  // namespace lorgnette::synth
