@@ -1,8 +1,8 @@
 // The trained NeRF as one object: the field (hash grid + MLPs), the scene bounding box it covers,
 // the occupancy grid used to skip empty space, the marching step, and how the model frame relates
-// to the dataset frame. Snapshots (.lnerf) are a small versioned JSON header followed by binary
-// blobs with checksums; a newer or corrupt file is refused before anything is built, and saving
-// is atomic (temporary file + rename).
+// to the dataset frame. Snapshots (.lnerf, snapshot.h) are a small versioned JSON header followed by
+// binary blobs with checksums; a newer or corrupt file is refused before anything is built, and
+// saving is atomic (temporary file + rename).
 //
 // Conventions shared with the marcher (kernels/train/occupancy.h has the indexing rule):
 //  - normalised position q = (p - aabb.min) / (aabb.max - aabb.min), the field's input in [0,1]^3;
@@ -20,46 +20,9 @@
 #include "host/cl/buffer.h"
 #include "host/cl/runtime.h"
 #include "host/field/field.h"
+#include "host/nerf/snapshot.h"
 
 namespace lorgnette::nerf {
-
-constexpr uint32_t kSnapshotVersion = 1;
-
-struct Aabb {
-  std::array<float, 3> min{0.0f, 0.0f, 0.0f}, max{1.0f, 1.0f, 1.0f};
-  float extent(int axis) const { return max[axis] - min[axis]; }
-  float max_extent() const;
-  float diagonal() const;
-  std::array<float, 3> center() const;
-  bool valid() const;  // finite and max > min on every axis
-  std::array<float, 3> normalise(const std::array<float, 3>& p) const;
-};
-
-// model frame = dataset frame * scale + offset (identity unless the trainer says otherwise), so
-// every output can be mapped back to the dataset's cameras.
-struct SceneNormalisation {
-  float scale = 1.0f;
-  std::array<float, 3> offset{0.0f, 0.0f, 0.0f};
-};
-
-struct ModelMetadata {
-  uint64_t steps = 0;
-  double train_seconds = 0.0;
-  uint64_t samples_trained = 0;
-  uint64_t seed = 0;
-  float final_loss = 0.0f;
-  std::string dataset_path, dataset_hash, device, created;
-};
-
-// Occupancy grid state: per-cell density estimate (EMA; empty until training updates it) and the
-// bitfield derived from it (all cells occupied in a fresh model).
-struct OccupancyGrid {
-  uint32_t res = 64;
-  std::vector<float> density;  // res^3 or empty
-  std::vector<uint32_t> bits;  // occ_word_count(res)
-  uint64_t occupied_count() const;
-  double occupied_fraction() const;
-};
 
 class NerfModel {
  public:
@@ -105,8 +68,5 @@ class NerfModel {
   OccupancyGrid occ_;
   cl::Buffer<uint32_t> occ_bits_;
 };
-
-// The full-grid occupancy bitfield of a fresh model.
-OccupancyGrid full_occupancy(uint32_t res);
 
 }  // namespace lorgnette::nerf

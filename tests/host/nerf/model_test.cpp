@@ -1,6 +1,9 @@
 // NerfModel snapshots: a save/load round trip restores everything bitwise; truncated, corrupted,
 // foreign and newer files are refused with a clear message; an existing file is replaced atomically.
+// The format alone (no device): NaN losses round-trip, out-of-range header numbers are refused.
+#include <cmath>
 #include <cstring>
+#include <functional>
 #include <filesystem>
 #include <fstream>
 
@@ -123,6 +126,62 @@ TEST(NerfModel, NewerFormatVersionIsRefused) {
   std::string msg = expect_load_error(rt, path);
   EXPECT_NE(msg.find("newer"), std::string::npos) << msg;
   EXPECT_NE(msg.find("update"), std::string::npos) << msg;
+}
+
+// The format alone, no device (host/nerf/snapshot.h).
+nerf::Snapshot host_snapshot() {
+  nerf::Snapshot s;
+  s.config = tiny_config();
+  s.aabb = {{-1.0f, -0.5f, -2.0f}, {1.0f, 0.75f, 0.5f}};
+  s.step = 0.01f;
+  s.params.assign(s.config.param_count(), 0.25f);
+  s.occ = nerf::full_occupancy(4);
+  s.metadata.seed = 9;
+  return s;
+}
+
+// A snapshot with its header replaced by `edit(header)`.
+std::string with_header(const std::string& file, const std::function<void(nlohmann::json&)>& edit) {
+  uint64_t hlen = 0;
+  std::memcpy(&hlen, file.data() + 8, 8);
+  nlohmann::json header = nlohmann::json::parse(file.substr(16, hlen));
+  edit(header);
+  std::string text = header.dump();
+  uint64_t new_len = text.size();
+  return file.substr(0, 8) + std::string(reinterpret_cast<const char*>(&new_len), 8) + text +
+         file.substr(16 + hlen);
+}
+
+TEST(Snapshot, DivergedLossIsWrittenAsNullAndReadsBackAsNan) {
+  nerf::Snapshot s = host_snapshot();
+  s.metadata.final_loss = NAN;
+  nerf::Snapshot back = nerf::parse_snapshot(nerf::encode_snapshot(s), "nan.lnerf");
+  EXPECT_TRUE(std::isnan(back.metadata.final_loss));
+  EXPECT_EQ(back.metadata.seed, 9u);
+  EXPECT_EQ(back.params, s.params);
+}
+
+// Found by fuzzing (fuzz/regressions/snapshot/): header numbers beyond their type were cast anyway
+// (undefined behaviour); each is refused naming the field.
+TEST(Snapshot, HeaderNumbersBeyondTheirTypeAreRefused) {
+  const std::string good = nerf::encode_snapshot(host_snapshot());
+  const std::pair<const char*, std::function<void(nlohmann::json&)>> cases[] = {
+      {"version", [](nlohmann::json& h) { h["version"] = 1e300; }},
+      {"occupancy.res", [](nlohmann::json& h) { h["occupancy"]["res"] = -1e20; }},
+      {"step", [](nlohmann::json& h) { h["step"] = 1e300; }},
+      {"aabb.max", [](nlohmann::json& h) { h["aabb"]["max"][0] = 1e39; }},
+      {"blobs.offset", [](nlohmann::json& h) { h["blobs"][0]["offset"] = 1e300; }},
+      {"metadata.steps", [](nlohmann::json& h) { h["metadata"]["steps"] = -1.5e19; }},
+  };
+  for (const auto& [field, edit] : cases) {
+    try {
+      nerf::parse_snapshot(with_header(good, edit), "bad.lnerf");
+      ADD_FAILURE() << field << " was accepted";
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find(field), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("corrupt"), std::string::npos) << e.what();
+    }
+  }
 }
 
 TEST(Occupancy, IndexAndCellExitFollowTheSharedRule) {

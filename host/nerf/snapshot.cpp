@@ -1,0 +1,283 @@
+// The model's host-side data and the .lnerf snapshot format (see snapshot.h). Parsing checks every
+// header value's type and range itself: nlohmann's get<T>() casts an out-of-range number silently
+// (undefined behaviour for floats), and a corrupt file must get a clear message, not a crash.
+#include "host/nerf/snapshot.h"
+
+#include <fmt/format.h>
+
+#include <cfloat>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <stdexcept>
+
+#include "kernels/train/occupancy.h"
+
+namespace lorgnette::nerf {
+namespace {
+
+using nlohmann::json;
+
+constexpr char kMagic[9] = "LGNNERF\n";
+
+uint64_t fnv1a64(const void* data, size_t bytes) {
+  const auto* p = static_cast<const unsigned char*>(data);
+  uint64_t h = 1469598103934665603ull;
+  for (size_t i = 0; i < bytes; ++i) h = (h ^ p[i]) * 1099511628211ull;
+  return h;
+}
+
+std::string hex64(uint64_t v) { return fmt::format("{:016x}", v); }
+
+[[noreturn]] void corrupt(const std::string& path, const std::string& why) {
+  throw std::runtime_error("model file '" + path + "' is corrupt or not a Lorgnette model (" + why +
+                           "): retrain it or use another file");
+}
+
+// Thrown by the checked getters inside the header parse; turned into corrupt("bad header: ...").
+struct BadValue : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+uint64_t to_uint(const json& j, const std::string& what, uint64_t max = UINT64_MAX) {
+  if (!j.is_number_unsigned() || j.get<uint64_t>() > max)
+    throw BadValue(fmt::format("'{}' must be an integer in 0..{}, found {}", what, max, j.dump()));
+  return j.get<uint64_t>();
+}
+
+double to_double(const json& j, const std::string& what, double max = DBL_MAX) {
+  double v = j.is_number() ? j.get<double>() : NAN;
+  if (!std::isfinite(v) || std::abs(v) > max)
+    throw BadValue(fmt::format("'{}' must be a finite number, found {}", what, j.dump()));
+  return v;
+}
+
+float to_float(const json& j, const std::string& what) {
+  return static_cast<float>(to_double(j, what, double(FLT_MAX)));
+}
+
+std::array<float, 3> to_float3(const json& j, const std::string& what) {
+  if (!j.is_array() || j.size() != 3)
+    throw BadValue(fmt::format("'{}' must be 3 numbers, found {}", what, j.dump()));
+  return {to_float(j[0], what), to_float(j[1], what), to_float(j[2], what)};
+}
+
+// The value under `key` of object `j`, or nullptr when it is absent or null (the default applies).
+const json* optional(const json& j, const char* key) {
+  auto it = j.find(key);
+  return it == j.end() || it->is_null() ? nullptr : &*it;
+}
+
+json metadata_json(const ModelMetadata& m) {
+  return {{"steps", m.steps},
+          {"train_seconds", m.train_seconds},
+          {"samples_trained", m.samples_trained},
+          {"seed", m.seed},
+          {"final_loss", m.final_loss},
+          {"dataset_path", m.dataset_path},
+          {"dataset_hash", m.dataset_hash},
+          {"device", m.device},
+          {"created", m.created}};
+}
+
+ModelMetadata metadata_from_json(const json& j) {
+  if (!j.is_object()) throw BadValue("'metadata' must be an object, found " + j.dump());
+  ModelMetadata m;
+  if (auto* v = optional(j, "steps")) m.steps = to_uint(*v, "metadata.steps");
+  if (auto* v = optional(j, "train_seconds")) m.train_seconds = to_double(*v, "metadata.train_seconds");
+  if (auto* v = optional(j, "samples_trained")) m.samples_trained = to_uint(*v, "metadata.samples_trained");
+  if (auto* v = optional(j, "seed")) m.seed = to_uint(*v, "metadata.seed");
+  // A diverged training run saves a NaN loss, which JSON writes as null.
+  if (j.contains("final_loss"))
+    m.final_loss = j["final_loss"].is_null() ? NAN : to_float(j["final_loss"], "metadata.final_loss");
+  m.dataset_path = j.value("dataset_path", "");
+  m.dataset_hash = j.value("dataset_hash", "");
+  m.device = j.value("device", "");
+  m.created = j.value("created", "");
+  return m;
+}
+
+SceneNormalisation normalisation_from_json(const json& j) {
+  if (!j.is_object()) throw BadValue("'normalisation' must be an object, found " + j.dump());
+  SceneNormalisation n;
+  if (auto* v = optional(j, "scale")) n.scale = to_float(*v, "normalisation.scale");
+  if (auto* v = optional(j, "offset")) n.offset = to_float3(*v, "normalisation.offset");
+  return n;
+}
+
+// The header's values, checked; the blob table is left to parse_blobs.
+void parse_header(const json& h, const std::string& path, Snapshot& s) {
+  if (!h.is_object()) corrupt(path, "the header is not a JSON object");
+  uint64_t version = to_uint(h.at("version"), "version");
+  if (version > kSnapshotVersion)
+    throw std::runtime_error(
+        fmt::format("model file '{}' has format version {}, newer than this build reads (up to {}): update "
+                    "Lorgnette or retrain the model with this version",
+                    path, version, kSnapshotVersion));
+  if (h.value("format", "") != "lorgnette-nerf") corrupt(path, "header format is not lorgnette-nerf");
+  s.config = field::FieldConfig::from_json(h.at("field"));
+  s.config.validate();
+  s.aabb.min = to_float3(h.at("aabb").at("min"), "aabb.min");
+  s.aabb.max = to_float3(h.at("aabb").at("max"), "aabb.max");
+  s.step = to_float(h.at("step"), "step");
+  s.occ.res = static_cast<uint32_t>(to_uint(h.at("occupancy").at("res"), "occupancy.res", UINT32_MAX));
+  if (auto* v = optional(h, "normalisation")) s.normalisation = normalisation_from_json(*v);
+  if (auto* v = optional(h, "metadata")) s.metadata = metadata_from_json(*v);
+}
+
+// The blob `name` of `expected_bytes` checked against the file; nullptr when it is absent and
+// expected_bytes is 0.
+const char* find_blob(const std::string& path, std::string_view file, size_t data_start, const json& blobs,
+                      const std::string& name, size_t expected_bytes) {
+  for (const auto& b : blobs) {
+    if (!b.is_object()) corrupt(path, "bad header: each entry of 'blobs' must be an object");
+    if (b.value("name", "") != name) continue;
+    uint64_t off = to_uint(b.at("offset"), "blobs.offset"), bytes = to_uint(b.at("bytes"), "blobs.bytes");
+    if (bytes != expected_bytes)
+      corrupt(path, fmt::format("blob '{}' has {} bytes, the header's configuration needs {}", name, bytes,
+                                expected_bytes));
+    if (off > file.size() - data_start || bytes > file.size() - data_start - off)
+      corrupt(path, fmt::format("file is truncated: blob '{}' ends past the end of the file", name));
+    const char* p = file.data() + data_start + off;
+    if (hex64(fnv1a64(p, bytes)) != b.value("fnv1a64", ""))
+      corrupt(path, fmt::format("checksum mismatch in blob '{}'", name));
+    return p;
+  }
+  if (expected_bytes == 0) return nullptr;
+  corrupt(path, "blob '" + name + "' is missing");
+}
+
+// Copies the blobs out of the file into s.params and s.occ (sizes from the parsed header).
+void parse_blobs(const json& h, const std::string& path, std::string_view file, size_t start, Snapshot& s) {
+  bool has_density = h.at("occupancy").value("has_density", false);
+  const json& blobs = h.at("blobs");
+  if (!blobs.is_array()) corrupt(path, "bad header: 'blobs' must be a list");
+  size_t n_params = s.config.param_count(), n_words = occ_word_count(s.occ.res);
+  size_t n_cells = size_t(s.occ.res) * s.occ.res * s.occ.res;
+  const char* p = find_blob(path, file, start, blobs, "params", n_params * 4);
+  const char* w = find_blob(path, file, start, blobs, "occupancy_bits", n_words * 4);
+  const char* d = find_blob(path, file, start, blobs, "occupancy_density", has_density ? n_cells * 4 : 0);
+  s.params.resize(n_params);
+  std::memcpy(s.params.data(), p, n_params * 4);
+  s.occ.bits.resize(n_words);
+  std::memcpy(s.occ.bits.data(), w, n_words * 4);
+  if (d) {
+    s.occ.density.resize(n_cells);
+    std::memcpy(s.occ.density.data(), d, n_cells * 4);
+  }
+}
+
+}  // namespace
+
+float Aabb::max_extent() const { return std::max(extent(0), std::max(extent(1), extent(2))); }
+float Aabb::diagonal() const {
+  return std::sqrt(extent(0) * extent(0) + extent(1) * extent(1) + extent(2) * extent(2));
+}
+std::array<float, 3> Aabb::center() const {
+  return {0.5f * (min[0] + max[0]), 0.5f * (min[1] + max[1]), 0.5f * (min[2] + max[2])};
+}
+bool Aabb::valid() const {
+  for (int a = 0; a < 3; ++a)
+    if (!std::isfinite(min[a]) || !std::isfinite(max[a]) || !(max[a] > min[a])) return false;
+  return true;
+}
+std::array<float, 3> Aabb::normalise(const std::array<float, 3>& p) const {
+  return {(p[0] - min[0]) / extent(0), (p[1] - min[1]) / extent(1), (p[2] - min[2]) / extent(2)};
+}
+
+uint64_t OccupancyGrid::occupied_count() const {
+  uint64_t n = 0;
+  for (uint32_t w : bits) n += static_cast<uint64_t>(__builtin_popcount(w));
+  return n;
+}
+double OccupancyGrid::occupied_fraction() const {
+  return double(occupied_count()) / (double(res) * res * res);
+}
+
+OccupancyGrid full_occupancy(uint32_t res) {
+  OccupancyGrid g;
+  g.res = res;
+  uint64_t cells = uint64_t(res) * res * res;
+  g.bits.assign(occ_word_count(res), 0xffffffffu);
+  if (cells % 32) g.bits.back() = (1u << (cells % 32)) - 1u;
+  return g;
+}
+
+std::string encode_snapshot(const Snapshot& s) {
+  struct Blob {
+    std::string name;
+    const void* data;
+    size_t bytes;
+  };
+  std::vector<Blob> blobs = {{"params", s.params.data(), s.params.size() * 4},
+                             {"occupancy_bits", s.occ.bits.data(), s.occ.bits.size() * 4}};
+  if (!s.occ.density.empty())
+    blobs.push_back({"occupancy_density", s.occ.density.data(), s.occ.density.size() * 4});
+  json header = {{"format", "lorgnette-nerf"},
+                 {"version", kSnapshotVersion},
+                 {"field", s.config.to_json()},
+                 {"aabb", {{"min", s.aabb.min}, {"max", s.aabb.max}}},
+                 {"step", s.step},
+                 {"occupancy", {{"res", s.occ.res}, {"has_density", !s.occ.density.empty()}}},
+                 {"normalisation", {{"scale", s.normalisation.scale}, {"offset", s.normalisation.offset}}},
+                 {"metadata", metadata_json(s.metadata)}};
+  uint64_t off = 0;
+  for (const auto& b : blobs) {
+    header["blobs"].push_back({{"name", b.name},
+                               {"offset", off},
+                               {"bytes", b.bytes},
+                               {"fnv1a64", hex64(fnv1a64(b.data, b.bytes))}});
+    off += b.bytes;
+  }
+  std::string text = header.dump();
+  std::string out(kMagic, 8);
+  uint64_t hlen = text.size();
+  out.append(reinterpret_cast<const char*>(&hlen), 8);
+  out += text;
+  for (const auto& b : blobs) out.append(static_cast<const char*>(b.data), b.bytes);
+  return out;
+}
+
+Snapshot parse_snapshot(std::string_view file, const std::string& path) {
+  if (file.size() < 16 || std::memcmp(file.data(), kMagic, 8) != 0) corrupt(path, "bad magic bytes");
+  uint64_t hlen = 0;
+  std::memcpy(&hlen, file.data() + 8, 8);
+  if (hlen > file.size() - 16) corrupt(path, "header length exceeds the file size");
+  Snapshot s;
+  json header;
+  try {
+    header = json::parse(file.substr(16, hlen));
+    parse_header(header, path, s);
+  } catch (const json::exception& e) {
+    corrupt(path, std::string("bad header: ") + e.what());
+  } catch (const BadValue& e) {
+    corrupt(path, std::string("bad header: ") + e.what());
+  } catch (const std::invalid_argument& e) {
+    corrupt(path, std::string("bad field configuration: ") + e.what());
+  }
+  if (!s.aabb.valid()) corrupt(path, "invalid bounding box");
+  if (!(s.step > 0.0f)) corrupt(path, "invalid step size");
+  if (s.occ.res < 1 || s.occ.res > 1024) corrupt(path, "invalid occupancy resolution");
+  try {
+    parse_blobs(header, path, file, 16 + hlen, s);
+  } catch (const json::exception& e) {
+    corrupt(path, std::string("bad header: ") + e.what());
+  } catch (const BadValue& e) {
+    corrupt(path, std::string("bad header: ") + e.what());
+  }
+  for (float v : s.params)
+    if (!std::isfinite(v)) corrupt(path, "non-finite parameter values");
+  return s;
+}
+
+Snapshot read_snapshot(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw std::runtime_error("cannot open model file '" + path + "': check the path");
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  return parse_snapshot(bytes, path);
+}
+
+}  // namespace lorgnette::nerf

@@ -1,0 +1,79 @@
+// The NeRF model as plain host data (bounding box, scene normalisation, metadata, occupancy grid,
+// parameters) and its .lnerf snapshot format, with no OpenCL: NerfModel (model.h) saves and loads
+// through these functions, and the fuzzers parse snapshots without a device.
+//
+// Format: 8 bytes magic "LGNNERF\n", 8 bytes little-endian header length H, H bytes of JSON header,
+// then the binary blobs the header lists (name, offset from the end of the header, bytes, FNV-1a 64
+// checksum).
+#pragma once
+#include <array>
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "host/field/field_config.h"
+
+namespace lorgnette::nerf {
+
+constexpr uint32_t kSnapshotVersion = 1;
+
+struct Aabb {
+  std::array<float, 3> min{0.0f, 0.0f, 0.0f}, max{1.0f, 1.0f, 1.0f};
+  float extent(int axis) const { return max[axis] - min[axis]; }
+  float max_extent() const;
+  float diagonal() const;
+  std::array<float, 3> center() const;
+  bool valid() const;  // finite and max > min on every axis
+  std::array<float, 3> normalise(const std::array<float, 3>& p) const;
+};
+
+// model frame = dataset frame * scale + offset (identity unless the trainer says otherwise), so
+// every output can be mapped back to the dataset's cameras.
+struct SceneNormalisation {
+  float scale = 1.0f;
+  std::array<float, 3> offset{0.0f, 0.0f, 0.0f};
+};
+
+struct ModelMetadata {
+  uint64_t steps = 0;
+  double train_seconds = 0.0;
+  uint64_t samples_trained = 0;
+  uint64_t seed = 0;
+  float final_loss = 0.0f;  // NaN when training diverged (written as JSON null)
+  std::string dataset_path, dataset_hash, device, created;
+};
+
+// Occupancy grid state: per-cell density estimate (EMA; empty until training updates it) and the
+// bitfield derived from it (all cells occupied in a fresh model).
+struct OccupancyGrid {
+  uint32_t res = 64;
+  std::vector<float> density;  // res^3 or empty
+  std::vector<uint32_t> bits;  // occ_word_count(res)
+  uint64_t occupied_count() const;
+  double occupied_fraction() const;
+};
+
+// The full-grid occupancy bitfield of a fresh model.
+OccupancyGrid full_occupancy(uint32_t res);
+
+// Everything a snapshot file holds.
+struct Snapshot {
+  field::FieldConfig config;
+  Aabb aabb;
+  float step = 0.0f;
+  OccupancyGrid occ;
+  std::vector<float> params;  // config.param_count() values
+  SceneNormalisation normalisation;
+  ModelMetadata metadata;
+};
+
+// The bytes of a snapshot file.
+std::string encode_snapshot(const Snapshot& s);
+// Parses and validates a whole snapshot file (magic, version, header, sizes, checksums, finite
+// values); throws a clear std::runtime_error naming `path` for a newer, truncated or corrupt one.
+Snapshot parse_snapshot(std::string_view bytes, const std::string& path);
+// Reads `path` and parses it; also throws when the file cannot be opened.
+Snapshot read_snapshot(const std::string& path);
+
+}  // namespace lorgnette::nerf
