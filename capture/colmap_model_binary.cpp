@@ -6,6 +6,7 @@
 #include <iterator>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <fmt/format.h>
@@ -17,13 +18,16 @@ namespace {
 
 static_assert(sizeof(double) == 8, "COLMAP binary files store IEEE doubles");
 
+// The whole file; the readers work on its bytes.
+std::string slurp(const std::filesystem::path& path) {
+  std::ifstream f(path, std::ios::binary);
+  if (!f) throw std::runtime_error(fmt::format("cannot open COLMAP file '{}'", path.string()));
+  return std::string(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
+}
+
 class Reader {
  public:
-  explicit Reader(const std::filesystem::path& path) : path_(path.string()) {
-    std::ifstream f(path, std::ios::binary);
-    if (!f) throw std::runtime_error(fmt::format("cannot open COLMAP file '{}'", path_));
-    data_.assign(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
-  }
+  Reader(std::string data, std::string name) : path_(std::move(name)), data_(std::move(data)) {}
   template <class T>
   T get() {
     T v;
@@ -59,7 +63,7 @@ class Reader {
     if (data_.size() - pos_ < n) fail("truncated record");
   }
   std::string path_;
-  std::vector<char> data_;
+  std::string data_;
   size_t pos_ = 0;
 };
 
@@ -87,7 +91,11 @@ class Writer {
 }  // namespace
 
 CameraMap read_cameras_binary(const std::filesystem::path& path) {
-  Reader r(path);
+  return parse_cameras_binary(slurp(path), path.string());
+}
+
+CameraMap parse_cameras_binary(std::string bytes, const std::string& name) {
+  Reader r(std::move(bytes), name);
   CameraMap cameras;
   uint64_t n = r.get_count(24);
   for (uint64_t i = 0; i < n; ++i) {
@@ -110,7 +118,11 @@ CameraMap read_cameras_binary(const std::filesystem::path& path) {
 }
 
 ImageMap read_images_binary(const std::filesystem::path& path) {
-  Reader r(path);
+  return parse_images_binary(slurp(path), path.string());
+}
+
+ImageMap parse_images_binary(std::string bytes, const std::string& name) {
+  Reader r(std::move(bytes), name);
   ImageMap images;
   uint64_t n = r.get_count(73);
   for (uint64_t i = 0; i < n; ++i) {
@@ -135,7 +147,11 @@ ImageMap read_images_binary(const std::filesystem::path& path) {
 }
 
 PointMap read_points3d_binary(const std::filesystem::path& path) {
-  Reader r(path);
+  return parse_points3d_binary(slurp(path), path.string());
+}
+
+PointMap parse_points3d_binary(std::string bytes, const std::string& name) {
+  Reader r(std::move(bytes), name);
   PointMap points;
   uint64_t n = r.get_count(51);
   for (uint64_t i = 0; i < n; ++i) {

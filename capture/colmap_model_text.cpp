@@ -3,9 +3,11 @@
 // and a possibly empty POINTS2D line). Numbers are written with 17 significant digits so a text
 // round trip is exact.
 #include <fstream>
+#include <iterator>
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include <fmt/format.h>
 
@@ -14,11 +16,15 @@
 namespace lorgnette::capture {
 namespace {
 
+std::string slurp(const std::filesystem::path& path) {
+  std::ifstream f(path, std::ios::binary);
+  if (!f) throw std::runtime_error(fmt::format("cannot open COLMAP file '{}'", path.string()));
+  return std::string(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
+}
+
 class LineReader {
  public:
-  explicit LineReader(const std::filesystem::path& path) : path_(path.string()), in_(path) {
-    if (!in_) throw std::runtime_error(fmt::format("cannot open COLMAP file '{}'", path_));
-  }
+  LineReader(const std::string& text, std::string name) : path_(std::move(name)), in_(text) {}
   // Next line that is not a comment; skip_empty=false keeps empty lines (images.txt POINTS2D).
   bool next(std::string& line, bool skip_empty = true) {
     while (std::getline(in_, line)) {
@@ -42,7 +48,7 @@ class LineReader {
 
  private:
   std::string path_;
-  std::ifstream in_;
+  std::istringstream in_;
   int number_ = 0;
 };
 
@@ -60,7 +66,11 @@ void check_written(std::ofstream& f, const std::filesystem::path& path) {
 }  // namespace
 
 CameraMap read_cameras_text(const std::filesystem::path& path) {
-  LineReader r(path);
+  return parse_cameras_text(slurp(path), path.string());
+}
+
+CameraMap parse_cameras_text(const std::string& text, const std::string& name) {
+  LineReader r(text, name);
   CameraMap cameras;
   std::string line;
   while (r.next(line)) {
@@ -83,7 +93,11 @@ CameraMap read_cameras_text(const std::filesystem::path& path) {
 }
 
 ImageMap read_images_text(const std::filesystem::path& path) {
-  LineReader r(path);
+  return parse_images_text(slurp(path), path.string());
+}
+
+ImageMap parse_images_text(const std::string& text, const std::string& name) {
+  LineReader r(text, name);
   ImageMap images;
   std::string line;
   while (r.next(line)) {
@@ -114,7 +128,11 @@ ImageMap read_images_text(const std::filesystem::path& path) {
 }
 
 PointMap read_points3d_text(const std::filesystem::path& path) {
-  LineReader r(path);
+  return parse_points3d_text(slurp(path), path.string());
+}
+
+PointMap parse_points3d_text(const std::string& text, const std::string& name) {
+  LineReader r(text, name);
   PointMap points;
   std::string line;
   while (r.next(line)) {
