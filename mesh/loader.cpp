@@ -5,12 +5,16 @@
 #include <algorithm>
 #include <cctype>
 #include <filesystem>
+#include <fstream>
 #include <map>
+#include <sstream>
 #include <stdexcept>
 
 #include <Eigen/Geometry>
 #include <assimp/GltfMaterial.h>
 #include <assimp/commonMetaData.h>
+#include <assimp/IOStream.hpp>
+#include <assimp/IOSystem.hpp>
 #include <assimp/Importer.hpp>
 #include <assimp/material.h>
 #include <assimp/postprocess.h>
@@ -32,6 +36,7 @@ std::string lower(std::string s) {
 struct LoadContext {
   const aiScene* scene = nullptr;
   fs::path dir;
+  bool external_files = true;  // false for a mesh loaded from memory: only embedded textures
   LoadOptions options;
   LoadReport* report = nullptr;
   std::map<std::string, int> texture_index;  // texture path -> TriMesh::textures index
@@ -72,6 +77,8 @@ int load_base_texture(LoadContext& ctx, const aiMaterial* m) {
     Image im;
     if (const aiTexture* t = ctx.scene->GetEmbeddedTexture(key.c_str())) {
       im = embedded_texture(t, fmt::format("embedded texture '{}'", key));
+    } else if (!ctx.external_files) {
+      throw std::runtime_error("an external file, not available to a mesh loaded from memory");
     } else {
       fs::path p = ctx.dir / fs::u8path(key);
       im = read_image(p.string());
@@ -168,17 +175,45 @@ void walk(LoadContext& ctx, const aiNode* node, const aiMatrix4x4& parent) {
   for (unsigned c = 0; c < node->mNumChildren; ++c) walk(ctx, node->mChildren[c], xf);
 }
 
-const aiScene* read_scene(Assimp::Importer& importer, const std::string& path, const LoadOptions& options) {
-  if (!fs::exists(path))
-    throw std::runtime_error(fmt::format("mesh file '{}' does not exist (check the path)", path));
-  if (fs::is_directory(path))
-    throw std::runtime_error(fmt::format("'{}' is a directory; give the .gltf/.glb/.obj/.ply file inside it", path));
-  if (fs::file_size(path) == 0) throw std::runtime_error(fmt::format("mesh file '{}' is empty (0 bytes)", path));
+// Post-processing shared by both entry points (and the property it reads).
+unsigned import_flags(Assimp::Importer& importer, const LoadOptions& options) {
   importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
   unsigned flags = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_SortByPType |
                    aiProcess_FlipUVs | aiProcess_ValidateDataStructure;
   if (options.generate_normals) flags |= aiProcess_GenSmoothNormals;
-  const aiScene* scene = importer.ReadFile(path, flags);
+  return flags;
+}
+
+// Recomputes each mesh's primitive types from its faces, and refuses faces without vertices.
+// Assimp 5.2's PLY reader can make such faces and flag polygons a mesh does not have; both pass
+// its validation, and its triangulation then aborts the whole process on an assertion
+// (fuzz/regressions/glasses/ply-empty-face-abort).
+void check_faces(const aiScene* scene, const std::string& path) {
+  for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
+    aiMesh* mesh = scene->mMeshes[m];
+    unsigned types = 0;
+    for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
+      unsigned n = mesh->mFaces[f].mNumIndices;
+      if (n == 0)
+        throw std::runtime_error(
+            fmt::format("mesh file '{}' is corrupt: face {} of mesh {} has no vertices", path, f, m));
+      types |= n == 1 ? aiPrimitiveType_POINT
+               : n == 2 ? aiPrimitiveType_LINE
+               : n == 3 ? aiPrimitiveType_TRIANGLE
+                        : aiPrimitiveType_POLYGON;
+    }
+    mesh->mPrimitiveTypes = types;
+  }
+}
+
+// The scene Assimp read (with aiProcess_ValidateDataStructure only: faces are known to be sane),
+// post-processed with `flags`; throws naming `path` when reading or post-processing failed.
+const aiScene* post_process(Assimp::Importer& importer, const aiScene* scene, unsigned flags,
+                            const std::string& path) {
+  if (scene != nullptr) {
+    check_faces(scene, path);
+    scene = importer.ApplyPostProcessing(flags & ~aiProcess_ValidateDataStructure);
+  }
   if (scene == nullptr)
     throw std::runtime_error(fmt::format("cannot load mesh '{}': {} (is it a valid glTF 2.0 / OBJ / PLY file?)",
                                          path, importer.GetErrorString()));
@@ -186,6 +221,40 @@ const aiScene* read_scene(Assimp::Importer& importer, const std::string& path, c
     throw std::runtime_error(fmt::format("mesh file '{}' is incomplete (no scene graph or geometry)", path));
   return scene;
 }
+
+// Assimp 5.2's PLY reader loops forever on a header without an end_header line (a truncated or
+// foreign file: fuzz/regressions/glasses/ply-no-end-header-hang), so the header is checked first.
+void check_ply_header(std::istream& in, const std::string& path) {
+  std::string token;
+  for (std::string line; std::getline(in, line);)
+    if (std::istringstream(line) >> token && token == "end_header") return;
+  throw std::runtime_error(
+      fmt::format("PLY file '{}' has no end_header line: it is truncated or not a PLY file", path));
+}
+
+const aiScene* read_scene(Assimp::Importer& importer, const std::string& path, const LoadOptions& options) {
+  if (!fs::exists(path))
+    throw std::runtime_error(fmt::format("mesh file '{}' does not exist (check the path)", path));
+  if (fs::is_directory(path))
+    throw std::runtime_error(fmt::format("'{}' is a directory; give the .gltf/.glb/.obj/.ply file inside it", path));
+  if (fs::file_size(path) == 0) throw std::runtime_error(fmt::format("mesh file '{}' is empty (0 bytes)", path));
+  if (lower(fs::path(path).extension().string()) == ".ply") {
+    std::ifstream in(path, std::ios::binary);
+    check_ply_header(in, path);
+  }
+  unsigned flags = import_flags(importer, options);
+  return post_process(importer, importer.ReadFile(path, aiProcess_ValidateDataStructure), flags, path);
+}
+
+// A file system with no files: a mesh read from memory must not open files beside it (an .mtl, a
+// .gltf's buffers), which Assimp would otherwise look for relative to the working directory.
+class NoFiles : public Assimp::IOSystem {
+ public:
+  bool Exists(const char*) const override { return false; }
+  char getOsSeparator() const override { return '/'; }
+  Assimp::IOStream* Open(const char*, const char*) override { return nullptr; }
+  void Close(Assimp::IOStream* stream) override { delete stream; }
+};
 
 }  // namespace
 
@@ -219,6 +288,30 @@ void fix_uv_convention(LoadContext& ctx, const std::string& path) {
   if (ctx.report) ctx.report->warnings.push_back(msg);
 }
 
+// The TriMesh of an imported scene; `name` (the path) for messages, `ext` for the unit.
+TriMesh convert_scene(LoadContext& ctx, const std::string& name, const std::string& ext) {
+  for (unsigned i = 0; i < ctx.scene->mNumMaterials; ++i)
+    ctx.mesh.materials.push_back(convert_material(ctx, ctx.scene->mMaterials[i]));
+  if (ctx.mesh.materials.empty()) ctx.mesh.materials.push_back(Material{"default"});
+  walk(ctx, ctx.scene->mRootNode, aiMatrix4x4());
+  TriMesh& tm = ctx.mesh;
+  if (tm.triangles.empty())
+    throw std::runtime_error(
+        fmt::format("mesh file '{}' contains no triangles (empty mesh, or only points/lines)", name));
+  bool any_normal = std::any_of(tm.normals.begin(), tm.normals.end(),
+                                [](const Eigen::Vector3f& n) { return n.squaredNorm() > 0; });
+  if (!any_normal) tm.normals.clear();
+  bool any_uv = std::any_of(ctx.mesh.materials.begin(), ctx.mesh.materials.end(),
+                            [](const Material& m) { return m.base_color_texture >= 0; });
+  if (!any_uv) tm.uvs.clear();
+  fix_uv_convention(ctx, name);
+  tm.units_to_mm = (ext == ".gltf" || ext == ".glb") ? 1000.0 : 1.0;  // glTF is metres by specification
+  if (ctx.report && ctx.report->degenerate_triangles > 0)
+    ctx.warn(fmt::format("'{}': dropped {} degenerate (zero-area) triangles", name,
+                         ctx.report->degenerate_triangles));
+  return std::move(ctx.mesh);
+}
+
 }  // namespace
 
 TriMesh load_mesh(const std::string& path, const LoadOptions& options, LoadReport* report) {
@@ -228,24 +321,30 @@ TriMesh load_mesh(const std::string& path, const LoadOptions& options, LoadRepor
   ctx.dir = fs::path(path).parent_path();
   ctx.options = options;
   ctx.report = report;
-  for (unsigned i = 0; i < ctx.scene->mNumMaterials; ++i)
-    ctx.mesh.materials.push_back(convert_material(ctx, ctx.scene->mMaterials[i]));
-  if (ctx.mesh.materials.empty()) ctx.mesh.materials.push_back(Material{"default"});
-  walk(ctx, ctx.scene->mRootNode, aiMatrix4x4());
-  TriMesh& tm = ctx.mesh;
-  if (tm.triangles.empty())
-    throw std::runtime_error(fmt::format("mesh file '{}' contains no triangles (empty mesh, or only points/lines)", path));
-  bool any_normal = std::any_of(tm.normals.begin(), tm.normals.end(), [](const Eigen::Vector3f& n) { return n.squaredNorm() > 0; });
-  if (!any_normal) tm.normals.clear();
-  bool any_uv = std::any_of(ctx.mesh.materials.begin(), ctx.mesh.materials.end(),
-                            [](const Material& m) { return m.base_color_texture >= 0; });
-  if (!any_uv) tm.uvs.clear();
-  fix_uv_convention(ctx, path);
-  std::string ext = lower(fs::path(path).extension().string());
-  tm.units_to_mm = (ext == ".gltf" || ext == ".glb") ? 1000.0 : 1.0;  // glTF is metres by specification
-  if (report && report->degenerate_triangles > 0)
-    ctx.warn(fmt::format("'{}': dropped {} degenerate (zero-area) triangles", path, report->degenerate_triangles));
-  return std::move(ctx.mesh);
+  return convert_scene(ctx, path, lower(fs::path(path).extension().string()));
+}
+
+TriMesh load_mesh_from_memory(const void* data, size_t bytes, const std::string& format,
+                              const LoadOptions& options, LoadReport* report) {
+  std::string ext = lower(format);
+  if (ext != "gltf" && ext != "glb" && ext != "obj" && ext != "ply")
+    throw std::runtime_error(fmt::format("mesh format '{}' is not one of gltf, glb, obj, ply", format));
+  std::string name = fmt::format("<{} bytes of {}>", bytes, ext);
+  if (bytes == 0) throw std::runtime_error(fmt::format("mesh '{}' is empty (0 bytes)", name));
+  if (ext == "ply") {
+    std::istringstream in(std::string(static_cast<const char*>(data), bytes));
+    check_ply_header(in, name);
+  }
+  Assimp::Importer importer;
+  importer.SetIOHandler(new NoFiles);  // the importer owns it
+  unsigned flags = import_flags(importer, options);
+  LoadContext ctx;
+  const aiScene* read = importer.ReadFileFromMemory(data, bytes, aiProcess_ValidateDataStructure, ext.c_str());
+  ctx.scene = post_process(importer, read, flags, name);
+  ctx.external_files = false;
+  ctx.options = options;
+  ctx.report = report;
+  return convert_scene(ctx, name, "." + ext);
 }
 
 }  // namespace lorgnette::mesh

@@ -6,6 +6,7 @@
 // linear float images. Positions stay in the file's units (units_to_mm records the file's unit
 // when the format states one: glTF is metres); glasses are canonicalised afterwards (canonical.h).
 #pragma once
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -38,6 +39,10 @@ struct LoadReport {
 // Throws std::runtime_error with the path, what is wrong and what to do for missing, unreadable,
 // corrupt or empty files (no triangles). Never returns an empty mesh.
 TriMesh load_mesh(const std::string& path, const LoadOptions& options = {}, LoadReport* report = nullptr);
+// The same from a file's bytes; `format` is its extension: gltf, glb, obj or ply. Nothing outside
+// the bytes is read (a .gltf's external buffers, an .obj's .mtl, external textures are missing).
+TriMesh load_mesh_from_memory(const void* data, size_t bytes, const std::string& format,
+                              const LoadOptions& options = {}, LoadReport* report = nullptr);
 
 // Heuristic lens test on a material (transmission, translucent blend, or a glass-like name);
 // the loader sets Material::is_lens with it.

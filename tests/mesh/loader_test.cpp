@@ -1,10 +1,12 @@
 // Loader tests: every shared glasses model and the textured head load with the expected parts,
 // triangles, lens materials and bounding boxes (in file units, after node transforms); bad files
-// (missing, corrupt, empty, a directory) give clear errors naming the problem.
+// (missing, corrupt, empty, a directory) give clear errors naming the problem. The memory entry
+// point reads what the file entry point reads.
 #include "mesh/loader.h"
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
@@ -133,6 +135,48 @@ TEST(Loader, ObjWithMtlAndPlyLoad) {
   TriMesh ply = load_mesh((dir / "tri.ply").string());
   EXPECT_EQ(ply.triangle_count(), 1u);
   EXPECT_NEAR(box_of(ply).sizes().y(), 3.0f, 1e-6f);
+}
+
+std::string slurp(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+TEST(Loader, FromMemoryMatchesTheFile) {
+  const std::string path = test::data("glasses/khronos-sunglasses/SunglassesKhronos.glb");
+  if (!std::filesystem::exists(path)) GTEST_SKIP() << "team data missing: " << path;
+  TriMesh file = load_mesh(path);
+  std::string bytes = slurp(path);
+  TriMesh memory = load_mesh_from_memory(bytes.data(), bytes.size(), "GLB");
+  ASSERT_EQ(memory.triangle_count(), file.triangle_count());
+  EXPECT_EQ(memory.part_names, file.part_names);
+  ASSERT_EQ(memory.materials.size(), file.materials.size());
+  for (size_t i = 0; i < file.materials.size(); ++i)
+    EXPECT_EQ(memory.materials[i].is_lens, file.materials[i].is_lens);
+  EXPECT_EQ(memory.textures.size(), file.textures.size());
+  EXPECT_TRUE(box_of(memory).isApprox(box_of(file)));
+  EXPECT_DOUBLE_EQ(memory.units_to_mm, file.units_to_mm);
+  EXPECT_THROW(load_mesh_from_memory(bytes.data(), bytes.size(), "fbx"), std::runtime_error);
+}
+
+// Both found by fuzzing (fuzz/regressions/glasses/): Assimp 5.2 loops forever on a PLY header
+// without end_header and aborts the process on faces without vertices; the loader refuses both.
+TEST(Loader, MalformedPlyIsRefusedNotHungOrAborted) {
+  namespace fs = std::filesystem;
+  fs::path dir = fs::path(LORGNETTE_TEST_TMP) / "mesh_loader";
+  fs::create_directories(dir);
+  std::ofstream((dir / "truncated.ply").string())
+      << "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\n";
+  expect_error((dir / "truncated.ply").string(), "no end_header");
+  std::string empty_faces =
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+      "element face 2\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n0\n";
+  try {
+    load_mesh_from_memory(empty_faces.data(), empty_faces.size(), "ply");
+    ADD_FAILURE() << "a face without vertices was accepted";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("has no vertices"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace
