@@ -1,6 +1,8 @@
 // placement.json read/write (see placement_json.h).
 #include "fit/placement_json.h"
 
+#include <climits>
+#include <cmath>
 #include <fstream>
 #include <iterator>
 #include <stdexcept>
@@ -53,6 +55,16 @@ PlacementFile make_placement_file(const FitResult& r, const std::string& glasses
 
 namespace {
 
+// A whole number that fits an int. nlohmann's get<int>() casts any number, which is undefined
+// behaviour for a double beyond int's range (a corrupt or hand-edited file).
+int whole_number(const nlohmann::json& v, const std::string& name) {
+  double d = v.is_number() ? v.get<double>() : NAN;
+  if (!(d >= INT_MIN && d <= INT_MAX) || d != std::floor(d))
+    throw std::runtime_error(
+        fmt::format("placement.json: field '{}' must be a whole number, found {}", name, v.dump()));
+  return static_cast<int>(d);
+}
+
 nlohmann::json temples_json(const TempleFitResult& t) {
   nlohmann::json j = mesh::temple_bend_to_json(t.bend);
   for (const auto* side : {&t.left, &t.right})
@@ -75,7 +87,8 @@ TempleFitResult temples_from_json(const nlohmann::json& placement) {
     const nlohmann::json& s = j[key];
     side->penetration_before_mm = s.value("penetration_before_mm", 0.0);
     side->penetration_mm = s.value("penetration_mm", 0.0);
-    side->points = s.value("points", 0);
+    if (s.contains("points"))
+      side->points = whole_number(s["points"], std::string("temples.") + key + ".points");
     side->clear = s.value("clear", true);
   }
   return t;
@@ -127,6 +140,12 @@ T field(const nlohmann::json& j, const char* name) {
   }
 }
 
+template <>
+int field<int>(const nlohmann::json& j, const char* name) {
+  if (!j.contains(name)) throw std::runtime_error(fmt::format("placement.json: missing field '{}'", name));
+  return whole_number(j.at(name), name);
+}
+
 }  // namespace
 
 PlacementFile placement_from_json(const nlohmann::json& j) {
@@ -156,14 +175,18 @@ PlacementFile placement_from_json(const nlohmann::json& j) {
   }
   p.residuals_px = field<std::map<std::string, double>>(j, "residuals_px");
   p.views_used = field<int>(j, "views_used");
-  p.views_total = j.value("views_total", 0);
+  p.views_total = j.contains("views_total") ? whole_number(j["views_total"], "views_total") : 0;
   p.penetration_mm = field<double>(j, "penetration_mm");
   p.contact_shift_mm = j.value("contact_shift_mm", 0.0);
   p.front_penetration_mm = j.value("front_penetration_mm", 0.0);
   p.tip_penetration_mm = j.value("tip_penetration_mm", 0.0);
   const nlohmann::json secs = field<nlohmann::json>(j, "seconds");
-  for (const auto& [name, s] : secs.items())
-    if (name != "total") p.seconds.emplace_back(name, s.get<double>());
+  for (const auto& [name, s] : secs.items()) {
+    if (name == "total") continue;
+    if (!s.is_number())
+      throw std::runtime_error(fmt::format("placement.json: seconds '{}' must be a number", name));
+    p.seconds.emplace_back(name, s.get<double>());
+  }
   p.warnings = j.value("warnings", std::vector<std::string>{});
   p.ok = field<bool>(j, "ok");
   p.has_temples = j.contains("temples") && !j["temples"].is_null();

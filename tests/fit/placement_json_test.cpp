@@ -105,6 +105,25 @@ TEST(PlacementJson, RefusesNewerAndMalformed) {
   EXPECT_THROW(read_placement("/nonexistent/placement.json"), std::runtime_error);
 }
 
+// Found by fuzzing (fuzz/regressions/placement/): counts that do not fit an int were cast anyway
+// (undefined behaviour); whole numbers written as 2.0 still read.
+TEST(PlacementJson, CountsMustBeWholeNumbersThatFitAnInt) {
+  nlohmann::json j = to_json(PlacementFile{});
+  j["views_used"] = 2.0;
+  EXPECT_EQ(placement_from_json(j).views_used, 2);
+  for (const char* key : {"version", "views_used", "views_total"})
+    for (double bad : {1e300, -3e9, 2.5}) {
+      nlohmann::json k = to_json(PlacementFile{});
+      k[key] = bad;
+      try {
+        placement_from_json(k);
+        ADD_FAILURE() << key << " = " << bad << " was accepted";
+      } catch (const std::runtime_error& e) {
+        EXPECT_NE(std::string(e.what()).find("whole number"), std::string::npos) << e.what();
+      }
+    }
+}
+
 TEST(PlacementJson, FileHashIsStable) {
   const std::string path = std::string(LORGNETTE_TEST_TMP) + "/hash_me.txt";
   {
