@@ -8,6 +8,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <stdexcept>
 
 namespace lorgnette::dataset::detail {
@@ -29,7 +30,7 @@ std::optional<double> number(const json& obj, const char* key, const std::string
 std::optional<int> positive_int(const json& obj, const char* key, const std::string& where) {
   auto v = number(obj, key, where);
   if (!v) return std::nullopt;
-  if (*v < 1 || *v != std::floor(*v))
+  if (*v < 1 || *v > std::numeric_limits<int>::max() || *v != std::floor(*v))
     throw std::runtime_error(
         fmt::format("{}: '{}' must be a positive whole number of pixels, found {}", where, key, *v));
   return static_cast<int>(*v);
@@ -120,8 +121,9 @@ std::array<std::array<float, 3>, 2> parse_aabb(const json& value, const std::str
   for (int c = 0; c < 2; ++c) {
     if (!value[c].is_array() || value[c].size() != 3) throw bad();
     for (int i = 0; i < 3; ++i) {
-      if (!value[c][i].is_number() || !std::isfinite(value[c][i].get<double>())) throw bad();
-      box[c][i] = value[c][i].get<float>();
+      double v = value[c][i].is_number() ? value[c][i].get<double>() : NAN;
+      if (!(std::abs(v) <= std::numeric_limits<float>::max())) throw bad();  // finite as a float too
+      box[c][i] = static_cast<float>(v);
     }
   }
   for (int i = 0; i < 3; ++i)

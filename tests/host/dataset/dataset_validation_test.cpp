@@ -392,3 +392,12 @@ TEST(DatasetLoader, SubjectBoxIsReadAndValidated) {
   std::string inverted = make_dataset("bad-aabb", 9, [](json& d) { d["aabb"] = {{1, 0, 0}, {0, 1, 1}}; });
   EXPECT_HAS(load_error(inverted), "'aabb' must be");
 }
+
+// Found by fuzzing (fuzz/regressions/transforms/): numbers a double holds but an int or a float
+// does not are refused, not converted (undefined behaviour for the int, an infinite box for aabb).
+TEST(DatasetValidation, NumbersBeyondIntOrFloatAreRefused) {
+  std::string wide = make_dataset("huge-w", 9, [](json& d) { d["w"] = 1e300; });
+  EXPECT_HAS(load_error(wide), "'w' must be a positive whole number");
+  std::string far = make_dataset("huge-aabb", 9, [](json& d) { d["aabb"] = {{-1, -1, -1}, {1e300, 1, 1}}; });
+  EXPECT_HAS(load_error(far), "'aabb' must be");
+}
