@@ -19,7 +19,7 @@ namespace lorgnette::cli {
 namespace {
 
 struct TrainArgs {
-  std::string data, output, aabb, box = "auto";
+  std::string data, output, aabb, box = "auto", background = "auto";
   uint64_t steps = 0;
   double seconds = 0.0;
   uint32_t seed = 1337, batch_log2 = 16, finest = 0, log2_table = 0, levels = 0, occ_res = 0, downscale = 1;
@@ -88,6 +88,7 @@ void run_train(const TrainArgs& a, GlobalOptions& global) {
   job.aabb_scale = a.aabb_scale;
   job.batch_log2 = a.batch_log2;
   job.deterministic = a.deterministic;
+  job.background = a.background;
   nerf::TrainOptions& to = job.train;
   to.steps = a.steps;
   to.seconds = a.seconds;
@@ -118,18 +119,28 @@ void add_train(CLI::App& app, GlobalOptions& global) {
   cmd->add_option("--seed", a->seed, "random seed");
   cmd->add_flag("--deterministic", a->deterministic, "bitwise reproducible (same seed, same device)");
   cmd->add_flag("--force", a->force, "overwrite an existing model file");
-  cmd->add_option("--batch-log2", a->batch_log2, "log2 of the samples per step (default 16)");
+  cmd->add_option("--batch-log2", a->batch_log2, "log2 of the samples per step (default 16)")
+      ->check(CLI::Range(10u, 22u));
   cmd->add_option("--lr", a->lr, "base learning rate (default 1e-2)");
   cmd->add_option("--aabb", a->aabb, "bounding box minx,miny,minz,maxx,maxy,maxz (scene units)");
   cmd->add_option("--box", a->box,
                   "subject box: auto (dataset aabb, else mask hull, else head box from landmarks, else "
                   "cameras), dataset, masks, head or cameras (default auto; --aabb overrides)")
       ->check(CLI::IsMember({"auto", "dataset", "masks", "head", "cameras"}));  // before loading the data
+  cmd->add_option("--background", a->background,
+                  "room model behind the subject, then keep the subject's connected region: auto (mask-less "
+                  "datasets with a subject box), on or off")
+      ->check(CLI::IsMember({"auto", "on", "off"}));
   cmd->add_option("--aabb-scale", a->aabb_scale, "box size factor for datasets without alpha (default: dataset)");
-  cmd->add_option("--finest-res", a->finest, "finest hash-grid resolution");
-  cmd->add_option("--log2-table", a->log2_table, "log2 of the hash-table size per level");
-  cmd->add_option("--levels", a->levels, "hash-grid levels");
-  cmd->add_option("--occ-res", a->occ_res, "occupancy grid resolution");
+  // The ranges the field and the occupancy grid accept (FieldConfig::validate, occupancy.h), checked
+  // here so the message names the flag.
+  cmd->add_option("--finest-res", a->finest, "finest hash-grid resolution (16..1048576)")
+      ->check(CLI::Range(16u, 1u << 20));
+  cmd->add_option("--log2-table", a->log2_table, "log2 of the hash-table size per level (8..24)")
+      ->check(CLI::Range(8u, 24u));
+  cmd->add_option("--levels", a->levels, "hash-grid levels (1..32)")->check(CLI::Range(1u, 32u));
+  cmd->add_option("--occ-res", a->occ_res, "occupancy grid resolution (8..512)")
+      ->check(CLI::Range(8u, 512u));
   cmd->add_option("--step", a->step, "marching step in scene units");
   cmd->add_option("--downscale", a->downscale, "integer image downscale factor");
   cmd->add_option("--max-side", a->max_side, "shrink images so the longer side is at most this");
