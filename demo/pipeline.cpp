@@ -232,7 +232,7 @@ void stage_render(Context& c, cl::Runtime& rt, nerf::NerfModel& model, const std
   sp.samples_per_pixel = 4;
   job.surfaces = [&placed, sp](const Camera& cam) { return placed.pass->render(cam, sp); };
   render::Renderer renderer(rt);
-  nlohmann::json summary = render::run_render_job(job, [&](const Camera& cam, const mesh::SurfaceBuffers* s) {
+  nlohmann::json summary = render::run_render_job(job, [&](const Camera& cam, const lorgnette::SurfaceBuffers* s) {
     return renderer.render(model, cam, s, job.options);
   });
   c.report.config["render"] = summary;

@@ -22,7 +22,7 @@
 #include "common/camera_types.h"
 #include "mesh/embree_scene.h"
 #include "mesh/lighting.h"
-#include "mesh/surface_buffers.h"
+#include "host/util/surface_buffers.h"
 #include "mesh/trimesh.h"
 
 namespace lorgnette::mesh {

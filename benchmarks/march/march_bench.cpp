@@ -21,9 +21,7 @@
 #include "host/util/chart.h"
 #include "mesh/glasses.h"
 #include "mesh/surface_pass.h"
-#ifdef LGN_HAVE_NERF
 #include "host/render/renderer.h"
-#endif
 
 using namespace lorgnette;
 using namespace lorgnette::render;
@@ -81,7 +79,7 @@ void write_table1(const Args& a, const nlohmann::json& rows) {
             {"resolution", "march_ms_head", "march_ms_glasses", "time_ratio", "samples_ratio"}, et);
 }
 
-using RenderFn = std::function<RenderResult(const Camera&, const mesh::SurfaceBuffers*, const RenderOptions&)>;
+using RenderFn = std::function<RenderResult(const Camera&, const lorgnette::SurfaceBuffers*, const RenderOptions&)>;
 
 double timed_median(const std::function<void()>& f, int n) {
   std::vector<double> ms;
@@ -151,23 +149,19 @@ int main(int argc, char** argv) {
     std::unique_ptr<AnalyticHeadScene> analytic;
     Marcher marcher(rt);
     RenderFn render;
-#ifdef LGN_HAVE_NERF
     std::unique_ptr<nerf::NerfModel> model;
     Renderer renderer(rt);
     if (!a.model.empty()) {
       model = std::make_unique<nerf::NerfModel>(nerf::NerfModel::load(rt, a.model));
       scene.aabb_min = model->aabb().min;
       scene.aabb_max = model->aabb().max;
-      render = [&](const Camera& c, const mesh::SurfaceBuffers* s, const RenderOptions& o) {
+      render = [&](const Camera& c, const lorgnette::SurfaceBuffers* s, const RenderOptions& o) {
         return renderer.render(*model, c, s, o);
       };
-    }
-#endif
-    if (!render) {
-      if (!a.model.empty()) throw std::runtime_error("this build has no NeRF core: --model is unavailable");
+    } else {
       analytic = std::make_unique<AnalyticHeadScene>(rt);
       scene = analytic->scene();
-      render = [&](const Camera& c, const mesh::SurfaceBuffers* s, const RenderOptions& o) {
+      render = [&](const Camera& c, const lorgnette::SurfaceBuffers* s, const RenderOptions& o) {
         return marcher.render(scene, c, s, o);
       };
     }
@@ -197,13 +191,13 @@ int main(int argc, char** argv) {
       for (int i = 0; i < 16; ++i) m(i / 4, i % 4) = p[i];
       mesh::SurfacePass pass(g.mesh, m);
       spec.surfaces = [&](const Camera& c) { return pass.render(c, mesh::SurfaceParams{}); };
-      auto rows = run_frame_bench(spec, [&](const Camera& c, const mesh::SurfaceBuffers* s) {
+      auto rows = run_frame_bench(spec, [&](const Camera& c, const lorgnette::SurfaceBuffers* s) {
         return render(c, s, RenderOptions{});
       });
       write_table1(a, rows);
       // One try-on image of the 720p view for the record.
       Camera c = camera(1280, 720);
-      mesh::SurfaceBuffers sb = pass.render(c, mesh::SurfaceParams{});
+      lorgnette::SurfaceBuffers sb = pass.render(c, mesh::SurfaceParams{});
       write_image(a.out + "/tryon_720p.png", rgb_of(render(c, &sb, RenderOptions{})));
       std::cout << rows.dump(2) << "\n";
     }

@@ -34,7 +34,7 @@ nlohmann::json run_frame_bench(const FrameBenchSpec& spec, const FrameRenderer& 
       RenderResult last;
       for (uint32_t k = 0; k <= spec.repeats; ++k) {  // k == 0 is the warm-up frame
         auto t0 = std::chrono::steady_clock::now();
-        mesh::SurfaceBuffers s;
+        lorgnette::SurfaceBuffers s;
         if (glasses) s = spec.surfaces(cam);
         double surface_ms = ms_since(t0);
         last = render(cam, glasses ? &s : nullptr);

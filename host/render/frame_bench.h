@@ -25,7 +25,7 @@ struct FrameBenchSpec {
   SurfacePass surfaces;   // empty: rows for the head alone only
 };
 
-using FrameRenderer = std::function<RenderResult(const Camera&, const mesh::SurfaceBuffers*)>;
+using FrameRenderer = std::function<RenderResult(const Camera&, const lorgnette::SurfaceBuffers*)>;
 
 // One JSON row per (size, glasses): device, resolution, glasses, median_ms (surface pass + march),
 // march_ms, surface_ms (medians), samples_per_ray, samples_evaluated, frames.

@@ -94,7 +94,7 @@ void Marcher::march_tile(const VolumeScene& scene, MarchParams p, RenderResult& 
 }
 
 namespace {
-void validate(const VolumeScene& scene, const Camera& cam, const mesh::SurfaceBuffers* surfaces,
+void validate(const VolumeScene& scene, const Camera& cam, const lorgnette::SurfaceBuffers* surfaces,
               const RenderOptions& o) {
   if (!scene.field) throw std::invalid_argument("render: the scene has no field to march");
   if (cam.width == 0 || cam.height == 0 || uint64_t(cam.width) * cam.height > (1ull << 28))
@@ -121,7 +121,7 @@ void validate(const VolumeScene& scene, const Camera& cam, const mesh::SurfaceBu
 }
 }  // namespace
 
-RenderResult Marcher::render(const VolumeScene& scene, const Camera& cam, const mesh::SurfaceBuffers* surfaces,
+RenderResult Marcher::render(const VolumeScene& scene, const Camera& cam, const lorgnette::SurfaceBuffers* surfaces,
                              const RenderOptions& o) {
   validate(scene, cam, surfaces, o);
   auto start = std::chrono::steady_clock::now();

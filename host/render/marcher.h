@@ -10,7 +10,7 @@
 #include "host/render/radiance_source.h"
 #include "host/util/image_io.h"
 #include "kernels/march/march_types.h"
-#include "mesh/surface_buffers.h"
+#include "host/util/surface_buffers.h"
 
 namespace lorgnette::render {
 
@@ -55,7 +55,7 @@ class Marcher {
   explicit Marcher(cl::Runtime& rt);
   // surfaces: nullptr for the head alone; otherwise its size must match the camera's.
   // Throws std::invalid_argument on inconsistent inputs (names what and how to fix).
-  RenderResult render(const VolumeScene& scene, const Camera& cam, const mesh::SurfaceBuffers* surfaces,
+  RenderResult render(const VolumeScene& scene, const Camera& cam, const lorgnette::SurfaceBuffers* surfaces,
                       const RenderOptions& options);
 
  private:

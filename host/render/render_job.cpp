@@ -16,9 +16,7 @@
 
 #include "host/util/interrupt.h"
 #include "host/util/progress.h"
-#ifdef LGN_RENDER_HAVE_MEDIA  // set by CMake when lorgnette_dataset (MP4, contact sheets) is built
 #include "host/dataset/media.h"
-#endif
 
 namespace lorgnette::render {
 namespace fs = std::filesystem;
@@ -184,10 +182,8 @@ std::vector<std::string> render_job_outputs(const RenderJob& job) {
     names.push_back(fmt::format("frame_{:04d}.png", i));
     names.push_back(fmt::format("depth_{:04d}.exr", i));
   }
-#ifdef LGN_RENDER_HAVE_MEDIA
   if (job.video && job.cameras.size() > 1) names.push_back("orbit.mp4");
   if (job.contact_sheet) names.push_back("contact_sheet.png");
-#endif
   names.push_back("render.json");
   return names;
 }
@@ -216,7 +212,7 @@ std::vector<size_t> sheet_indices(size_t n, size_t k) {
 }  // namespace
 
 nlohmann::json run_render_job(RenderJob& job,
-                              const std::function<RenderResult(const Camera&, const mesh::SurfaceBuffers*)>& render) {
+                              const std::function<RenderResult(const Camera&, const lorgnette::SurfaceBuffers*)>& render) {
   if (job.cameras.empty()) throw std::invalid_argument("render: no camera to render");
   check_outputs_free(job.out_dir, render_job_outputs(job), job.force);
   fs::create_directories(job.out_dir);
@@ -225,7 +221,6 @@ nlohmann::json run_render_job(RenderJob& job,
   std::vector<size_t> sheet = sheet_indices(n, 16);
   std::vector<Image> sheet_images;
   std::vector<std::string> sheet_labels;
-#ifdef LGN_RENDER_HAVE_MEDIA
   std::unique_ptr<dataset::Mp4Writer> video;
   if (job.video && n > 1) {
     dataset::VideoOptions vo;
@@ -234,7 +229,6 @@ nlohmann::json run_render_job(RenderJob& job,
     video = std::make_unique<dataset::Mp4Writer>((dir / "orbit.mp4").string(), int(job.cameras[0].width),
                                                  int(job.cameras[0].height), vo);
   }
-#endif
   nlohmann::json frames = nlohmann::json::array();
   std::vector<double> ms;
   double samples = 0, rays = 0;
@@ -242,7 +236,7 @@ nlohmann::json run_render_job(RenderJob& job,
   for (size_t i = 0; i < n; ++i) {
     if (interrupted()) throw std::runtime_error("interrupted: the frames written so far are complete files");
     const Camera& cam = job.cameras[i];
-    mesh::SurfaceBuffers surf;
+    lorgnette::SurfaceBuffers surf;
     double surface_ms = 0;
     if (job.surfaces) {
       auto t0 = std::chrono::steady_clock::now();
@@ -253,9 +247,7 @@ nlohmann::json run_render_job(RenderJob& job,
     Image img = to_output_image(r.rgba, job.options.alpha);
     write_image((dir / fmt::format("frame_{:04d}.png", i)).string(), img);
     write_image((dir / fmt::format("depth_{:04d}.exr", i)).string(), r.depth);
-#ifdef LGN_RENDER_HAVE_MEDIA
     if (video) video->add(img);
-#endif
     if (std::find(sheet.begin(), sheet.end(), i) != sheet.end()) {
       sheet_images.push_back(img);
       sheet_labels.push_back(fmt::format("view {}", i));
@@ -272,7 +264,6 @@ nlohmann::json run_render_job(RenderJob& job,
                         {"spp", job.options.spp}, {"step_scale", job.options.step_scale},
                         {"alpha", job.options.alpha}, {"glasses", bool(job.surfaces)},
                         {"samples_per_ray", rays > 0 ? samples / rays : 0.0}, {"frames", frames}};
-#ifdef LGN_RENDER_HAVE_MEDIA
   if (video) {
     video->finish();
     out["video"] = "orbit.mp4";
@@ -284,7 +275,6 @@ nlohmann::json run_render_job(RenderJob& job,
     dataset::write_contact_sheet((dir / "contact_sheet.png").string(), sheet_images, sheet_labels, so);
     out["contact_sheet"] = "contact_sheet.png";
   }
-#endif
   std::sort(ms.begin(), ms.end());
   out["median_march_ms"] = ms[ms.size() / 2];
   write_text_file_atomic((dir / "render.json").string(), out.dump(2) + "\n");

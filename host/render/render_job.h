@@ -13,7 +13,7 @@
 
 #include "host/render/marcher.h"
 #include "host/render/orbit.h"
-#include "mesh/surface_buffers.h"
+#include "host/util/surface_buffers.h"
 
 namespace lorgnette::nerf {
 class NerfModel;
@@ -53,7 +53,7 @@ std::array<uint32_t, 2> parse_size(const std::string& text);
 // Throws when any of `names` exists in `dir` and !force (lists them; suggests --force or another -o).
 void check_outputs_free(const std::string& dir, const std::vector<std::string>& names, bool force);
 
-using SurfacePass = std::function<mesh::SurfaceBuffers(const Camera&)>;
+using SurfacePass = std::function<lorgnette::SurfaceBuffers(const Camera&)>;
 
 struct RenderJob {
   std::vector<Camera> cameras;
@@ -68,7 +68,7 @@ struct RenderJob {
 
 // Renders every camera, writes the outputs and returns the summary written to render.json.
 nlohmann::json run_render_job(RenderJob& job, const std::function<RenderResult(const Camera&,
-                                                                                const mesh::SurfaceBuffers*)>& render);
+                                                                                const lorgnette::SurfaceBuffers*)>& render);
 
 // File names the job writes for n views (frame_0000.png, depth_0000.exr, ..., orbit.mp4, ...).
 std::vector<std::string> render_job_outputs(const RenderJob& job);

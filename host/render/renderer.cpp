@@ -3,7 +3,7 @@
 
 namespace lorgnette::render {
 
-RenderResult Renderer::render(nerf::NerfModel& model, const Camera& cam, const mesh::SurfaceBuffers* surfaces,
+RenderResult Renderer::render(nerf::NerfModel& model, const Camera& cam, const lorgnette::SurfaceBuffers* surfaces,
                               const RenderOptions& options) {
   NerfSource source(model.field());
   VolumeScene scene;
@@ -15,7 +15,7 @@ RenderResult Renderer::render(nerf::NerfModel& model, const Camera& cam, const m
   return marcher_.render(scene, cam, surfaces, options);
 }
 
-RenderResult render(nerf::NerfModel& model, const Camera& cam, const mesh::SurfaceBuffers* surfaces,
+RenderResult render(nerf::NerfModel& model, const Camera& cam, const lorgnette::SurfaceBuffers* surfaces,
                     const RenderOptions& options) {
   Renderer r(model.runtime());
   return r.render(model, cam, surfaces, options);

@@ -27,7 +27,7 @@ class Renderer {
  public:
   explicit Renderer(cl::Runtime& rt) : marcher_(rt) {}
   // surfaces: nullptr for the head alone. Throws std::invalid_argument on inconsistent inputs.
-  RenderResult render(nerf::NerfModel& model, const Camera& cam, const mesh::SurfaceBuffers* surfaces,
+  RenderResult render(nerf::NerfModel& model, const Camera& cam, const lorgnette::SurfaceBuffers* surfaces,
                       const RenderOptions& options);
 
  private:
@@ -35,7 +35,7 @@ class Renderer {
 };
 
 // One-shot convenience (builds the marcher; kernels come from the runtime's cache).
-RenderResult render(nerf::NerfModel& model, const Camera& cam, const mesh::SurfaceBuffers* surfaces,
+RenderResult render(nerf::NerfModel& model, const Camera& cam, const lorgnette::SurfaceBuffers* surfaces,
                     const RenderOptions& options);
 
 // An orbit framing the model's box; its front and up come from the capture's cameras (the face's

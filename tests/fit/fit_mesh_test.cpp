@@ -54,7 +54,7 @@ TEST_F(LeePerrySmith, DlibFindsTheFaceFromTheFrontNotFromBehind) {
 Image with_glasses(MeshViewSource& head, const mesh::PlacedGlasses& g, const Camera& cam) {
   Image img = head.render(cam);
   mesh::SurfaceParams sp;
-  mesh::SurfaceBuffers s = g.pass->render(cam, sp);
+  lorgnette::SurfaceBuffers s = g.pass->render(cam, sp);
   LgnVec3 o = camera_origin(&cam);
   for (int y = 0; y < img.height; ++y)
     for (int x = 0; x < img.width; ++x) {

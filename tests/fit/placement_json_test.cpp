@@ -6,9 +6,7 @@
 
 #include <gtest/gtest.h>
 
-#if LGN_FIT_HAVE_MESH
 #include "mesh/placed_glasses.h"
-#endif
 
 namespace lorgnette::fit {
 namespace {
@@ -68,13 +66,11 @@ TEST(PlacementJson, TemplesRoundTrip) {
   EXPECT_EQ(q.temples.left.penetration_before_mm, 11.5);
   EXPECT_EQ(q.temples.left.penetration_mm, 0.25);
   EXPECT_EQ(q.temples.right.points, 410);
-#if LGN_FIT_HAVE_MESH
   mesh::TempleBend b = mesh::read_placement_temples(path);  // what `lorgnette render` applies
   EXPECT_EQ(b.left.hinge, p.temples.bend.left.hinge);
   EXPECT_EQ(b.left.spread_deg, 4.75);
   EXPECT_EQ(b.right.spread_deg, 0.0);
   EXPECT_EQ(b.ramp_mm, 3.0);
-#endif
   // Without temples (as every file written before them): no "temples" key, read back as rigid.
   PlacementFile rigid;
   EXPECT_FALSE(to_json(rigid).contains("temples"));
@@ -82,9 +78,7 @@ TEST(PlacementJson, TemplesRoundTrip) {
   q = read_placement(path);
   EXPECT_FALSE(q.has_temples);
   EXPECT_FALSE(q.temples.bend.active());
-#if LGN_FIT_HAVE_MESH
   EXPECT_FALSE(mesh::read_placement_temples(path).active());
-#endif
   nlohmann::json bad = to_json(p);
   bad["temples"]["spread_l_deg"] = "wide";
   EXPECT_THROW(placement_from_json(bad), std::runtime_error);

@@ -77,7 +77,7 @@ nlohmann::json bench_device(const BenchArgs& a, const cl::DeviceInfo& dev, Globa
   opts.step_scale = a.step_scale;
   render::Renderer renderer(rt);
   render::Marcher marcher(rt);
-  return render::run_frame_bench(spec, [&](const Camera& cam, const mesh::SurfaceBuffers* s) {
+  return render::run_frame_bench(spec, [&](const Camera& cam, const lorgnette::SurfaceBuffers* s) {
     return model ? renderer.render(*model, cam, s, opts) : marcher.render(scene, cam, s, opts);
   });
 }

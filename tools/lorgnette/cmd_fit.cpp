@@ -1,6 +1,5 @@
 // `lorgnette fit MODEL --glasses FRAME -o placement.json [--views K] [--debug DIR]`: places the
-// frame on the NeRF head (paper Sec. 3.1 + contact refinement) and writes placement.json. Needs the
-// NeRF core (host/nerf + host/render) and the mesh module; without them the command explains that.
+// frame on the NeRF head (paper Sec. 3.1 + contact refinement) and writes placement.json.
 #include <filesystem>
 #include <iostream>
 #include <memory>
@@ -10,12 +9,10 @@
 
 #include "tools/lorgnette/command.h"
 
-#if defined(LGN_FIT_HAVE_NERF) && defined(LGN_FIT_HAVE_MESH)
 #include "fit/fit.h"
 #include "fit/glasses_input.h"
 #include "fit/nerf_view_source.h"
 #include "fit/placement_json.h"
-#endif
 
 namespace lorgnette::cli {
 namespace {
@@ -27,7 +24,6 @@ struct FitArgs {
   bool json = false, force = false;
 };
 
-#if defined(LGN_FIT_HAVE_NERF) && defined(LGN_FIT_HAVE_MESH)
 void run_fit(const FitArgs& a, GlobalOptions& global) {
   refuse_existing_output(a.output, a.force);  // before minutes of fitting
   fit::FitOptions opt;
@@ -61,12 +57,6 @@ void run_fit(const FitArgs& a, GlobalOptions& global) {
               << a.output << "\n";
   }
 }
-#else
-void run_fit(const FitArgs&, GlobalOptions&) {
-  throw std::runtime_error("this build has no NeRF core or mesh module (host/nerf, host/render, mesh/): "
-                           "`fit` needs them; rebuild with those modules");
-}
-#endif
 
 void add_fit(CLI::App& app, GlobalOptions& global) {
   auto a = std::make_shared<FitArgs>();

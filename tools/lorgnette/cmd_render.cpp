@@ -107,7 +107,7 @@ void run(const RenderArgs& a, GlobalOptions& global) {
   }
 
   render::Renderer renderer(rt);
-  nlohmann::json summary = render::run_render_job(job, [&](const Camera& cam, const mesh::SurfaceBuffers* s) {
+  nlohmann::json summary = render::run_render_job(job, [&](const Camera& cam, const lorgnette::SurfaceBuffers* s) {
     return renderer.render(model, cam, s, job.options);
   });
   summary["model"] = a.model;

@@ -58,7 +58,7 @@ struct SlabScene {
   }
 };
 
-void set_surface(mesh::SurfaceBuffers& s, int x, int y, Vec3f rgb, float alpha, float depth) {
+void set_surface(lorgnette::SurfaceBuffers& s, int x, int y, Vec3f rgb, float alpha, float depth) {
   size_t i = size_t(y) * s.width + x;
   for (int c = 0; c < 3; ++c) s.color_alpha[4 * i + c] = alpha * rgb[c];  // premultiplied
   s.color_alpha[4 * i + 3] = alpha;
@@ -93,7 +93,7 @@ TEST(Marcher, SlabWithoutSurfaceMatchesClosedForm) {
 // (a) An opaque plane inside the slab, at a depth that is not on the step grid.
 TEST(Marcher, OpaquePlaneInsideSlabMatchesClosedForm) {
   SlabScene s;
-  mesh::SurfaceBuffers surf(32, 24);
+  lorgnette::SurfaceBuffers surf(32, 24);
   const Vec3f plane{0.2f, 0.5f, 0.9f};
   for (int y = 0; y < 24; ++y)
     for (int x = 0; x < 32; ++x) {
@@ -116,7 +116,7 @@ TEST(Marcher, OpaquePlaneInsideSlabMatchesClosedForm) {
 // (b) Half coverage: the volume behind the surface shows through, weighted by T(t_s)(1 - S_α).
 TEST(Marcher, HalfCoverageMatchesClosedFormWithBackgroundAndAlpha) {
   SlabScene s;
-  mesh::SurfaceBuffers surf(32, 24);
+  lorgnette::SurfaceBuffers surf(32, 24);
   const Vec3f plane{0.2f, 0.5f, 0.9f};
   for (int y = 0; y < 24; ++y)
     for (int x = 0; x < 32; ++x) {
@@ -146,7 +146,7 @@ TEST(Marcher, HalfCoverageMatchesClosedFormWithBackgroundAndAlpha) {
 // changes. Same closed form as (b) with the straight colours behind the lens multiplied by F.
 TEST(Marcher, TintedLensFiltersWhatLiesBehindPerChannel) {
   SlabScene s;
-  mesh::SurfaceBuffers surf(32, 24);
+  lorgnette::SurfaceBuffers surf(32, 24);
   const Vec3f lens{0.05f, 0.05f, 0.05f};
   const float a = 0.6f, filter[3] = {0.4f, 1.9f, 0.7f};  // mean 1: a green lens
   for (int y = 0; y < 24; ++y)
@@ -176,7 +176,7 @@ TEST(Marcher, TintedLensFiltersWhatLiesBehindPerChannel) {
 TEST(Marcher, SurfaceBetweenTwoSamplesIsInsertedAtItsExactDepth) {
   SlabScene s;
   s.scene.step = 0.05f;  // coarse, so a misplacement would be large
-  mesh::SurfaceBuffers surf(32, 24);
+  lorgnette::SurfaceBuffers surf(32, 24);
   const Vec3f plane{0.0f, 1.0f, 0.0f};
   for (int y = 0; y < 24; ++y)
     for (int x = 0; x < 32; ++x) {
@@ -217,7 +217,7 @@ struct DenseScene {
 // (c) A plane behind an opaque NeRF surface leaves the NeRF colour unchanged.
 TEST(Marcher, PlaneBehindOpaqueVolumeLeavesItUnchanged) {
   DenseScene s;
-  mesh::SurfaceBuffers surf(20, 16);
+  lorgnette::SurfaceBuffers surf(20, 16);
   for (int y = 0; y < 16; ++y)
     for (int x = 0; x < 20; ++x) set_surface(surf, x, y, {0.0f, 0.0f, 1.0f}, (x % 2) ? 1.0f : 0.5f, 3.5f);
   Marcher m(runtime());
@@ -243,7 +243,7 @@ TEST(Marcher, RaysMissingTheMeshAreBitwiseNerfOnly) {
   scene.field = &field;
   scene.occupancy = {LGN_MARCH_OCC_LINEAR, 16, &bits};
   Camera cam = look_at({1.0f, 0.5f, 2.5f}, {0, 0, 0}, {0, 1, 0}, 24, 20, 40.0f);
-  mesh::SurfaceBuffers surf(24, 20);
+  lorgnette::SurfaceBuffers surf(24, 20);
   for (int y = 0; y < 20; ++y)
     for (int x = 0; x < 24; ++x)
       if ((x + 2 * y) % 3 == 0) set_surface(surf, x, y, {1, 1, 0}, (x % 2) ? 1.0f : 0.3f, 2.0f + 0.05f * y);
@@ -272,7 +272,7 @@ TEST(Marcher, RaysMissingTheMeshAreBitwiseNerfOnly) {
 // (e) Early termination: an opaque plane in the middle of the slab halves the samples taken.
 TEST(Marcher, OpaquePlaneTerminatesRaysEarly) {
   SlabScene s(0.2f);  // thin: T stays high, so only the plane can end the rays early
-  mesh::SurfaceBuffers surf(32, 24);
+  lorgnette::SurfaceBuffers surf(32, 24);
   for (int y = 0; y < 24; ++y)
     for (int x = 0; x < 32; ++x) {
       double tn, tf;
@@ -292,7 +292,7 @@ TEST(Marcher, OpaquePlaneTerminatesRaysEarly) {
 // through it.
 TEST(Marcher, PlanesInFrontAndBehindTheVolumeOccludeInBothOrders) {
   SlabScene s;
-  mesh::SurfaceBuffers surf(32, 24);
+  lorgnette::SurfaceBuffers surf(32, 24);
   const Vec3f front{1.0f, 0.0f, 0.0f}, back{0.0f, 0.0f, 1.0f};
   for (int y = 0; y < 24; ++y)
     for (int x = 0; x < 32; ++x) {
@@ -352,7 +352,7 @@ TEST(Marcher, SeveralSamplesPerPixelAverageAndBadInputsAreRefused) {
   s.clip(16, 12, &tn, &tf);
   double T = std::exp(-kSigma * (tf - tn));
   EXPECT_NEAR(r.rgba.at(16, 12, 0), kSlabRgb[0] * (1 - T) + T * kBg[0], 2e-3) << "sub-pixel rays differ slightly";
-  mesh::SurfaceBuffers wrong(16, 16);
+  lorgnette::SurfaceBuffers wrong(16, 16);
   EXPECT_THROW(m.render(s.scene, s.cam, &wrong, s.opts), std::invalid_argument);
   s.opts.spp = 0;
   EXPECT_THROW(m.render(s.scene, s.cam, nullptr, s.opts), std::invalid_argument);

@@ -113,7 +113,7 @@ TEST(RenderJob, OrbitWritesFramesDepthVideoSheetAndSummary) {
   RenderJob job;
   job.cameras = orbit_cameras(spec);
   job.out_dir = tmp_dir("orbit");
-  auto render = [&](const Camera& c, const mesh::SurfaceBuffers* s) { return marcher.render(scene, c, s, job.options); };
+  auto render = [&](const Camera& c, const lorgnette::SurfaceBuffers* s) { return marcher.render(scene, c, s, job.options); };
   nlohmann::json out = run_render_job(job, render);
   EXPECT_EQ(out["views"], 3);
   for (const auto& name : render_job_outputs(job)) EXPECT_TRUE(fs::exists(fs::path(job.out_dir) / name)) << name;

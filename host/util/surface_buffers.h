@@ -1,6 +1,6 @@
-// The surface pass's output and the compositing marcher's input (ARCHITECTURE.md "Surface
-// buffers"): per pixel the glasses' colour S_c (linear RGB, premultiplied by coverage), coverage
-// S_α in [0, 1] and depth S_t along the primary ray in scene units (+inf where no sample hit), and
+// The surface pass's output (mesh/) and the compositing marcher's input (host/render), so it lives
+// on the ground floor below both (ARCHITECTURE.md "Surface buffers"): per pixel the glasses' colour
+// S_c (linear RGB, premultiplied by coverage), coverage S_α in [0, 1] and depth S_t along the primary ray in scene units (+inf where no sample hit), and
 // the colour filter F of the light that passes (tinted lenses): what lies behind the surface is seen
 // as T(t_s)·(1 − S_α)·F ⊙ C'. F is the per-channel transmittance divided by its mean (1 − S_α), so a
 // grey lens or an opaque frame has F = 1. Flat float arrays so they upload to the device as they are.
@@ -9,7 +9,7 @@
 #include <limits>
 #include <vector>
 
-namespace lorgnette::mesh {
+namespace lorgnette {
 
 struct SurfaceBuffers {
   int width = 0, height = 0;
@@ -25,4 +25,4 @@ struct SurfaceBuffers {
   size_t pixel_count() const { return static_cast<size_t>(width) * height; }
 };
 
-}  // namespace lorgnette::mesh
+}  // namespace lorgnette
