@@ -1,0 +1,116 @@
+// The viewer's page end to end in headless Chromium (playwright-core): the page loads, the first
+// frame appears, a drag changes the view, a catalogue switch changes the frame, a nudge moves the
+// glasses and saving writes a placement (a second save over an existing file asks first and keeps a
+// backup), a malformed message gets an error and the server keeps serving, a snapshot arrives.
+// Usage: node viewer_e2e.cjs URL WORK CHROMIUM (WORK holds node_modules, catalogue/, screens/).
+"use strict";
+const fs = require("fs");
+const path = require("path");
+const [, , url, work, chromiumPath] = process.argv;
+const { chromium } = require(path.join(work, "node_modules", "playwright-core"));
+
+const screens = path.join(work, "screens");
+let failures = 0;
+const ok = (name) => console.log(`ok - ${name}`);
+const check = (cond, name) => {
+  if (cond) ok(name);
+  else { failures++; console.log(`not ok - ${name}`); }
+};
+
+(async () => {
+  const browser = await chromium.launch({ executablePath: chromiumPath, headless: true, args: ["--no-sandbox"] });
+  const page = await browser.newPage({ viewport: { width: 1280, height: 860 } });
+  const dialogs = [];
+  page.on("dialog", (d) => { dialogs.push(d.message()); d.accept(); });
+  page.on("pageerror", (e) => { failures++; console.log(`not ok - page error: ${e.message}`); });
+  const wait = (fn, arg, timeout = 60000) => page.waitForFunction(fn, arg, { timeout, polling: 50 });
+  const canvas = () => page.evaluate(() => document.getElementById("view").toDataURL("image/png"));
+  const shot = (name) => page.screenshot({ path: path.join(screens, name) });
+  // Waits for a full frame that arrived after the newest state message and after `since`.
+  const fullAfterState = async () => {
+    const since = await page.evaluate(() => performance.now());
+    await wait((t) => window.lgnViewer.lastFullAt > Math.max(t, window.lgnViewer.stateAt), since);
+  };
+  try {
+    await page.goto(url);
+    check((await page.title()).includes("Lorgnette"), "page loads");
+
+    await wait(() => window.lgnViewer && window.lgnViewer.fullFrames >= 1);
+    check(true, "first frame appears");
+    await shot("01-first-frame.png");
+    const first = await canvas();
+
+    const box = await page.locator("#view").boundingBox();
+    const cx = box.x + box.width / 2, cy = box.y + box.height / 2;
+    await page.mouse.move(cx, cy);
+    await page.mouse.down();
+    for (let i = 1; i <= 10; i++) await page.mouse.move(cx + 15 * i, cy + 3 * i);
+    await page.mouse.up();
+    const seq = await page.evaluate(() => window.lgnViewer.lastSentSeq);
+    await wait((s) => { const f = window.lgnViewer.lastFrame; return f && f.kind === "full" && f.seq === s; }, seq);
+    const dragged = await canvas();
+    check(dragged !== first, "a drag changes the view");
+    await shot("02-dragged.png");
+
+    await page.click('.thumb[data-index="1"]');
+    await wait(() => window.lgnViewer.state && window.lgnViewer.state.frame.index === 1);
+    await fullAfterState();
+    const switched = await canvas();
+    check(switched !== dragged, "a catalogue switch changes the frame");
+    await shot("03-catalogue-switch.png");
+
+    for (let i = 0; i < 4; i++) await page.click('button[data-nudge="up_mm"][data-amount="0.5"]');
+    await wait(() => window.lgnViewer.state.nudge.up_mm >= 2);
+    await fullAfterState();
+    const nudged = await canvas();
+    check(nudged !== switched, "a nudge moves the glasses");
+    await shot("04-nudged.png");
+    await page.click("#save");
+    await wait(() => window.lgnViewer.saved.length >= 1);
+    const saved = path.join(work, "catalogue", "b-rect.glb.placement.json");
+    const written = fs.existsSync(saved) && JSON.parse(fs.readFileSync(saved, "utf8"));
+    check(written && written.viewer && written.viewer.nudge.up_mm === 2, "saving writes a placement with the nudge");
+
+    // Frame 0 has a placement file already: saving over it asks first and keeps a backup.
+    await page.click('.thumb[data-index="0"]');
+    await wait(() => window.lgnViewer.state.frame.index === 0);
+    await page.click('button[data-nudge="forward_mm"][data-amount="0.5"]');
+    await wait(() => window.lgnViewer.state.nudge.forward_mm > 0);
+    await page.click("#save");
+    await wait(() => window.lgnViewer.saved.length >= 2);
+    const backups = fs.readdirSync(path.join(work, "catalogue")).filter((f) => f.startsWith("a-round.glb.placement.json.") && f.endsWith(".bak"));
+    check(dialogs.length === 1 && backups.length === 1, "replacing a placement asks first and keeps a backup");
+
+    const errorsBefore = await page.evaluate(() => window.lgnViewer.errors.length);
+    await page.evaluate(() => window.lgnViewer.sendRaw("{this is not json"));
+    await wait((n) => window.lgnViewer.errors.length > n, errorsBefore);
+    const err = await page.evaluate(() => window.lgnViewer.errors[window.lgnViewer.errors.length - 1]);
+    await page.click("#reset-view");
+    await page.mouse.move(cx, cy);
+    await page.mouse.down();
+    await page.mouse.move(cx - 60, cy);
+    await page.mouse.up();
+    const seq2 = await page.evaluate(() => window.lgnViewer.lastSentSeq);
+    await wait((s) => { const f = window.lgnViewer.lastFrame; return f && f.kind === "full" && f.seq === s; }, seq2);
+    check(err.code === "malformed" && (await page.evaluate(() => window.lgnViewer.connected)),
+          "a malformed message gets an error and the server keeps serving");
+
+    await page.click("#toggle");
+    await fullAfterState();
+    await shot("05-glasses-off.png");
+    await page.click("#toggle");
+    await fullAfterState();
+    await page.click("#snapshot");
+    await wait(() => window.lgnViewer.snapshots >= 1);
+    check(true, "a snapshot arrives as PNG");
+    await shot("06-final.png");
+  } catch (e) {
+    failures++;
+    console.log(`not ok - ${e.message}`);
+    await shot("failure.png").catch(() => {});
+  } finally {
+    await browser.close();
+  }
+  console.log(failures ? `${failures} failure(s)` : "all passed");
+  process.exit(failures ? 1 : 0);
+})();

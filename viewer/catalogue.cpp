@@ -1,0 +1,145 @@
+// Catalogue listing, placement reading with a fallback for minimal files, nudges and safe saving
+// (catalogue.h).
+#include "viewer/catalogue.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <ctime>
+#include <filesystem>
+#include <fstream>
+
+#include <Eigen/Geometry>
+#include <fmt/format.h>
+
+#include "host/util/image_io.h"
+#include "mesh/placed_glasses.h"
+#include "host/render/render_job.h"
+
+namespace lorgnette::viewer {
+namespace fs = std::filesystem;
+namespace {
+
+bool is_frame_file(const fs::path& p) {
+  std::string ext = p.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  return ext == ".glb" || ext == ".gltf" || ext == ".obj" || ext == ".ply";
+}
+
+std::string timestamp() {
+  std::time_t t = std::time(nullptr);
+  std::tm tm{};
+  localtime_r(&t, &tm);
+  char buf[32];
+  std::strftime(buf, sizeof buf, "%Y%m%d-%H%M%S", &tm);
+  return buf;
+}
+
+}  // namespace
+
+std::vector<FrameEntry> catalogue_from_dir(const std::string& dir) {
+  if (!fs::is_directory(dir)) throw std::runtime_error(fmt::format("catalogue '{}' is not a directory", dir));
+  std::vector<FrameEntry> out;
+  for (const auto& e : fs::directory_iterator(dir)) {
+    if (e.is_regular_file() && is_frame_file(e.path())) {
+      out.push_back({e.path().filename().string(), e.path().string(), ""});
+    } else if (e.is_directory()) {
+      std::vector<fs::path> inside;
+      for (const auto& f : fs::directory_iterator(e.path()))
+        if (f.is_regular_file() && is_frame_file(f.path())) inside.push_back(f.path());
+      if (inside.size() == 1) out.push_back({e.path().filename().string(), inside[0].string(), ""});
+    }
+  }
+  std::sort(out.begin(), out.end(), [](const FrameEntry& a, const FrameEntry& b) { return a.name < b.name; });
+  if (out.empty())
+    throw std::runtime_error(fmt::format("catalogue '{}' has no frames (.glb .gltf .obj .ply, or folders holding one)", dir));
+  return out;
+}
+
+std::vector<FrameEntry> catalogue_single(const std::string& frame, const std::string& placement) {
+  if (!fs::is_regular_file(frame)) throw std::runtime_error(fmt::format("glasses frame '{}' does not exist", frame));
+  return {{fs::path(frame).filename().string(), frame, placement}};
+}
+
+std::optional<std::string> existing_placement(const FrameEntry& e) {
+  if (!e.placement.empty()) return e.placement;
+  if (fs::is_regular_file(e.save_path())) return e.save_path();
+  return std::nullopt;
+}
+
+fit::PlacementFile read_any_placement(const std::string& path) {
+  try {
+    return fit::read_placement(path);
+  } catch (const std::exception& full_error) {
+    // A minimal placement (transform + optional temples), as `lorgnette render` accepts.
+    try {
+      fit::PlacementFile p;
+      render::Placement r = render::read_placement(path);
+      p.glasses_path = r.glasses_path;
+      for (int i = 0; i < 16; ++i) p.transform(i / 4, i % 4) = r.transform[i];
+      p.temples.bend = mesh::read_placement_temples(path);
+      p.has_temples = p.temples.bend.active();
+      p.ok = true;
+      return p;
+    } catch (const std::exception&) {
+      throw std::runtime_error(full_error.what());
+    }
+  }
+}
+
+Eigen::Matrix4d nudge_matrix(const Nudge& n) {
+  Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
+  // Positive tilt turns the lenses' bottoms backwards (towards the face): about +x (left), the
+  // canonical +z (forward) goes down. The bridge (canonical origin) stays on its rotation axis.
+  m.block<3, 3>(0, 0) = Eigen::AngleAxisd(n.tilt_deg * 3.14159265358979323846 / 180.0, Eigen::Vector3d::UnitX())
+                            .toRotationMatrix();
+  m(1, 3) = n.up_mm;
+  m(2, 3) = n.forward_mm;
+  return m;
+}
+
+Nudge accumulate(const Nudge& n, const NudgeMsg& d) {
+  if (d.reset) return {};
+  Nudge o;
+  o.up_mm = std::clamp(n.up_mm + d.up_mm, -kMaxNudgeMm, kMaxNudgeMm);
+  o.forward_mm = std::clamp(n.forward_mm + d.forward_mm, -kMaxNudgeMm, kMaxNudgeMm);
+  o.tilt_deg = std::clamp(n.tilt_deg + d.tilt_deg, -kMaxNudgeTiltDeg, kMaxNudgeTiltDeg);
+  return o;
+}
+
+SaveResult save_placement(const std::string& path, const fit::PlacementFile& p, const Nudge& nudge, bool overwrite) {
+  SaveResult r;
+  r.path = path;
+  std::error_code ec;
+  if (fs::exists(path, ec)) {
+    if (!overwrite) {
+      r.error = {"exists", fmt::format("{} exists: confirm to replace it (a backup is kept)",
+                                       fs::path(path).filename().string())};
+      return r;
+    }
+    r.backup = fmt::format("{}.{}.bak", path, timestamp());
+    for (int k = 1; fs::exists(r.backup, ec); ++k) r.backup = fmt::format("{}.{}-{}.bak", path, timestamp(), k);
+    fs::copy_file(path, r.backup, ec);
+    if (ec) {
+      r.error = {"io", fmt::format("cannot keep a backup of {} ({}): not saved", fs::path(path).filename().string(),
+                                   ec.message())};
+      r.backup.clear();
+      return r;
+    }
+  }
+  fit::PlacementFile out = p;
+  out.transform = p.transform * nudge_matrix(nudge);
+  nlohmann::json j = fit::to_json(out);
+  j["viewer"] = {{"nudge", {{"up_mm", nudge.up_mm}, {"forward_mm", nudge.forward_mm}, {"tilt_deg", nudge.tilt_deg}}},
+                 {"note", "adjusted by hand in `lorgnette view`; transform includes the nudge"}};
+  try {
+    write_text_file_atomic(path, j.dump(2) + "\n");
+  } catch (const std::exception& e) {
+    r.error = {"io", fmt::format("cannot write {}: {}", fs::path(path).filename().string(), e.what())};
+    return r;
+  }
+  r.ok = true;
+  return r;
+}
+
+}  // namespace lorgnette::viewer

@@ -1,0 +1,266 @@
+// Frames, placements, thumbnails, cached surface passes and the fit worker (frame_assets.h).
+#include "viewer/frame_assets.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <future>
+
+#include <Eigen/Geometry>
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include "fit/fit.h"
+#include "fit/glasses_input.h"
+#include "fit/nerf_view_source.h"
+#include "host/nerf/model.h"
+#include "mesh/temple_bend.h"
+#include "viewer/image_codec.h"
+
+namespace lorgnette::viewer {
+namespace fs = std::filesystem;
+namespace {
+
+constexpr size_t kPassCache = 8;
+
+// A front view of the canonical frame over a light grey background, as a small JPEG.
+std::vector<uint8_t> render_thumbnail(const mesh::Glasses& g) {
+  const int w = 192, h = 96;
+  Eigen::Vector3f lo(1e9f, 1e9f, 1e9f), hi(-1e9f, -1e9f, -1e9f);
+  for (const auto& p : g.mesh.positions) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  Eigen::Vector3f c = 0.5f * (lo + hi);
+  float half_w = 0.55f * std::max(hi.x() - lo.x(), 1.0f), half_h = 0.55f * std::max(hi.y() - lo.y(), 1.0f);
+  const float fov = 20.0f, t = std::tan(0.5f * fov * 3.14159265f / 180.0f);
+  float dist = std::max(half_h / t, half_w / (t * float(w) / float(h))) + hi.z();
+  Camera cam = mesh::look_at_camera(Eigen::Vector3f(c.x(), c.y(), dist + c.z()), c, Eigen::Vector3f(0, 1, 0), fov, w, h);
+  mesh::SurfacePass pass(g.mesh, Eigen::Matrix4f::Identity());
+  mesh::SurfaceParams sp;
+  sp.samples_per_pixel = 4;
+  lorgnette::SurfaceBuffers s = pass.render(cam, sp);
+  Image img(w, h, 3);
+  const float bg = 0.86f;
+  for (size_t i = 0; i < s.pixel_count(); ++i)
+    for (int k = 0; k < 3; ++k) img.pixels[i * 3 + k] = s.color_alpha[i * 4 + k] + (1.0f - s.color_alpha[i * 4 + 3]) * bg;
+  JpegEncoder jpeg;
+  return jpeg.encode(to_srgb8(img), 85);
+}
+
+std::string nudge_key(uint32_t i, uint64_t version, const Nudge& n) {
+  return fmt::format("{}/{}/{:.3f}/{:.3f}/{:.3f}", i, version, n.up_mm, n.forward_mm, n.tilt_deg);
+}
+
+}  // namespace
+
+Eigen::Matrix4d rough_placement(const OrbitFrame& o, const std::array<float, 3>& lo, const std::array<float, 3>& hi,
+                                double frame_width_mm) {
+  Eigen::Vector3d axes[3] = {{o.right[0], o.right[1], o.right[2]}, {o.up[0], o.up[1], o.up[2]},
+                             {o.front[0], o.front[1], o.front[2]}};
+  Eigen::Vector3d c(o.center[0], o.center[1], o.center[2]);
+  double mn[3] = {1e30, 1e30, 1e30}, mx[3] = {-1e30, -1e30, -1e30};
+  for (int k = 0; k < 8; ++k) {
+    Eigen::Vector3d p(k & 1 ? hi[0] : lo[0], k & 2 ? hi[1] : lo[1], k & 4 ? hi[2] : lo[2]);
+    for (int a = 0; a < 3; ++a) {
+      double d = (p - c).dot(axes[a]);
+      mn[a] = std::min(mn[a], d), mx[a] = std::max(mx[a], d);
+    }
+  }
+  double s = 0.8 * (mx[0] - mn[0]) / std::max(frame_width_mm, 1.0);
+  Eigen::Vector3d pos = c + axes[0] * (0.5 * (mn[0] + mx[0])) + axes[1] * (mn[1] + 0.6 * (mx[1] - mn[1])) +
+                        axes[2] * (mx[2] - 0.12 * (mx[2] - mn[2]));
+  Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
+  for (int a = 0; a < 3; ++a) m.block<3, 1>(0, a) = s * axes[a];
+  m.block<3, 1>(0, 3) = pos;
+  return m;
+}
+
+FrameAssets::FrameAssets(std::vector<FrameEntry> catalogue, OrbitFrame orbit, std::array<float, 3> box_min,
+                         std::array<float, 3> box_max, FitSettings fit, FitListener listener)
+    : entries_(std::move(catalogue)), orbit_(orbit), box_min_(box_min), box_max_(box_max), fit_(std::move(fit)),
+      listener_(std::move(listener)) {
+  for (const auto& e : entries_) {
+    try {
+      glasses_.push_back(std::make_unique<mesh::Glasses>(mesh::load_glasses(e.path)));
+    } catch (const std::exception& ex) {
+      throw std::runtime_error(fmt::format("catalogue frame '{}': {}", e.path, ex.what()));
+    }
+    thumbnails_.push_back(render_thumbnail(*glasses_.back()));
+  }
+  states_.resize(entries_.size());
+  requested_.assign(entries_.size(), false);
+  fit_thread_ = std::thread([this] { fit_loop(); });
+}
+
+FrameAssets::~FrameAssets() {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    stop_ = true;
+    fit_queue_.clear();
+  }
+  cv_.notify_all();
+  if (fit_thread_.joinable()) fit_thread_.join();
+}
+
+FrameState FrameAssets::state(uint32_t i) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  request(i);
+  return states_.at(i);
+}
+
+void FrameAssets::request(uint32_t i) {
+  if (requested_.at(i)) return;
+  requested_[i] = true;
+  if (auto file = existing_placement(entries_[i])) {
+    try {
+      states_[i].placement = std::make_shared<fit::PlacementFile>(read_any_placement(*file));
+      states_[i].status = PlacementStatus::kReady;
+      states_[i].source = "file";
+      states_[i].version++;
+      return;
+    } catch (const std::exception& e) {
+      spdlog::warn("view: {}: {}; fitting it instead", entries_[i].name, e.what());
+      states_[i].message = e.what();
+    }
+  }
+  if (!fit_.enabled) {
+    set_rough(i, "fitting is off");
+    return;
+  }
+  states_[i].status = PlacementStatus::kFitting;
+  fit_queue_.push_back(i);
+  cv_.notify_all();
+}
+
+void FrameAssets::set_rough(uint32_t i, const std::string& why) {
+  auto p = std::make_shared<fit::PlacementFile>();
+  p->transform = rough_placement(orbit_, box_min_, box_max_, glasses_[i]->metrics.total_width_mm);
+  p->glasses_path = entries_[i].path;
+  p->warnings.push_back("rough stand-in, not a fit: " + why);
+  states_[i].placement = p;
+  states_[i].status = PlacementStatus::kReady;
+  states_[i].source = "rough (" + why + ")";
+  states_[i].version++;
+}
+
+nlohmann::json FrameAssets::describe(uint32_t i) {
+  FrameState s = state(i);
+  const auto& m = glasses_.at(i)->metrics;
+  nlohmann::json j = {{"index", i},
+                      {"name", entries_[i].name},
+                      {"status", s.status == PlacementStatus::kReady ? "ready"
+                                 : s.status == PlacementStatus::kFitting ? "fitting" : "none"},
+                      {"source", s.source},
+                      {"size_mm", {{"total_width", m.total_width_mm}, {"lens_width", m.lens_width_mm},
+                                   {"lens_height", m.lens_height_mm}, {"bridge", m.bridge_mm},
+                                   {"temple", m.temple_length_mm}}}};
+  if (s.placement && s.placement->pd_mm > 0) j["pd_mm"] = s.placement->pd_mm;
+  if (!s.message.empty()) j["message"] = s.message;
+  return j;
+}
+
+nlohmann::json FrameAssets::catalogue_json() const {
+  nlohmann::json a = nlohmann::json::array();
+  for (size_t i = 0; i < entries_.size(); ++i)
+    a.push_back({{"index", i}, {"name", entries_[i].name}, {"thumbnail", fmt::format("/thumb/{}.jpg", i)}});
+  return a;
+}
+
+std::shared_ptr<const mesh::SurfacePass> FrameAssets::pass(uint32_t i, const Nudge& nudge) {
+  std::shared_ptr<const fit::PlacementFile> placement;
+  uint64_t version;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    request(i);
+    if (states_[i].status != PlacementStatus::kReady) return nullptr;
+    placement = states_[i].placement;
+    version = states_[i].version;
+    std::string key = nudge_key(i, version, nudge);
+    for (auto it = passes_.begin(); it != passes_.end(); ++it)
+      if (it->key == key) {
+        CachedPass hit = *it;
+        passes_.erase(it);
+        passes_.push_front(hit);
+        return hit.pass;
+      }
+  }
+  // Built outside the lock (Embree BVH build); a rare duplicate build is harmless.
+  mesh::TriMesh mesh = glasses_[i]->mesh;
+  if (placement->has_temples && placement->temples.bend.active()) mesh::bend_mesh(placement->temples.bend, mesh);
+  Eigen::Matrix4f t = (placement->transform * nudge_matrix(nudge)).cast<float>();
+  auto built = std::make_shared<const mesh::SurfacePass>(mesh, t);
+  std::lock_guard<std::mutex> lock(mutex_);
+  passes_.push_front({nudge_key(i, version, nudge), built});
+  if (passes_.size() > kPassCache) passes_.pop_back();
+  return built;
+}
+
+void FrameAssets::fit_loop() {
+  for (;;) {
+    uint32_t i;
+    {
+      std::unique_lock<std::mutex> lock(mutex_);
+      cv_.wait(lock, [&] { return stop_ || !fit_queue_.empty(); });
+      if (stop_) return;
+      i = fit_queue_.front();
+      fit_queue_.pop_front();
+    }
+    run_fit(i);
+  }
+}
+
+void FrameAssets::run_fit(uint32_t i) {
+  const FrameEntry& e = entries_[i];
+  auto t0 = std::chrono::steady_clock::now();
+  listener_({{"type", "fit"}, {"state", "started"}, {"frame", i}, {"name", e.name}}, i);
+  spdlog::info("view: fitting {} (no placement beside it)", e.name);
+  auto work = std::async(std::launch::async, [&] {
+    fit::GlassesInput glasses = fit::load_glasses_input(e.path);
+    fit::FitOptions opt;
+    opt.cap.views = fit_.views;
+    opt.width = opt.height = fit_.resolution;
+    opt.frame_points = glasses.frame_points;
+    cl::Runtime rt(fit_.runtime);
+    nerf::NerfModel model = nerf::NerfModel::load(rt, fit_.model_path);
+    std::string transforms = model.metadata.dataset_path;
+    if (!transforms.empty() && fs::is_directory(transforms)) transforms += "/transforms.json";
+    fit::NerfViewSource source(model, fit::prior_from_transforms(transforms, model));
+    fit::FitResult r = fit::fit_glasses(source, glasses.ref, opt);
+    return fit::make_placement_file(r, e.path, "stretch");
+  });
+  auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
+  while (work.wait_for(std::chrono::seconds(1)) != std::future_status::ready)
+    listener_({{"type", "fit"}, {"state", "progress"}, {"frame", i}, {"elapsed_s", std::round(elapsed())}}, i);
+  nlohmann::json done = {{"type", "fit"}, {"frame", i}, {"seconds", elapsed()}};
+  try {
+    auto pf = std::make_shared<fit::PlacementFile>(work.get());
+    std::string note;
+    if (!fs::exists(e.save_path())) {
+      try {
+        fit::write_placement(e.save_path(), *pf);
+        note = "cached beside the frame";
+      } catch (const std::exception& ex) {
+        note = std::string("not cached (") + ex.what() + "): kept for this session";
+      }
+    }
+    std::lock_guard<std::mutex> lock(mutex_);
+    states_[i].placement = pf;
+    states_[i].status = PlacementStatus::kReady;
+    states_[i].source = "fit";
+    states_[i].version++;
+    states_[i].message = note;
+    done["state"] = "done";
+    done["pd_mm"] = pf->pd_mm;
+    done["ok"] = pf->ok;
+    done["message"] = note;
+  } catch (const std::exception& ex) {
+    spdlog::warn("view: fitting {} failed: {}", e.name, ex.what());
+    std::lock_guard<std::mutex> lock(mutex_);
+    set_rough(i, "the fit failed");
+    states_[i].message = ex.what();
+    done["state"] = "failed";
+    done["message"] = std::string(ex.what()) + " (showing a rough stand-in; nudge it and save, or run `lorgnette fit`)";
+  }
+  listener_(done, i);
+}
+
+}  // namespace lorgnette::viewer

@@ -1,0 +1,106 @@
+// The catalogue's frames as the viewer holds them: each frame's canonical mesh and sizes (loaded once
+// at start, with a thumbnail), its placement and where it came from (a file, a fit, or a rough
+// stand-in when the fit failed or fitting is off), and the surface passes built from it. A frame with
+// no placement is fitted on a worker thread with its own OpenCL runtime and copy of the model (so
+// renders go on meanwhile); the worker reports progress through a callback and the fit is cached
+// beside the frame (<frame>.placement.json) when that file does not exist yet.
+#pragma once
+#include <condition_variable>
+#include <deque>
+#include <functional>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "fit/placement_json.h"
+#include "host/cl/runtime.h"
+#include "mesh/glasses.h"
+#include "mesh/surface_pass.h"
+#include "viewer/catalogue.h"
+#include "viewer/orbit_control.h"
+
+namespace lorgnette::viewer {
+
+enum class PlacementStatus { kNone, kReady, kFitting };
+
+struct FrameState {
+  PlacementStatus status = PlacementStatus::kNone;
+  std::shared_ptr<const fit::PlacementFile> placement;  // when kReady
+  std::string source;   // "file", "fit", "rough (...)"
+  uint64_t version = 0; // bumps whenever the placement changes
+  std::string message;  // last fit message
+};
+
+struct FitSettings {
+  bool enabled = true;  // false: frames without a placement get the rough stand-in at once
+  int views = 12, resolution = 384;
+  cl::RuntimeOptions runtime;
+  std::string model_path;
+};
+
+// Fit events for the clients: state "started", "progress" (elapsed seconds), "done", "failed".
+using FitListener = std::function<void(const nlohmann::json& event, uint32_t frame)>;
+
+class FrameAssets {
+ public:
+  // Loads every frame (throws naming a frame that cannot be loaded) and renders the thumbnails.
+  FrameAssets(std::vector<FrameEntry> catalogue, OrbitFrame orbit, std::array<float, 3> box_min,
+              std::array<float, 3> box_max, FitSettings fit, FitListener listener);
+  ~FrameAssets();  // stops the fit worker (waits for a running fit)
+
+  size_t size() const { return entries_.size(); }
+  const FrameEntry& entry(size_t i) const { return entries_.at(i); }
+  const mesh::Glasses& glasses(size_t i) const { return *glasses_.at(i); }
+  const std::vector<uint8_t>& thumbnail_jpeg(size_t i) const { return thumbnails_.at(i); }
+
+  // Current state; the first call for a frame reads its placement file or queues its fit.
+  FrameState state(uint32_t i);
+  // Name, sizes, PD and placement source of frame i (for the client's state message).
+  nlohmann::json describe(uint32_t i);
+  nlohmann::json catalogue_json() const;
+
+  // The surface pass for frame i with a nudge, or nullptr while it has no placement. Passes are
+  // cached (a few, least recently used) and shared between clients with the same frame and nudge.
+  std::shared_ptr<const mesh::SurfacePass> pass(uint32_t i, const Nudge& nudge);
+
+ private:
+  void request(uint32_t i);  // under mutex_
+  void set_rough(uint32_t i, const std::string& why);  // under mutex_
+  void fit_loop();
+  void run_fit(uint32_t i);
+
+  std::vector<FrameEntry> entries_;
+  std::vector<std::unique_ptr<mesh::Glasses>> glasses_;
+  std::vector<std::vector<uint8_t>> thumbnails_;
+  OrbitFrame orbit_;
+  std::array<float, 3> box_min_, box_max_;
+  FitSettings fit_;
+  FitListener listener_;
+
+  std::mutex mutex_;
+  std::condition_variable cv_;
+  std::vector<FrameState> states_;
+  std::vector<bool> requested_;
+  std::deque<uint32_t> fit_queue_;
+  bool stop_ = false;
+  struct CachedPass {
+    std::string key;
+    std::shared_ptr<const mesh::SurfacePass> pass;
+  };
+  std::deque<CachedPass> passes_;  // most recent first
+  std::thread fit_thread_;
+};
+
+// Canonical mm -> scene for a frame `frame_width_mm` wide resting on the box's front at 60 % of its
+// height, 12 % inside, 80 % as wide as the box, axes aligned with the orbit frame. A stand-in for
+// frames that could not be fitted (not a fit).
+Eigen::Matrix4d rough_placement(const OrbitFrame& orbit, const std::array<float, 3>& box_min,
+                                const std::array<float, 3>& box_max, double frame_width_mm);
+
+}  // namespace lorgnette::viewer
