@@ -222,12 +222,25 @@ const aiScene* post_process(Assimp::Importer& importer, const aiScene* scene, un
   return scene;
 }
 
-// Assimp 5.2's PLY reader loops forever on a header without an end_header line (a truncated or
-// foreign file: fuzz/regressions/glasses/ply-no-end-header-hang), so the header is checked first.
+// Assimp 5.2's PLY reader loops forever when it does not find the end_header line: in a truncated
+// header, and after a stray control character (a CR without LF, form feed, vertical tab, NUL) that
+// makes it skip a line (fuzz/regressions/glasses/ply-*-hang). So the header is checked first: text
+// lines up to one that starts with end_header.
 void check_ply_header(std::istream& in, const std::string& path) {
-  std::string token;
-  for (std::string line; std::getline(in, line);)
-    if (std::istringstream(line) >> token && token == "end_header") return;
+  int number = 0;
+  for (std::string line; std::getline(in, line);) {
+    ++number;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    for (char c : line)
+      if (static_cast<unsigned char>(c) < 0x20 && c != '\t')
+        throw std::runtime_error(fmt::format(
+            "PLY file '{}' has a control character in its header (line {}): it is corrupt or not a PLY file",
+            path, number));
+    size_t at = line.find_first_not_of(" \t");
+    if (at != std::string::npos && line.compare(at, 10, "end_header") == 0 &&
+        (line.size() == at + 10 || line[at + 10] == ' ' || line[at + 10] == '\t'))
+      return;
+  }
   throw std::runtime_error(
       fmt::format("PLY file '{}' has no end_header line: it is truncated or not a PLY file", path));
 }
@@ -339,7 +352,8 @@ TriMesh load_mesh_from_memory(const void* data, size_t bytes, const std::string&
   importer.SetIOHandler(new NoFiles);  // the importer owns it
   unsigned flags = import_flags(importer, options);
   LoadContext ctx;
-  const aiScene* read = importer.ReadFileFromMemory(data, bytes, aiProcess_ValidateDataStructure, ext.c_str());
+  const aiScene* read =
+      importer.ReadFileFromMemory(data, bytes, aiProcess_ValidateDataStructure, ext.c_str());
   ctx.scene = post_process(importer, read, flags, name);
   ctx.external_files = false;
   ctx.options = options;

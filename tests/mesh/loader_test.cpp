@@ -159,8 +159,9 @@ TEST(Loader, FromMemoryMatchesTheFile) {
   EXPECT_THROW(load_mesh_from_memory(bytes.data(), bytes.size(), "fbx"), std::runtime_error);
 }
 
-// Both found by fuzzing (fuzz/regressions/glasses/): Assimp 5.2 loops forever on a PLY header
-// without end_header and aborts the process on faces without vertices; the loader refuses both.
+// Found by fuzzing (fuzz/regressions/glasses/): Assimp 5.2 loops forever on a PLY header without
+// end_header or with a stray control character before it, and aborts the process on faces without
+// vertices; the loader refuses all three. CRLF line ends stay fine.
 TEST(Loader, MalformedPlyIsRefusedNotHungOrAborted) {
   namespace fs = std::filesystem;
   fs::path dir = fs::path(LORGNETTE_TEST_TMP) / "mesh_loader";
@@ -168,6 +169,21 @@ TEST(Loader, MalformedPlyIsRefusedNotHungOrAborted) {
   std::ofstream((dir / "truncated.ply").string())
       << "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\n";
   expect_error((dir / "truncated.ply").string(), "no end_header");
+  const std::string header =
+      "ply\r\nformat ascii 1.0\r\nelement vertex 3\r\nproperty float x\r\nproperty float y\r\n"
+      "property float z\r\nelement face 1\r\nproperty list uchar int vertex_indices\r\n";
+  const std::string body = "end_header\r\n0 0 0\r\n1 0 0\r\n0 1 0\r\n3 0 1 2\r\n";
+  std::string crlf = header + body;
+  EXPECT_EQ(load_mesh_from_memory(crlf.data(), crlf.size(), "ply").triangle_count(), 1u);
+  for (const char* stray : {"\r\r", "\f", "\v"}) {
+    std::string bad = header + stray + body;
+    try {
+      load_mesh_from_memory(bad.data(), bad.size(), "ply");
+      ADD_FAILURE() << "a control character in the header was accepted";
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find("control character"), std::string::npos) << e.what();
+    }
+  }
   std::string empty_faces =
       "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
       "element face 2\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n0\n";
