@@ -16,6 +16,8 @@ PACKAGES=(
   # command line, JSON, logging, tests, benchmarks
   libcli11-dev nlohmann-json3-dev libspdlog-dev libfmt-dev
   libgtest-dev libgmock-dev libbenchmark-dev
+  # the browser viewer (`lorgnette view`): Beast/Asio headers, JPEG frames; Chromium + node/npm for its e2e test
+  libboost-dev libturbojpeg0-dev chromium nodejs npm
 )
 if [ -z "${LORGNETTE_SKIP_APT_UPDATE:-}" ]; then $SUDO apt-get update -q; fi
 $SUDO apt-get install -y -q --no-install-recommends "${PACKAGES[@]}"

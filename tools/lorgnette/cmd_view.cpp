@@ -6,16 +6,13 @@
 
 #include <spdlog/spdlog.h>
 
-#include "tools/lorgnette/command.h"
-
-#ifdef LGN_HAVE_VIEWER
 #include <chrono>
 #include <thread>
 
 #include "host/util/interrupt.h"
+#include "tools/lorgnette/command.h"
 #include "viewer/server.h"
 #include "viewer/viewer_service.h"
-#endif
 
 namespace lorgnette::cli {
 namespace {
@@ -28,7 +25,6 @@ struct ViewArgs {
   bool no_fit = false;
 };
 
-#ifdef LGN_HAVE_VIEWER
 void run_view(const ViewArgs& a, GlobalOptions& global) {
   using namespace viewer;
   if (a.glasses.empty() == a.catalogue.empty()) throw std::runtime_error("give --glasses FRAME or --catalogue DIR");
@@ -61,12 +57,6 @@ void run_view(const ViewArgs& a, GlobalOptions& global) {
   spdlog::info("view: stopping");
   server.stop();
 }
-#else
-void run_view(const ViewArgs&, GlobalOptions&) {
-  throw std::runtime_error("this build has no viewer: install libboost-dev and libturbojpeg0-dev "
-                           "(tools/setup-debian.sh) and rebuild");
-}
-#endif
 
 void add_view(CLI::App& app, GlobalOptions& global) {
   auto a = std::make_shared<ViewArgs>();
