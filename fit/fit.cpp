@@ -136,7 +136,8 @@ FitResult fit_glasses(ViewSource& source, const GlassesRefPoints& glasses, const
   std::unique_ptr<LandmarkDetector> detector;
   {
     StageTimer t{r, "load_detector"};
-    detector = std::make_unique<LandmarkDetector>(opt.detector);
+    detector = opt.detect ? std::make_unique<LandmarkDetector>(opt.detect)
+                          : std::make_unique<LandmarkDetector>(opt.detector);
   }
   {
     StageTimer t{r, "front"};

@@ -29,6 +29,7 @@ struct FitOptions {
   int sweep_views = 8;                // yaw steps of the front search (when the prior has no front)
   double recenter_deg = 8.0;          // re-plan the cap when d_fwd is further than this from its centre
   DetectorOptions detector;
+  DetectFn detect;                    // non-empty: this detector instead of dlib's (landmarks_dlib.h)
   TriangulateOptions triangulate;
   int min_views = 3;                  // views with a face needed
   bool cast_contour = true;           // jaw contour (temples) by surface casting, not triangulation

@@ -90,6 +90,10 @@ LandmarkDetector::LandmarkDetector(const DetectorOptions& opt) : impl_(std::make
   impl_->hog_face_px = opt.hog_face_px;
 }
 
+LandmarkDetector::LandmarkDetector(DetectFn fn) : fn_(std::move(fn)) {
+  if (!fn_) throw std::invalid_argument("LandmarkDetector: empty detector function");
+}
+
 LandmarkDetector::~LandmarkDetector() = default;
 
 std::vector<unsigned char> to_srgb8(const Image& img, float background) {
@@ -111,10 +115,20 @@ std::vector<unsigned char> to_srgb8(const Image& img, float background) {
 
 FaceDetection LandmarkDetector::detect(const Image& image, double face_px) const {
   std::vector<unsigned char> rgb = to_srgb8(image);
-  dlib::array2d<dlib::rgb_pixel> img(image.height, image.width);
-  for (int y = 0; y < image.height; ++y)
-    for (int x = 0; x < image.width; ++x) {
-      const unsigned char* p = &rgb[(size_t(y) * image.width + x) * 3];
+  if (!fn_) return detect_srgb8(rgb.data(), image.width, image.height, face_px);
+  FaceDetection d = fn_(rgb, image.width, image.height, face_px);
+  if (d.found && d.points.size() != 68)
+    throw std::runtime_error(fmt::format("the landmark detector returned {} points, expected 68 in iBUG order",
+                                         d.points.size()));
+  return d;
+}
+
+FaceDetection LandmarkDetector::detect_srgb8(const unsigned char* rgb, int width, int height, double face_px) const {
+  if (!impl_) throw std::logic_error("detect_srgb8: this detector wraps a caller's function, not dlib");
+  dlib::array2d<dlib::rgb_pixel> img(height, width);
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x) {
+      const unsigned char* p = &rgb[(size_t(y) * width + x) * 3];
       img[y][x] = dlib::rgb_pixel(p[0], p[1], p[2]);
     }
   double factor = 1.0;

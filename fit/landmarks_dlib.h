@@ -3,6 +3,7 @@
 // landmarks_dlib.cpp (its headers compile slowly); this header is plain Eigen.
 #pragma once
 #include <Eigen/Core>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -37,10 +38,19 @@ struct FaceDetection {
   std::vector<Eigen::Vector2d> points;            // 68 landmarks, continuous pixel coordinates
 };
 
+// A detector supplied by the caller instead of dlib (the Python bindings: MediaPipe, a licensed
+// model): `srgb` is the interleaved 8-bit sRGB RGB image dlib would see (width x height x 3, alpha
+// composited over white), `face_px` the face's expected width in pixels (0 = unknown). A detection
+// with `found` must carry the 68 points in iBUG order (continuous pixel coordinates).
+using DetectFn = std::function<FaceDetection(const std::vector<unsigned char>& srgb, int width, int height,
+                                             double face_px)>;
+
 class LandmarkDetector {
  public:
   // Loads the shape predictor; throws naming the path and the Debian package when missing.
   explicit LandmarkDetector(const DetectorOptions& opt = {});
+  // Runs `fn` instead of dlib (no model is loaded); detect() converts each view as it would for dlib.
+  explicit LandmarkDetector(DetectFn fn);
   ~LandmarkDetector();
   LandmarkDetector(const LandmarkDetector&) = delete;
   LandmarkDetector& operator=(const LandmarkDetector&) = delete;
@@ -49,10 +59,14 @@ class LandmarkDetector {
   // when known (0 = unknown), used with DetectorOptions::hog_face_px. Thread-compatible, not
   // thread-safe (one call at a time per detector).
   FaceDetection detect(const Image& linear_rgb, double face_px = 0.0) const;
+  // The dlib stage of detect() on an 8-bit sRGB RGB image (width x height x 3); throws for a
+  // detector made from a DetectFn.
+  FaceDetection detect_srgb8(const unsigned char* rgb, int width, int height, double face_px = 0.0) const;
 
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
+  DetectFn fn_;
 };
 
 // Converts a linear float image to interleaved 8-bit sRGB RGB (alpha composited over `background`).

@@ -18,6 +18,8 @@ PACKAGES=(
   libgtest-dev libgmock-dev libbenchmark-dev
   # the browser viewer (`lorgnette view`): Beast/Asio headers, JPEG frames; Chromium + node/npm for its e2e test
   libboost-dev libturbojpeg0-dev chromium nodejs npm
+  # the Python bindings (python/) and their tests
+  pybind11-dev python3-dev python3-numpy python3-pytest
 )
 if [ -z "${LORGNETTE_SKIP_APT_UPDATE:-}" ]; then $SUDO apt-get update -q; fi
 $SUDO apt-get install -y -q --no-install-recommends "${PACKAGES[@]}"

@@ -22,6 +22,10 @@ void install_interrupt_handler() {
   std::signal(SIGTERM, on_signal);
 }
 bool interrupted() { return g_signals.load() > 0; }
+void request_interrupt() {
+  int none = 0;
+  g_signals.compare_exchange_strong(none, 1);
+}
 void clear_interrupt() { g_signals.store(0); }
 
 }  // namespace lorgnette

@@ -6,6 +6,9 @@ namespace lorgnette {
 
 void install_interrupt_handler();
 bool interrupted();
+// Sets the flag as a first Ctrl-C would (no message): loops stop at their next poll, e.g. when a
+// Python progress callback asks training to stop.
+void request_interrupt();
 void clear_interrupt();  // for tests
 
 }  // namespace lorgnette

@@ -1,0 +1,84 @@
+// Shared pieces of the `lorgnette` Python module (pybind11): the OpenCL runtime per device (one per
+// process and device, shared by the models on it, one piece of device work at a time), the Model
+// handle, NumPy <-> image conversion, and the binders each bind_*.cpp defines.
+#pragma once
+#include <memory>
+#include <mutex>
+#include <string>
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+
+#include <nlohmann/json.hpp>
+
+#include "host/cl/runtime.h"
+#include "host/nerf/model.h"
+#include "host/render/renderer.h"
+#include "host/util/image_io.h"
+#include "mesh/glasses.h"
+#include "mesh/placed_glasses.h"
+
+namespace lorgnette::py {
+
+namespace pyb = pybind11;
+
+// One OpenCL runtime (context + queue + kernel cache). Device work holds `mutex` (with the GIL
+// released), so Python threads may share a model without racing on its buffers.
+struct Device {
+  explicit Device(const cl::RuntimeOptions& options) : runtime(options) {}
+  cl::Runtime runtime;
+  std::mutex mutex;
+};
+
+// The runtime for a --device spec ("" = the module's current choice, see lorgnette.use_device).
+std::shared_ptr<Device> device_for(const std::string& spec);
+
+// A loaded or trained model; keeps its runtime alive (the model's buffers live in its context).
+struct Model {
+  std::shared_ptr<Device> device;
+  std::unique_ptr<nerf::NerfModel> nerf;
+  std::string path;  // the .lnerf it came from or was saved to
+  std::unique_ptr<render::Renderer> renderer;  // made on the first render (builds the marcher)
+};
+
+// A frame in canonical millimetres, with the surface pass of its last placement kept for the
+// next render (building the Embree scene is the costly part of a glasses render).
+struct Glasses {
+  mesh::Glasses glasses;
+  std::mutex mutex;  // guards the cache below
+  std::shared_ptr<mesh::PlacedGlasses> placed;
+  std::string placed_key;  // transform + temples it was built for
+};
+
+// placement.json in memory: the file's JSON object (what `render` reads from the file) and the
+// directory a relative glasses path is relative to.
+struct Placement {
+  nlohmann::json json;
+  std::string base_dir;
+};
+
+// Glasses.load (releases the GIL while loading).
+std::shared_ptr<Glasses> load_glasses(const std::string& path, double mm_per_unit = 0.0);
+
+// JSON -> Python objects (through the json module) and back.
+pyb::object to_python(const nlohmann::json& j);
+nlohmann::json from_python(const pyb::handle& obj);
+
+// The Error type (a RuntimeError) carrying the library's messages, and LandmarkError (an Error).
+pyb::handle error_type();
+pyb::handle landmark_error_type();
+
+// Raises FileNotFoundError (as the CLI's "File does not exist" check) when `path` is missing.
+void require_file(const std::string& path, const char* what);
+
+// Linear float image -> float32 NumPy array (H x W x C, or H x W when C == 1); copies.
+pyb::array_t<float> to_numpy(const Image& image);
+// A float NumPy array (H x W or H x W x C) -> linear float image; copies.
+Image from_numpy(const pyb::array_t<float, pyb::array::c_style | pyb::array::forcecast>& array);
+
+void bind_model(pyb::module_& m);
+void bind_glasses(pyb::module_& m);
+void bind_fit(pyb::module_& m);
+void bind_train(pyb::module_& m);
+
+}  // namespace lorgnette::py
