@@ -6,8 +6,8 @@
 #include <cctype>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <map>
-#include <sstream>
 #include <stdexcept>
 
 #include <Eigen/Geometry>
@@ -22,6 +22,7 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include "mesh/ply_check.h"
 #include "mesh/texture.h"
 
 namespace lorgnette::mesh {
@@ -222,38 +223,15 @@ const aiScene* post_process(Assimp::Importer& importer, const aiScene* scene, un
   return scene;
 }
 
-// Assimp 5.2's PLY reader loops forever when it does not find the end_header line: in a truncated
-// header, and after a stray control character (a CR without LF, form feed, vertical tab, NUL) that
-// makes it skip a line (fuzz/regressions/glasses/ply-*-hang). So the header is checked first: text
-// lines up to one that starts with end_header.
-void check_ply_header(std::istream& in, const std::string& path) {
-  int number = 0;
-  for (std::string line; std::getline(in, line);) {
-    ++number;
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    for (char c : line)
-      if (static_cast<unsigned char>(c) < 0x20 && c != '\t')
-        throw std::runtime_error(fmt::format(
-            "PLY file '{}' has a control character in its header (line {}): it is corrupt or not a PLY file",
-            path, number));
-    size_t at = line.find_first_not_of(" \t");
-    if (at != std::string::npos && line.compare(at, 10, "end_header") == 0 &&
-        (line.size() == at + 10 || line[at + 10] == ' ' || line[at + 10] == '\t'))
-      return;
-  }
-  throw std::runtime_error(
-      fmt::format("PLY file '{}' has no end_header line: it is truncated or not a PLY file", path));
-}
-
 const aiScene* read_scene(Assimp::Importer& importer, const std::string& path, const LoadOptions& options) {
   if (!fs::exists(path))
     throw std::runtime_error(fmt::format("mesh file '{}' does not exist (check the path)", path));
   if (fs::is_directory(path))
     throw std::runtime_error(fmt::format("'{}' is a directory; give the .gltf/.glb/.obj/.ply file inside it", path));
   if (fs::file_size(path) == 0) throw std::runtime_error(fmt::format("mesh file '{}' is empty (0 bytes)", path));
-  if (lower(fs::path(path).extension().string()) == ".ply") {
+  if (lower(fs::path(path).extension().string()) == ".ply") {  // Assimp must not see a malformed PLY
     std::ifstream in(path, std::ios::binary);
-    check_ply_header(in, path);
+    check_ply(std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()), path);
   }
   unsigned flags = import_flags(importer, options);
   return post_process(importer, importer.ReadFile(path, aiProcess_ValidateDataStructure), flags, path);
@@ -344,10 +322,7 @@ TriMesh load_mesh_from_memory(const void* data, size_t bytes, const std::string&
     throw std::runtime_error(fmt::format("mesh format '{}' is not one of gltf, glb, obj, ply", format));
   std::string name = fmt::format("<{} bytes of {}>", bytes, ext);
   if (bytes == 0) throw std::runtime_error(fmt::format("mesh '{}' is empty (0 bytes)", name));
-  if (ext == "ply") {
-    std::istringstream in(std::string(static_cast<const char*>(data), bytes));
-    check_ply_header(in, name);
-  }
+  if (ext == "ply") check_ply(std::string_view(static_cast<const char*>(data), bytes), name);
   Assimp::Importer importer;
   importer.SetIOHandler(new NoFiles);  // the importer owns it
   unsigned flags = import_flags(importer, options);

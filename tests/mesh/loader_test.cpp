@@ -4,6 +4,7 @@
 // point reads what the file entry point reads.
 #include "mesh/loader.h"
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -160,8 +161,9 @@ TEST(Loader, FromMemoryMatchesTheFile) {
 }
 
 // Found by fuzzing (fuzz/regressions/glasses/): Assimp 5.2 loops forever on a PLY header without
-// end_header or with a stray control character before it, and aborts the process on faces without
-// vertices; the loader refuses all three. CRLF line ends stay fine.
+// end_header or with a stray control character before it, allocates whatever a count says, and
+// aborts the process on faces without vertices; the loader refuses all of them (mesh/ply_check.h).
+// CRLF line ends stay fine.
 TEST(Loader, MalformedPlyIsRefusedNotHungOrAborted) {
   namespace fs = std::filesystem;
   fs::path dir = fs::path(LORGNETTE_TEST_TMP) / "mesh_loader";
@@ -183,6 +185,47 @@ TEST(Loader, MalformedPlyIsRefusedNotHungOrAborted) {
     } catch (const std::runtime_error& e) {
       EXPECT_NE(std::string(e.what()).find("control character"), std::string::npos) << e.what();
     }
+  }
+  // Counts the data does not hold (Assimp allocated 17 GB for the first list, 26 GB for the vertices).
+  auto ply = [](const std::string& vertices, const std::string& data) {
+    return "ply\nformat ascii 1.0\nelement vertex " + vertices +
+           "\nproperty float x\nproperty float y\nproperty float z\nelement face 1\n"
+           "property list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n" + data;
+  };
+  for (const std::string& bad :
+       {ply("3", "2160668374 0 1 2\n"), ply("3", "4 0 1 2\n"), ply("2160668374", "3 0 1 2\n")}) {
+    try {
+      load_mesh_from_memory(bad.data(), bad.size(), "ply");
+      ADD_FAILURE() << "accepted: " << bad;
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find("corrupt or not a PLY file"), std::string::npos) << e.what();
+    }
+  }
+  const std::string good = ply("3", "3 0 1 2\n");
+  EXPECT_EQ(load_mesh_from_memory(good.data(), good.size(), "ply").triangle_count(), 1u);
+  // Binary files of either byte order with mixed property types pass the check and load.
+  for (bool big : {false, true}) {
+    std::string bin = std::string("ply\nformat binary_") + (big ? "big" : "little") +
+                      "_endian 1.0\ncomment test\nelement vertex 3\nproperty float x\nproperty float y\n"
+                      "property float z\nproperty uchar red\nproperty uint8 green\nproperty uchar blue\n"
+                      "element face 1\nproperty list uchar uint vertex_indices\nend_header\n";
+    auto put = [&](const void* p, size_t n) {
+      std::string b(static_cast<const char*>(p), n);
+      if (big) std::reverse(b.begin(), b.end());
+      bin += b;
+    };
+    const float xyz[3][3] = {{0, 0, 0}, {2, 0, 0}, {0, 3, 0}};
+    for (const auto& v : xyz) {
+      for (float c : v) put(&c, 4);
+      bin += std::string("\x10\x20\x30", 3);
+    }
+    bin += '\x03';
+    for (uint32_t i = 0; i < 3; ++i) put(&i, 4);
+    TriMesh m = load_mesh_from_memory(bin.data(), bin.size(), "ply");
+    EXPECT_EQ(m.triangle_count(), 1u) << (big ? "big" : "little") << " endian";
+    EXPECT_NEAR(box_of(m).sizes().y(), 3.0f, 1e-6f);
+    bin.pop_back();  // truncated: the last index is incomplete
+    EXPECT_THROW(load_mesh_from_memory(bin.data(), bin.size(), "ply"), std::runtime_error);
   }
   std::string empty_faces =
       "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
