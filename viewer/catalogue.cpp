@@ -67,26 +67,6 @@ std::optional<std::string> existing_placement(const FrameEntry& e) {
   return std::nullopt;
 }
 
-fit::PlacementFile read_any_placement(const std::string& path) {
-  try {
-    return fit::read_placement(path);
-  } catch (const std::exception& full_error) {
-    // A minimal placement (transform + optional temples), as `lorgnette render` accepts.
-    try {
-      fit::PlacementFile p;
-      render::Placement r = render::read_placement(path);
-      p.glasses_path = r.glasses_path;
-      for (int i = 0; i < 16; ++i) p.transform(i / 4, i % 4) = r.transform[i];
-      p.temples.bend = mesh::read_placement_temples(path);
-      p.has_temples = p.temples.bend.active();
-      p.ok = true;
-      return p;
-    } catch (const std::exception&) {
-      throw std::runtime_error(full_error.what());
-    }
-  }
-}
-
 Eigen::Matrix4d nudge_matrix(const Nudge& n) {
   Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
   // Positive tilt turns the lenses' bottoms backwards (towards the face): about +x (left), the

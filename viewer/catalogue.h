@@ -31,10 +31,6 @@ std::vector<FrameEntry> catalogue_single(const std::string& frame, const std::st
 // The placement file to read for an entry, if any.
 std::optional<std::string> existing_placement(const FrameEntry& e);
 
-// Reads a placement: the full placement.json of `lorgnette fit`, or a minimal one that has only a
-// transform (and optionally temples). Throws naming the file.
-fit::PlacementFile read_any_placement(const std::string& path);
-
 // The placement after a hand nudge: transform' = transform * N, with N moving the frame in its own
 // canonical axes (up/forward in mm, tilt in degrees about the x axis through the bridge).
 struct Nudge {

@@ -112,7 +112,7 @@ void FrameAssets::request(uint32_t i) {
   requested_[i] = true;
   if (auto file = existing_placement(entries_[i])) {
     try {
-      states_[i].placement = std::make_shared<fit::PlacementFile>(read_any_placement(*file));
+      states_[i].placement = std::make_shared<fit::PlacementFile>(fit::read_placement(*file));
       states_[i].status = PlacementStatus::kReady;
       states_[i].source = "file";
       states_[i].version++;

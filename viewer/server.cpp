@@ -36,8 +36,8 @@ struct IoGate {
 };
 
 // "127.0.0.1:8080" / "[::1]:8080" / "localhost" -> the host name part.
-std::string host_name(std::string_view host_header) {
-  std::string h(host_header);
+std::string host_name(beast::string_view host_header) {
+  std::string h(host_header.data(), host_header.size());
   if (!h.empty() && h[0] == '[') return h.substr(1, h.find(']') == std::string::npos ? std::string::npos : h.find(']') - 1);
   return h.substr(0, h.find(':'));
 }
@@ -223,7 +223,7 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
     if (req.target() != "/ws") why = "404 the WebSocket is at /ws";
     else if (!srv_.host_allowed(req)) why = "403 Host is not this machine";
     else if (auto o = req.find(http::field::origin);
-             o != req.end() && o->value() != fmt::format("http://{}", std::string(req[http::field::host])))
+             o != req.end() && std::string(o->value()) != "http://" + std::string(req[http::field::host]))
       why = "403 cross-origin WebSocket refused";
     else if (srv_.sockets.load() >= srv_.options.max_clients) why = "503 too many viewers connected";
     if (!why.empty()) {
@@ -248,7 +248,8 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
     if (req.method() != http::verb::get && req.method() != http::verb::head)
       return text_response(req, http::status::method_not_allowed, "only GET and HEAD");
     if (!srv_.host_allowed(req)) return text_response(req, http::status::forbidden, "Host is not this machine");
-    std::string target(req.target().substr(0, req.target().find('?')));
+    std::string target(req.target());
+    target = target.substr(0, target.find('?'));
     if (target == "/") target = "/index.html";
     Response res{http::status::ok, req.version()};
     res.set(http::field::server, "lorgnette-view");

@@ -34,6 +34,9 @@ void add_demo(CLI::App& app, GlobalOptions& global) {
     demo::DemoReport r = demo::run_demo(*o, global.runtime());
     std::cerr << (r.ok ? "demo finished: " : "demo finished with problems: ") << o->out_dir
               << "/report.html (held-out PSNR " << r.psnr << " dB)\n";
+    if (r.ok) std::cerr << "try it on in the browser: lorgnette view " << o->out_dir << "/head.lnerf --glasses "
+                        << (o->glasses.empty() ? o->out_dir + "/frame.glb" : o->glasses) << " --placement " << o->out_dir
+                        << "/placement.json\n";
     if (!r.ok) throw std::runtime_error(r.message);
   });
 }

@@ -31,6 +31,11 @@ const check = (cond, name) => {
     const since = await page.evaluate(() => performance.now());
     await wait((t) => window.lgnViewer.lastFullAt > Math.max(t, window.lgnViewer.stateAt), since);
   };
+  // Waits for the full frame of the newest camera (the last one goes out on the next animation frame).
+  const fullForLatestCamera = async () => {
+    await page.waitForTimeout(100);
+    await wait(() => { const v = window.lgnViewer, f = v.lastFrame; return f && f.kind === "full" && f.seq === v.lastSentSeq; });
+  };
   try {
     await page.goto(url);
     check((await page.title()).includes("Lorgnette"), "page loads");
@@ -46,8 +51,7 @@ const check = (cond, name) => {
     await page.mouse.down();
     for (let i = 1; i <= 10; i++) await page.mouse.move(cx + 15 * i, cy + 3 * i);
     await page.mouse.up();
-    const seq = await page.evaluate(() => window.lgnViewer.lastSentSeq);
-    await wait((s) => { const f = window.lgnViewer.lastFrame; return f && f.kind === "full" && f.seq === s; }, seq);
+    await fullForLatestCamera();
     const dragged = await canvas();
     check(dragged !== first, "a drag changes the view");
     await shot("02-dragged.png");
@@ -90,8 +94,7 @@ const check = (cond, name) => {
     await page.mouse.down();
     await page.mouse.move(cx - 60, cy);
     await page.mouse.up();
-    const seq2 = await page.evaluate(() => window.lgnViewer.lastSentSeq);
-    await wait((s) => { const f = window.lgnViewer.lastFrame; return f && f.kind === "full" && f.seq === s; }, seq2);
+    await fullForLatestCamera();
     check(err.code === "malformed" && (await page.evaluate(() => window.lgnViewer.connected)),
           "a malformed message gets an error and the server keeps serving");
 
