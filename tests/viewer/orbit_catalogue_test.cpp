@@ -146,7 +146,7 @@ TEST(ViewerCatalogue, SavingRefusesToReplaceWithoutConfirmationAndKeepsABackup) 
   ASSERT_TRUE(replaced.ok) << replaced.error.message;
   ASSERT_FALSE(replaced.backup.empty());
   EXPECT_TRUE(fs::exists(replaced.backup));
-  fit::PlacementFile back = read_any_placement(path);
+  fit::PlacementFile back = fit::read_placement(path);
   EXPECT_NEAR(back.transform(1, 3), 1.0, 1e-9);  // identity rotation and scale: up 1 mm = +1 in y
   EXPECT_NEAR(back.transform(0, 3), 1.5, 1e-9);
 }

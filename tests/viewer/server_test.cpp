@@ -277,7 +277,7 @@ TEST_F(ViewerServer, NudgeAndSaveNeedConfirmationToReplaceAndKeepABackup) {
   Client c(port());
   ASSERT_TRUE(c.wait_text("state"));
   std::string placement = (cat / "a-round.glb.placement.json").string();
-  fit::PlacementFile before = read_any_placement(placement);
+  fit::PlacementFile before = fit::read_placement(placement);
   c.send(R"({"type":"nudge","up_mm":1.0})");
   auto state = c.wait_text("state");
   ASSERT_TRUE(state);
@@ -291,7 +291,7 @@ TEST_F(ViewerServer, NudgeAndSaveNeedConfirmationToReplaceAndKeepABackup) {
   ASSERT_TRUE(saved);
   ASSERT_TRUE(saved->contains("backup"));
   EXPECT_TRUE(fs::exists(cat / (*saved)["backup"].get<std::string>()));
-  fit::PlacementFile after = read_any_placement(placement);
+  fit::PlacementFile after = fit::read_placement(placement);
   Eigen::Vector3d moved = after.transform.block<3, 1>(0, 3) - before.transform.block<3, 1>(0, 3);
   Eigen::Vector3d up = before.transform.block<3, 1>(0, 1);  // 1 mm along the frame's up, in scene units
   EXPECT_NEAR((moved - up).norm(), 0.0, 1e-9 + 1e-6 * up.norm());
