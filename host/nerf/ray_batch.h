@@ -43,6 +43,8 @@ class RayBatch {
   cl::Buffer<float>& drgb() { return drgb_; }
   // RAY_INFO_FLOATS per written ray (target rgb, background rgb, pixel, image as float bits).
   const cl::Buffer<float>& ray_info() const { return ray_info_; }
+  // Writable, for a background model that replaces the rays' background colours (background_field.h).
+  cl::Buffer<float>& ray_info_mut() { return ray_info_; }
   uint32_t written_rays() const { return written_rays_; }
   uint32_t written_samples() const { return written_samples_; }
 

@@ -6,6 +6,8 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include "host/nerf/subject_region.h"
+
 namespace lorgnette::nerf {
 
 std::vector<View> training_views(const dataset::Dataset& ds) {
@@ -49,9 +51,38 @@ TrainJobResult train_on_dataset(cl::Runtime& rt, const dataset::Dataset& ds, Tra
   }
   std::string budget_text = describe_budget(job.train.steps, job.train.seconds, defaulted, budget.why);
   spdlog::info("training budget: {}", budget_text);
-  Trainer trainer(model, views, job.train, sizing.occupancy_mask);
-  TrainResult result = trainer.run();
-  return {std::move(model), std::move(sizing), std::move(result), std::move(budget_text)};
+  if (job.background != "auto" && job.background != "on" && job.background != "off")
+    throw std::invalid_argument("background must be auto, on or off, not '" + job.background + "'");
+  const bool from_cameras = sizing.from.find("cameras") != std::string::npos;
+  bool background = job.background == "on" || (job.background == "auto" && !ds.has_alpha && !from_cameras);
+  job.train.background.enabled = background;
+  spdlog::info("background: {}", background ? "a room model behind the subject (mask-less capture, subject box)"
+                                            : (ds.has_alpha ? "none (the images' alpha masks separate the subject)"
+                                                            : "none"));
+  std::string region;
+  {
+    Trainer trainer(model, views, job.train, sizing.occupancy_mask);
+    std::string snapshot = job.train.snapshot_path;
+    TrainResult result = trainer.run();
+    if (background) {
+      OccupancyGrid grid = model.occupancy();
+      SubjectRegionReport rep = keep_central_region(grid);
+      region = rep.summary();
+      if (rep.found) {
+        model.set_occupancy(std::move(grid));
+        if (!snapshot.empty()) model.save(snapshot);
+      }
+      spdlog::info("{}", region);
+      if (!rep.found)
+        spdlog::warn("the subject could not be separated from the room: nothing was reconstructed in the middle of the "
+                     "subject box. Film the face filling a third of the frame, in focus, sweeping slowly from one side "
+                     "to the other");
+    }
+    TrainJobResult out{std::move(model), std::move(sizing), std::move(result), std::move(budget_text)};
+    out.background = background;
+    out.region = region;
+    return out;
+  }
 }
 
 }  // namespace lorgnette::nerf

@@ -32,6 +32,10 @@ Trainer::Trainer(NerfModel& model, const std::vector<View>& views, const TrainOp
   }
   occupancy_ = std::make_unique<OccupancyUpdater>(model, options.occupancy, options.seed, std::move(occupancy_mask));
   n_rays_ = std::max<uint32_t>(64, batch / 32);
+  if (options.background.enabled) {
+    background_ = std::make_unique<BackgroundField>(rt, model, *views_, options.background, batch, options.seed);
+    spdlog::info("{}", background_->summary());
+  }
 }
 
 Trainer::~Trainer() = default;
@@ -56,18 +60,21 @@ double Trainer::step() {
   uint64_t counted = 0;
   for (uint32_t c : counts) counted += c;
   uint32_t end = batch_->fit(0, batch);
+  if (background_) end = std::min(end, background_->count(p, *views_));
   uint32_t n = batch_->write(p, *views_, 0, end);
+  if (background_) background_->render_backgrounds(p, *views_, end, *batch_);
   // Next step's ray count aims at a full batch (integer arithmetic: deterministic).
   uint64_t want = counted ? uint64_t(batch) * n_rays_ / counted : uint64_t(n_rays_) * 2;
   n_rays_ = static_cast<uint32_t>(std::clamp<uint64_t>(want, 64, batch_->max_rays()));
   if (n > 0) field.forward(batch_->positions(), batch_->directions(), n, batch_->sigma(), batch_->rgb(), true);
   double loss_sum = batch_->render(options_.loss_kind, false);
+  field::AdamConfig adam = options_.adam;
+  adam.lr = learning_rate(elapsed_);
   if (n > 0) {
     field.backward(batch_->dsigma(), batch_->drgb(), n);
-    field::AdamConfig adam = options_.adam;
-    adam.lr = learning_rate(elapsed_);
     field.adam_step(adam);
   }
+  if (background_) background_->backward(*batch_, options_.loss_kind, adam, static_cast<uint32_t>(step_ + 1));
   ++step_;
   samples_ += n;
   occupancy_->maybe_update(static_cast<uint32_t>(step_));

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "host/field/field_config.h"
+#include "host/nerf/background_field.h"
 #include "host/nerf/model.h"
 #include "host/nerf/occupancy_update.h"
 #include "host/nerf/ray_batch.h"
@@ -33,6 +34,7 @@ struct TrainOptions {
   // to base * final_lr_fraction at the end.
   double decay_start = 0.5, final_lr_fraction = 0.1;
   OccupancyOptions occupancy;
+  BackgroundOptions background;  // a room model behind the subject (mask-less captures)
   std::string snapshot_path;    // periodic / final / last-good snapshots ("" = none)
   double snapshot_every_seconds = 120.0;
   uint32_t good_copy_every = 50;  // steps between in-memory copies of the parameters for NaN recovery
@@ -81,6 +83,7 @@ class Trainer {
   std::unique_ptr<DeviceViews> views_;
   std::unique_ptr<RayBatch> batch_;
   std::unique_ptr<OccupancyUpdater> occupancy_;
+  std::unique_ptr<BackgroundField> background_;
   uint64_t step_ = 0;
   uint32_t n_rays_;
   uint64_t samples_ = 0;

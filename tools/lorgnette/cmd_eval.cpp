@@ -2,7 +2,9 @@
 // NeRF-synthetic, every 8th frame of a transforms.json), optional prediction|truth|error images,
 // and `--json` for scripts.
 #include <filesystem>
+#include <fstream>
 #include <iostream>
+#include <map>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -10,6 +12,9 @@
 
 #include "host/dataset/dataset.h"
 #include "host/render/evaluate.h"
+#include "host/render/matte_eval.h"
+#include "host/render/renderer.h"
+#include "synth/matte.h"
 #include "tools/lorgnette/command.h"
 
 namespace lorgnette::cli {
@@ -33,6 +38,52 @@ void check_output_dir(const EvalArgs& a) {
       throw std::runtime_error(fmt::format("'{}' already holds evaluation images ({} ...): pass --force to "
                                            "overwrite them or choose another -o", a.output, name));
   }
+}
+
+// Synthetic room captures (synth --room) carry true mattes ("eval_matte_path"), subject depth and
+// the 68 landmarks: score the rendered opacity against them (host/render/matte_eval.h). Returns
+// null when the dataset has no mattes.
+nlohmann::json matte_scores(nerf::NerfModel& model, const dataset::Dataset& ds,
+                            const std::vector<const dataset::Frame*>& frames) {
+  namespace fs = std::filesystem;
+  fs::path root = fs::is_directory(ds.root) ? fs::path(ds.root) : fs::path(ds.root).parent_path();
+  std::ifstream tf(root / "transforms.json");
+  if (!tf) return nullptr;
+  nlohmann::json tj = nlohmann::json::parse(tf, nullptr, false);
+  if (tj.is_discarded() || !tj.contains("frames")) return nullptr;
+  std::map<std::string, std::pair<std::string, std::string>> by_stem;  // image stem -> (matte, depth)
+  for (const auto& f : tj["frames"])
+    if (f.contains("eval_matte_path"))
+      by_stem[fs::path(f.value("file_path", "")).stem().string()] = {f["eval_matte_path"], f.value("depth_path", "")};
+  if (by_stem.empty()) return nullptr;
+  std::vector<Eigen::Vector3f> face;
+  std::ifstream gf(root / "ground_truth.json");
+  if (gf) {
+    nlohmann::json gt = nlohmann::json::parse(gf, nullptr, false);
+    if (!gt.is_discarded() && gt.contains("ibug68"))
+      for (const auto& p : gt["ibug68"]) face.emplace_back(p[0].get<float>(), p[1].get<float>(), p[2].get<float>());
+  }
+  render::Renderer renderer(model.runtime());
+  render::RenderOptions ro;
+  std::vector<render::MatteScore> scores;
+  for (const dataset::Frame* f : frames) {
+    auto it = by_stem.find(fs::path(f->image_path).stem().string());
+    if (it == by_stem.end()) continue;
+    Image matte = synth::read_matte((root / it->second.first).string());
+    Image depth;
+    if (!it->second.second.empty() && fs::exists(root / it->second.second)) depth = read_image((root / it->second.second).string());
+    if (matte.width != int(f->camera.width) || matte.height != int(f->camera.height)) continue;  // downscaled
+    Image pred = renderer.render(model, f->camera, nullptr, ro).rgba;
+    render::MatteView v{f->camera, &pred, &f->image, &matte, depth.empty() ? nullptr : &depth, face};
+    scores.push_back(render::score_matte(v, model.aabb()));
+  }
+  if (scores.empty()) return nullptr;
+  render::MatteScore m = render::mean_score(scores);
+  nlohmann::json per = nlohmann::json::array();
+  for (const auto& s : scores) per.push_back({{"iou", s.iou}, {"leak", s.leak}, {"face_psnr", s.face_psnr}});
+  return {{"iou", m.iou}, {"leak", m.leak}, {"face_psnr", m.face_psnr}, {"views", scores.size()},
+          {"region", "subject inside the model's box (head to neck); opacity >= 0.5 vs matte >= 0.5"},
+          {"per_view", per}};
 }
 
 void run_eval(const EvalArgs& a, GlobalOptions& global) {
@@ -59,16 +110,23 @@ void run_eval(const EvalArgs& a, GlobalOptions& global) {
   eo.output_dir = a.output;
   if (a.black) eo.background = {0.0f, 0.0f, 0.0f};
   render::EvalResult r = render::evaluate(model, views, eo);
+  nlohmann::json mattes = matte_scores(model, ds, ds.require_split(split));
   if (a.json) {
     nlohmann::json out = {{"psnr", r.psnr}, {"ssim", r.ssim}, {"views", r.views},
                           {"split", dataset::to_string(split)}, {"train_seconds", model.metadata.train_seconds},
                           {"steps", model.metadata.steps}, {"eval_seconds", r.seconds},
                           {"view_psnr", r.view_psnr}, {"view_ssim", r.view_ssim}, {"model", a.model}};
+    if (!mattes.is_null()) out["mattes"] = mattes;
     std::cout << out.dump() << "\n";
   } else {
     std::cout << fmt::format("{} views ({}): PSNR {:.2f} dB, SSIM {:.4f} (model: {} steps, {:.0f} s training)\n",
                              r.views, dataset::to_string(split), r.psnr, r.ssim, model.metadata.steps,
                              model.metadata.train_seconds);
+    if (!mattes.is_null())
+      std::cout << fmt::format("true mattes ({} views, head to neck inside the model's box): IoU {:.4f}, leak {:.2f} % "
+                               "of the subject's area, face PSNR {:.2f} dB\n",
+                               mattes["views"].get<int>(), mattes["iou"].get<double>(),
+                               100.0 * mattes["leak"].get<double>(), mattes["face_psnr"].get<double>());
   }
   if (!a.output.empty()) spdlog::info("prediction | truth | error images in '{}'", a.output);
 }

@@ -1,0 +1,149 @@
+// The room model trained beside the subject's; see background_field.h.
+#include "host/nerf/background_field.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "kernels/train/occupancy.h"
+#include "kernels/train/render.h"
+
+namespace lorgnette::nerf {
+namespace {
+
+Aabb room_box(const NerfModel& subject, const DeviceViews& views, float scale) {
+  const std::array<float, 3> c = subject.aabb().center();
+  float far = 0.0f;
+  for (const Camera& cam : views.cameras()) {
+    LgnVec3 o = camera_origin(&cam);
+    far = std::max(far, std::sqrt((o.x - c[0]) * (o.x - c[0]) + (o.y - c[1]) * (o.y - c[1]) + (o.z - c[2]) * (o.z - c[2])));
+  }
+  const float half = scale * std::max(far, subject.aabb().max_extent());
+  Aabb box;
+  for (int a = 0; a < 3; ++a) box.min[a] = c[a] - half, box.max[a] = c[a] + half;
+  return box;
+}
+
+// Every cell allowed except those whose centre lies inside the subject's box grown by `margin`
+// (dataset +y is up; the box is not grown downwards).
+std::vector<uint32_t> room_mask(const Aabb& room, Aabb subject, float margin, uint32_t res) {
+  for (int a = 0; a < 3; ++a) {
+    float grow = margin * subject.extent(a);
+    if (a != 1) subject.min[a] -= grow;
+    subject.max[a] += grow;
+  }
+  std::vector<uint32_t> mask(occ_word_count(res), 0u);
+  for (uint32_t z = 0; z < res; ++z)
+    for (uint32_t y = 0; y < res; ++y)
+      for (uint32_t x = 0; x < res; ++x) {
+        const uint32_t idx[3] = {x, y, z};
+        bool inside = true;
+        for (int a = 0; a < 3; ++a) {
+          float p = room.min[a] + (idx[a] + 0.5f) / float(res) * room.extent(a);
+          inside = inside && p > subject.min[a] && p < subject.max[a];
+        }
+        uint32_t cell = x + res * (y + res * z);
+        if (!inside) mask[cell >> 5] |= 1u << (cell & 31u);
+      }
+  return mask;
+}
+
+}  // namespace
+
+BackgroundField::BackgroundField(cl::Runtime& rt, const NerfModel& subject, const DeviceViews& views,
+                                 const BackgroundOptions& options, uint32_t max_batch, uint32_t seed)
+    : options_(options) {
+  Aabb box = room_box(subject, views, options.box_scale);
+  field::FieldConfig cfg;
+  cfg.levels = options.levels;
+  cfg.log2_table_size = options.log2_table;
+  cfg.finest_resolution = options.finest_resolution;
+  cfg.sh_degree = options.sh_degree;
+  cfg.validate();
+  model_ = std::make_unique<NerfModel>(rt, cfg, box, options.occupancy_resolution,
+                                       box.diagonal() / float(options.steps_per_diagonal), max_batch, seed + 7919u,
+                                       false);
+  std::vector<uint32_t> mask = room_mask(box, subject.aabb(), options.cutout_margin, options.occupancy_resolution);
+  OccupancyGrid grid = model_->occupancy();
+  for (size_t w = 0; w < grid.bits.size(); ++w) grid.bits[w] &= mask[w];
+  model_->set_occupancy(std::move(grid));
+  occupancy_ = std::make_unique<OccupancyUpdater>(*model_, OccupancyOptions{}, seed + 7919u, std::move(mask));
+  batch_ = std::make_unique<RayBatch>(*model_, model_->field().max_batch());
+  const std::array<float, 3> c = subject.aabb().center();
+  near_t_ = 3.0e38f;
+  for (const Camera& cam : views.cameras()) {
+    LgnVec3 o = camera_origin(&cam);
+    near_t_ = std::min(near_t_, std::sqrt((o.x - c[0]) * (o.x - c[0]) + (o.y - c[1]) * (o.y - c[1]) + (o.z - c[2]) * (o.z - c[2])));
+  }
+}
+
+BackgroundField::~BackgroundField() = default;
+
+std::string BackgroundField::summary() const {
+  const Aabb& b = model_->aabb();
+  return fmt::format("room model: box {:.2f} units wide around the subject (subject box cut out), {} levels up to {}, "
+                     "2^{} table, {:.1f} MB (training only)",
+                     b.extent(0), options_.levels, options_.finest_resolution, options_.log2_table,
+                     double(model_->param_bytes()) / (1024.0 * 1024.0));
+}
+
+uint32_t BackgroundField::count(const SampleParams& subject_params, const DeviceViews& views) {
+  params_ = sample_params_for(*model_, views);
+  params_.mode = subject_params.mode;
+  params_.n_rays = std::min(subject_params.n_rays, batch_->max_rays());
+  params_.seed = subject_params.seed;
+  params_.iteration = subject_params.iteration;
+  params_.near_t = near_t_;
+  batch_->count(params_, views);
+  return batch_->fit(0, model_->field().max_batch());
+}
+
+void BackgroundField::render_backgrounds(const SampleParams&, const DeviceViews& views, uint32_t end,
+                                         RayBatch& subject) {
+  cl::Runtime& rt = model_->runtime();
+  uint32_t n = batch_->write(params_, views, 0, end);
+  written_ = end;
+  if (n > 0)
+    model_->field().forward(batch_->positions(), batch_->directions(), n, batch_->sigma(), batch_->rgb(), true);
+  batch_->render(LOSS_L2_LINEAR, true);
+  colors_ = batch_->colors();
+  if (end == 0) return;
+  std::vector<float> info = subject.ray_info().read(rt, size_t(end) * RAY_INFO_FLOATS);
+  for (uint32_t r = 0; r < end; ++r)
+    for (int c = 0; c < 3; ++c) info[size_t(r) * RAY_INFO_FLOATS + 3 + c] = colors_[size_t(r) * 4 + c];
+  subject.ray_info_mut().write(rt, info);
+}
+
+void BackgroundField::backward(RayBatch& subject, uint32_t loss_kind, const field::AdamConfig& adam, uint32_t step) {
+  cl::Runtime& rt = model_->runtime();
+  const uint32_t end = written_;
+  if (end > 0) {
+    std::vector<float> sc = subject.colors();
+    std::vector<float> sinfo = subject.ray_info().read(rt, size_t(end) * RAY_INFO_FLOATS);
+    std::vector<float> info = batch_->ray_info().read(rt, size_t(end) * RAY_INFO_FLOATS);
+    const float grad_scale = 1.0f / (3.0f * float(end));
+    for (uint32_t r = 0; r < end; ++r) {
+      const float* color = &sc[size_t(r) * 4];
+      const float* target = &sinfo[size_t(r) * RAY_INFO_FLOATS];
+      float dC[3];
+      render_ray_loss(color, target, loss_kind, grad_scale, dC);
+      const float T = 1.0f - color[3];
+      for (int c = 0; c < 3; ++c) {
+        float g = std::isfinite(dC[c]) ? T * dC[c] : 0.0f;
+        info[size_t(r) * RAY_INFO_FLOATS + c] = colors_[size_t(r) * 4 + c] - g / (2.0f * grad_scale);
+      }
+    }
+    batch_->ray_info_mut().write(rt, info);
+    batch_->render(LOSS_L2_LINEAR, false);
+    if (batch_->written_samples() > 0) {
+      model_->field().backward(batch_->dsigma(), batch_->drgb(), batch_->written_samples());
+      field::AdamConfig a = adam;
+      a.lr *= options_.lr_scale;
+      model_->field().adam_step(a);
+    }
+  }
+  occupancy_->maybe_update(step);
+}
+
+}  // namespace lorgnette::nerf

@@ -1,0 +1,76 @@
+// The room around the subject on mask-less captures: a second, coarse NeRF over a large box around
+// the cameras (the subject's box cut out of its occupancy) trained jointly with the subject's
+// model. Every training ray is rendered by both: the room model's colour along the ray is the
+// background the subject's model composites over (C = C_subject + T_subject * C_room; the room model
+// is sampled only from the subject's distance from the cameras on, so none of it lies in front of
+// the subject), so the room no longer has to be painted onto the subject box's faces, and the subject model's opacity becomes
+// a matte. The room model is for training only: renders, the fit and snapshots use the subject
+// model alone, over a plain background.
+//
+// Gradient to the room model without touching the kernels: with the linear L2 loss the loss kernel
+// computes dL/dC = 2 * grad_scale * (C - target), so setting the room rays' target to
+// C_room - T_subject * dL/dC_subject / (2 * grad_scale) makes it back-propagate exactly
+// T_subject * dL/dC_subject, the chain rule through the compositing.
+#pragma once
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "host/field/field_config.h"
+#include "host/nerf/model.h"
+#include "host/nerf/occupancy_update.h"
+#include "host/nerf/ray_batch.h"
+#include "host/nerf/views.h"
+
+namespace lorgnette::nerf {
+
+struct BackgroundOptions {
+  bool enabled = false;
+  float box_scale = 4.0f;            // room box half-size = box_scale * farthest camera distance
+  uint32_t levels = 10, log2_table = 17, finest_resolution = 512, occupancy_resolution = 64;
+  uint32_t steps_per_diagonal = 384;
+  // Colour without view dependence (SH degree 1): a room model that could change colour with the
+  // direction would paint the subject, seen from each view, on the wall behind it.
+  uint32_t sh_degree = 1;
+  // The subject box grown by this fraction of its size sideways, backwards, forwards and upwards
+  // (not downwards: the shoulders and body below the head box belong to the room model) is cut
+  // out of the room model, so it cannot paint the face on a surface just behind the head.
+  float cutout_margin = 0.5f;
+  float lr_scale = 1.0f;             // the room model's learning rate relative to the subject's
+};
+
+class BackgroundField {
+ public:
+  // subject: the subject's model (its box is cut out of the room's occupancy); views: the training
+  // views (camera positions size the room box).
+  BackgroundField(cl::Runtime& rt, const NerfModel& subject, const DeviceViews& views, const BackgroundOptions& options,
+                  uint32_t max_batch, uint32_t seed);
+  ~BackgroundField();
+
+  NerfModel& model() { return *model_; }
+  std::string summary() const;
+
+  // Counts the room samples of the same rays the subject's sampler draws (p: the subject step's
+  // SampleParams); returns how many leading rays fit the room model's batch.
+  uint32_t count(const SampleParams& subject_params, const DeviceViews& views);
+  // Writes and renders rays [0, end) through the room model (forward, kept for backward) and puts
+  // their colours as the background of the subject's written rays (subject.ray_info()).
+  void render_backgrounds(const SampleParams& subject_params, const DeviceViews& views, uint32_t end,
+                          RayBatch& subject);
+  // After the subject batch's render(): back-propagates T_subject * dL/dC into the room model and
+  // takes its Adam step (lr: the subject's current learning rate), then its occupancy update.
+  void backward(RayBatch& subject, uint32_t loss_kind, const field::AdamConfig& adam, uint32_t step);
+
+ private:
+  BackgroundOptions options_;
+  std::unique_ptr<NerfModel> model_;
+  std::unique_ptr<RayBatch> batch_;
+  std::unique_ptr<OccupancyUpdater> occupancy_;
+  SampleParams params_{};
+  float near_t_ = 0.0f;  // room samples start this far from the camera: at the subject's depth
+  uint32_t written_ = 0;
+  std::vector<float> colors_;  // room colour + opacity per written ray
+};
+
+}  // namespace lorgnette::nerf

@@ -1,0 +1,95 @@
+// Matte scores of a render against a synthetic capture's truth; see matte_eval.h.
+#include "host/render/matte_eval.h"
+
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include <opencv2/imgproc.hpp>
+
+namespace lorgnette::render {
+namespace {
+
+cv::Mat face_mask(const Camera& cam, const std::vector<Eigen::Vector3f>& pts) {
+  cv::Mat mask = cv::Mat::zeros(int(cam.height), int(cam.width), CV_8U);
+  if (pts.empty()) return mask;
+  std::vector<cv::Point> px;
+  for (const auto& p : pts) {
+    float u, v;
+    if (!(camera_project(&cam, lgn_vec3(p.x(), p.y(), p.z()), &u, &v) > 0.0f)) continue;
+    px.emplace_back(int(std::lround(u)), int(std::lround(v)));
+  }
+  if (px.size() < 3) return mask;
+  std::vector<cv::Point> hull;
+  cv::convexHull(px, hull);
+  cv::fillConvexPoly(mask, hull, cv::Scalar(255));
+  return mask;
+}
+
+}  // namespace
+
+MatteScore score_matte(const MatteView& v, const nerf::Aabb& box) {
+  const Image& pred = *v.prediction;
+  const Image& matte = *v.matte;
+  const int w = matte.width, h = matte.height;
+  if (pred.width != w || pred.height != h || pred.channels != 4)
+    throw std::runtime_error("score_matte: the prediction must be RGBA of the matte's size");
+  const LgnVec3 o = camera_origin(&v.camera);
+  long inter = 0, uni = 0, subject = 0;
+  double leak = 0.0;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const float m = matte.at(x, y, 0), a = pred.at(x, y, 3);
+      if (v.depth && m >= 0.5f) {
+        float d = v.depth->at(x, y, 0);
+        if (std::isfinite(d)) {
+          LgnVec3 dir = camera_ray_dir(&v.camera, x + 0.5f, y + 0.5f);
+          float p[3] = {o.x + d * dir.x, o.y + d * dir.y, o.z + d * dir.z};
+          bool inside = true;
+          for (int k = 0; k < 3; ++k) inside = inside && p[k] >= box.min[k] && p[k] <= box.max[k];
+          if (!inside) continue;  // subject outside the model's box: not judged
+        }
+      }
+      const bool t = m >= 0.5f, p = a >= 0.5f;
+      inter += t && p;
+      uni += t || p;
+      subject += t;
+      leak += double(a) * (1.0 - m);
+    }
+  MatteScore s;
+  s.iou = uni ? double(inter) / double(uni) : 1.0;
+  s.leak = subject ? leak / double(subject) : 0.0;
+  s.subject_pixels = subject;
+  if (!v.face_points.empty() && v.truth) {
+    cv::Mat mask = face_mask(v.camera, v.face_points);
+    double se = 0.0;
+    long n = 0;
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        if (!mask.at<uint8_t>(y, x)) continue;
+        for (int c = 0; c < 3; ++c) {
+          double e = linear_to_srgb(pred.at(x, y, c)) - linear_to_srgb(v.truth->at(x, y, c));
+          se += e * e;
+        }
+        ++n;
+      }
+    s.face_pixels = n;
+    s.face_psnr = n ? -10.0 * std::log10(std::max(se / (3.0 * n), 1e-12)) : 0.0;
+  }
+  return s;
+}
+
+MatteScore mean_score(const std::vector<MatteScore>& scores) {
+  MatteScore m;
+  int faces = 0;
+  for (const auto& s : scores) {
+    m.iou += s.iou / double(scores.size());
+    m.leak += s.leak / double(scores.size());
+    m.subject_pixels += s.subject_pixels;
+    if (s.face_pixels) m.face_psnr += s.face_psnr, m.face_pixels += s.face_pixels, ++faces;
+  }
+  if (faces) m.face_psnr /= faces;
+  return m;
+}
+
+}  // namespace lorgnette::render

@@ -1,0 +1,41 @@
+// How well a model trained on a mask-less capture separates the subject, judged against the true
+// mattes of a synthetic room capture (synth --room): per held-out view, the rendered opacity
+// (alpha = 1 - T) against the matte, inside the region the model can show at all (pixels whose
+// subject point, from the synthetic depth, lies inside the model's box: head to neck; shoulders and
+// body below the box are left out of both sides), plus the PSNR of the face (the convex hull of the
+// 68 ground-truth landmarks projected into the view).
+#pragma once
+#include <array>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "common/camera_types.h"
+#include "host/nerf/model.h"
+#include "host/util/image_io.h"
+
+namespace lorgnette::render {
+
+struct MatteView {
+  Camera camera{};
+  const Image* prediction = nullptr;  // the renderer's RGBA (alpha = opacity)
+  const Image* truth = nullptr;       // the photo, RGB(A) linear
+  const Image* matte = nullptr;       // 1 channel coverage
+  const Image* depth = nullptr;       // 1 channel subject ray distance (+inf off the subject); may be null
+  std::vector<Eigen::Vector3f> face_points;  // dataset frame; empty = no face PSNR
+};
+
+struct MatteScore {
+  double iou = 0.0;        // |pred >= 0.5 and matte >= 0.5| / |either|, in the region
+  double leak = 0.0;       // sum of opacity * (1 - matte) / subject pixels, in the region
+  double face_psnr = 0.0;  // sRGB PSNR inside the face hull (0 when no face points)
+  long subject_pixels = 0, face_pixels = 0;
+};
+
+MatteScore score_matte(const MatteView& view, const nerf::Aabb& box);
+
+// Means over views (face PSNR over views that have a face).
+MatteScore mean_score(const std::vector<MatteScore>& scores);
+
+}  // namespace lorgnette::render

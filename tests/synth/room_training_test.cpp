@@ -1,0 +1,92 @@
+// Training on a mask-less synthetic room capture (synth --room) separates the subject from the
+// room: after a short training with the room model (host/nerf/background_field.h) and the subject
+// region (subject_region.h), the held-out opacity matches the true mattes (host/render/matte_eval.h)
+// above a stated IoU floor, with little opacity outside them. The subject box is the head box the
+// landmark triangulation gives on real captures, taken here from the procedural head's own mesh
+// (crown to 50 mm under the chin, +-10 %): dlib finds no faces on images this small.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include <nlohmann/json.hpp>
+
+#include "host/dataset/dataset.h"
+#include "host/nerf/train_job.h"
+#include "host/render/matte_eval.h"
+#include "host/render/renderer.h"
+#include "synth/matte.h"
+#include "synth/synthesize.h"
+
+namespace lorgnette {
+namespace {
+
+namespace fs = std::filesystem;
+
+nerf::Aabb head_box(const synth::Subject& s, const synth::HeadParams& p) {
+  Eigen::AlignedBox3f box;
+  const float cut = -p.face_length - 50.0f;  // mm, head frame
+  for (const auto& v : s.mesh.positions)
+    if (v.y() > cut) box.extend(synth::transform_point(s.mesh_to_dataset, v));
+  nerf::Aabb out;
+  Eigen::Vector3f grow = 0.1f * box.sizes();
+  for (int a = 0; a < 3; ++a) out.min[a] = box.min()[a] - grow[a], out.max[a] = box.max()[a] + grow[a];
+  return out;
+}
+
+// IoU floor 0.78 and leak ceiling 15 % after 500 steps of 2^15 samples on 24 views of 120x160
+// (50-80 s on 2 shared CPU cores). Measured: IoU 0.846, leak 8.7 % (training is not bitwise
+// deterministic here, hence the margins); without the room model the same capture's box fills with
+// the room (IoU 0.30 at full size). The full-size benchmark is in docs/bench/real-captures.md.
+TEST(RoomTraining, SubjectSeparatesFromTheRoom) {
+  synth::HeadParams params = synth::random_head_params(0);
+  synth::Subject subject = synth::procedural_subject(params, synth::HeadMeshOptions{256, 128, 512}, true);
+  fs::path dir = fs::path(LORGNETTE_TEST_TMP) / "synth" / "room_training";
+  fs::remove_all(dir);
+  fs::create_directories(dir.parent_path());
+  synth::SynthOptions o;
+  o.room = 1;
+  o.views = 24;
+  o.width = 120, o.height = 160;
+  o.samples_per_axis = 2;
+  o.seed = 1;
+  o.yaw_min_deg = -40.0f, o.yaw_max_deg = 40.0f;
+  o.pitch_min_deg = -10.0f, o.pitch_max_deg = 10.0f;
+  synth::synthesize_dataset(subject, dir.string(), o);
+
+  dataset::Dataset ds = dataset::load_dataset(dir.string(), {});
+  ASSERT_FALSE(ds.has_alpha);
+  cl::Runtime rt{cl::RuntimeOptions{"", "", false}};
+  nerf::TrainJob job;
+  job.sizing.aabb = head_box(subject, params);
+  job.batch_log2 = 15;
+  job.background = "on";
+  job.train.steps = 500;
+  job.train.progress = false;
+  nerf::TrainJobResult tr = nerf::train_on_dataset(rt, ds, job);
+  ASSERT_TRUE(tr.background);
+  ASSERT_FALSE(tr.region.empty());
+
+  nlohmann::json tj = nlohmann::json::parse(std::ifstream(dir / "transforms.json"));
+  std::vector<Eigen::Vector3f> face;
+  nlohmann::json gt = nlohmann::json::parse(std::ifstream(dir / "ground_truth.json"));
+  for (const auto& p : gt["ibug68"]) face.emplace_back(p[0].get<float>(), p[1].get<float>(), p[2].get<float>());
+  render::Renderer renderer(rt);
+  std::vector<render::MatteScore> scores;
+  for (const dataset::Frame* f : ds.split(dataset::Split::Holdout)) {
+    std::string stem = fs::path(f->image_path).stem().string();
+    Image matte = synth::read_matte((dir / "mattes" / (stem + ".png")).string());
+    Image depth = read_image((dir / "depth" / (stem + ".exr")).string());
+    Image pred = renderer.render(tr.model, f->camera, nullptr, render::RenderOptions{}).rgba;
+    scores.push_back(render::score_matte({f->camera, &pred, &f->image, &matte, &depth, face}, tr.model.aabb()));
+  }
+  ASSERT_GE(scores.size(), 3u);
+  render::MatteScore m = render::mean_score(scores);
+  EXPECT_GE(m.iou, 0.78);
+  EXPECT_LE(m.leak, 0.15);
+  std::cout << "room capture, 500 steps: IoU " << m.iou << ", leak " << 100.0 * m.leak << " %, face PSNR "
+            << m.face_psnr << " dB\n";
+}
+
+}  // namespace
+}  // namespace lorgnette
