@@ -3,6 +3,7 @@
 
 #include <climits>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <stdexcept>
@@ -13,6 +14,41 @@
 #include "host/util/image_io.h"
 
 namespace lorgnette::fit {
+
+// placement.json's optional "temples" object (ARCHITECTURE.md):
+// {"hinge_l": [x,y,z], "hinge_r": [x,y,z], "spread_l_deg": a, "spread_r_deg": b, "ramp_mm": r}
+// plus whatever else the writer adds (the fit adds penetration figures). Absent = no spread.
+nlohmann::json temple_bend_to_json(const mesh::TempleBend& b) {
+  auto v = [](const Eigen::Vector3d& p) { return nlohmann::json::array({p.x(), p.y(), p.z()}); };
+  return {{"hinge_l", v(b.left.hinge)},          {"hinge_r", v(b.right.hinge)},
+          {"spread_l_deg", b.left.spread_deg},  {"spread_r_deg", b.right.spread_deg},
+          {"ramp_mm", b.ramp_mm}};
+}
+
+// Reads the "temples" object of a placement (the whole placement.json object); no "temples" = none.
+mesh::TempleBend temple_bend_from_placement(const nlohmann::json& placement) {
+  mesh::TempleBend b;
+  if (!placement.is_object() || !placement.contains("temples") || placement["temples"].is_null()) return b;
+  const nlohmann::json& t = placement["temples"];
+  auto vec = [&](const char* key) {
+    if (!t.contains(key) || !t[key].is_array() || t[key].size() != 3)
+      throw std::runtime_error(std::string("placement.json: temples.") + key + " must be an array of 3 numbers");
+    return Eigen::Vector3d(t[key][0].get<double>(), t[key][1].get<double>(), t[key][2].get<double>());
+  };
+  auto num = [&](const char* key, double fallback) {
+    if (!t.contains(key)) return fallback;
+    if (!t[key].is_number()) throw std::runtime_error(std::string("placement.json: temples.") + key + " must be a number");
+    return t[key].get<double>();
+  };
+  b.left.hinge = vec("hinge_l");
+  b.right.hinge = vec("hinge_r");
+  b.left.spread_deg = num("spread_l_deg", 0.0);
+  b.right.spread_deg = num("spread_r_deg", 0.0);
+  b.ramp_mm = num("ramp_mm", b.ramp_mm);
+  if (!(b.ramp_mm > 0.0) || std::abs(b.left.spread_deg) > 90.0 || std::abs(b.right.spread_deg) > 90.0)
+    throw std::runtime_error("placement.json: temples need ramp_mm > 0 and spreads within +-90 degrees");
+  return b;
+}
 
 std::string file_hash(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
@@ -66,7 +102,7 @@ int whole_number(const nlohmann::json& v, const std::string& name) {
 }
 
 nlohmann::json temples_json(const TempleFitResult& t) {
-  nlohmann::json j = mesh::temple_bend_to_json(t.bend);
+  nlohmann::json j = temple_bend_to_json(t.bend);
   for (const auto* side : {&t.left, &t.right})
     j[side == &t.left ? "left" : "right"] = {{"penetration_before_mm", side->penetration_before_mm},
                                              {"penetration_mm", side->penetration_mm},
@@ -78,7 +114,7 @@ nlohmann::json temples_json(const TempleFitResult& t) {
 TempleFitResult temples_from_json(const nlohmann::json& placement) {
   TempleFitResult t;
   t.fitted = true;
-  t.bend = mesh::temple_bend_from_placement(placement);
+  t.bend = temple_bend_from_placement(placement);
   const nlohmann::json& j = placement["temples"];
   for (auto* side : {&t.left, &t.right}) {
     side->spread_deg = side == &t.left ? t.bend.left.spread_deg : t.bend.right.spread_deg;
@@ -140,6 +176,12 @@ T field(const nlohmann::json& j, const char* name) {
   }
 }
 
+// An optional field: `fallback` when absent, else checked like field().
+template <typename T>
+T optional_field(const nlohmann::json& j, const char* name, T fallback) {
+  return j.contains(name) ? field<T>(j, name) : fallback;
+}
+
 template <>
 int field<int>(const nlohmann::json& j, const char* name) {
   if (!j.contains(name)) throw std::runtime_error(fmt::format("placement.json: missing field '{}'", name));
@@ -149,46 +191,50 @@ int field<int>(const nlohmann::json& j, const char* name) {
 }  // namespace
 
 PlacementFile placement_from_json(const nlohmann::json& j) {
+  if (!j.is_object()) throw std::runtime_error("placement.json: expected a JSON object");
   PlacementFile p;
   p.version = field<int>(j, "version");
   if (p.version > PlacementFile::kVersion || p.version < 1)
     throw std::runtime_error(fmt::format("placement.json version {} is not supported (this build reads up to {}): "
                                          "re-run `lorgnette fit` or update lorgnette", p.version, PlacementFile::kVersion));
-  auto g = field<nlohmann::json>(j, "glasses");
-  p.glasses_path = field<std::string>(g, "path");
-  p.glasses_hash = field<std::string>(g, "hash");
+  // Only the version and the transform are required: a hand-written placement (a transform, maybe
+  // the glasses and the temples) is as valid as one `lorgnette fit` wrote with all its numbers.
   auto t = field<std::vector<std::vector<double>>>(j, "transform");
   if (t.size() != 4) throw std::runtime_error("placement.json: 'transform' must be 4 rows of 4 numbers");
   for (int i = 0; i < 4; ++i) {
     if (t[i].size() != 4) throw std::runtime_error("placement.json: 'transform' must be 4 rows of 4 numbers");
     for (int k = 0; k < 4; ++k) p.transform(i, k) = t[i][k];
   }
-  p.scale_policy = field<std::string>(j, "scale_policy");
-  p.scale = field<double>(j, "scale");
-  p.mm_per_unit = field<double>(j, "mm_per_unit");
-  p.pd_mm = field<double>(j, "pd_mm");
-  const nlohmann::json lms = field<nlohmann::json>(j, "landmarks");  // named: items() must not dangle
+  auto g = optional_field<nlohmann::json>(j, "glasses", nlohmann::json::object());
+  p.glasses_path = optional_field<std::string>(g, "path", "");
+  p.glasses_hash = optional_field<std::string>(g, "hash", "");
+  p.scale_policy = optional_field<std::string>(j, "scale_policy", p.scale_policy);
+  p.scale = optional_field<double>(j, "scale", p.scale);
+  p.mm_per_unit = optional_field<double>(j, "mm_per_unit", 0.0);
+  p.pd_mm = optional_field<double>(j, "pd_mm", 0.0);
+  const nlohmann::json lms = optional_field<nlohmann::json>(j, "landmarks", nlohmann::json::object());
   for (const auto& [name, l] : lms.items()) {
     auto pos = field<std::vector<double>>(l, "position");
     if (pos.size() != 3) throw std::runtime_error(fmt::format("placement.json: landmark '{}' needs 3 coordinates", name));
     p.landmarks[name] = {Eigen::Vector3d(pos[0], pos[1], pos[2]), field<double>(l, "sigma_mm"), field<int>(l, "views")};
   }
-  p.residuals_px = field<std::map<std::string, double>>(j, "residuals_px");
-  p.views_used = field<int>(j, "views_used");
+  p.residuals_px = optional_field<std::map<std::string, double>>(j, "residuals_px", {});
+  p.views_used = j.contains("views_used") ? whole_number(j["views_used"], "views_used") : 0;
   p.views_total = j.contains("views_total") ? whole_number(j["views_total"], "views_total") : 0;
-  p.penetration_mm = field<double>(j, "penetration_mm");
-  p.contact_shift_mm = j.value("contact_shift_mm", 0.0);
-  p.front_penetration_mm = j.value("front_penetration_mm", 0.0);
-  p.tip_penetration_mm = j.value("tip_penetration_mm", 0.0);
-  const nlohmann::json secs = field<nlohmann::json>(j, "seconds");
+  p.penetration_mm = optional_field<double>(j, "penetration_mm", 0.0);
+  p.contact_shift_mm = optional_field<double>(j, "contact_shift_mm", 0.0);
+  p.front_penetration_mm = optional_field<double>(j, "front_penetration_mm", 0.0);
+  p.tip_penetration_mm = optional_field<double>(j, "tip_penetration_mm", 0.0);
+  const nlohmann::json secs = optional_field<nlohmann::json>(j, "seconds", nlohmann::json::object());
   for (const auto& [name, s] : secs.items()) {
     if (name == "total") continue;
     if (!s.is_number())
       throw std::runtime_error(fmt::format("placement.json: seconds '{}' must be a number", name));
     p.seconds.emplace_back(name, s.get<double>());
   }
-  p.warnings = j.value("warnings", std::vector<std::string>{});
-  p.ok = field<bool>(j, "ok");
+  p.warnings = optional_field<std::vector<std::string>>(j, "warnings", {});
+  // A fit records its verdict; a hand-written transform is taken as given.
+  p.ok = optional_field<bool>(j, "ok", true);
   p.has_temples = j.contains("temples") && !j["temples"].is_null();
   if (p.has_temples) {
     try {
@@ -213,7 +259,18 @@ PlacementFile read_placement(const std::string& path) {
   } catch (const nlohmann::json::exception& e) {
     throw std::runtime_error(fmt::format("'{}' is not valid JSON: {}", path, e.what()));
   }
-  return placement_from_json(j);
+  try {
+    return placement_from_json(j);
+  } catch (const std::runtime_error& e) {
+    throw std::runtime_error(fmt::format("placement '{}': {}", path, e.what()));
+  }
+}
+
+std::string glasses_file(const PlacementFile& p, const std::string& placement_path) {
+  if (p.glasses_path.empty()) return "";
+  std::filesystem::path g(p.glasses_path);
+  if (g.is_relative()) g = std::filesystem::path(placement_path).parent_path() / g;
+  return g.lexically_normal().string();
 }
 
 }  // namespace lorgnette::fit

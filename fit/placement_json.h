@@ -1,8 +1,12 @@
-// placement.json (ARCHITECTURE.md): what `fit` writes and `render` / the viewer read — the 4x4
+// placement.json (ARCHITECTURE.md), read and written here only: what `fit` writes and `render`,
+// `bench`, the viewer and the Python module read — the 4x4
 // transform from the frame's canonical millimetres to the scene, the scale and its policy, the
 // metric estimates (mm per unit, PD), named 3D landmarks with uncertainty and residuals, views used,
-// remaining penetration, the temple spread, seconds per stage and an overall ok flag. Versioned; read() refuses newer
-// versions and malformed files with a message naming the field.
+// remaining penetration, the temple spread, seconds per stage and an overall ok flag. Versioned; the
+// reader refuses newer versions and malformed files with a message naming the field. Only "version"
+// and "transform" are required, so a hand-written placement (a transform, optionally the glasses
+// and the temples) reads too; a relative glasses path is relative to the placement file
+// (glasses_file()), for every reader.
 #pragma once
 #include <map>
 #include <string>
@@ -44,6 +48,13 @@ struct PlacementFile {
   TempleFitResult temples;
 };
 
+// The "temples" object: {"hinge_l": [x,y,z], "hinge_r": [x,y,z], "spread_l_deg": a,
+// "spread_r_deg": b, "ramp_mm": r} (mesh/temple_bend.h), plus the fit's per-side figures.
+nlohmann::json temple_bend_to_json(const mesh::TempleBend& b);
+// The spread of a placement (the whole placement.json object); no "temples" = none. Throws naming
+// the bad field.
+mesh::TempleBend temple_bend_from_placement(const nlohmann::json& placement);
+
 // Content hash of a file (FNV-1a 64, hex); throws when it cannot be read.
 std::string file_hash(const std::string& path);
 
@@ -53,6 +64,10 @@ nlohmann::json to_json(const PlacementFile& p);
 PlacementFile placement_from_json(const nlohmann::json& j);  // throws naming the bad field
 
 void write_placement(const std::string& path, const PlacementFile& p);  // atomic
-PlacementFile read_placement(const std::string& path);
+PlacementFile read_placement(const std::string& path);  // errors name the file
+
+// The glasses file a placement names, a relative path taken from the placement file's folder; ""
+// when it names none.
+std::string glasses_file(const PlacementFile& p, const std::string& placement_path);
 
 }  // namespace lorgnette::fit

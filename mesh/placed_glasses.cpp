@@ -28,16 +28,4 @@ PlacedGlasses load_placed_glasses(const std::string& glasses_path, const Eigen::
   return place_glasses_mesh(load_glasses(glasses_path, options), transform, temples);
 }
 
-TempleBend read_placement_temples(const std::string& placement_path) {
-  std::ifstream in(placement_path);
-  if (!in) throw std::runtime_error(fmt::format("cannot open placement file '{}'", placement_path));
-  nlohmann::json j;
-  try {
-    in >> j;
-    return temple_bend_from_placement(j);
-  } catch (const std::exception& e) {
-    throw std::runtime_error(fmt::format("placement '{}': {}", placement_path, e.what()));
-  }
-}
-
 }  // namespace lorgnette::mesh

@@ -36,8 +36,4 @@ inline Eigen::Matrix4f row_major_matrix(const std::array<float, 16>& m) {
 // The same for a frame already in memory (canonical mm), e.g. a parametric one.
 PlacedGlasses place_glasses_mesh(Glasses glasses, const Eigen::Matrix4f& transform, const TempleBend& temples);
 
-// The "temples" object of a placement.json file; no spread when the file has none. Throws naming the
-// file when it cannot be read or the object is malformed.
-TempleBend read_placement_temples(const std::string& placement_path);
-
 }  // namespace lorgnette::mesh

@@ -13,8 +13,8 @@
 //   exactly the spread angle.
 // Normals transform with the exact inverse transpose of the map's Jacobian (the ramp's twist
 // included). The math is header-only (Eigen) so the fit (point samples) and the renderer (meshes,
-// temple_bend.cpp) run the very same function; the "temples" object of placement.json is coded here
-// too, for the same reason.
+// temple_bend.cpp) run the very same function. placement.json's "temples" object, which carries it,
+// is read and written by the placement module (fit/placement_json.h).
 #pragma once
 #include <algorithm>
 #include <cmath>
@@ -25,7 +25,6 @@
 
 #include <Eigen/Core>
 #include <Eigen/LU>
-#include <nlohmann/json.hpp>
 
 #include "mesh/trimesh.h"
 
@@ -127,40 +126,5 @@ struct TempleHinges {
   Eigen::Vector3d left{0, 0, 0}, right{0, 0, 0};
 };
 std::optional<TempleHinges> detect_temple_hinges(const TriMesh& canonical_mesh, std::string* why = nullptr);
-
-// placement.json's optional "temples" object (ARCHITECTURE.md):
-// {"hinge_l": [x,y,z], "hinge_r": [x,y,z], "spread_l_deg": a, "spread_r_deg": b, "ramp_mm": r}
-// plus whatever else the writer adds (the fit adds penetration figures). Absent = no spread.
-inline nlohmann::json temple_bend_to_json(const TempleBend& b) {
-  auto v = [](const Eigen::Vector3d& p) { return nlohmann::json::array({p.x(), p.y(), p.z()}); };
-  return {{"hinge_l", v(b.left.hinge)},          {"hinge_r", v(b.right.hinge)},
-          {"spread_l_deg", b.left.spread_deg},  {"spread_r_deg", b.right.spread_deg},
-          {"ramp_mm", b.ramp_mm}};
-}
-
-// Reads the "temples" object of a placement (the whole placement.json object); no "temples" = none.
-inline TempleBend temple_bend_from_placement(const nlohmann::json& placement) {
-  TempleBend b;
-  if (!placement.is_object() || !placement.contains("temples") || placement["temples"].is_null()) return b;
-  const nlohmann::json& t = placement["temples"];
-  auto vec = [&](const char* key) {
-    if (!t.contains(key) || !t[key].is_array() || t[key].size() != 3)
-      throw std::runtime_error(std::string("placement.json: temples.") + key + " must be an array of 3 numbers");
-    return Eigen::Vector3d(t[key][0].get<double>(), t[key][1].get<double>(), t[key][2].get<double>());
-  };
-  auto num = [&](const char* key, double fallback) {
-    if (!t.contains(key)) return fallback;
-    if (!t[key].is_number()) throw std::runtime_error(std::string("placement.json: temples.") + key + " must be a number");
-    return t[key].get<double>();
-  };
-  b.left.hinge = vec("hinge_l");
-  b.right.hinge = vec("hinge_r");
-  b.left.spread_deg = num("spread_l_deg", 0.0);
-  b.right.spread_deg = num("spread_r_deg", 0.0);
-  b.ramp_mm = num("ramp_mm", b.ramp_mm);
-  if (!(b.ramp_mm > 0.0) || std::abs(b.left.spread_deg) > 90.0 || std::abs(b.right.spread_deg) > 90.0)
-    throw std::runtime_error("placement.json: temples need ramp_mm > 0 and spreads within +-90 degrees");
-  return b;
-}
 
 }  // namespace lorgnette::mesh

@@ -104,24 +104,6 @@ static nlohmann::json read_json_file(const std::string& path, const char* what) 
   }
 }
 
-Placement read_placement(const std::string& path) {
-  nlohmann::json j = read_json_file(path, "placement");
-  if (!j.is_object() || !j.contains("transform"))
-    throw std::runtime_error("placement '" + path + "' has no \"transform\" (a 4x4 canonical mm -> scene): "
-                             "write it with `lorgnette fit` or pass --transform");
-  Placement p;
-  try {
-    p.transform = matrix_from_json(j["transform"], "placement '" + path + "' transform");
-    if (j.contains("glasses") && j["glasses"].is_object() && j["glasses"].contains("path"))
-      p.glasses_path = j["glasses"]["path"].get<std::string>();
-  } catch (const nlohmann::json::exception& e) {
-    throw std::runtime_error("placement '" + path + "': " + e.what());
-  }
-  if (!p.glasses_path.empty() && fs::path(p.glasses_path).is_relative())
-    p.glasses_path = (fs::path(path).parent_path() / p.glasses_path).string();
-  return p;
-}
-
 Camera read_pose(const std::string& path, uint32_t width, uint32_t height, float default_fov_y_deg) {
   nlohmann::json j = read_json_file(path, "pose");
   if (j.contains("frames") && j["frames"].is_array() && !j["frames"].empty()) {

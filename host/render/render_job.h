@@ -35,13 +35,6 @@ Mat4 matrix_from_json(const nlohmann::json& j, const std::string& what);
 // box. Not a try-on fit: `lorgnette fit` writes real placements.
 Mat4 rough_glasses_placement(float frame_width_mm, const Vec3& box_min, const Vec3& box_max);
 
-struct Placement {
-  std::string glasses_path;  // may be empty
-  Mat4 transform = identity4();  // canonical mm -> scene
-};
-// Reads placement.json (ARCHITECTURE.md): `transform` is required, `glasses.path` optional.
-Placement read_placement(const std::string& path);
-
 // One camera from a pose JSON: {"transform_matrix": 4x4 camera-to-world (OpenGL, as
 // transforms.json)} plus optional "fl_x", "fl_y", "cx", "cy", "w", "h" (scaled to the requested
 // size) or "fov_y_deg". Throws naming the file and the missing/bad key.

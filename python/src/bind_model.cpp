@@ -8,6 +8,7 @@
 #include <pybind11/stl.h>
 #include <spdlog/spdlog.h>
 
+#include "fit/placement_json.h"
 #include "host/dataset/dataset.h"
 #include "host/render/orbit.h"
 #include "host/render/render_job.h"
@@ -91,7 +92,7 @@ pyb::dict captured_range(const nerf::NerfModel& model) {
 // The surface pass of `g` placed by (transform, temples), built once per placement.
 std::shared_ptr<mesh::PlacedGlasses> placed_glasses(Glasses& g, const render::Mat4& transform,
                                                     const mesh::TempleBend& temples) {
-  std::string key = fmt::format("{}|{}", fmt::join(transform, ","), mesh::temple_bend_to_json(temples).dump());
+  std::string key = fmt::format("{}|{}", fmt::join(transform, ","), fit::temple_bend_to_json(temples).dump());
   std::lock_guard<std::mutex> lock(g.mutex);
   if (!g.placed || g.placed_key != key) {
     g.placed = std::make_shared<mesh::PlacedGlasses>(
@@ -133,7 +134,7 @@ pyb::object render_model(Model& m, const Camera& camera, const RenderArgs& a) {
     if (pyb::isinstance<Placement>(a.placement)) {
       const Placement& p = a.placement.cast<const Placement&>();
       transform = render::matrix_from_json(p.json.at("transform"), "placement transform");
-      temples = mesh::temple_bend_from_placement(p.json);
+      temples = fit::temple_bend_from_placement(p.json);
       if (!glasses) {
         std::string path = p.json.contains("glasses") ? p.json["glasses"].value("path", "") : "";
         if (path.empty()) throw std::runtime_error("a placement was given but no glasses: pass glasses=Glasses.load(FRAME)");

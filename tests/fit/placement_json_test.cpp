@@ -1,12 +1,12 @@
-// placement.json round trip (with and without the temple spread; the renderer's reader of the
-// spread, mesh/placed_glasses.h, reads what the fit writes), and refusal of newer versions and malformed files with named fields.
+// placement.json round trip (with and without the temple spread), hand-written files, and refusal of
+// newer versions and malformed files with named fields.
 #include "fit/placement_json.h"
 
+#include <filesystem>
 #include <fstream>
 
 #include <gtest/gtest.h>
 
-#include "mesh/placed_glasses.h"
 
 namespace lorgnette::fit {
 namespace {
@@ -66,7 +66,7 @@ TEST(PlacementJson, TemplesRoundTrip) {
   EXPECT_EQ(q.temples.left.penetration_before_mm, 11.5);
   EXPECT_EQ(q.temples.left.penetration_mm, 0.25);
   EXPECT_EQ(q.temples.right.points, 410);
-  mesh::TempleBend b = mesh::read_placement_temples(path);  // what `lorgnette render` applies
+  mesh::TempleBend b = read_placement(path).temples.bend;  // what `lorgnette render` applies
   EXPECT_EQ(b.left.hinge, p.temples.bend.left.hinge);
   EXPECT_EQ(b.left.spread_deg, 4.75);
   EXPECT_EQ(b.right.spread_deg, 0.0);
@@ -78,10 +78,55 @@ TEST(PlacementJson, TemplesRoundTrip) {
   q = read_placement(path);
   EXPECT_FALSE(q.has_temples);
   EXPECT_FALSE(q.temples.bend.active());
-  EXPECT_FALSE(mesh::read_placement_temples(path).active());
+  EXPECT_FALSE(read_placement(path).temples.bend.active());
   nlohmann::json bad = to_json(p);
   bad["temples"]["spread_l_deg"] = "wide";
   EXPECT_THROW(placement_from_json(bad), std::runtime_error);
+}
+
+// The "temples" object alone (moved here with the codec from tests/mesh/temple_bend_test.cpp).
+TEST(PlacementJson, TemplesCodec) {
+  mesh::TempleBend b;
+  b.left.hinge = {66.0, 12.0, -4.0};
+  b.right.hinge = {-66.0, 12.0, -4.0};
+  b.left.spread_deg = 3.25;
+  b.right.spread_deg = 11.5;
+  nlohmann::json placement = {{"version", 1}, {"temples", temple_bend_to_json(b)}};
+  mesh::TempleBend c = temple_bend_from_placement(placement);
+  EXPECT_EQ(c.left.hinge, b.left.hinge);
+  EXPECT_EQ(c.right.hinge, b.right.hinge);
+  EXPECT_EQ(c.left.spread_deg, 3.25);
+  EXPECT_EQ(c.right.spread_deg, 11.5);
+  EXPECT_EQ(c.ramp_mm, b.ramp_mm);
+  EXPECT_FALSE(temple_bend_from_placement({{"version", 1}}).active());  // an older file: rigid
+  placement["temples"]["hinge_l"] = {1, 2};
+  EXPECT_THROW(temple_bend_from_placement(placement), std::runtime_error);
+  const std::string path = std::string(LORGNETTE_TEST_TMP) + "/temple_codec.json";
+  std::ofstream(path) << nlohmann::json{{"version", 1},
+                                        {"transform", {{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}, {0, 0, 0, 1}}},
+                                        {"temples", temple_bend_to_json(b)}}
+                             .dump();
+  EXPECT_EQ(read_placement(path).temples.bend.right.spread_deg, 11.5);
+  EXPECT_THROW(read_placement("/nonexistent/p.json"), std::runtime_error);
+}
+
+// A hand-written placement (what `lorgnette render --placement` always accepted: a transform and a
+// relative glasses path) reads through the same module; the glasses path is relative to the file
+// (moved here from tests/host/render/render_job_test.cpp).
+TEST(PlacementJson, HandWrittenFileAndRelativeGlassesPath) {
+  const std::string dir = std::string(LORGNETTE_TEST_TMP) + "/placement_hand";
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir + "/placement.json")
+      << R"({"version":1,"glasses":{"path":"frame.glb"},"transform":[[0.01,0,0,0.1],[0,0.01,0,0.2],[0,0,0.01,0.3],[0,0,0,1]]})";
+  PlacementFile p = read_placement(dir + "/placement.json");
+  EXPECT_FLOAT_EQ(p.transform(0, 0), 0.01f);
+  EXPECT_FLOAT_EQ(p.transform(2, 3), 0.3f);
+  EXPECT_EQ(std::filesystem::path(glasses_file(p, dir + "/placement.json")),
+            std::filesystem::path(dir) / "frame.glb");
+  EXPECT_TRUE(p.ok);  // a transform given by hand is taken as given
+  std::ofstream(dir + "/bad.json") << R"({"version":1})";
+  EXPECT_THROW(read_placement(dir + "/bad.json"), std::runtime_error);
+  EXPECT_THROW(read_placement(dir + "/missing.json"), std::runtime_error);
 }
 
 TEST(PlacementJson, RefusesNewerAndMalformed) {

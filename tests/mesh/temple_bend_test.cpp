@@ -146,24 +146,6 @@ TEST(TempleBend, HingesOfAParametricFrame) {
   EXPECT_FALSE(why.empty());
 }
 
-TEST(TempleBend, PlacementJsonCodec) {
-  TempleBend b = sample_bend(3.25, 11.5);
-  nlohmann::json placement = {{"version", 1}, {"temples", temple_bend_to_json(b)}};
-  TempleBend c = temple_bend_from_placement(placement);
-  EXPECT_EQ(c.left.hinge, b.left.hinge);
-  EXPECT_EQ(c.right.hinge, b.right.hinge);
-  EXPECT_EQ(c.left.spread_deg, 3.25);
-  EXPECT_EQ(c.right.spread_deg, 11.5);
-  EXPECT_EQ(c.ramp_mm, b.ramp_mm);
-  EXPECT_FALSE(temple_bend_from_placement({{"version", 1}}).active());  // an older file: rigid
-  placement["temples"]["hinge_l"] = {1, 2};
-  EXPECT_THROW(temple_bend_from_placement(placement), std::runtime_error);
-  const std::string path = std::string(LORGNETTE_TEST_TMP) + "/temple_codec.json";
-  std::ofstream(path) << nlohmann::json{{"temples", temple_bend_to_json(b)}}.dump();
-  EXPECT_EQ(read_placement_temples(path).right.spread_deg, 11.5);
-  EXPECT_THROW(read_placement_temples("/nonexistent/p.json"), std::runtime_error);
-}
-
 TEST(TempleBend, SurfacePassDiffersOnlyBehindTheHinges) {
   // Seen from above (scene = canonical mm), a spread frame covers other pixels than the rigid one
   // along its temples; every pixel that changed sees (in either image) a point behind the hinges.

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
 
+#include "fit/placement_json.h"
 #include "host/cl/device.h"
 #include "host/nerf/model.h"
 #include "host/render/analytic_field.h"
@@ -64,11 +65,15 @@ nlohmann::json bench_device(const BenchArgs& a, const cl::DeviceInfo& dev, Globa
   std::unique_ptr<mesh::SurfacePass> pass;
   if (!a.glasses.empty()) {
     mesh::Glasses g = mesh::load_glasses(a.glasses);
-    render::Mat4 p = a.placement.empty() ? render::rough_glasses_placement(float(g.metrics.total_width_mm),
-                                                                          scene.aabb_min, scene.aabb_max)
-                                         : render::read_placement(a.placement).transform;
-    mesh::TempleBend temples = a.placement.empty() ? mesh::TempleBend{} : mesh::read_placement_temples(a.placement);
-    pass = mesh::place_glasses_mesh(std::move(g), mesh::row_major_matrix(p), temples).pass;
+    Eigen::Matrix4f p = mesh::row_major_matrix(
+        render::rough_glasses_placement(float(g.metrics.total_width_mm), scene.aabb_min, scene.aabb_max));
+    mesh::TempleBend temples;
+    if (!a.placement.empty()) {
+      fit::PlacementFile pf = fit::read_placement(a.placement);
+      p = pf.transform.cast<float>();
+      temples = pf.temples.bend;
+    }
+    pass = mesh::place_glasses_mesh(std::move(g), p, temples).pass;
     mesh::SurfaceParams sp;
     sp.samples_per_pixel = int(a.surface_spp);
     spec.surfaces = [&pass, sp](const Camera& cam) { return pass->render(cam, sp); };

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
 
+#include "fit/placement_json.h"
 #include "host/dataset/dataset.h"
 #include "host/nerf/model.h"
 #include "host/render/render_job.h"
@@ -50,20 +51,22 @@ std::vector<Camera> capture_cameras(const nerf::NerfModel& model) {
   }
 }
 
-// The placement transform, and the temple spread when it comes from a placement.json.
-render::Mat4 glasses_transform(const RenderArgs& a, std::string& glasses_path, mesh::TempleBend& temples) {
+// The placement transform (canonical mm -> scene), and the temple spread when it comes from a
+// placement.json (read by the placement module, fit/placement_json.h).
+Eigen::Matrix4f glasses_transform(const RenderArgs& a, std::string& glasses_path, mesh::TempleBend& temples) {
   int given = !a.placement.empty() + !a.transform.empty() +
               (!a.translate.empty() || !a.rotate.empty() || a.scale != 1.0f);
   if (given > 1)
     throw std::runtime_error("give one of --placement, --transform, or --translate/--rotate/--scale");
   if (!a.placement.empty()) {
-    render::Placement p = render::read_placement(a.placement);
-    if (glasses_path.empty()) glasses_path = p.glasses_path;
-    temples = mesh::read_placement_temples(a.placement);
-    return p.transform;
+    fit::PlacementFile p = fit::read_placement(a.placement);
+    if (glasses_path.empty()) glasses_path = fit::glasses_file(p, a.placement);
+    temples = p.temples.bend;
+    return p.transform.cast<float>();
   }
-  if (!a.transform.empty()) return render::parse_matrix(a.transform);
-  return render::trs_transform(vec3(a.translate, {0, 0, 0}), vec3(a.rotate, {0, 0, 0}), a.scale);
+  if (!a.transform.empty()) return mesh::row_major_matrix(render::parse_matrix(a.transform));
+  return mesh::row_major_matrix(
+      render::trs_transform(vec3(a.translate, {0, 0, 0}), vec3(a.rotate, {0, 0, 0}), a.scale));
 }
 
 void run(const RenderArgs& a, GlobalOptions& global) {
@@ -95,10 +98,10 @@ void run(const RenderArgs& a, GlobalOptions& global) {
 
   std::string glasses_path = a.glasses;
   mesh::TempleBend temples;
-  render::Mat4 placement = glasses_transform(a, glasses_path, temples);
+  Eigen::Matrix4f placement = glasses_transform(a, glasses_path, temples);
   std::unique_ptr<mesh::SurfacePass> pass;
   if (!glasses_path.empty()) {
-    pass = mesh::load_placed_glasses(glasses_path, mesh::row_major_matrix(placement), temples).pass;
+    pass = mesh::load_placed_glasses(glasses_path, placement, temples).pass;
     mesh::SurfaceParams sp;
     sp.samples_per_pixel = int(a.surface_spp);
     job.surfaces = [&pass, sp](const Camera& cam) { return pass->render(cam, sp); };

@@ -48,17 +48,9 @@ TEST(RenderJob, ParsesMatricesAndSizesAndRefusesBadOnes) {
   EXPECT_THROW(parse_size("0x10"), std::invalid_argument);
 }
 
-TEST(RenderJob, ReadsPlacementAndPoseFiles) {
+// Placement files are read by the placement module (tests/fit/placement_json_test.cpp).
+TEST(RenderJob, ReadsPoseFiles) {
   std::string dir = tmp_dir("files");
-  write(dir + "/placement.json",
-        R"({"version":1,"glasses":{"path":"frame.glb"},"transform":[[0.01,0,0,0.1],[0,0.01,0,0.2],[0,0,0.01,0.3],[0,0,0,1]]})");
-  Placement p = read_placement(dir + "/placement.json");
-  EXPECT_FLOAT_EQ(p.transform[0], 0.01f);
-  EXPECT_FLOAT_EQ(p.transform[11], 0.3f);
-  EXPECT_EQ(fs::path(p.glasses_path).filename(), "frame.glb");
-  write(dir + "/bad.json", R"({"version":1})");
-  EXPECT_THROW(read_placement(dir + "/bad.json"), std::runtime_error);
-  EXPECT_THROW(read_placement(dir + "/missing.json"), std::runtime_error);
   write(dir + "/pose.json",
         R"({"transform_matrix":[[1,0,0,0],[0,1,0,0],[0,0,1,3],[0,0,0,1]],"fl_x":500,"w":1000,"h":500})");
   Camera c = read_pose(dir + "/pose.json", 500, 250, 30.0f);
