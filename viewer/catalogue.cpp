@@ -2,6 +2,9 @@
 // (catalogue.h).
 #include "viewer/catalogue.h"
 
+#include <fmt/format.h>
+
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -9,12 +12,9 @@
 #include <filesystem>
 #include <fstream>
 
-#include <Eigen/Geometry>
-#include <fmt/format.h>
-
+#include "host/render/render_job.h"
 #include "host/util/image_io.h"
 #include "mesh/placed_glasses.h"
-#include "host/render/render_job.h"
 
 namespace lorgnette::viewer {
 namespace fs = std::filesystem;
@@ -52,12 +52,14 @@ std::vector<FrameEntry> catalogue_from_dir(const std::string& dir) {
   }
   std::sort(out.begin(), out.end(), [](const FrameEntry& a, const FrameEntry& b) { return a.name < b.name; });
   if (out.empty())
-    throw std::runtime_error(fmt::format("catalogue '{}' has no frames (.glb .gltf .obj .ply, or folders holding one)", dir));
+    throw std::runtime_error(
+        fmt::format("catalogue '{}' has no frames (.glb .gltf .obj .ply, or folders holding one)", dir));
   return out;
 }
 
 std::vector<FrameEntry> catalogue_single(const std::string& frame, const std::string& placement) {
-  if (!fs::is_regular_file(frame)) throw std::runtime_error(fmt::format("glasses frame '{}' does not exist", frame));
+  if (!fs::is_regular_file(frame))
+    throw std::runtime_error(fmt::format("glasses frame '{}' does not exist", frame));
   return {{fs::path(frame).filename().string(), frame, placement}};
 }
 
@@ -71,8 +73,9 @@ Eigen::Matrix4d nudge_matrix(const Nudge& n) {
   Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
   // Positive tilt turns the lenses' bottoms backwards (towards the face): about +x (left), the
   // canonical +z (forward) goes down. The bridge (canonical origin) stays on its rotation axis.
-  m.block<3, 3>(0, 0) = Eigen::AngleAxisd(n.tilt_deg * 3.14159265358979323846 / 180.0, Eigen::Vector3d::UnitX())
-                            .toRotationMatrix();
+  m.block<3, 3>(0, 0) =
+      Eigen::AngleAxisd(n.tilt_deg * 3.14159265358979323846 / 180.0, Eigen::Vector3d::UnitX())
+          .toRotationMatrix();
   m(1, 3) = n.up_mm;
   m(2, 3) = n.forward_mm;
   return m;
@@ -87,7 +90,8 @@ Nudge accumulate(const Nudge& n, const NudgeMsg& d) {
   return o;
 }
 
-SaveResult save_placement(const std::string& path, const fit::PlacementFile& p, const Nudge& nudge, bool overwrite) {
+SaveResult save_placement(const std::string& path, const fit::PlacementFile& p, const Nudge& nudge,
+                          bool overwrite) {
   SaveResult r;
   r.path = path;
   std::error_code ec;
@@ -98,11 +102,12 @@ SaveResult save_placement(const std::string& path, const fit::PlacementFile& p, 
       return r;
     }
     r.backup = fmt::format("{}.{}.bak", path, timestamp());
-    for (int k = 1; fs::exists(r.backup, ec); ++k) r.backup = fmt::format("{}.{}-{}.bak", path, timestamp(), k);
+    for (int k = 1; fs::exists(r.backup, ec); ++k)
+      r.backup = fmt::format("{}.{}-{}.bak", path, timestamp(), k);
     fs::copy_file(path, r.backup, ec);
     if (ec) {
-      r.error = {"io", fmt::format("cannot keep a backup of {} ({}): not saved", fs::path(path).filename().string(),
-                                   ec.message())};
+      r.error = {"io", fmt::format("cannot keep a backup of {} ({}): not saved",
+                                   fs::path(path).filename().string(), ec.message())};
       r.backup.clear();
       return r;
     }
@@ -110,8 +115,9 @@ SaveResult save_placement(const std::string& path, const fit::PlacementFile& p, 
   fit::PlacementFile out = p;
   out.transform = p.transform * nudge_matrix(nudge);
   nlohmann::json j = fit::to_json(out);
-  j["viewer"] = {{"nudge", {{"up_mm", nudge.up_mm}, {"forward_mm", nudge.forward_mm}, {"tilt_deg", nudge.tilt_deg}}},
-                 {"note", "adjusted by hand in `lorgnette view`; transform includes the nudge"}};
+  j["viewer"] = {
+      {"nudge", {{"up_mm", nudge.up_mm}, {"forward_mm", nudge.forward_mm}, {"tilt_deg", nudge.tilt_deg}}},
+      {"note", "adjusted by hand in `lorgnette view`; transform includes the nudge"}};
   try {
     write_text_file_atomic(path, j.dump(2) + "\n");
   } catch (const std::exception& e) {

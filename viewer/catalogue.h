@@ -5,11 +5,10 @@
 // <frame>.placement.json: an existing file is replaced only when the client confirmed, and then a
 // timestamped backup of it is kept beside it.
 #pragma once
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "fit/placement_json.h"
 #include "viewer/protocol.h"
@@ -49,6 +48,7 @@ struct SaveResult {
 };
 
 // Writes `p` (with the nudge recorded under "viewer") to `path` atomically; see the header comment.
-SaveResult save_placement(const std::string& path, const fit::PlacementFile& p, const Nudge& nudge, bool overwrite);
+SaveResult save_placement(const std::string& path, const fit::PlacementFile& p, const Nudge& nudge,
+                          bool overwrite);
 
 }  // namespace lorgnette::viewer

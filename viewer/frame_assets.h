@@ -11,12 +11,11 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <thread>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "fit/placement_json.h"
 #include "host/cl/runtime.h"
@@ -32,9 +31,9 @@ enum class PlacementStatus { kNone, kReady, kFitting };
 struct FrameState {
   PlacementStatus status = PlacementStatus::kNone;
   std::shared_ptr<const fit::PlacementFile> placement;  // when kReady
-  std::string source;   // "file", "fit", "rough (...)"
-  uint64_t version = 0; // bumps whenever the placement changes
-  std::string message;  // last fit message
+  std::string source;                                   // "file", "fit", "rough (...)"
+  uint64_t version = 0;                                 // bumps whenever the placement changes
+  std::string message;                                  // last fit message
 };
 
 struct FitSettings {
@@ -70,7 +69,7 @@ class FrameAssets {
   std::shared_ptr<const mesh::SurfacePass> pass(uint32_t i, const Nudge& nudge);
 
  private:
-  void request(uint32_t i);  // under mutex_
+  void request(uint32_t i);                            // under mutex_
   void set_rough(uint32_t i, const std::string& why);  // under mutex_
   void fit_loop();
   void run_fit(uint32_t i);

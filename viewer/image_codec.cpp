@@ -1,18 +1,18 @@
 // sRGB conversion, JPEG (libjpeg-turbo) and PNG (OpenCV) encoding of viewer frames (image_codec.h).
 #include "viewer/image_codec.h"
 
+#include <spdlog/spdlog.h>
+#include <turbojpeg.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstring>
-#include <stdexcept>
-#include <string>
-
 #include <opencv2/core.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
-#include <spdlog/spdlog.h>
-#include <turbojpeg.h>
+#include <stdexcept>
+#include <string>
 
 namespace lorgnette::viewer {
 namespace {
@@ -58,25 +58,29 @@ Rgb8 resize_nearest(const Rgb8& src, int width, int height) {
   out.pixels.resize(size_t(width) * height * 3);
   for (int y = 0; y < height; ++y)
     for (int x = 0; x < width; ++x) {
-      int sx = std::min(src.width - 1, x * src.width / width), sy = std::min(src.height - 1, y * src.height / height);
-      std::memcpy(&out.pixels[(size_t(y) * width + x) * 3], &src.pixels[(size_t(sy) * src.width + sx) * 3], 3);
+      int sx = std::min(src.width - 1, x * src.width / width),
+          sy = std::min(src.height - 1, y * src.height / height);
+      std::memcpy(&out.pixels[(size_t(y) * width + x) * 3], &src.pixels[(size_t(sy) * src.width + sx) * 3],
+                  3);
     }
   return out;
 }
 
 JpegEncoder::JpegEncoder() : handle_(tjInitCompress()) {
-  if (!handle_) throw std::runtime_error(std::string("libjpeg-turbo: cannot create a compressor: ") + tjGetErrorStr());
+  if (!handle_)
+    throw std::runtime_error(std::string("libjpeg-turbo: cannot create a compressor: ") + tjGetErrorStr());
 }
 
 JpegEncoder::~JpegEncoder() {
-  if (handle_ && tjDestroy(static_cast<tjhandle>(handle_)) != 0) spdlog::warn("libjpeg-turbo: tjDestroy failed");
+  if (handle_ && tjDestroy(static_cast<tjhandle>(handle_)) != 0)
+    spdlog::warn("libjpeg-turbo: tjDestroy failed");
 }
 
 std::vector<uint8_t> JpegEncoder::encode(const Rgb8& image, int quality) {
   unsigned char* buf = nullptr;
   unsigned long size = 0;
-  int rc = tjCompress2(static_cast<tjhandle>(handle_), image.pixels.data(), image.width, 0, image.height, TJPF_RGB,
-                       &buf, &size, TJSAMP_420, std::clamp(quality, 1, 100), TJFLAG_FASTDCT);
+  int rc = tjCompress2(static_cast<tjhandle>(handle_), image.pixels.data(), image.width, 0, image.height,
+                       TJPF_RGB, &buf, &size, TJSAMP_420, std::clamp(quality, 1, 100), TJFLAG_FASTDCT);
   if (rc != 0) {
     std::string msg = tjGetErrorStr2(static_cast<tjhandle>(handle_));
     tjFree(buf);

@@ -24,21 +24,23 @@ Vec3 normalized(Vec3 a, Vec3 fallback) {
 
 }  // namespace
 
-OrbitFrame make_orbit_frame(const Vec3& center, const Vec3& front, const Vec3& up, float radius, float fov_y_deg) {
+OrbitFrame make_orbit_frame(const Vec3& center, const Vec3& front, const Vec3& up, float radius,
+                            float fov_y_deg) {
   OrbitFrame f;
   f.center = center;
   f.front = normalized(front, {0, 0, 1});
   Vec3 u = sub(up, mul(f.front, dot(up, f.front)));
   f.up = normalized(u, std::abs(f.front[1]) < 0.9f ? Vec3{0, 1, 0} : Vec3{0, 0, 1});
-  if (std::abs(dot(f.up, f.front)) > 0.5) f.up = normalized(sub(f.up, mul(f.front, dot(f.up, f.front))), {1, 0, 0});
+  if (std::abs(dot(f.up, f.front)) > 0.5)
+    f.up = normalized(sub(f.up, mul(f.front, dot(f.up, f.front))), {1, 0, 0});
   f.right = normalized(cross(f.up, f.front), {1, 0, 0});
   f.radius = radius;
   f.fov_y_deg = fov_y_deg;
   return f;
 }
 
-OrbitLimits limits_from_cameras(const OrbitFrame& frame, const std::vector<Camera>& cameras, double margin_deg,
-                                double min_span_deg) {
+OrbitLimits limits_from_cameras(const OrbitFrame& frame, const std::vector<Camera>& cameras,
+                                double margin_deg, double min_span_deg) {
   OrbitLimits l;
   if (cameras.empty()) return l;
   double ymin = 1e9, ymax = -1e9, pmin = 1e9, pmax = -1e9;
@@ -94,8 +96,10 @@ Camera crop_rows(const Camera& cam, uint32_t y0, uint32_t rows) {
 }
 
 nlohmann::json to_json(const OrbitLimits& l) {
-  return {{"yaw", {l.yaw_min, l.yaw_max}},           {"pitch", {l.pitch_min, l.pitch_max}},
-          {"distance", {l.distance_min, l.distance_max}}, {"pan", l.pan_max},
+  return {{"yaw", {l.yaw_min, l.yaw_max}},
+          {"pitch", {l.pitch_min, l.pitch_max}},
+          {"distance", {l.distance_min, l.distance_max}},
+          {"pan", l.pan_max},
           {"source", l.source}};
 }
 

@@ -4,10 +4,9 @@
 // bounded pan. Limits come from the dataset's cameras when the model names its dataset, else a
 // default of ±60° yaw and ±30° pitch.
 #pragma once
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "host/render/orbit.h"
 
@@ -16,15 +15,15 @@ namespace lorgnette::viewer {
 struct OrbitFrame {
   render::Vec3 center{0, 0, 0};
   render::Vec3 front{0, 0, 1}, up{0, 1, 0}, right{1, 0, 0};  // orthonormal, right = up x front
-  float radius = 1.0f;                                        // framed sphere (scene units)
+  float radius = 1.0f;                                       // framed sphere (scene units)
   float fov_y_deg = 30.0f;
 };
 
 struct OrbitLimits {
   double yaw_min = -60, yaw_max = 60, pitch_min = -30, pitch_max = 30;  // degrees
   double distance_min = 0.55, distance_max = 2.0;                       // x framing distance
-  double pan_max = 0.5;                                                  // x radius
-  std::string source = "default";  // "capture (N cameras)" or "default"
+  double pan_max = 0.5;                                                 // x radius
+  std::string source = "default";                                       // "capture (N cameras)" or "default"
 };
 
 struct OrbitState {

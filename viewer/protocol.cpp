@@ -1,12 +1,12 @@
 // Strict parsing of the viewer's client messages and the binary frame header (protocol.h).
 #include "viewer/protocol.h"
 
+#include <fmt/format.h>
+
 #include <cmath>
 #include <cstring>
 #include <set>
 #include <stdexcept>
-
-#include <fmt/format.h>
 
 namespace lorgnette::viewer {
 namespace {
@@ -26,16 +26,19 @@ class Fields {
   double number(const char* key, double lo, double hi, std::optional<double> fallback = std::nullopt) {
     const json* v = find(key, fallback.has_value());
     if (!v) return *fallback;
-    if (!v->is_number()) throw Invalid(fmt::format("'{}.{}' must be a number, found {}", type_, key, brief(*v)));
+    if (!v->is_number())
+      throw Invalid(fmt::format("'{}.{}' must be a number, found {}", type_, key, brief(*v)));
     double x = v->get<double>();
     if (!std::isfinite(x) || x < lo || x > hi)
       throw Invalid(fmt::format("'{}.{}' must be within [{}, {}], found {}", type_, key, lo, hi, brief(*v)));
     return x;
   }
-  uint32_t integer(const char* key, uint32_t lo, uint32_t hi, std::optional<uint32_t> fallback = std::nullopt) {
+  uint32_t integer(const char* key, uint32_t lo, uint32_t hi,
+                   std::optional<uint32_t> fallback = std::nullopt) {
     const json* v = find(key, fallback.has_value());
     if (!v) return *fallback;
-    if (!v->is_number_integer() && !(v->is_number_float() && std::floor(v->get<double>()) == v->get<double>()))
+    if (!v->is_number_integer() &&
+        !(v->is_number_float() && std::floor(v->get<double>()) == v->get<double>()))
       throw Invalid(fmt::format("'{}.{}' must be an integer, found {}", type_, key, brief(*v)));
     double x = v->get<double>();
     if (x < lo || x > hi)
@@ -45,7 +48,8 @@ class Fields {
   bool boolean(const char* key, std::optional<bool> fallback = std::nullopt) {
     const json* v = find(key, fallback.has_value());
     if (!v) return *fallback;
-    if (!v->is_boolean()) throw Invalid(fmt::format("'{}.{}' must be true or false, found {}", type_, key, brief(*v)));
+    if (!v->is_boolean())
+      throw Invalid(fmt::format("'{}.{}' must be true or false, found {}", type_, key, brief(*v)));
     return v->get<bool>();
   }
   // Refuses fields the message type does not have (typos would otherwise be silently ignored).
@@ -120,7 +124,8 @@ ClientMessage parse_typed(const std::string& type, const json& j, const Protocol
 }
 
 const std::set<std::string>& known_types() {
-  static const std::set<std::string> types = {"camera", "size", "glasses", "select", "nudge", "save", "snapshot", "ping"};
+  static const std::set<std::string> types = {"camera", "size", "glasses",  "select",
+                                              "nudge",  "save", "snapshot", "ping"};
   return types;
 }
 
@@ -131,14 +136,17 @@ void put_u32(std::vector<uint8_t>& b, size_t at, uint32_t v) {
   for (int i = 0; i < 4; ++i) b[at + i] = uint8_t(v >> (8 * i));
 }
 uint16_t get_u16(const uint8_t* p) { return uint16_t(p[0] | (p[1] << 8)); }
-uint32_t get_u32(const uint8_t* p) { return uint32_t(p[0]) | uint32_t(p[1]) << 8 | uint32_t(p[2]) << 16 | uint32_t(p[3]) << 24; }
+uint32_t get_u32(const uint8_t* p) {
+  return uint32_t(p[0]) | uint32_t(p[1]) << 8 | uint32_t(p[2]) << 16 | uint32_t(p[3]) << 24;
+}
 
 }  // namespace
 
 ParseResult parse_client_message(std::string_view text, const ProtocolLimits& limits) {
   ParseResult r;
   if (text.size() > kMaxMessageBytes) {
-    r.error = {"too_large", fmt::format("message of {} bytes; the limit is {} bytes", text.size(), kMaxMessageBytes)};
+    r.error = {"too_large",
+               fmt::format("message of {} bytes; the limit is {} bytes", text.size(), kMaxMessageBytes)};
     return r;
   }
   json j = json::parse(text.begin(), text.end(), nullptr, false);
@@ -157,8 +165,10 @@ ParseResult parse_client_message(std::string_view text, const ProtocolLimits& li
   }
   r.type = t->get<std::string>().substr(0, 32);
   if (!known_types().count(t->get<std::string>())) {
-    r.error = {"unknown_type", fmt::format("unknown message type '{}'; known: camera, size, glasses, select, nudge, "
-                                           "save, snapshot, ping", r.type)};
+    r.error = {"unknown_type",
+               fmt::format("unknown message type '{}'; known: camera, size, glasses, select, nudge, "
+                           "save, snapshot, ping",
+                           r.type)};
     return r;
   }
   try {
@@ -196,11 +206,14 @@ std::vector<uint8_t> encode_frame(const FrameHeader& h, const std::vector<uint8_
 }
 
 FrameHeader decode_frame_header(const uint8_t* data, size_t size) {
-  if (size < FrameHeader::kSize) throw std::invalid_argument(fmt::format("frame of {} bytes is shorter than its header", size));
+  if (size < FrameHeader::kSize)
+    throw std::invalid_argument(fmt::format("frame of {} bytes is shorter than its header", size));
   if (std::memcmp(data, "LGNF", 4) != 0) throw std::invalid_argument("frame without the LGNF magic");
   if (data[4] != FrameHeader::kVersion)
-    throw std::invalid_argument(fmt::format("frame version {}, expected {}", int(data[4]), int(FrameHeader::kVersion)));
-  if (data[5] < 1 || data[5] > 3) throw std::invalid_argument(fmt::format("unknown frame kind {}", int(data[5])));
+    throw std::invalid_argument(
+        fmt::format("frame version {}, expected {}", int(data[4]), int(FrameHeader::kVersion)));
+  if (data[5] < 1 || data[5] > 3)
+    throw std::invalid_argument(fmt::format("unknown frame kind {}", int(data[5])));
   FrameHeader h;
   h.kind = FrameKind(data[5]);
   if (get_u16(data + 6) != FrameHeader::kSize) throw std::invalid_argument("unexpected frame header size");
@@ -210,7 +223,8 @@ FrameHeader decode_frame_header(const uint8_t* data, size_t size) {
   h.render_us = get_u32(data + 16);
   h.payload_bytes = get_u32(data + 20);
   if (size_t(h.payload_bytes) + FrameHeader::kSize != size)
-    throw std::invalid_argument(fmt::format("frame payload {} bytes, header says {}", size - FrameHeader::kSize, h.payload_bytes));
+    throw std::invalid_argument(
+        fmt::format("frame payload {} bytes, header says {}", size - FrameHeader::kSize, h.payload_bytes));
   return h;
 }
 

@@ -1,17 +1,17 @@
 // Boost.Beast HTTP + WebSocket server of the viewer (server.h).
 #include "viewer/server.h"
 
-#include <atomic>
-#include <deque>
-#include <mutex>
-#include <optional>
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
 
+#include <atomic>
 #include <boost/asio.hpp>
 #include <boost/beast/core.hpp>
 #include <boost/beast/http.hpp>
 #include <boost/beast/websocket.hpp>
-#include <fmt/format.h>
-#include <spdlog/spdlog.h>
+#include <deque>
+#include <mutex>
+#include <optional>
 
 #include "viewer/web_assets.h"
 
@@ -38,7 +38,8 @@ struct IoGate {
 // "127.0.0.1:8080" / "[::1]:8080" / "localhost" -> the host name part.
 std::string host_name(beast::string_view host_header) {
   std::string h(host_header.data(), host_header.size());
-  if (!h.empty() && h[0] == '[') return h.substr(1, h.find(']') == std::string::npos ? std::string::npos : h.find(']') - 1);
+  if (!h.empty() && h[0] == '[')
+    return h.substr(1, h.find(']') == std::string::npos ? std::string::npos : h.find(']') - 1);
   return h.substr(0, h.find(':'));
 }
 
@@ -109,7 +110,8 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
   // The sink the service holds: it posts to the I/O thread and never keeps the session alive.
   class Outbox : public ClientSink {
    public:
-    Outbox(std::shared_ptr<IoGate> gate, std::weak_ptr<WsSession> s) : gate_(std::move(gate)), s_(std::move(s)) {}
+    Outbox(std::shared_ptr<IoGate> gate, std::weak_ptr<WsSession> s)
+        : gate_(std::move(gate)), s_(std::move(s)) {}
     void send_text(std::string text) override {
       gate_->post([s = s_, t = std::move(text)]() mutable {
         if (auto p = s.lock()) p->queue_text(std::move(t));
@@ -139,8 +141,10 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
       closed_ = true;
       return;  // the session ends when its last handler returns
     }
-    if (ws_.got_text()) srv_.service.handle_text(id_, beast::buffers_to_string(buffer_.data()));
-    else srv_.service.handle_binary(id_, bytes);
+    if (ws_.got_text())
+      srv_.service.handle_text(id_, beast::buffers_to_string(buffer_.data()));
+    else
+      srv_.service.handle_binary(id_, bytes);
     buffer_.consume(buffer_.size());
     read();
   }
@@ -151,7 +155,8 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
       texts_.pop_front();
       ws_.text(true);
       writing_ = true;
-      ws_.async_write(net::buffer(out_text_), beast::bind_front_handler(&WsSession::on_write, shared_from_this()));
+      ws_.async_write(net::buffer(out_text_),
+                      beast::bind_front_handler(&WsSession::on_write, shared_from_this()));
       return;
     }
     auto& slot = pending_snapshot_ ? pending_snapshot_ : pending_view_;
@@ -160,7 +165,8 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
     slot.reset();
     ws_.binary(true);
     writing_ = true;
-    ws_.async_write(net::buffer(out_bytes_), beast::bind_front_handler(&WsSession::on_write, shared_from_this()));
+    ws_.async_write(net::buffer(out_bytes_),
+                    beast::bind_front_handler(&WsSession::on_write, shared_from_this()));
   }
   void on_write(beast::error_code ec, size_t) {
     writing_ = false;
@@ -204,7 +210,8 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
     parser_->header_limit(8192);
     parser_->body_limit(1024);
     stream_.expires_after(std::chrono::seconds(30));
-    http::async_read(stream_, buffer_, *parser_, beast::bind_front_handler(&HttpSession::on_read, shared_from_this()));
+    http::async_read(stream_, buffer_, *parser_,
+                     beast::bind_front_handler(&HttpSession::on_read, shared_from_this()));
   }
 
   void on_read(beast::error_code ec, size_t) {
@@ -220,12 +227,15 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
 
   void upgrade(http::request<http::string_body> req) {
     std::string why;
-    if (req.target() != "/ws") why = "404 the WebSocket is at /ws";
-    else if (!srv_.host_allowed(req)) why = "403 Host is not this machine";
+    if (req.target() != "/ws")
+      why = "404 the WebSocket is at /ws";
+    else if (!srv_.host_allowed(req))
+      why = "403 Host is not this machine";
     else if (auto o = req.find(http::field::origin);
              o != req.end() && std::string(o->value()) != "http://" + std::string(req[http::field::host]))
       why = "403 cross-origin WebSocket refused";
-    else if (srv_.sockets.load() >= srv_.options.max_clients) why = "503 too many viewers connected";
+    else if (srv_.sockets.load() >= srv_.options.max_clients)
+      why = "503 too many viewers connected";
     if (!why.empty()) {
       int status = std::stoi(why.substr(0, 3));
       return send(text_response(req, http::status(status), why.substr(4)));
@@ -234,7 +244,8 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
     std::make_shared<WsSession>(stream_.release_socket(), srv_)->run(std::move(req));
   }
 
-  Response text_response(const http::request<http::string_body>& req, http::status status, const std::string& text) {
+  Response text_response(const http::request<http::string_body>& req, http::status status,
+                         const std::string& text) {
     Response res{status, req.version()};
     res.set(http::field::server, "lorgnette-view");
     res.set(http::field::content_type, "text/plain; charset=utf-8");
@@ -247,7 +258,8 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
   Response respond(const http::request<http::string_body>& req) {
     if (req.method() != http::verb::get && req.method() != http::verb::head)
       return text_response(req, http::status::method_not_allowed, "only GET and HEAD");
-    if (!srv_.host_allowed(req)) return text_response(req, http::status::forbidden, "Host is not this machine");
+    if (!srv_.host_allowed(req))
+      return text_response(req, http::status::forbidden, "Host is not this machine");
     std::string target(req.target());
     target = target.substr(0, target.find('?'));
     if (target == "/") target = "/index.html";
@@ -259,9 +271,11 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
     if (auto it = assets.find(target); it != assets.end()) {
       res.set(http::field::content_type, it->second.content_type);
       res.set("Content-Security-Policy",
-              "default-src 'self'; img-src 'self' blob: data:; connect-src 'self' ws: wss:; frame-ancestors 'none'");
+              "default-src 'self'; img-src 'self' blob: data:; connect-src 'self' ws: wss:; frame-ancestors "
+              "'none'");
       res.body() = it->second.body;
-    } else if (target.rfind("/thumb/", 0) == 0 && target.size() > 11 && target.substr(target.size() - 4) == ".jpg") {
+    } else if (target.rfind("/thumb/", 0) == 0 && target.size() > 11 &&
+               target.substr(target.size() - 4) == ".jpg") {
       std::string num = target.substr(7, target.size() - 11);
       const auto& a = srv_.service.assets();
       if (num.empty() || num.size() > 6 || num.find_first_not_of("0123456789") != std::string::npos ||
@@ -312,10 +326,13 @@ void Server::Impl::accept() {
   });
 }
 
-Server::Server(ViewerService& service, const ServerOptions& options) : impl_(std::make_unique<Impl>(service, options)) {
+Server::Server(ViewerService& service, const ServerOptions& options)
+    : impl_(std::make_unique<Impl>(service, options)) {
   boost::system::error_code ec;
   auto address = net::ip::make_address(options.host == "localhost" ? "127.0.0.1" : options.host, ec);
-  if (ec) throw std::runtime_error(fmt::format("--host '{}' is not an IP address ({})", options.host, ec.message()));
+  if (ec)
+    throw std::runtime_error(
+        fmt::format("--host '{}' is not an IP address ({})", options.host, ec.message()));
   impl_->loopback = address.is_loopback();
   tcp::endpoint ep(address, options.port);
   auto& a = impl_->acceptor;
@@ -324,8 +341,8 @@ Server::Server(ViewerService& service, const ServerOptions& options) : impl_(std
   if (!ec) a.bind(ep, ec);
   if (!ec) a.listen(net::socket_base::max_listen_connections, ec);
   if (ec)
-    throw std::runtime_error(fmt::format("cannot listen on {}:{}: {} (try another --port)", options.host, options.port,
-                                         ec.message()));
+    throw std::runtime_error(fmt::format("cannot listen on {}:{}: {} (try another --port)", options.host,
+                                         options.port, ec.message()));
   impl_->gate->ioc = &impl_->ioc;
   impl_->accept();
 }

@@ -2,12 +2,12 @@
 // coarse frames and refinement bands (viewer_service.h).
 #include "viewer/viewer_service.h"
 
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-
-#include <fmt/format.h>
-#include <spdlog/spdlog.h>
 
 #include "host/dataset/dataset.h"
 #include "host/nerf/model.h"
@@ -92,23 +92,26 @@ uint32_t rounded_div(uint32_t v, uint32_t d) { return std::max<uint32_t>(16, (v 
 }  // namespace
 
 ViewerService::ViewerService(ViewerConfig config) : config_(std::move(config)) {
-  if (config_.catalogue.empty()) throw std::runtime_error("the viewer needs at least one frame (--glasses or --catalogue)");
+  if (config_.catalogue.empty())
+    throw std::runtime_error("the viewer needs at least one frame (--glasses or --catalogue)");
   engine_ = std::make_unique<Engine>(config_.runtime, config_.model_path);
   device_name_ = engine_->rt.device().name;
   std::vector<Camera> cams = capture_cameras(engine_->model);
   render::OrbitSpec spec = render::model_orbit(engine_->model, cams);
-  float radius = std::sqrt(spec.half_extent[0] * spec.half_extent[0] + spec.half_extent[1] * spec.half_extent[1] +
-                           spec.half_extent[2] * spec.half_extent[2]);
+  float radius =
+      std::sqrt(spec.half_extent[0] * spec.half_extent[0] + spec.half_extent[1] * spec.half_extent[1] +
+                spec.half_extent[2] * spec.half_extent[2]);
   orbit_ = make_orbit_frame(spec.center, spec.front, spec.up, radius, 30.0f);
   limits_ = limits_from_cameras(orbit_, cams);
-  spdlog::info("view: orbit limits yaw [{:.0f}, {:.0f}] deg, pitch [{:.0f}, {:.0f}] deg from the {}", limits_.yaw_min,
-               limits_.yaw_max, limits_.pitch_min, limits_.pitch_max, limits_.source);
+  spdlog::info("view: orbit limits yaw [{:.0f}, {:.0f}] deg, pitch [{:.0f}, {:.0f}] deg from the {}",
+               limits_.yaw_min, limits_.yaw_max, limits_.pitch_min, limits_.pitch_max, limits_.source);
   FitSettings fit = config_.fit;
   fit.runtime = config_.runtime;
   fit.model_path = config_.model_path;
   const auto& box = engine_->model.aabb();
-  assets_ = std::make_unique<FrameAssets>(config_.catalogue, orbit_, box.min, box.max, fit,
-                                          [this](const nlohmann::json& e, uint32_t i) { broadcast_fit(e, i); });
+  assets_ =
+      std::make_unique<FrameAssets>(config_.catalogue, orbit_, box.min, box.max, fit,
+                                    [this](const nlohmann::json& e, uint32_t i) { broadcast_fit(e, i); });
   thread_ = std::thread([this] { render_loop(); });
 }
 
@@ -192,7 +195,9 @@ void ViewerService::reply_error(ClientId id, const ProtocolError& e, const std::
 }
 
 void ViewerService::handle_binary(ClientId id, size_t bytes) {
-  reply_error(id, {"binary", fmt::format("binary messages ({} bytes) are not part of the protocol: send JSON text", bytes)},
+  reply_error(id,
+              {"binary",
+               fmt::format("binary messages ({} bytes) are not part of the protocol: send JSON text", bytes)},
               "");
 }
 
@@ -205,7 +210,7 @@ void ViewerService::handle_text(ClientId id, std::string_view text) {
   if (!r.message) return reply_error(id, r.error, r.type);
   auto c = find(id);
   if (!c) return;
-  std::vector<std::string> replies;
+  Replies replies;
   try {
     std::lock_guard<std::mutex> lock(c->m);
     apply(*c, *r.message, replies);
@@ -213,17 +218,15 @@ void ViewerService::handle_text(ClientId id, std::string_view text) {
     // Never let one client's bad request take the server down: report it and go on.
     return reply_error(id, {"internal", e.what()}, r.type);
   }
-  for (auto& s : replies) {
-    if (s.rfind("{\"code\"", 0) == 0 || s.find("\"type\":\"error\"") != std::string::npos) {
-      std::lock_guard<std::mutex> lock(mutex_);
-      stats_.errors_sent++;
-    }
-    c->sink->send_text(std::move(s));
+  if (replies.errors) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    stats_.errors_sent += replies.errors;
   }
+  for (auto& s : replies.texts) c->sink->send_text(std::move(s));
   cv_.notify_all();
 }
 
-void ViewerService::apply(Client& c, const ClientMessage& m, std::vector<std::string>& replies) {
+void ViewerService::apply(Client& c, const ClientMessage& m, Replies& replies) {
   const auto now = Clock::now();
   auto changed = [&] {
     c.gen++;
@@ -240,45 +243,49 @@ void ViewerService::apply(Client& c, const ClientMessage& m, std::vector<std::st
   } else if (auto* g = std::get_if<GlassesMsg>(&m)) {
     c.glasses_on = g->on;
     changed();
-    replies.push_back(state_json(c).dump());
+    replies.texts.push_back(state_json(c).dump());
   } else if (auto* sel = std::get_if<SelectMsg>(&m)) {
     if (sel->index >= assets_->size()) {
-      replies.push_back(error_reply({"invalid", fmt::format("frame {} does not exist: the catalogue has {} (0 to {})",
-                                                            sel->index, assets_->size(), assets_->size() - 1)},
-                                    "select"));
+      replies.error(
+          error_reply({"invalid", fmt::format("frame {} does not exist: the catalogue has {} (0 to {})",
+                                              sel->index, assets_->size(), assets_->size() - 1)},
+                      "select"));
       return;
     }
     c.frame = sel->index;
     changed();
-    replies.push_back(state_json(c).dump());
+    replies.texts.push_back(state_json(c).dump());
   } else if (auto* n = std::get_if<NudgeMsg>(&m)) {
     if (assets_->state(c.frame).status != PlacementStatus::kReady) {
-      replies.push_back(error_reply({"busy", "this frame is still being fitted: nudge it when the fit is done"}, "nudge"));
+      replies.error(
+          error_reply({"busy", "this frame is still being fitted: nudge it when the fit is done"}, "nudge"));
       return;
     }
     c.nudges[c.frame] = accumulate(c.nudges[c.frame], *n);
     changed();
-    replies.push_back(state_json(c).dump());
+    replies.texts.push_back(state_json(c).dump());
   } else if (auto* s = std::get_if<SaveMsg>(&m)) {
     FrameState fs = assets_->state(c.frame);
     if (fs.status != PlacementStatus::kReady || !fs.placement) {
-      replies.push_back(error_reply({"busy", "this frame is still being fitted: save it when the fit is done"}, "save"));
+      replies.error(
+          error_reply({"busy", "this frame is still being fitted: save it when the fit is done"}, "save"));
       return;
     }
     const FrameEntry& e = assets_->entry(c.frame);
     SaveResult r = save_placement(e.save_path(), *fs.placement, c.nudges[c.frame], s->overwrite);
     if (!r.ok) {
-      replies.push_back(error_reply(r.error, "save"));
+      replies.error(error_reply(r.error, "save"));
       return;
     }
     spdlog::info("view: saved {}{}", r.path, r.backup.empty() ? "" : " (backup: " + r.backup + ")");
-    nlohmann::json j = {{"type", "saved"}, {"frame", c.frame}, {"file", fs::path(r.path).filename().string()}};
+    nlohmann::json j = {
+        {"type", "saved"}, {"frame", c.frame}, {"file", fs::path(r.path).filename().string()}};
     if (!r.backup.empty()) j["backup"] = fs::path(r.backup).filename().string();
-    replies.push_back(j.dump());
+    replies.texts.push_back(j.dump());
   } else if (std::get_if<SnapshotMsg>(&m)) {
     c.snapshot_requested = true;
   } else if (auto* p = std::get_if<PingMsg>(&m)) {
-    replies.push_back(nlohmann::json({{"type", "pong"}, {"seq", p->seq}}).dump());
+    replies.texts.push_back(nlohmann::json({{"type", "pong"}, {"seq", p->seq}}).dump());
   }
 }
 
@@ -288,8 +295,12 @@ nlohmann::json ViewerService::state_json(Client& c) {
           {"frame", assets_->describe(c.frame)},
           {"glasses_on", c.glasses_on},
           {"nudge", {{"up_mm", n.up_mm}, {"forward_mm", n.forward_mm}, {"tilt_deg", n.tilt_deg}}},
-          {"orbit", {{"yaw", c.orbit.yaw_deg}, {"pitch", c.orbit.pitch_deg}, {"distance", c.orbit.distance},
-                     {"pan_x", c.orbit.pan_x}, {"pan_y", c.orbit.pan_y}}},
+          {"orbit",
+           {{"yaw", c.orbit.yaw_deg},
+            {"pitch", c.orbit.pitch_deg},
+            {"distance", c.orbit.distance},
+            {"pan_x", c.orbit.pan_x},
+            {"pan_y", c.orbit.pan_y}}},
           {"viewport", {{"width", c.width}, {"height", c.height}}}};
 }
 
@@ -330,13 +341,18 @@ bool ViewerService::pick_work(Work& w, Clock::time_point& wake) {
     const bool dragging = c->interacting && now - c->last_input < std::chrono::seconds(2);
     const auto refine_at = c->last_input + (c->interacting ? std::chrono::milliseconds(2000) : idle);
     Work::Kind kind = Work::kNone;
-    if (c->gen != c->coarse_done) kind = Work::kCoarse;
-    else if (c->snap.active || c->snapshot_requested) kind = Work::kSnapshot;
-    else if (c->full_done != c->gen && !dragging && now >= refine_at) kind = Work::kFull;
-    else if (c->full_done != c->gen) wake = std::min(wake, refine_at);
+    if (c->gen != c->coarse_done)
+      kind = Work::kCoarse;
+    else if (c->snap.active || c->snapshot_requested)
+      kind = Work::kSnapshot;
+    else if (c->full_done != c->gen && !dragging && now >= refine_at)
+      kind = Work::kFull;
+    else if (c->full_done != c->gen)
+      wake = std::min(wake, refine_at);
     if (kind == Work::kNone) continue;
     if (kind == Work::kSnapshot && !c->snap.active) c->snapshot_requested = false;
-    w = {kind, c, c->gen, c->orbit, c->width, c->height, c->seq, c->frame, c->glasses_on, c->nudges[c->frame]};
+    w = {kind,      c,      c->gen,   c->orbit,      c->width,
+         c->height, c->seq, c->frame, c->glasses_on, c->nudges[c->frame]};
     rr_ = start->first;
     return true;
   }
@@ -369,37 +385,46 @@ void ViewerService::render_loop() {
 }
 
 void ViewerService::run_work(Work& w) {
+  if (w.kind == Work::kCoarse)
+    render_coarse(w);
+  else
+    render_band(w);
+}
+
+std::shared_ptr<const mesh::SurfacePass> ViewerService::glasses_for(const Work& w) {
+  return w.glasses_on ? assets_->pass(w.frame, w.nudge) : nullptr;
+}
+
+void ViewerService::render_coarse(Work& w) {
   Client& c = *w.client;
-  auto pass = [&]() -> std::shared_ptr<const mesh::SurfacePass> {
-    return w.glasses_on ? assets_->pass(w.frame, w.nudge) : nullptr;
-  };
-  if (w.kind == Work::kCoarse) {
-    auto t0 = Clock::now();
-    Camera cam = orbit_camera(orbit_, w.orbit, rounded_div(w.width, config_.coarse_divisor),
-                              rounded_div(w.height, config_.coarse_divisor));
-    auto p = pass();
-    lorgnette::SurfaceBuffers surf;
-    if (p) {
-      mesh::SurfaceParams sp;
-      sp.samples_per_pixel = config_.coarse_surface_spp;
-      surf = p->render(cam, sp);
-    }
-    render::RenderOptions opt;
-    opt.step_scale = config_.coarse_step_scale;
-    render::RenderResult r = engine_->renderer.render(engine_->model, cam, p ? &surf : nullptr, opt);
-    Rgb8 rgb = to_srgb8(r.rgba);
-    FrameHeader h{FrameKind::kCoarseJpeg, w.seq, uint16_t(rgb.width), uint16_t(rgb.height), 0, 0};
-    std::vector<uint8_t> jpeg = engine_->jpeg.encode(rgb, config_.jpeg_quality_coarse);
-    h.render_us = uint32_t(std::chrono::duration<double, std::micro>(Clock::now() - t0).count());
-    c.sink->send_frame(FrameKind::kCoarseJpeg, encode_frame(h, jpeg));
-    {
-      std::lock_guard<std::mutex> lock(c.m);
-      if (c.gen == w.gen) c.coarse_done = w.gen;
-    }
-    std::lock_guard<std::mutex> lock(mutex_);
-    stats_.coarse_frames++;
-    return;
+  auto t0 = Clock::now();
+  Camera cam = orbit_camera(orbit_, w.orbit, rounded_div(w.width, config_.coarse_divisor),
+                            rounded_div(w.height, config_.coarse_divisor));
+  auto p = glasses_for(w);
+  lorgnette::SurfaceBuffers surf;
+  if (p) {
+    mesh::SurfaceParams sp;
+    sp.samples_per_pixel = config_.coarse_surface_spp;
+    surf = p->render(cam, sp);
   }
+  render::RenderOptions opt;
+  opt.step_scale = config_.coarse_step_scale;
+  render::RenderResult r = engine_->renderer.render(engine_->model, cam, p ? &surf : nullptr, opt);
+  Rgb8 rgb = to_srgb8(r.rgba);
+  FrameHeader h{FrameKind::kCoarseJpeg, w.seq, uint16_t(rgb.width), uint16_t(rgb.height), 0, 0};
+  std::vector<uint8_t> jpeg = engine_->jpeg.encode(rgb, config_.jpeg_quality_coarse);
+  h.render_us = uint32_t(std::chrono::duration<double, std::micro>(Clock::now() - t0).count());
+  c.sink->send_frame(FrameKind::kCoarseJpeg, encode_frame(h, jpeg));
+  {
+    std::lock_guard<std::mutex> lock(c.m);
+    if (c.gen == w.gen) c.coarse_done = w.gen;
+  }
+  std::lock_guard<std::mutex> lock(mutex_);
+  stats_.coarse_frames++;
+}
+
+void ViewerService::render_band(Work& w) {
+  Client& c = *w.client;
   const bool snapshot = w.kind == Work::kSnapshot;
   Refine& f = snapshot ? c.snap : c.full;
   if (!f.active || (!snapshot && f.gen != w.gen)) {
@@ -408,7 +433,7 @@ void ViewerService::run_work(Work& w) {
     f.gen = w.gen;
     f.seq = w.seq;
     f.cam = orbit_camera(orbit_, w.orbit, w.width, w.height);
-    f.pass = pass();
+    f.pass = glasses_for(w);
     f.image.width = int(w.width), f.image.height = int(w.height);
     f.image.pixels.assign(size_t(w.width) * w.height * 3, 0);
   }

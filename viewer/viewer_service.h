@@ -23,12 +23,11 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <string_view>
 #include <thread>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "host/cl/runtime.h"
 #include "viewer/catalogue.h"
@@ -57,11 +56,11 @@ struct ViewerConfig {
   uint32_t coarse_divisor = 3;
   float coarse_step_scale = 2.0f;
   int coarse_surface_spp = 1, full_surface_spp = 4, snapshot_surface_spp = 16;
-  uint32_t snapshot_spp = 2;   // NeRF rays per pixel in snapshots
+  uint32_t snapshot_spp = 2;  // NeRF rays per pixel in snapshots
   uint32_t band_rows = 96;
   int idle_ms = 120;
   int jpeg_quality_coarse = 70, jpeg_quality_full = 90;
-  FitSettings fit;             // runtime and model_path are filled from the fields above
+  FitSettings fit;  // runtime and model_path are filled from the fields above
   ProtocolLimits limits{32, 1920, 1080, 10.0, 10.0};
 };
 
@@ -103,7 +102,15 @@ class ViewerService {
   void render_loop();
   bool pick_work(Work& w, Clock::time_point& wake);
   void run_work(Work& w);
-  void apply(Client& c, const ClientMessage& m, std::vector<std::string>& replies);
+  void render_coarse(Work& w);
+  void render_band(Work& w);  // one band of a full frame or a snapshot
+  std::shared_ptr<const mesh::SurfacePass> glasses_for(const Work& w);
+  struct Replies {
+    std::vector<std::string> texts;
+    uint64_t errors = 0;
+    void error(std::string text) { texts.push_back(std::move(text)), errors++; }
+  };
+  void apply(Client& c, const ClientMessage& m, Replies& replies);
   void broadcast_fit(const nlohmann::json& event, uint32_t frame);
   nlohmann::json state_json(Client& c);
   void reply_error(ClientId id, const ProtocolError& e, const std::string& type);

@@ -7,22 +7,22 @@
 //                    malformed message every 5 s: frames served and errors per client
 //  summary.json      medians, memory per client (RSS growth / clients, and the stated bound)
 // Everything is bounded in time and stops by itself.
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include <CLI/CLI.hpp>
 #include <algorithm>
+#include <boost/asio.hpp>
+#include <boost/beast/core.hpp>
+#include <boost/beast/websocket.hpp>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <functional>
 #include <iostream>
 #include <memory>
-#include <random>
-
-#include <boost/asio.hpp>
-#include <boost/beast/core.hpp>
-#include <boost/beast/websocket.hpp>
-#include <CLI/CLI.hpp>
-#include <fmt/format.h>
 #include <nlohmann/json.hpp>
-#include <spdlog/spdlog.h>
+#include <random>
 
 #include "host/util/chart.h"
 #include "viewer/server.h"
@@ -38,7 +38,9 @@ using Clock = std::chrono::steady_clock;
 
 namespace {
 
-double ms_since(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
+double ms_since(Clock::time_point t) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
+}
 
 double median(std::vector<double> v) {
   if (v.empty()) return 0.0;
@@ -119,8 +121,9 @@ class BenchClient : public std::enable_shared_from_this<BenchClient> {
 };
 
 std::string camera(double yaw, double pitch, bool interacting, uint32_t seq) {
-  return nlohmann::json({{"type", "camera"}, {"yaw", yaw}, {"pitch", pitch}, {"interacting", interacting},
-                         {"seq", seq}}).dump();
+  return nlohmann::json(
+             {{"type", "camera"}, {"yaw", yaw}, {"pitch", pitch}, {"interacting", interacting}, {"seq", seq}})
+      .dump();
 }
 
 struct Args {
@@ -155,7 +158,8 @@ std::vector<std::array<double, 2>> bench_latency(net::io_context& ioc, uint16_t 
     if (h.kind == FrameKind::kCoarseJpeg && coarse_ms < 0) coarse_ms = ms_since(sent);
     if (h.kind == FrameKind::kFullJpeg) {
       out.push_back({coarse_ms, ms_since(sent)});
-      fmt::print("latency trial {}: coarse {:.0f} ms, full {:.0f} ms\n", out.size(), coarse_ms, out.back()[1]);
+      fmt::print("latency trial {}: coarse {:.0f} ms, full {:.0f} ms\n", out.size(), coarse_ms,
+                 out.back()[1]);
       timer.expires_after(std::chrono::milliseconds(300));
       timer.async_wait([&](beast::error_code) { next(); });
     }
@@ -189,14 +193,18 @@ DragResult bench_drag(net::io_context& ioc, uint16_t port, int seconds) {
     double t = ms_since(start) / 1000.0;
     c->send(camera(25.0 * std::sin(t * 1.5), 8.0 * std::sin(t * 0.7), true, seq));
     tick.expires_after(std::chrono::microseconds(16667));
-    tick.async_wait([&](beast::error_code ec) { if (!ec) send_next(); });
+    tick.async_wait([&](beast::error_code ec) {
+      if (!ec) send_next();
+    });
   };
   std::function<void()> count = [&] {
     r.fps_per_second.push_back(frames_this_second);
     frames_this_second = 0;
     if (int(r.fps_per_second.size()) >= seconds) return ioc.stop();
     second.expires_after(std::chrono::seconds(1));
-    second.async_wait([&](beast::error_code ec) { if (!ec) count(); });
+    second.async_wait([&](beast::error_code ec) {
+      if (!ec) count();
+    });
   };
   c->on_frame = [&](const FrameHeader& h, size_t) {
     if (!warm) {
@@ -205,7 +213,9 @@ DragResult bench_drag(net::io_context& ioc, uint16_t port, int seconds) {
         start = Clock::now();
         send_next();
         second.expires_after(std::chrono::seconds(1));
-        second.async_wait([&](beast::error_code ec) { if (!ec) count(); });
+        second.async_wait([&](beast::error_code ec) {
+          if (!ec) count();
+        });
       }
       return;
     }
@@ -230,7 +240,8 @@ struct LoadStats {
 // N clients, each moving its camera every 250 ms (drag bursts, then still) and sending a malformed
 // message every 5 s (answered with an error: counted, expected); unexpected errors and failed
 // connections are counted separately.
-std::vector<LoadStats> bench_load(net::io_context& ioc, uint16_t port, int clients, int seconds, size_t& rss_peak) {
+std::vector<LoadStats> bench_load(net::io_context& ioc, uint16_t port, int clients, int seconds,
+                                  size_t& rss_peak) {
   std::vector<std::shared_ptr<BenchClient>> cs;
   std::vector<LoadStats> stats(clients);
   std::vector<std::unique_ptr<net::steady_timer>> timers;
@@ -255,7 +266,9 @@ std::vector<LoadStats> bench_load(net::io_context& ioc, uint16_t port, int clien
       if (moving || s % 12 == 8) cs[i]->send(camera(yaw(rng), pitch(rng), moving, s));
       if (s % 20 == 0) cs[i]->send("{malformed");
       timers[i]->expires_after(std::chrono::milliseconds(250));
-      timers[i]->async_wait([&, i](beast::error_code ec) { if (!ec) tick[i](); });
+      timers[i]->async_wait([&, i](beast::error_code ec) {
+        if (!ec) tick[i]();
+      });
     };
     cs[i]->start();
     tick[i]();
@@ -264,7 +277,9 @@ std::vector<LoadStats> bench_load(net::io_context& ioc, uint16_t port, int clien
   std::function<void()> sample = [&] {
     rss_peak = std::max(rss_peak, rss_bytes());
     sampler.expires_after(std::chrono::milliseconds(500));
-    sampler.async_wait([&](beast::error_code ec) { if (!ec) sample(); });
+    sampler.async_wait([&](beast::error_code ec) {
+      if (!ec) sample();
+    });
   };
   sample();
   ioc.restart();
@@ -285,8 +300,10 @@ void run(const Args& a) {
   fs::create_directories(a.out);
   ViewerConfig config;
   config.model_path = a.model;
-  config.catalogue = a.catalogue.empty() ? catalogue_single(a.glasses, a.placement) : catalogue_from_dir(a.catalogue);
-  if (std::sscanf(a.size.c_str(), "%ux%u", &config.width, &config.height) != 2) throw std::runtime_error("--size WxH");
+  config.catalogue =
+      a.catalogue.empty() ? catalogue_single(a.glasses, a.placement) : catalogue_from_dir(a.catalogue);
+  if (std::sscanf(a.size.c_str(), "%ux%u", &config.width, &config.height) != 2)
+    throw std::runtime_error("--size WxH");
   config.fit.enabled = false;
   config.band_rows = a.band_rows;
   config.coarse_divisor = a.coarse;
@@ -296,20 +313,25 @@ void run(const Args& a) {
   Server server(service, so);
   server.start();
   net::io_context ioc;
-  nlohmann::json summary = {{"device", service.device_name()}, {"size", a.size}, {"model", a.model},
-                            {"client_bytes_bound", service.client_bytes_bound()}, {"band_rows", a.band_rows},
+  nlohmann::json summary = {{"device", service.device_name()},
+                            {"size", a.size},
+                            {"model", a.model},
+                            {"client_bytes_bound", service.client_bytes_bound()},
+                            {"band_rows", a.band_rows},
                             {"coarse_divisor", a.coarse}};
 
   auto lat = bench_latency(ioc, server.port(), a.trials);
   std::vector<std::vector<std::string>> rows;
   ChartSeries coarse{"input -> coarse frame"}, full{"input -> full still"};
   for (size_t i = 0; i < lat.size(); ++i) {
-    rows.push_back({std::to_string(i + 1), fmt::format("{:.1f}", lat[i][0]), fmt::format("{:.1f}", lat[i][1])});
+    rows.push_back(
+        {std::to_string(i + 1), fmt::format("{:.1f}", lat[i][0]), fmt::format("{:.1f}", lat[i][1])});
     coarse.x.push_back(double(i + 1)), coarse.y.push_back(lat[i][0]);
     full.x.push_back(double(i + 1)), full.y.push_back(lat[i][1]);
   }
   write_csv(a.out + "/latency.csv", {"trial", "coarse_ms", "full_ms"}, rows);
-  write_chart(a.out + "/latency.png", {"Viewer latency, " + a.size + " (" + service.device_name() + ")", "trial", "ms"},
+  write_chart(a.out + "/latency.png",
+              {"Viewer latency, " + a.size + " (" + service.device_name() + ")", "trial", "ms"},
               {coarse, full});
   summary["latency_coarse_ms_median"] = median(coarse.y);
   summary["latency_full_ms_median"] = median(full.y);
@@ -334,30 +356,43 @@ void run(const Args& a) {
     uint64_t frames = 0, expected = 0, unexpected = 0, failed = 0;
     for (size_t i = 0; i < load.size(); ++i) {
       const auto& s = load[i];
-      rows.push_back({std::to_string(i), std::to_string(s.coarse), std::to_string(s.full), std::to_string(s.protocol_errors),
-                      std::to_string(s.unexpected_errors), s.failed ? "1" : "0"});
+      rows.push_back({std::to_string(i), std::to_string(s.coarse), std::to_string(s.full),
+                      std::to_string(s.protocol_errors), std::to_string(s.unexpected_errors),
+                      s.failed ? "1" : "0"});
       fc.x.push_back(double(i)), fc.y.push_back(double(s.coarse));
       ff.x.push_back(double(i)), ff.y.push_back(double(s.full));
-      frames += s.coarse + s.full, expected += s.protocol_errors, unexpected += s.unexpected_errors, failed += s.failed;
+      frames += s.coarse + s.full, expected += s.protocol_errors, unexpected += s.unexpected_errors,
+          failed += s.failed;
     }
     fc.points_only = ff.points_only = true;
-    write_csv(a.out + "/load.csv", {"client", "coarse", "full", "malformed_replies", "unexpected_errors", "failed"}, rows);
+    write_csv(a.out + "/load.csv",
+              {"client", "coarse", "full", "malformed_replies", "unexpected_errors", "failed"}, rows);
     write_chart(a.out + "/load.png",
-                {fmt::format("{} clients for {} s: frames per client", a.load_clients, a.load_seconds), "client", "frames"},
+                {fmt::format("{} clients for {} s: frames per client", a.load_clients, a.load_seconds),
+                 "client", "frames"},
                 {fc, ff});
-    summary["load"] = {{"clients", a.load_clients}, {"seconds", a.load_seconds}, {"frames", frames},
-                       {"frames_per_second", double(frames) / a.load_seconds}, {"malformed_replies", expected},
-                       {"unexpected_errors", unexpected}, {"failed_connections", failed},
-                       {"rss_before_mb", rss0 / 1e6}, {"rss_peak_mb", peak / 1e6},
+    summary["load"] = {{"clients", a.load_clients},
+                       {"seconds", a.load_seconds},
+                       {"frames", frames},
+                       {"frames_per_second", double(frames) / a.load_seconds},
+                       {"malformed_replies", expected},
+                       {"unexpected_errors", unexpected},
+                       {"failed_connections", failed},
+                       {"rss_before_mb", rss0 / 1e6},
+                       {"rss_peak_mb", peak / 1e6},
                        {"mb_per_client", (double(peak) - double(rss0)) / 1e6 / a.load_clients}};
-    fmt::print("load: {} frames in {} s from {} clients ({:.1f}/s), {} malformed replies, {} unexpected errors, "
-               "{} failed connections; RSS {:.0f} -> {:.0f} MB\n",
-               frames, a.load_seconds, a.load_clients, double(frames) / a.load_seconds, expected, unexpected, failed,
-               rss0 / 1e6, peak / 1e6);
+    fmt::print(
+        "load: {} frames in {} s from {} clients ({:.1f}/s), {} malformed replies, {} unexpected errors, "
+        "{} failed connections; RSS {:.0f} -> {:.0f} MB\n",
+        frames, a.load_seconds, a.load_clients, double(frames) / a.load_seconds, expected, unexpected, failed,
+        rss0 / 1e6, peak / 1e6);
   }
   auto st = service.stats();
-  summary["server"] = {{"coarse_frames", st.coarse_frames}, {"full_frames", st.full_frames}, {"bands", st.bands},
-                       {"errors_sent", st.errors_sent}, {"messages", st.messages}};
+  summary["server"] = {{"coarse_frames", st.coarse_frames},
+                       {"full_frames", st.full_frames},
+                       {"bands", st.bands},
+                       {"errors_sent", st.errors_sent},
+                       {"messages", st.messages}};
   std::ofstream(a.out + "/summary.json") << summary.dump(2) << "\n";
   std::cout << summary.dump(2) << "\n";
   server.stop();

@@ -1,10 +1,10 @@
 // Orbit limits from a capture's cameras, clamping, the orbit camera's geometry and row crops; the
 // catalogue listing, nudges and safe saving (refuse without confirmation, backup when replacing).
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-
-#include <gtest/gtest.h>
 
 #include "fit/placement_json.h"
 #include "viewer/catalogue.h"
@@ -25,9 +25,10 @@ fs::path tmp_dir(const std::string& name) {
 
 Camera camera_at(float yaw_deg, float pitch_deg, float dist) {
   const float k = 3.14159265f / 180.0f;
-  return render::look_at({dist * std::cos(pitch_deg * k) * std::sin(yaw_deg * k), dist * std::sin(pitch_deg * k),
-                          dist * std::cos(pitch_deg * k) * std::cos(yaw_deg * k)},
-                         {0, 0, 0}, {0, 1, 0}, 64, 64, 30.0f);
+  return render::look_at(
+      {dist * std::cos(pitch_deg * k) * std::sin(yaw_deg * k), dist * std::sin(pitch_deg * k),
+       dist * std::cos(pitch_deg * k) * std::cos(yaw_deg * k)},
+      {0, 0, 0}, {0, 1, 0}, 64, 64, 30.0f);
 }
 
 TEST(ViewerOrbit, LimitsFollowTheCaptureCamerasWithAMargin) {
@@ -119,7 +120,8 @@ TEST(ViewerCatalogue, NudgesAccumulateWithinBoundsAndActInTheFramesAxes) {
   EXPECT_DOUBLE_EQ(n.up_mm, kMaxNudgeMm);
   EXPECT_DOUBLE_EQ(n.tilt_deg, kMaxNudgeTiltDeg);
   EXPECT_TRUE(accumulate(n, NudgeMsg{0, 0, 0, true}).zero());
-  // Up 2 mm on a frame scaled 0.01 scene units per mm and turned 90 deg about z: +y canonical maps to -x scene.
+  // Up 2 mm on a frame scaled 0.01 scene units per mm and turned 90 deg about z: +y canonical maps to -x
+  // scene.
   Eigen::Matrix4d t = Eigen::Matrix4d::Identity();
   t.block<3, 3>(0, 0) << 0, -0.01, 0, 0.01, 0, 0, 0, 0, 0.01;
   Eigen::Vector4d p = t * nudge_matrix({2, 0, 0}) * Eigen::Vector4d(0, 0, 0, 1);

@@ -1,9 +1,9 @@
 // The viewer's wire protocol: every message type parses with its defaults and ranges; malformed
 // JSON, non-objects, unknown types, unknown or mistyped fields, out-of-range values and oversized
 // messages become errors with stable codes; frame headers round-trip and bad ones are refused.
-#include <gtest/gtest.h>
-
 #include "viewer/protocol.h"
+
+#include <gtest/gtest.h>
 
 namespace {
 
@@ -71,15 +71,16 @@ TEST(ViewerProtocol, MalformedAndUnknownMessagesAreRefusedWithTheirCode) {
   EXPECT_EQ(error_code(R"({"type":"teleport"})"), "unknown_type");
   ParseResult r = parse_client_message(R"({"type":"teleport"})");
   EXPECT_EQ(r.type, "teleport");
-  EXPECT_NE(r.error.message.find("camera"), std::string::npos) << "lists the known types: " << r.error.message;
+  EXPECT_NE(r.error.message.find("camera"), std::string::npos)
+      << "lists the known types: " << r.error.message;
 }
 
 TEST(ViewerProtocol, FieldsAreCheckedForPresenceTypeRangeAndName) {
-  EXPECT_EQ(error_code(R"({"type":"camera","yaw":1})"), "invalid");                       // pitch missing
-  EXPECT_EQ(error_code(R"({"type":"camera","yaw":"1","pitch":0})"), "invalid");           // string
-  EXPECT_EQ(error_code(R"({"type":"camera","yaw":1000,"pitch":0})"), "invalid");          // range
+  EXPECT_EQ(error_code(R"({"type":"camera","yaw":1})"), "invalid");               // pitch missing
+  EXPECT_EQ(error_code(R"({"type":"camera","yaw":"1","pitch":0})"), "invalid");   // string
+  EXPECT_EQ(error_code(R"({"type":"camera","yaw":1000,"pitch":0})"), "invalid");  // range
   EXPECT_EQ(error_code(R"({"type":"camera","yaw":0,"pitch":0,"distance":0})"), "invalid");
-  EXPECT_EQ(error_code(R"({"type":"camera","yaw":0,"pitch":0,"zoom":2})"), "invalid");    // unknown field
+  EXPECT_EQ(error_code(R"({"type":"camera","yaw":0,"pitch":0,"zoom":2})"), "invalid");  // unknown field
   EXPECT_EQ(error_code(R"({"type":"camera","yaw":0,"pitch":0,"seq":-1})"), "invalid");
   EXPECT_EQ(error_code(R"({"type":"camera","yaw":0,"pitch":0,"interacting":1})"), "invalid");
   EXPECT_EQ(error_code(R"({"type":"size","width":10,"height":480})"), "invalid");
@@ -87,7 +88,7 @@ TEST(ViewerProtocol, FieldsAreCheckedForPresenceTypeRangeAndName) {
   EXPECT_EQ(error_code(R"({"type":"select","index":-1})"), "invalid");
   EXPECT_EQ(error_code(R"({"type":"select","index":1.5})"), "invalid");
   EXPECT_EQ(error_code(R"({"type":"select","path":"/etc/passwd","index":0})"), "invalid");  // no paths, ever
-  EXPECT_EQ(error_code(R"({"type":"nudge"})"), "invalid");                                 // nothing to do
+  EXPECT_EQ(error_code(R"({"type":"nudge"})"), "invalid");                                  // nothing to do
   EXPECT_EQ(error_code(R"({"type":"nudge","up_mm":50})"), "invalid");
   EXPECT_EQ(error_code(R"({"type":"save","overwrite":"yes"})"), "invalid");
   EXPECT_EQ(error_code(R"({"type":"save","path":"/tmp/x.json"})"), "invalid");

@@ -5,19 +5,20 @@
 // only that connection, two clients with their own cameras, nudge + save (refused without
 // confirmation, then replaced with a backup), and a client that disconnects mid-render freeing its
 // session. One test fits a frame that has no placement and checks the fit is cached beside it.
-#include <chrono>
-#include <filesystem>
-#include <fstream>
-#include <optional>
+#include "viewer/server.h"
+
+#include <gtest/gtest.h>
 
 #include <boost/asio.hpp>
 #include <boost/beast/core.hpp>
 #include <boost/beast/http.hpp>
 #include <boost/beast/websocket.hpp>
-#include <gtest/gtest.h>
+#include <chrono>
+#include <filesystem>
+#include <fstream>
 #include <nlohmann/json.hpp>
+#include <optional>
 
-#include "viewer/server.h"
 #include "viewer/viewer_service.h"
 
 namespace {
@@ -114,7 +115,8 @@ class Client {
   std::optional<json> wait_text(const std::string& type, std::chrono::milliseconds timeout = 20s) {
     auto end = std::chrono::steady_clock::now() + timeout;
     while (std::chrono::steady_clock::now() < end) {
-      auto m = read(std::chrono::duration_cast<std::chrono::milliseconds>(end - std::chrono::steady_clock::now()));
+      auto m =
+          read(std::chrono::duration_cast<std::chrono::milliseconds>(end - std::chrono::steady_clock::now()));
       if (!m) return std::nullopt;
       if (!m->binary && m->j()["type"] == type) return m->j();
     }
@@ -125,7 +127,8 @@ class Client {
                                     std::chrono::milliseconds timeout = 30s) {
     auto end = std::chrono::steady_clock::now() + timeout;
     while (std::chrono::steady_clock::now() < end) {
-      auto m = read(std::chrono::duration_cast<std::chrono::milliseconds>(end - std::chrono::steady_clock::now()));
+      auto m =
+          read(std::chrono::duration_cast<std::chrono::milliseconds>(end - std::chrono::steady_clock::now()));
       if (!m) return std::nullopt;
       if (m->binary && m->frame().kind == kind && (!seq || m->frame().seq == *seq)) return m;
     }
@@ -157,7 +160,8 @@ std::pair<int, std::string> http_get(uint16_t port, const std::string& target, c
 class ViewerServer : public ::testing::Test {
  protected:
   void SetUp() override {
-    if (!fs::exists(kFixture / ".complete")) GTEST_SKIP() << "the viewer fixture is missing: run ctest -R viewer_fixture";
+    if (!fs::exists(kFixture / ".complete"))
+      GTEST_SKIP() << "the viewer fixture is missing: run ctest -R viewer_fixture";
   }
   void start(ViewerConfig config) {
     service_ = std::make_unique<ViewerService>(std::move(config));
@@ -189,7 +193,7 @@ TEST_F(ViewerServer, ServesThePageAndThumbnailsOnlyToLoopbackHosts) {
   EXPECT_EQ(http_get(port(), "/thumb/2.jpg", host).first, 404);
   EXPECT_EQ(http_get(port(), "/thumb/-1.jpg", host).first, 404);
   EXPECT_EQ(http_get(port(), "/../../etc/passwd", host).first, 404);
-  EXPECT_EQ(http_get(port(), "/", "attacker.example:80").first, 403);  // DNS rebinding
+  EXPECT_EQ(http_get(port(), "/", "attacker.example:80").first, 403);            // DNS rebinding
   EXPECT_THROW(Client(port(), "http://attacker.example"), beast::system_error);  // cross-origin WebSocket
 }
 
@@ -322,12 +326,14 @@ TEST_F(ViewerServer, ADisconnectMidRenderFreesTheSession) {
     c.send(R"({"type":"size","width":960,"height":540})");
     ASSERT_TRUE(c.wait_frame(FrameKind::kCoarseJpeg));
     auto t0 = std::chrono::steady_clock::now();
-    while (service_->stats().bands == 0 && std::chrono::steady_clock::now() - t0 < 20s) std::this_thread::sleep_for(10ms);
+    while (service_->stats().bands == 0 && std::chrono::steady_clock::now() - t0 < 20s)
+      std::this_thread::sleep_for(10ms);
     EXPECT_GT(service_->stats().bands, 0u) << "refinement never started";
     c.drop();
   }
   auto t0 = std::chrono::steady_clock::now();
-  while (service_->stats().clients > 0 && std::chrono::steady_clock::now() - t0 < 10s) std::this_thread::sleep_for(20ms);
+  while (service_->stats().clients > 0 && std::chrono::steady_clock::now() - t0 < 10s)
+    std::this_thread::sleep_for(20ms);
   EXPECT_EQ(service_->stats().clients, 0u) << "the dropped client's session is still held";
   uint64_t bands = service_->stats().bands;
   std::this_thread::sleep_for(500ms);

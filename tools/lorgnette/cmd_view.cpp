@@ -1,12 +1,11 @@
-// `lorgnette view MODEL [--glasses FRAME [--placement P] | --catalogue DIR] [--host 127.0.0.1] [--port 8080]`:
-// serves the interactive try-on viewer (viewer/) and prints its URL; Ctrl-C stops it.
-#include <cstdio>
-#include <iostream>
-#include <memory>
-
+// `lorgnette view MODEL [--glasses FRAME [--placement P] | --catalogue DIR] [--host 127.0.0.1] [--port
+// 8080]`: serves the interactive try-on viewer (viewer/) and prints its URL; Ctrl-C stops it.
 #include <spdlog/spdlog.h>
 
 #include <chrono>
+#include <cstdio>
+#include <iostream>
+#include <memory>
 #include <thread>
 
 #include "host/util/interrupt.h"
@@ -27,16 +26,20 @@ struct ViewArgs {
 
 void run_view(const ViewArgs& a, GlobalOptions& global) {
   using namespace viewer;
-  if (a.glasses.empty() == a.catalogue.empty()) throw std::runtime_error("give --glasses FRAME or --catalogue DIR");
+  if (a.glasses.empty() == a.catalogue.empty())
+    throw std::runtime_error("give --glasses FRAME or --catalogue DIR");
   if (!a.placement.empty() && a.glasses.empty())
-    throw std::runtime_error("--placement goes with --glasses (a catalogue's placements lie beside its frames)");
+    throw std::runtime_error(
+        "--placement goes with --glasses (a catalogue's placements lie beside its frames)");
   if (!is_loopback_host(a.host))
-    spdlog::warn("--host {}: the viewer is reachable from other machines; it has no authentication, and anyone "
-                 "who can reach it can render views and save placements beside your frames",
-                 a.host);
+    spdlog::warn(
+        "--host {}: the viewer is reachable from other machines; it has no authentication, and anyone "
+        "who can reach it can render views and save placements beside your frames",
+        a.host);
   ViewerConfig config;
   config.model_path = a.model;
-  config.catalogue = a.catalogue.empty() ? catalogue_single(a.glasses, a.placement) : catalogue_from_dir(a.catalogue);
+  config.catalogue =
+      a.catalogue.empty() ? catalogue_single(a.glasses, a.placement) : catalogue_from_dir(a.catalogue);
   config.runtime = global.runtime();
   auto size = std::sscanf(a.size.c_str(), "%ux%u", &config.width, &config.height);
   if (size != 2 || config.width < 32 || config.height < 32 || config.width > 1920 || config.height > 1080)
@@ -65,16 +68,19 @@ void add_view(CLI::App& app, GlobalOptions& global) {
   cmd->add_option("--glasses", a->glasses, "one glasses frame (glTF/GLB/OBJ/PLY)")->check(CLI::ExistingFile);
   cmd->add_option("--catalogue", a->catalogue, "a folder of frames (files, or folders holding one each)")
       ->check(CLI::ExistingDirectory);
-  cmd->add_option("--placement", a->placement, "placement.json for --glasses (default: <frame>.placement.json, "
-                                               "else the viewer fits it)")
+  cmd->add_option("--placement", a->placement,
+                  "placement.json for --glasses (default: <frame>.placement.json, "
+                  "else the viewer fits it)")
       ->check(CLI::ExistingFile);
   cmd->add_option("--host", a->host, "address to listen on (anything but loopback is reachable by others)")
       ->capture_default_str();
   cmd->add_option("--port", a->port, "port (0: any free one)")->capture_default_str();
   cmd->add_option("--size", a->size, "default viewport WxH (the page sends its own)")->capture_default_str();
   cmd->add_option("--coarse", a->coarse, "coarse frames at 1/N resolution while interacting")
-      ->capture_default_str()->check(CLI::Range(1, 8));
-  cmd->add_option("--fit-views", a->fit_views, "views rendered when fitting a frame")->capture_default_str()
+      ->capture_default_str()
+      ->check(CLI::Range(1, 8));
+  cmd->add_option("--fit-views", a->fit_views, "views rendered when fitting a frame")
+      ->capture_default_str()
       ->check(CLI::Range(4, 64));
   cmd->add_flag("--no-fit", a->no_fit, "frames without a placement get a rough stand-in instead of a fit");
   cmd->callback([a, &global] { run_view(*a, global); });
