@@ -27,7 +27,7 @@ struct ViewArgs {
 void run_view(const ViewArgs& a, GlobalOptions& global) {
   using namespace viewer;
   if (a.glasses.empty() == a.catalogue.empty())
-    throw std::runtime_error("give --glasses FRAME or --catalogue DIR");
+    throw std::runtime_error("give either --glasses FRAME or --catalogue DIR (one of them)");
   if (!a.placement.empty() && a.glasses.empty())
     throw std::runtime_error(
         "--placement goes with --glasses (a catalogue's placements lie beside its frames)");
