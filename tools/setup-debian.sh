@@ -20,6 +20,8 @@ PACKAGES=(
   libboost-dev libturbojpeg0-dev chromium nodejs npm
   # the Python bindings (python/) and their tests
   pybind11-dev python3-dev python3-numpy python3-pytest
+  # the .deb (dpkg-shlibdeps), the parser fuzzers (clang's libFuzzer) and the format check
+  dpkg-dev clang libclang-rt-14-dev clang-format
 )
 if [ -z "${LORGNETTE_SKIP_APT_UPDATE:-}" ]; then $SUDO apt-get update -q; fi
 $SUDO apt-get install -y -q --no-install-recommends "${PACKAGES[@]}"
