@@ -8,10 +8,7 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
-#include "fit/fit.h"
-#include "fit/glasses_input.h"
-#include "fit/nerf_view_source.h"
-#include "fit/placement_json.h"
+#include "fit/fit_job.h"
 #include "host/dataset/dataset.h"
 #include "host/render/evaluate.h"
 #include "host/nerf/train_job.h"
@@ -169,12 +166,11 @@ fit::FitResult stage_fit(Context& c, nerf::NerfModel& model, const std::string& 
   fo.cap.views = c.opt.fit_views;
   fo.debug_dir = c.path("fit-debug");
   fs::create_directories(fo.debug_dir);
-  fit::GlassesInput glasses = fit::load_glasses_input(glasses_path);
-  fo.frame_points = glasses.frame_points;
-  fit::ViewPrior prior = fit::prior_from_transforms(c.path("dataset/transforms.json"), model);
-  fit::NerfViewSource source(model, prior);
-  fit::FitResult r = fit::fit_glasses(source, glasses.ref, fo);
-  fit::PlacementFile pf = fit::make_placement_file(r, glasses_path, "stretch");
+  fit::NerfViewOptions views;
+  views.dataset = c.path("dataset/transforms.json");
+  fit::FitJobResult job = fit::run_fit_job(model, glasses_path, fo, views);
+  const fit::FitResult& r = job.fit;
+  const fit::PlacementFile& pf = job.placement;
   fit::write_placement(c.path("placement.json"), pf);
   c.report.fit = fit::to_json(pf);
   for (const auto& w : r.warnings) spdlog::warn("fit: {}", w);
@@ -208,7 +204,7 @@ fit::FitResult stage_fit(Context& c, nerf::NerfModel& model, const std::string& 
   gt["mm_per_unit_true"] = mm;
   c.report.ground_truth = gt;
   c.report.stages.push_back({"fit", sw.seconds()});
-  return r;
+  return std::move(job.fit);
 }
 
 void stage_render(Context& c, cl::Runtime& rt, nerf::NerfModel& model, const std::string& glasses_path,

@@ -74,7 +74,7 @@ std::vector<ViewRecord> detect_views(ViewSource& source, const LandmarkDetector&
   std::vector<ViewRecord> out(cameras.size());
   // The cap's views are framed on the face (front search): its expected width lets the detector
   // run its HOG stage on a smaller image (DetectorOptions::hog_face_px).
-  const double face_px = opt.face_fraction * opt.width;
+  const double face_px = opt.front.face_fraction * opt.front.width;
   auto detect = [&](size_t i, Image img) {
     out[i].detection = detector.detect(img, face_px);
     if (!opt.debug_dir.empty()) out[i].image = std::move(img);
@@ -84,8 +84,8 @@ std::vector<ViewRecord> detect_views(ViewSource& source, const LandmarkDetector&
   std::future<void> pending;
   for (size_t i = 0; i < cameras.size(); ++i) {
     out[i].camera = cameras[i];
-    Image img = render_cropped(source, cameras[i], opt.detector.render_crop);
-    if (!opt.detector.overlap_render) {
+    Image img = render_cropped(source, cameras[i], opt.detection.detector.render_crop);
+    if (!opt.detection.detector.overlap_render) {
       detect(i, std::move(img));
       continue;
     }
@@ -94,15 +94,15 @@ std::vector<ViewRecord> detect_views(ViewSource& source, const LandmarkDetector&
   }
   if (pending.valid()) pending.get();
   // Cropped views where the face is missing or touches the crop: redone in full (rare by design).
-  const double keep = opt.detector.render_crop;
+  const double keep = opt.detection.detector.render_crop;
   for (size_t i = 0; i < cameras.size() && cropping(keep); ++i)
     if (needs_full_view(out[i].detection, crop_rect(cameras[i], keep))) detect(i, source.render(cameras[i]));
   // Noise after all detections, in view order: the same draws as a serial run.
-  std::mt19937 rng(opt.seed);
+  std::mt19937 rng(opt.detection.seed);
   std::normal_distribution<double> noise(0.0, 1.0);
-  if (opt.detector_noise_px > 0.0)
+  if (opt.detection.noise_px > 0.0)
     for (auto& v : out)
-      for (auto& p : v.detection.points) p += opt.detector_noise_px * Eigen::Vector2d(noise(rng), noise(rng));
+      for (auto& p : v.detection.points) p += opt.detection.noise_px * Eigen::Vector2d(noise(rng), noise(rng));
   return out;
 }
 

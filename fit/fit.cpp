@@ -53,11 +53,11 @@ std::vector<ViewRecord> plan_and_detect(ViewSource& src, const LandmarkDetector&
   for (size_t i = 0; i < views.size(); ++i) views[i].yaw_deg = angles[i].x(), views[i].pitch_deg = angles[i].y();
   int found = 0;
   for (const auto& v : views) found += v.detection.found;
-  if (found < opt.min_views)
+  if (found < opt.detection.min_views)
     throw std::runtime_error(fmt::format(
         "a face was found in only {} of {} views (need {}): yaw/pitch with a face: {}; without: {}. "
         "Try more views (--views), a smaller angular range, or a higher resolution",
-        found, views.size(), opt.min_views, yaw_list(views, true), yaw_list(views, false)));
+        found, views.size(), opt.detection.min_views, yaw_list(views, true), yaw_list(views, false)));
   return views;
 }
 
@@ -101,13 +101,13 @@ void summarise(FitResult& r, const FitOptions& opt) {
   // Residuals judge the triangulated points; the surface-cast contour (temples, ears) slides with
   // the view by nature and is reported, not judged.
   for (const char* name : {"nose", "eye_l", "eye_r"})
-    if (const NamedLandmark& l = r.landmarks[name]; l.residual_px > opt.max_residual_px) {
+    if (const NamedLandmark& l = r.landmarks[name]; l.residual_px > opt.landmarks.max_residual_px) {
       r.ok = false;
-      r.warnings.push_back(fmt::format("{}: reprojection residual {:.1f} px > {:.1f}", name, l.residual_px, opt.max_residual_px));
+      r.warnings.push_back(fmt::format("{}: reprojection residual {:.1f} px > {:.1f}", name, l.residual_px, opt.landmarks.max_residual_px));
     }
   // The front (rims, bridge, pads) must not clip: that is visible in every frontal view. The temples
   // flex: they are spread at the hinges (temple_fit.h) and fail only when that cannot clear them.
-  if (r.contact.refined && r.contact.front_penetration_mm > opt.max_penetration_mm) {
+  if (r.contact.refined && r.contact.front_penetration_mm > opt.place.max_penetration_mm) {
     r.ok = false;
     r.warnings.push_back(fmt::format("the front of the frame still penetrates the face by {:.2f} mm",
                                      r.contact.front_penetration_mm));
@@ -120,105 +120,151 @@ void summarise(FitResult& r, const FitOptions& opt) {
     std::vector<std::string> w = temple_warnings(r.temples);
     r.ok = r.ok && w.empty();
     r.warnings.insert(r.warnings.end(), w.begin(), w.end());
-  } else if (r.contact.refined && r.contact.front_penetration_mm <= opt.max_penetration_mm &&
-             r.contact.penetration_mm > opt.max_penetration_mm) {
+  } else if (r.contact.refined && r.contact.front_penetration_mm <= opt.place.max_penetration_mm &&
+             r.contact.penetration_mm > opt.place.max_penetration_mm) {
     r.warnings.push_back(fmt::format("the temples pass {:.2f} mm into the head near the ears (rigid frame: the "
                                      "glasses have no hinges to spread them at)", r.contact.penetration_mm));
   }
 }
 
-}  // namespace
-
-FitResult fit_glasses(ViewSource& source, const GlassesRefPoints& glasses, const FitOptions& opt) {
-  FitResult r;
-  Face68 mean_face = mean_face_or_builtin(opt.mean_face_path);
-  const float surface = opt.surface_density > 0.0f ? opt.surface_density : source.surface_density();
+// What the stages share: the inputs, the skin's density and the result they fill in.
+struct FitRun {
+  ViewSource& source;
+  const GlassesInput& glasses;
+  const FitOptions& opt;
+  float surface = 0.0f;  // FitOptions::surface_density, else the source's own
+  FitResult& r;
   std::unique_ptr<LandmarkDetector> detector;
-  {
-    StageTimer t{r, "load_detector"};
-    detector = opt.detect ? std::make_unique<LandmarkDetector>(opt.detect)
-                          : std::make_unique<LandmarkDetector>(opt.detector);
-  }
-  {
-    StageTimer t{r, "front"};
-    FrontSearchOptions fo{opt.width, opt.height, opt.fov_y_deg, opt.sweep_views, opt.face_fraction,
-                          surface};
-    r.orbit = find_front(source, *detector, fo).orbit;
-  }
+  Face68 mean_face;
+};
+
+void load_detector(FitRun& run) {
+  StageTimer t{run.r, "load_detector"};
+  const DetectionOptions& o = run.opt.detection;
+  run.detector = o.detect ? std::make_unique<LandmarkDetector>(o.detect) : std::make_unique<LandmarkDetector>(o.detector);
+}
+
+void find_front(FitRun& run) {
+  StageTimer t{run.r, "front"};
+  run.r.orbit = fit::find_front(run.source, *run.detector, run.opt.front, run.surface).orbit;
+}
+
+std::vector<Eigen::Vector3d> positions(const std::vector<TriangulatedPoint>& points) {
+  std::vector<Eigen::Vector3d> p;
+  for (const auto& q : points) p.push_back(q.position);
+  return p;
+}
+
+// The 68 points: triangulated, the jaw contour cast onto the skin.
+void triangulate_and_cast(FitRun& run) {
+  const LandmarkOptions& o = run.opt.landmarks;
+  FitResult& r = run.r;
+  r.points = triangulate_landmarks(r.views, o.triangulate);
+  if (o.cast_contour) cast_surface_landmarks(run.source, r.views, r.orbit, o.contour, run.surface, r.points);
+}
+
+// The mean face aligned to the points (and again after they are snapped onto the skin).
+void estimate_head(FitRun& run) {
+  const LandmarkOptions& o = run.opt.landmarks;
+  FitResult& r = run.r;
   std::vector<bool> valid(lm::kCount);
+  for (int k = 0; k < lm::kCount; ++k) valid[k] = r.points[k].ok;
+  std::vector<Eigen::Vector3d> p = positions(r.points);
+  require_points(r.points);
+  r.head = estimate_head_frame(p, valid, run.mean_face);
+  if (!o.snap_to_skin) return;
+  snap_to_surface(run.source, r.views, o.snap_reach_mm / r.head.mm_per_unit, run.surface, r.points, lm::kTempleR,
+                  o.cast_contour ? lm::kTempleL : -1);
+  r.head = estimate_head_frame(positions(r.points), valid, run.mean_face);
+}
+
+// The cap of views, its landmarks and the head frame; once more on a re-centred cap when the face's
+// front is off the first cap's centre.
+void plan_detect_and_frame_head(FitRun& run) {
+  FitResult& r = run.r;
   for (int pass = 0; pass < 2; ++pass) {
     {
       StageTimer t{r, pass == 0 ? "render_detect" : "render_detect_recentred"};
-      r.views = plan_and_detect(source, *detector, r.orbit, opt);
+      r.views = plan_and_detect(run.source, *run.detector, r.orbit, run.opt);
     }
     {
       StageTimer t{r, pass == 0 ? "triangulate" : "triangulate_recentred"};
-      r.points = triangulate_landmarks(r.views, opt.triangulate);
-      if (opt.cast_contour) {
-        SurfaceCastOptions so;
-        so.max_yaw_deg = opt.contour_max_yaw_deg;
-        so.side_tolerance = opt.contour_side_tolerance;
-        so.opacity = opt.contour_opacity;
-        so.density_threshold = surface;
-        cast_surface_landmarks(source, r.views, r.orbit, so, r.points);
-      }
-      for (int k = 0; k < lm::kCount; ++k) valid[k] = r.points[k].ok;
-      std::vector<Eigen::Vector3d> p;
-      for (const auto& q : r.points) p.push_back(q.position);
-      require_points(r.points);
-      r.head = estimate_head_frame(p, valid, mean_face);
-      if (opt.snap_to_skin) {
-        snap_to_surface(source, r.views, opt.snap_reach_mm / r.head.mm_per_unit, surface,
-                        r.points, lm::kTempleR, opt.cast_contour ? lm::kTempleL : -1);
-        p.clear();
-        for (const auto& q : r.points) p.push_back(q.position);
-        r.head = estimate_head_frame(p, valid, mean_face);
-      }
+      triangulate_and_cast(run);
+      estimate_head(run);
     }
     Eigen::Vector3d f = r.head.d_fwd - r.head.d_fwd.dot(r.orbit.up) * r.orbit.up;
     double off = std::acos(std::clamp(f.normalized().dot(r.orbit.front), -1.0, 1.0)) * 180.0 / M_PI;
-    if (pass == 1 || off <= opt.recenter_deg) break;
+    if (pass == 1 || off <= run.opt.head.recenter_deg) break;
     spdlog::info("fit: the face's front is {:.1f} deg off the view cap's centre: re-planning the views", off);
     r.orbit.front = f.normalized();
   }
   r.views_used = 0;
   for (const auto& v : r.views) r.views_used += v.detection.found;
-  {
-    StageTimer t{r, "place"};
-    const auto& P = r.points;
-    r.f_c = nose_point(P[lm::kNoseBridgeTop].position, P[lm::kNoseBridge2].position, opt.nose_blend);
-    EarInputs ei{P[lm::kEyeOuterL].position, P[lm::kEyeOuterR].position, P[lm::kTempleL].position,
-                 P[lm::kTempleR].position, r.head.d_up, r.head.d_fwd};
-    r.ears = ear_points(ei, opt.alpha);
-    PlaceInputs pi{r.f_c, r.ears.f_l, r.ears.f_r, ei.t_l, ei.t_r, r.head.mm_per_unit};
-    r.placement = place_glasses(glasses, pi, opt.scale_policy);
-  }
-  if (opt.refine_contact && !opt.frame_points.empty()) {
-    DensityFn density = [&source](const std::vector<Eigen::Vector3f>& p) { return source.density(p); };
-    Eigen::Vector3d axis = 0.5 * (r.ears.f_l + r.ears.f_r);
-    ContactOptions co = opt.contact;
-    co.density_threshold = surface * opt.solid_factor;
-    co.tip_z_mm = std::min(glasses.g_l.z(), glasses.g_r.z());
-    const bool spread = opt.temples.enabled && glasses.has_hinges;
-    // With hinges the temples are fitted by spreading them (below): the front that the slide along
-    // d_fwd must clear ends where the spread takes over (the hinges plus its ramp), or a temple
-    // touching the side of the head would push the whole frame off the nose.
-    if (spread)
-      co.front_z_mm = std::max(co.front_z_mm,
-                               std::min(glasses.hinge_l.z(), glasses.hinge_r.z()) - opt.temples.ramp_mm);
-    {
-      StageTimer t{r, "contact"};
-      r.contact = refine_contact(r.placement, opt.frame_points, density, r.head.d_fwd, r.head.d_up, axis,
-                                 r.head.mm_per_unit, co);
-    }
-    if (spread) {  // spread the temples, then re-measure the frame
-      StageTimer tt{r, "temples"};
-      TempleFitInputs ti{r.placement.transform, glasses.hinge_l, glasses.hinge_r, axis, r.head.d_up,
-                         r.head.mm_per_unit};
-      r.temples = fit_temples(ti, opt.frame_points, density, co, opt.max_penetration_mm, opt.temples);
-      measure_contact(r.contact, r.placement, opt.frame_points, mesh::bend_points(r.temples.bend, opt.frame_points),
-                      density, r.head.d_up, axis, r.head.mm_per_unit, co);
-    }
+}
+
+// The nose point, the ears (Eq. 2-3) and the placement (Eq. 4-5).
+void place_on_face(FitRun& run) {
+  StageTimer t{run.r, "place"};
+  FitResult& r = run.r;
+  const HeadOptions& o = run.opt.head;
+  const auto& P = r.points;
+  r.f_c = nose_point(P[lm::kNoseBridgeTop].position, P[lm::kNoseBridge2].position, o.nose_blend);
+  EarInputs ei{P[lm::kEyeOuterL].position, P[lm::kEyeOuterR].position, P[lm::kTempleL].position,
+               P[lm::kTempleR].position, r.head.d_up, r.head.d_fwd};
+  r.ears = ear_points(ei, o.alpha);
+  PlaceInputs pi{r.f_c, r.ears.f_l, r.ears.f_r, ei.t_l, ei.t_r, r.head.mm_per_unit};
+  r.placement = place_glasses(run.glasses.ref, pi, run.opt.place.scale_policy);
+}
+
+bool spreads_temples(const FitRun& run) { return run.opt.temples.enabled && run.glasses.ref.has_hinges; }
+
+// Contact counts `solid_factor` x the skin as solid; the temple tips begin at the ear rests. With
+// hinges the temples are fitted by spreading them: the front that the slide along d_fwd must clear
+// ends where the spread takes over (the hinges plus its ramp), or a temple touching the side of the
+// head would push the whole frame off the nose.
+HeadProbe make_head_probe(const FitRun& run) {
+  const GlassesRefPoints& g = run.glasses.ref;
+  const FitResult& r = run.r;
+  ContactSearchOptions search = run.opt.place.contact;
+  if (spreads_temples(run))
+    search.front_z_mm = std::max(search.front_z_mm, std::min(g.hinge_l.z(), g.hinge_r.z()) - run.opt.temples.ramp_mm);
+  ViewSource& source = run.source;
+  return HeadProbe{[&source](const std::vector<Eigen::Vector3f>& p) { return source.density(p); },
+                   0.5 * (r.ears.f_l + r.ears.f_r),
+                   r.head.d_up,
+                   r.head.mm_per_unit,
+                   ContactOptions{search, run.surface * run.opt.place.solid_factor, std::min(g.g_l.z(), g.g_r.z())},
+                   run.glasses.frame_points};
+}
+
+void rest_on_skin(FitRun& run, const HeadProbe& head) {
+  StageTimer t{run.r, "contact"};
+  run.r.contact = refine_contact(run.r.placement, head, run.r.head.d_fwd);
+}
+
+// Spreads the temples, then re-measures the frame.
+void spread_temples(FitRun& run, const HeadProbe& head) {
+  StageTimer t{run.r, "temples"};
+  FitResult& r = run.r;
+  TempleFitInputs ti{r.placement.transform, run.glasses.ref.hinge_l, run.glasses.ref.hinge_r};
+  r.temples = fit_temples(ti, head, run.opt.place.max_penetration_mm, run.opt.temples);
+  measure_contact(r.contact, r.placement, head, mesh::bend_points(r.temples.bend, head.frame_points));
+}
+
+}  // namespace
+
+FitResult fit_glasses(ViewSource& source, const GlassesInput& glasses, const FitOptions& opt) {
+  FitResult r;
+  const float surface = opt.surface_density > 0.0f ? opt.surface_density : source.surface_density();
+  FitRun run{source, glasses, opt, surface, r, nullptr, mean_face_or_builtin(opt.head.mean_face_path)};
+  load_detector(run);
+  find_front(run);
+  plan_detect_and_frame_head(run);
+  place_on_face(run);
+  if (opt.place.refine_contact && !glasses.frame_points.empty()) {
+    const HeadProbe head = make_head_probe(run);
+    rest_on_skin(run, head);
+    if (spreads_temples(run)) spread_temples(run, head);
   }
   summarise(r, opt);
   if (!opt.debug_dir.empty()) write_debug_views(opt.debug_dir, r);

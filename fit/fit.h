@@ -11,9 +11,12 @@
 #include <vector>
 
 #include "fit/ears.h"
+#include "fit/front_search.h"
+#include "fit/glasses_input.h"
 #include "fit/head_frame.h"
 #include "fit/landmarks_dlib.h"
 #include "fit/place.h"
+#include "fit/surface_landmarks.h"
 #include "fit/temple_fit.h"
 #include "fit/triangulate.h"
 #include "fit/view_planning.h"
@@ -21,43 +24,54 @@
 
 namespace lorgnette::fit {
 
-struct FitOptions {
-  CapOptions cap;                     // K views and the yaw/pitch range around the front
-  int width = 384, height = 384;      // view resolution (pixels)
-  double fov_y_deg = 25.0;
-  double face_fraction = 0.5;         // face box width / image width after framing
-  int sweep_views = 8;                // yaw steps of the front search (when the prior has no front)
-  double recenter_deg = 8.0;          // re-plan the cap when d_fwd is further than this from its centre
+// Per stage (the stage names are those of FitResult::seconds).
+struct DetectionOptions {  // "load_detector", "render_detect"
   DetectorOptions detector;
-  DetectFn detect;                    // non-empty: this detector instead of dlib's (landmarks_dlib.h)
+  DetectFn detect;           // non-empty: this detector instead of dlib's (landmarks_dlib.h)
+  int min_views = 3;         // views with a face needed
+  double noise_px = 0.0;     // added Gaussian noise on 2D landmarks (stability study)
+  unsigned seed = 1;         // ... its draws
+};
+
+struct LandmarkOptions {  // "triangulate": the 68 points in 3D
   TriangulateOptions triangulate;
-  int min_views = 3;                  // views with a face needed
-  bool cast_contour = true;           // jaw contour (temples) by surface casting, not triangulation
-  double contour_max_yaw_deg = 25.0;  // views used for that
-  double contour_side_tolerance = 0.025;  // ... and only those that show the landmark's side (surface_landmarks.h)
-  double contour_opacity = 0.5;       // a contour ray's surface point: opacity reached (0: first density crossing)
-  bool snap_to_skin = true;           // move triangulated landmarks along their rays onto the skin
-  double snap_reach_mm = 12.0;        // how far (estimated with the mean face's scale)
-  double detector_noise_px = 0.0;     // added Gaussian noise on 2D landmarks (stability study)
-  unsigned seed = 1;
-  std::string mean_face_path;         // empty: the built-in mean face (mean_face.h)
-  double alpha = 0.5;                 // Eq. 3
-  double nose_blend = 0.5;            // f_c between dlib 27 (0) and 28 (1)
+  bool cast_contour = true;    // jaw contour (temples) by surface casting, not triangulation
+  SurfaceCastOptions contour;  // the views and depth of those casts
+  bool snap_to_skin = true;    // move triangulated landmarks along their rays onto the skin
+  double snap_reach_mm = 12.0;  // how far (estimated with the mean face's scale)
+  double max_residual_px = 6.0;  // ok = false when a used landmark's RMS residual is above this
+};
+
+struct HeadOptions {  // the head frame ("triangulate") and the ears ("place")
+  std::string mean_face_path;  // empty: the built-in mean face (mean_face.h)
+  double recenter_deg = 8.0;   // re-plan the cap when d_fwd is further than this from its centre
+  double alpha = 0.5;          // Eq. 3
+  double nose_blend = 0.5;     // f_c between dlib 27 (0) and 28 (1)
+};
+
+struct PlaceOptions {  // "place", "contact"
   ScalePolicy scale_policy = ScalePolicy::kStretch;
   bool refine_contact = true;
-  ContactOptions contact;              // its density_threshold is replaced by surface_density below
-  float surface_density = 0.0f;        // skin for the surface casts and framing; 0: the source's own
-  // Contact and penetration count as solid only `solid_factor` x that (0.2 optical depth per NeRF step,
-  // 18 % opacity per ~1.3 mm): the haze a short training leaves around a real capture (hair, the sides
-  // of a frontal capture) then no longer blocks the frame. in2n-face: temples 25 deg and still 4.75 mm
-  // in at 1x, 20 / 23 deg and clear at 5x; fangzhou-frontal: 15 mm slide and 5.5 mm front penetration
-  // at 1x, 4 mm and 0 mm at 5x; the quick demo head: 12.75 -> 10.5 mm slide.
+  ContactSearchOptions contact;
+  // Contact and penetration count as solid only `solid_factor` x the skin (0.2 optical depth per NeRF
+  // step, 18 % opacity per ~1.3 mm): the haze a short training leaves around a real capture (hair,
+  // the sides of a frontal capture) then no longer blocks the frame. in2n-face: temples 25 deg and
+  // still 4.75 mm in at 1x, 20 / 23 deg and clear at 5x; fangzhou-frontal: 15 mm slide and 5.5 mm
+  // front penetration at 1x, 4 mm and 0 mm at 5x; the quick demo head: 12.75 -> 10.5 mm slide.
   float solid_factor = 5.0f;
-  std::vector<Eigen::Vector3d> frame_points;  // canonical-mm samples of the frame (contact, penetration)
-  double max_penetration_mm = 0.5;    // ok = false above this after refinement
-  double max_residual_px = 6.0;       // ok = false when a used landmark's RMS residual is above this
-  std::string debug_dir;              // non-empty: write annotated views there
-  TempleFitOptions temples;           // spread the temples where they clip (needs the glasses' hinges)
+  double max_penetration_mm = 0.5;  // ok = false above this after refinement (and the temples' limit)
+};
+
+struct FitOptions {
+  FrontSearchOptions front;     // "front": view size, field of view, framing (the cap inherits them)
+  CapOptions cap;               // "render_detect": K views and the yaw/pitch range around the front
+  DetectionOptions detection;
+  LandmarkOptions landmarks;
+  HeadOptions head;
+  PlaceOptions place;
+  TempleFitOptions temples;     // "temples": spread them where they clip (needs the glasses' hinges)
+  float surface_density = 0.0f;  // skin for framing, surface casts and contact; 0: the source's own
+  std::string debug_dir;         // non-empty: write annotated views there
 };
 
 struct NamedLandmark {
@@ -92,7 +106,10 @@ struct FitResult {
   double total_seconds() const;
 };
 
-FitResult fit_glasses(ViewSource& source, const GlassesRefPoints& glasses, const FitOptions& options);
+// The lower-level entry on any ViewSource (the mesh in tests and benchmarks); run_fit_job
+// (fit_job.h) is the whole job on a NeRF. Without frame points the contact and temple stages are
+// skipped.
+FitResult fit_glasses(ViewSource& source, const GlassesInput& glasses, const FitOptions& options);
 
 // Renders and detects every view of `cameras` (with the noise of `options`).
 std::vector<ViewRecord> detect_views(ViewSource& source, const LandmarkDetector& detector,

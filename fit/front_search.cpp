@@ -45,7 +45,8 @@ Orbit initial_orbit(ViewSource& source, const FrontSearchOptions& opt) {
 
 }  // namespace
 
-FrontSearchResult find_front(ViewSource& source, const LandmarkDetector& detector, const FrontSearchOptions& opt) {
+FrontSearchResult find_front(ViewSource& source, const LandmarkDetector& detector, const FrontSearchOptions& opt,
+                             float density_threshold) {
   FrontSearchResult res;
   Orbit o = initial_orbit(source, opt);
   std::vector<double> yaws = source.prior().front ? std::vector<double>{0.0} : sweep_yaws(opt.sweep_views);
@@ -103,7 +104,7 @@ FrontSearchResult find_front(ViewSource& source, const LandmarkDetector& detecto
   double t = o.distance;
   double radius = 0.5 * source.bounds().size().cast<double>().norm();
   if (!first_surface_hit(source, ray.origin, ray.dir, std::max(0.0, o.distance - radius), o.distance + radius,
-                         opt.density_threshold, &t))
+                         density_threshold, &t))
     spdlog::warn("fit: no surface behind the detected face box; framing on the bounds centre");
   double face_w = (best_det.box[2] - best_det.box[0]) * t / best_cam.fx;
   Orbit framed = o;

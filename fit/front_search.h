@@ -15,8 +15,7 @@ struct FrontSearchOptions {
   int width = 384, height = 384;
   double fov_y_deg = 25.0;
   int sweep_views = 8;
-  double face_fraction = 0.5;
-  float density_threshold = 10.0f;
+  double face_fraction = 0.5;  // face box width / image width after framing
   // Then the yaw is refined by a secant search on the signed asymmetry (about 0.025 per degree near
   // the front) until it is below `asymmetry_tolerance`, at most `refine_views` more renders. Without
   // it a capture whose first camera is 20 deg off the face planned the cap 20 deg off, and the fit
@@ -36,7 +35,9 @@ struct FrontSearchResult {
 // Left/right asymmetry of a 68-point face in the image: 0 frontal, +-1 full profile.
 double face_asymmetry(const FaceDetection& d);
 
-// Throws std::runtime_error naming the yaws tried when no view shows a face.
-FrontSearchResult find_front(ViewSource& source, const LandmarkDetector& detector, const FrontSearchOptions& opt);
+// `density_threshold`: the skin, for the ray cast that frames the face. Throws std::runtime_error
+// naming the yaws tried when no view shows a face.
+FrontSearchResult find_front(ViewSource& source, const LandmarkDetector& detector, const FrontSearchOptions& opt,
+                             float density_threshold);
 
 }  // namespace lorgnette::fit

@@ -24,7 +24,7 @@ struct DetectorOptions {
   // identical; the gain is small because detection is ~2 % of a view's time (docs/bench/fit-accuracy.md).
   bool overlap_render = true;
   // detect_views: render only the central `render_crop` x `render_crop` part of each framed view
-  // (the face sits in the middle, FitOptions::face_fraction wide) and fill the rest with white, the
+  // (the face sits in the middle, FitOptions::front.face_fraction wide) and fill the rest with white, the
   // fit's background; pixels inside are those of the full render. A view whose face is missing or
   // comes within 8 px of the crop's edge is rendered again in full. 0 = render the whole view.
   double render_crop = 0.75;  // identical fits to 0 on the scan and demo NeRFs; 0.65 was not

@@ -23,7 +23,7 @@ GroundTruth mesh_ground_truth(MeshViewSource& source, const Orbit& orbit, const 
 
 GroundTruth mesh_ground_truth(MeshViewSource& source, const std::vector<Camera>& cameras,
                               const GlassesRefPoints& glasses, const FitOptions& options) {
-  LandmarkDetector detector(options.detector);
+  LandmarkDetector detector(options.detection.detector);
   std::vector<std::vector<Eigen::Vector3d>> hits(lm::kCount);
   std::vector<std::vector<Eigen::Vector3d>> side_hits(lm::kCount);  // jaw contour: from its own side only
   for (const Camera& cam : cameras) {
@@ -34,27 +34,27 @@ GroundTruth mesh_ground_truth(MeshViewSource& source, const std::vector<Camera>&
       mesh::Hit h = source.cast(r.origin.cast<float>(), r.dir.cast<float>());
       if (!h.hit) continue;
       hits[k].push_back(h.position.cast<double>());
-      if (contour_side_visible(k, d, options.contour_side_tolerance)) side_hits[k].push_back(hits[k].back());
+      if (contour_side_visible(k, d, options.landmarks.contour.side_tolerance)) side_hits[k].push_back(hits[k].back());
     }
   }
   // The fit's rule for the jaw contour (surface_landmarks.h), unless no view shows a landmark's side.
   for (int k = 0; k < lm::kCount; ++k)
     if (!side_hits[k].empty()) hits[k] = side_hits[k];
   GroundTruth gt;
-  gt.contour_side_tolerance = options.contour_side_tolerance;
+  gt.contour_side_tolerance = options.landmarks.contour.side_tolerance;
   gt.points.assign(lm::kCount, Eigen::Vector3d::Zero());
   gt.valid.assign(lm::kCount, false);
   for (int k = 0; k < lm::kCount; ++k)
     if (!hits[k].empty()) gt.points[k] = component_median(hits[k]), gt.valid[k] = true;
   if (std::count(gt.valid.begin(), gt.valid.end(), true) < 40)
     throw std::runtime_error("ground truth: the detector found no face on the mesh renders");
-  gt.head = estimate_head_frame(gt.points, gt.valid, mean_face_or_builtin(options.mean_face_path));
+  gt.head = estimate_head_frame(gt.points, gt.valid, mean_face_or_builtin(options.head.mean_face_path));
   const auto& P = gt.points;
-  gt.f_c = nose_point(P[lm::kNoseBridgeTop], P[lm::kNoseBridge2], options.nose_blend);
+  gt.f_c = nose_point(P[lm::kNoseBridgeTop], P[lm::kNoseBridge2], options.head.nose_blend);
   EarInputs ei{P[lm::kEyeOuterL], P[lm::kEyeOuterR], P[lm::kTempleL], P[lm::kTempleR], gt.head.d_up, gt.head.d_fwd};
-  gt.ears = ear_points(ei, options.alpha);
+  gt.ears = ear_points(ei, options.head.alpha);
   gt.placement = place_glasses(glasses, {gt.f_c, gt.ears.f_l, gt.ears.f_r, ei.t_l, ei.t_r, gt.head.mm_per_unit},
-                               options.scale_policy);
+                               options.place.scale_policy);
   return gt;
 }
 

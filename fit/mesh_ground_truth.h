@@ -1,7 +1,7 @@
 // Ground truth for the fit on a mesh head: the same detector on renders of the mesh, each 2D landmark
 // ray cast onto the mesh surface, the hits combined per landmark (component-wise median over the
 // views; for the jaw contour, over the views that show its side, as the fit does: FitOptions::
-// contour_side_tolerance, a huge value restores all views); from those, the reference placement's
+// landmarks.contour.side_tolerance, a huge value restores all views); from those, the reference placement's
 // f_c, f_l, f_r and head axes, to which a fit is compared (3D errors in mm, rotation error in degrees).
 #pragma once
 #include <vector>

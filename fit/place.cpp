@@ -85,27 +85,27 @@ std::vector<Eigen::Vector3d> transform_points(const Eigen::Matrix4d& t, const st
 
 }  // namespace
 
-std::vector<double> penetration_depths_mm(const DensityFn& density, const std::vector<Eigen::Vector3d>& scene_points,
-                                          const Eigen::Vector3d& axis_point, const Eigen::Vector3d& d_up,
-                                          double mm_per_unit, const ContactOptions& opt, int max_probes) {
+std::vector<double> penetration_depths_mm(const HeadProbe& head, const std::vector<Eigen::Vector3d>& scene_points,
+                                          int max_probes) {
+  const ContactOptions& opt = head.contact;
   std::vector<double> depth(scene_points.size(), 0.0);
-  auto in = inside(density, scene_points, opt.density_threshold);
+  auto in = inside(head.density, scene_points, opt.density_threshold);
   std::vector<Eigen::Vector3d> pts, dirs;
   std::vector<size_t> who;
   for (size_t i = 0; i < scene_points.size(); ++i) {
     if (!in[i]) continue;
-    Eigen::Vector3d r = scene_points[i] - axis_point;
-    r -= r.dot(d_up) * d_up;  // horizontal, away from the head's vertical axis
+    Eigen::Vector3d r = scene_points[i] - head.axis_point;
+    r -= r.dot(head.d_up) * head.d_up;  // horizontal, away from the head's vertical axis
     pts.push_back(scene_points[i]);
-    dirs.push_back(r.norm() > 1e-12 ? r.normalized() : Eigen::Vector3d(d_up.unitOrthogonal()));
+    dirs.push_back(r.norm() > 1e-12 ? r.normalized() : Eigen::Vector3d(head.d_up.unitOrthogonal()));
     who.push_back(i);
     depth[i] = (max_probes + 1) * opt.step_mm;  // until a probe finds it outside
   }
-  const double step = opt.step_mm / mm_per_unit;
+  const double step = opt.step_mm / head.mm_per_unit;
   for (int k = 1; k <= max_probes && !pts.empty(); ++k) {
     std::vector<Eigen::Vector3d> probe;
     for (size_t i = 0; i < pts.size(); ++i) probe.push_back(pts[i] + dirs[i] * (k * step));
-    auto still = inside(density, probe, opt.density_threshold);
+    auto still = inside(head.density, probe, opt.density_threshold);
     size_t n = 0;
     for (size_t i = 0; i < pts.size(); ++i) {
       if (still[i])
@@ -118,31 +118,30 @@ std::vector<double> penetration_depths_mm(const DensityFn& density, const std::v
   return depth;
 }
 
-double penetration_depth_mm(const DensityFn& density, const std::vector<Eigen::Vector3d>& scene_points,
-                            const Eigen::Vector3d& axis_point, const Eigen::Vector3d& d_up,
-                            double mm_per_unit, const ContactOptions& opt, int* inside_count) {
+double penetration_depth_mm(const HeadProbe& head, const std::vector<Eigen::Vector3d>& scene_points,
+                            int* inside_count) {
+  const ContactOptions& opt = head.contact;
   const int probes = static_cast<int>(std::floor(2.0 * opt.max_shift_mm / opt.step_mm + 1e-9));
-  auto depth = penetration_depths_mm(density, scene_points, axis_point, d_up, mm_per_unit, opt, probes);
+  auto depth = penetration_depths_mm(head, scene_points, probes);
   if (inside_count) *inside_count = int(std::count_if(depth.begin(), depth.end(), [](double d) { return d > 0.0; }));
   double deepest = depth.empty() ? 0.0 : *std::max_element(depth.begin(), depth.end());
   return std::min(deepest, probes * opt.step_mm);  // still inside at the last probe: that far at least
 }
 
-ContactResult refine_contact(Placement& placement, const std::vector<Eigen::Vector3d>& frame_points,
-                             const DensityFn& density, const Eigen::Vector3d& d_fwd, const Eigen::Vector3d& d_up,
-                             const Eigen::Vector3d& axis_point, double mm_per_unit, const ContactOptions& opt) {
+ContactResult refine_contact(Placement& placement, const HeadProbe& head, const Eigen::Vector3d& d_fwd) {
   ContactResult res;
-  if (frame_points.empty() || !(mm_per_unit > 0.0)) return res;
+  const ContactOptions& opt = head.contact;
+  if (head.frame_points.empty() || !(head.mm_per_unit > 0.0)) return res;
   std::vector<Eigen::Vector3d> front_canon, body_canon;
-  for (const auto& p : frame_points) {
+  for (const auto& p : head.frame_points) {
     if (p.z() > opt.front_z_mm) front_canon.push_back(p);
     if (p.z() >= opt.tip_z_mm) body_canon.push_back(p);
   }
-  res.penetration_before_mm = penetration_depth_mm(density, transform_points(placement.transform, body_canon),
-                                                   axis_point, d_up, mm_per_unit, opt);
+  res.penetration_before_mm = penetration_depth_mm(head, transform_points(placement.transform, body_canon));
   auto front = transform_points(placement.transform, front_canon);
-  const Eigen::Vector3d unit = d_fwd.normalized() / mm_per_unit;  // one mm along d_fwd, scene units
+  const Eigen::Vector3d unit = d_fwd.normalized() / head.mm_per_unit;  // one mm along d_fwd, scene units
   const float thr = opt.density_threshold;
+  const DensityFn& density = head.density;
   double shift = 0.0;
   if (count_inside(density, front, Eigen::Vector3d::Zero(), thr) > 0) {
     for (shift = opt.step_mm; shift <= opt.max_shift_mm; shift += opt.step_mm)
@@ -158,28 +157,26 @@ ContactResult refine_contact(Placement& placement, const std::vector<Eigen::Vect
   placement.transform.block<3, 1>(0, 3) += shift * unit;
   res.shift_mm = shift;
   res.refined = true;
-  measure_contact(res, placement, frame_points, {}, density, d_up, axis_point, mm_per_unit, opt);
+  measure_contact(res, placement, head);
   return res;
 }
 
-void measure_contact(ContactResult& res, const Placement& placement, const std::vector<Eigen::Vector3d>& frame_points,
-                     const std::vector<Eigen::Vector3d>& deformed, const DensityFn& density,
-                     const Eigen::Vector3d& d_up, const Eigen::Vector3d& axis_point, double mm_per_unit,
-                     const ContactOptions& opt) {
+void measure_contact(ContactResult& res, const Placement& placement, const HeadProbe& head,
+                     const std::vector<Eigen::Vector3d>& deformed) {
+  const std::vector<Eigen::Vector3d>& frame_points = head.frame_points;
   if (!deformed.empty() && deformed.size() != frame_points.size())
     throw std::runtime_error("measure_contact: deformed points must match the frame points one to one");
   std::vector<Eigen::Vector3d> front, body, tip;
   for (size_t i = 0; i < frame_points.size(); ++i) {
     const Eigen::Vector3d& p = frame_points[i];
     const Eigen::Vector3d& q = deformed.empty() ? p : deformed[i];
-    if (p.z() > opt.front_z_mm) front.push_back(q);
-    (p.z() >= opt.tip_z_mm ? body : tip).push_back(q);
+    if (p.z() > head.contact.front_z_mm) front.push_back(q);
+    (p.z() >= head.contact.tip_z_mm ? body : tip).push_back(q);
   }
   const Eigen::Matrix4d& t = placement.transform;
-  res.penetration_mm = penetration_depth_mm(density, transform_points(t, body), axis_point, d_up, mm_per_unit, opt,
-                                            &res.points_inside);
-  res.front_penetration_mm = penetration_depth_mm(density, transform_points(t, front), axis_point, d_up, mm_per_unit, opt);
-  res.tip_penetration_mm = penetration_depth_mm(density, transform_points(t, tip), axis_point, d_up, mm_per_unit, opt);
+  res.penetration_mm = penetration_depth_mm(head, transform_points(t, body), &res.points_inside);
+  res.front_penetration_mm = penetration_depth_mm(head, transform_points(t, front));
+  res.tip_penetration_mm = penetration_depth_mm(head, transform_points(t, tip));
 }
 
 }  // namespace lorgnette::fit

@@ -4,11 +4,12 @@
 // the paper lacks: slide the frame along d_fwd so that its front rests on the skin with nothing
 // inside the head, judged by density queries, and measure what still penetrates.
 #pragma once
-#include <functional>
 #include <string>
 #include <vector>
 
 #include <Eigen/Core>
+
+#include "fit/head_probe.h"
 
 namespace lorgnette::fit {
 
@@ -46,19 +47,6 @@ struct PlaceInputs {
 };
 Placement place_glasses(const GlassesRefPoints& g, const PlaceInputs& in, ScalePolicy policy);
 
-// Density of the head at scene points (a NeRF's sigma, or a mesh's inside indicator).
-using DensityFn = std::function<std::vector<float>(const std::vector<Eigen::Vector3f>&)>;
-
-struct ContactOptions {
-  float density_threshold = 10.0f;  // "inside the head" above this (scene-units^-1 for a NeRF)
-  double max_shift_mm = 15.0;       // search range along d_fwd, both ways
-  double step_mm = 0.25;            // resolution of the search and of the penetration depth
-  double front_z_mm = -25.0;        // frame points with canonical z above this form the "front"
-  // Points behind this canonical z are the temple tips, which wrap behind the ear and press on the
-  // skull by design: reported separately (fit_glasses sets it to the ear rest points' z).
-  double tip_z_mm = -1e9;
-};
-
 struct ContactResult {
   double shift_mm = 0.0;            // applied along d_fwd (+ = away from the face)
   double penetration_before_mm = 0.0, penetration_mm = 0.0;  // deepest front/arm point inside the head
@@ -70,30 +58,25 @@ struct ContactResult {
 
 // Penetration (mm) of each sample point: 0 when it is outside; else k * step_mm for the first of the
 // probes k = 1..max_probes, taken outwards (horizontally away from the head's vertical axis through
-// `axis_point`), that is outside; (max_probes + 1) * step_mm when every probe is still inside. One
-// density query per probe step for all points, so callers batch (the temple search: 8 angles).
-std::vector<double> penetration_depths_mm(const DensityFn& density, const std::vector<Eigen::Vector3d>& scene_points,
-                                          const Eigen::Vector3d& axis_point, const Eigen::Vector3d& d_up,
-                                          double mm_per_unit, const ContactOptions& opt, int max_probes);
+// the probe's axis point), that is outside; (max_probes + 1) * step_mm when every probe is still
+// inside. One density query per probe step for all points, so callers batch (the temple search: 8
+// angles).
+std::vector<double> penetration_depths_mm(const HeadProbe& head, const std::vector<Eigen::Vector3d>& scene_points,
+                                          int max_probes);
 
 // Deepest penetration (mm) of the frame's sample points (the above, probing up to 2 max_shift_mm).
-double penetration_depth_mm(const DensityFn& density, const std::vector<Eigen::Vector3d>& scene_points,
-                            const Eigen::Vector3d& axis_point, const Eigen::Vector3d& d_up,
-                            double mm_per_unit, const ContactOptions& opt, int* inside_count = nullptr);
+double penetration_depth_mm(const HeadProbe& head, const std::vector<Eigen::Vector3d>& scene_points,
+                            int* inside_count = nullptr);
 
 // Fills penetration_mm (front and arms), points_inside, front_penetration_mm and tip_penetration_mm
-// of `res` for the frame as placed. `frame_points` (canonical mm) decide which group a sample is in;
-// `deformed` (same size, or empty = undeformed) are where the samples actually are (the temple
-// spread, mesh/temple_bend.h).
-void measure_contact(ContactResult& res, const Placement& placement, const std::vector<Eigen::Vector3d>& frame_points,
-                     const std::vector<Eigen::Vector3d>& deformed, const DensityFn& density,
-                     const Eigen::Vector3d& d_up, const Eigen::Vector3d& axis_point, double mm_per_unit,
-                     const ContactOptions& opt);
+// of `res` for the frame as placed. The probe's frame points (canonical mm) decide which group a
+// sample is in; `deformed` (same size, or empty = undeformed) are where the samples actually are (the
+// temple spread, mesh/temple_bend.h).
+void measure_contact(ContactResult& res, const Placement& placement, const HeadProbe& head,
+                     const std::vector<Eigen::Vector3d>& deformed = {});
 
 // Slides `placement` along d_fwd: outwards until the front clears the head, or inwards until it first
-// touches (nose pads resting on the skin). `frame_points` are canonical mm samples of the frame.
-ContactResult refine_contact(Placement& placement, const std::vector<Eigen::Vector3d>& frame_points,
-                             const DensityFn& density, const Eigen::Vector3d& d_fwd, const Eigen::Vector3d& d_up,
-                             const Eigen::Vector3d& axis_point, double mm_per_unit, const ContactOptions& opt);
+// touches (nose pads resting on the skin).
+ContactResult refine_contact(Placement& placement, const HeadProbe& head, const Eigen::Vector3d& d_fwd);
 
 }  // namespace lorgnette::fit

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "fit/camera_math.h"
+#include "fit/fit.h"
 #include "fit/front_search.h"
 #include "fit/ray_surface.h"
 
@@ -30,7 +31,8 @@ bool contour_side_visible(int k, const FaceDetection& detection, double toleranc
 }
 
 void cast_surface_landmarks(ViewSource& source, const std::vector<ViewRecord>& views, const Orbit& orbit,
-                            const SurfaceCastOptions& opt, std::vector<TriangulatedPoint>& points) {
+                            const SurfaceCastOptions& opt, float density_threshold,
+                            std::vector<TriangulatedPoint>& points) {
   const double t0 = opt.near * orbit.distance, t1 = opt.far * orbit.distance;
   std::vector<size_t> in_range;  // views with a face within max_yaw_deg
   for (size_t v = 0; v < views.size(); ++v)
@@ -46,7 +48,7 @@ void cast_surface_landmarks(ViewSource& source, const std::vector<ViewRecord>& v
       Ray r = camera_ray(views[v].camera, views[v].detection.points[k]);
       double t = 0.0;
       const bool hit = opt.opacity > 0.0 ? opacity_depth(source, r.origin, r.dir, t0, t1, opt.opacity, &t)
-                                         : first_surface_hit(source, r.origin, r.dir, t0, t1, opt.density_threshold, &t);
+                                         : first_surface_hit(source, r.origin, r.dir, t0, t1, density_threshold, &t);
       if (hit) hits.push_back(r.origin + t * r.dir), used.push_back(int(v));
     }
     if (hits.empty()) continue;

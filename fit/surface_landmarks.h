@@ -11,9 +11,16 @@
 #pragma once
 #include <vector>
 
-#include "fit/fit.h"
+#include <Eigen/Core>
+
+#include "fit/landmarks_dlib.h"
+#include "fit/triangulate.h"
+#include "fit/view_planning.h"
+#include "fit/view_source.h"
 
 namespace lorgnette::fit {
+
+struct ViewRecord;  // fit.h
 
 // Per-axis median of 3D points (robust centre of a landmark's surface hits); throws on none.
 Eigen::Vector3d component_median(std::vector<Eigen::Vector3d> points);
@@ -23,9 +30,8 @@ struct SurfaceCastOptions {
   double max_yaw_deg = 25.0;    // only views this close to the front
   double side_tolerance = 0.025;  // see contour_side_visible
   // The surface point of a ray: where its opacity reaches this level (0, 1), as a render shows it;
-  // 0 = the first density crossing of density_threshold (stops at a NeRF's haze and floaters).
+  // 0 = the first density crossing of the skin's density (stops at a NeRF's haze and floaters).
   double opacity = 0.5;
-  float density_threshold = 10.0f;
   double near = 0.5, far = 1.3; // search range along the ray, as fractions of the orbit distance
 };
 
@@ -37,8 +43,10 @@ bool contour_side_visible(int k, const FaceDetection& detection, double toleranc
 
 // Replaces points[first..last] with surface casts where at least one view hits; others unchanged. A
 // landmark that no view shows from its side (a cap far off the face's front) uses all views.
+// `density_threshold`: the skin (used with opacity 0).
 void cast_surface_landmarks(ViewSource& source, const std::vector<ViewRecord>& views, const Orbit& orbit,
-                            const SurfaceCastOptions& options, std::vector<TriangulatedPoint>& points);
+                            const SurfaceCastOptions& options, float density_threshold,
+                            std::vector<TriangulatedPoint>& points);
 
 // Moves each triangulated landmark (outside the cast range) onto the skin: along the mean direction
 // of its inlier rays, to the first density hit within +-`reach` scene units of the triangulated

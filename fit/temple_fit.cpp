@@ -8,6 +8,8 @@
 #include <Eigen/Geometry>
 #include <fmt/format.h>
 
+#include "fit/place.h"
+
 namespace lorgnette::fit {
 namespace {
 
@@ -27,9 +29,10 @@ std::vector<Eigen::Vector3d> placed(const TempleFitInputs& in, const mesh::Templ
 
 // For each angle: true when the side's samples, spread by it, penetrate at most `limit_mm`
 // (penetration_depths_mm stopped at the limit; all angles of the batch in one walk).
-std::vector<bool> passes(const TempleFitInputs& in, mesh::TempleBend bend, int side,
+std::vector<bool> passes(const TempleFitInputs& in, const HeadProbe& head, mesh::TempleBend bend, int side,
                          const std::vector<Eigen::Vector3d>& pts, const std::vector<double>& angles,
-                         const DensityFn& density, const ContactOptions& c, double limit_mm) {
+                         double limit_mm) {
+  const ContactOptions& c = head.contact;
   std::vector<Eigen::Vector3d> q;
   std::vector<size_t> owner;
   for (size_t a = 0; a < angles.size(); ++a) {
@@ -37,29 +40,28 @@ std::vector<bool> passes(const TempleFitInputs& in, mesh::TempleBend bend, int s
     for (const auto& p : placed(in, bend, pts)) q.push_back(p), owner.push_back(a);
   }
   const int probes = static_cast<int>(std::floor(limit_mm / c.step_mm + 1e-9));
-  auto depth = penetration_depths_mm(density, q, in.axis_point, in.d_up, in.mm_per_unit, c, probes);
+  auto depth = penetration_depths_mm(head, q, probes);
   std::vector<bool> ok(angles.size(), true);
   for (size_t i = 0; i < q.size(); ++i)
     if (depth[i] > probes * c.step_mm + 1e-9) ok[owner[i]] = false;
   return ok;
 }
 
-double penetration(const TempleFitInputs& in, const mesh::TempleBend& bend, const std::vector<Eigen::Vector3d>& pts,
-                   const DensityFn& density, const ContactOptions& c) {
-  return penetration_depth_mm(density, placed(in, bend, pts), in.axis_point, in.d_up, in.mm_per_unit, c);
+double penetration(const TempleFitInputs& in, const HeadProbe& head, const mesh::TempleBend& bend,
+                   const std::vector<Eigen::Vector3d>& pts) {
+  return penetration_depth_mm(head, placed(in, bend, pts));
 }
 
 // The smallest angle on the search grid that passes; the maximum when none does.
-double search_spread(const TempleFitInputs& in, const mesh::TempleBend& bend, int side,
-                     const std::vector<Eigen::Vector3d>& pts, const DensityFn& density, const ContactOptions& c,
-                     double limit_mm, const TempleFitOptions& opt) {
+double search_spread(const TempleFitInputs& in, const HeadProbe& head, const mesh::TempleBend& bend, int side,
+                     const std::vector<Eigen::Vector3d>& pts, double limit_mm, const TempleFitOptions& opt) {
   std::vector<double> grid;
   const int n = static_cast<int>(std::floor(opt.max_spread_deg / opt.step_deg + 1e-9));
   for (int k = 1; k <= n; ++k) grid.push_back(k * opt.step_deg);
   if (grid.empty() || grid.back() < opt.max_spread_deg - 1e-9) grid.push_back(opt.max_spread_deg);
   for (size_t b = 0; b < grid.size(); b += kBatch) {
     std::vector<double> batch(grid.begin() + b, grid.begin() + std::min(grid.size(), b + kBatch));
-    std::vector<bool> ok = passes(in, bend, side, pts, batch, density, c, limit_mm);
+    std::vector<bool> ok = passes(in, head, bend, side, pts, batch, limit_mm);
     for (size_t i = 0; i < batch.size(); ++i)
       if (ok[i]) return batch[i];
   }
@@ -68,13 +70,12 @@ double search_spread(const TempleFitInputs& in, const mesh::TempleBend& bend, in
 
 }  // namespace
 
-TempleFitResult fit_temples(const TempleFitInputs& in, const std::vector<Eigen::Vector3d>& frame_points,
-                            const DensityFn& density, const ContactOptions& contact, double max_penetration_mm,
+TempleFitResult fit_temples(const TempleFitInputs& in, const HeadProbe& head, double max_penetration_mm,
                             const TempleFitOptions& opt) {
   if (!(opt.step_deg > 0.0) || !(opt.max_spread_deg > 0.0) || opt.max_spread_deg > 60.0 || !(opt.ramp_mm > 0.0))
     throw std::runtime_error(fmt::format("temple fit: need 0 < step ({}) and 0 < max spread ({}) <= 60 degrees and a "
                                          "ramp > 0 ({} mm)", opt.step_deg, opt.max_spread_deg, opt.ramp_mm));
-  if (!(in.mm_per_unit > 0.0)) throw std::runtime_error("temple fit: mm_per_unit must be > 0");
+  if (!(head.mm_per_unit > 0.0)) throw std::runtime_error("temple fit: mm_per_unit must be > 0");
   TempleFitResult res;
   res.fitted = true;
   res.bend.left.hinge = in.hinge_l;
@@ -83,16 +84,16 @@ TempleFitResult fit_temples(const TempleFitInputs& in, const std::vector<Eigen::
   for (int side : {+1, -1}) {
     TempleSideFit& sf = side > 0 ? res.left : res.right;
     std::vector<Eigen::Vector3d> pts;
-    for (const auto& p : frame_points)
+    for (const auto& p : head.frame_points)
       if (mesh::temple_side(res.bend, p) == side) pts.push_back(p);
     sf.points = static_cast<int>(pts.size());
     if (pts.empty()) continue;
-    sf.penetration_before_mm = sf.penetration_mm = penetration(in, res.bend, pts, density, contact);
+    sf.penetration_before_mm = sf.penetration_mm = penetration(in, head, res.bend, pts);
     if (sf.penetration_before_mm > max_penetration_mm) {
-      double a = search_spread(in, res.bend, side, pts, density, contact, max_penetration_mm, opt);
+      double a = search_spread(in, head, res.bend, side, pts, max_penetration_mm, opt);
       (side > 0 ? res.bend.left : res.bend.right).spread_deg = a;
       sf.spread_deg = a;
-      sf.penetration_mm = penetration(in, res.bend, pts, density, contact);
+      sf.penetration_mm = penetration(in, head, res.bend, pts);
     }
     sf.clear = sf.penetration_mm <= max_penetration_mm + 1e-9;
   }

@@ -11,7 +11,7 @@
 
 #include <Eigen/Core>
 
-#include "fit/place.h"
+#include "fit/head_probe.h"
 #include "mesh/temple_bend.h"
 
 namespace lorgnette::fit {
@@ -40,13 +40,10 @@ struct TempleFitResult {
 struct TempleFitInputs {
   Eigen::Matrix4d transform = Eigen::Matrix4d::Identity();  // canonical mm -> scene, after refine_contact
   Eigen::Vector3d hinge_l{0, 0, 0}, hinge_r{0, 0, 0};        // canonical mm
-  Eigen::Vector3d axis_point{0, 0, 0}, d_up{0, 1, 0};        // the head's vertical axis (penetration_depth_mm)
-  double mm_per_unit = 1.0;
 };
 
-// `frame_points`: canonical-mm samples of the frame; `max_penetration_mm`: the allowed depth.
-TempleFitResult fit_temples(const TempleFitInputs& in, const std::vector<Eigen::Vector3d>& frame_points,
-                            const DensityFn& density, const ContactOptions& contact, double max_penetration_mm,
+// The probe's frame points are the samples searched; `max_penetration_mm`: the allowed depth.
+TempleFitResult fit_temples(const TempleFitInputs& in, const HeadProbe& head, double max_penetration_mm,
                             const TempleFitOptions& options);
 
 // One warning per temple that still clips at the largest spread (empty: the temples fit). The

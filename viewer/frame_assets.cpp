@@ -11,9 +11,8 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
-#include "fit/fit.h"
+#include "fit/fit_job.h"
 #include "fit/glasses_input.h"
-#include "fit/nerf_view_source.h"
 #include "host/nerf/model.h"
 #include "mesh/temple_bend.h"
 #include "viewer/image_codec.h"
@@ -217,15 +216,10 @@ void FrameAssets::run_fit(uint32_t i) {
     fit::GlassesInput glasses = fit::load_glasses_input(e.path);
     fit::FitOptions opt;
     opt.cap.views = fit_.views;
-    opt.width = opt.height = fit_.resolution;
-    opt.frame_points = glasses.frame_points;
+    opt.front.width = opt.front.height = fit_.resolution;
     cl::Runtime rt(fit_.runtime);
     nerf::NerfModel model = nerf::NerfModel::load(rt, fit_.model_path);
-    std::string transforms = model.metadata.dataset_path;
-    if (!transforms.empty() && fs::is_directory(transforms)) transforms += "/transforms.json";
-    fit::NerfViewSource source(model, fit::prior_from_transforms(transforms, model));
-    fit::FitResult r = fit::fit_glasses(source, glasses.ref, opt);
-    return fit::make_placement_file(r, e.path, "stretch");
+    return fit::run_fit_job(model, glasses, opt).placement;
   });
   auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
   while (work.wait_for(std::chrono::seconds(1)) != std::future_status::ready)

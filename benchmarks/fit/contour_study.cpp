@@ -55,7 +55,9 @@ int main(int argc, char** argv) {
   auto mesh = subject_source(argv[3], model, prior, true);
   GlassesInput g = load_glasses_input(std::string(LORGNETTE_DATA_DIR) + "/glasses/glasses-06/scene.gltf", 500);
   FitOptions base;
-  FitResult ref = fit_glasses(*mesh, g.ref, base);
+  GlassesInput no_frame;  // the reference points alone: no contact stage, as only the orbit is used
+  no_frame.ref = g.ref;
+  FitResult ref = fit_glasses(*mesh, no_frame, base);
   GroundTruth gt = mesh_ground_truth(*mesh, ref.orbit, {-20, -10, 0, 10, 20}, g.ref, base);
   const double mm = gt.head.mm_per_unit;
   auto head = [&](const Eigen::Vector3d& p) {
@@ -66,7 +68,7 @@ int main(int argc, char** argv) {
   for (int k : {lm::kTempleR, lm::kTempleL})
     std::cout << fmt::format("GT point {}: {}  ear {}\n", k, head(gt.points[k]),
                              head(k == lm::kTempleR ? gt.ears.f_r : gt.ears.f_l));
-  LandmarkDetector det(base.detector);
+  LandmarkDetector det(base.detection.detector);
   const float thr = nerf.surface_density();
   const double t0 = 0.5 * ref.orbit.distance, t1 = 1.3 * ref.orbit.distance;
   for (double yaw = -40; yaw <= 40; yaw += 5) {

@@ -32,6 +32,7 @@
 #include "fit/camera_math.h"
 #include "fit/detect_views.h"
 #include "fit/fit.h"
+#include "fit/fit_job.h"
 #include "fit/glasses_input.h"
 #include "fit/landmark_ids.h"
 #include "fit/mesh_ground_truth.h"
@@ -62,20 +63,22 @@ struct Variant {
 
 // The speed options compared (DetectorOptions in fit/landmarks_dlib.h; K in FitOptions::cap).
 void plain(FitOptions& o) {
-  o.detector.overlap_render = false, o.detector.hog_face_px = 0.0, o.detector.render_crop = 0.0;
+  DetectorOptions& d = o.detection.detector;
+  d.overlap_render = false, d.hog_face_px = 0.0, d.render_crop = 0.0;
 }
 void fast(FitOptions& o) {
-  o.detector.overlap_render = true, o.detector.hog_face_px = 100.0, o.detector.render_crop = 0.75;
+  DetectorOptions& d = o.detection.detector;
+  d.overlap_render = true, d.hog_face_px = 100.0, d.render_crop = 0.75;
 }
 
 const std::vector<Variant>& all_variants() {
   // Each starts from the speed options all off ("baseline", the fit before this work).
   static const std::vector<Variant> v = {
       {"baseline", [](FitOptions&) {}},
-      {"overlap", [](FitOptions& o) { o.detector.overlap_render = true; }},
-      {"hog", [](FitOptions& o) { o.detector.hog_face_px = 100.0; }},
-      {"crop75", [](FitOptions& o) { o.detector.render_crop = 0.75; }},
-      {"crop65", [](FitOptions& o) { o.detector.render_crop = 0.65; }},
+      {"overlap", [](FitOptions& o) { o.detection.detector.overlap_render = true; }},
+      {"hog", [](FitOptions& o) { o.detection.detector.hog_face_px = 100.0; }},
+      {"crop75", [](FitOptions& o) { o.detection.detector.render_crop = 0.75; }},
+      {"crop65", [](FitOptions& o) { o.detection.detector.render_crop = 0.65; }},
       {"step15", [](FitOptions&) {}, 1.5f},
       {"fast", [](FitOptions& o) { fast(o); }},
       {"fast_k8", [](FitOptions& o) { fast(o), o.cap.views = 8; }},
@@ -83,12 +86,12 @@ const std::vector<Variant>& all_variants() {
       {"fast_t4e3", [](FitOptions& o) { fast(o); }, 1.0f, 1.0f / 255.0f},  // stop below one 8-bit level
       // The jaw contour cast from every view at its first density crossing (the fit before the
       // near-side views and the opacity depth), and each of the two changes alone.
-      {"contour_all_first", [](FitOptions& o) { fast(o), o.contour_side_tolerance = 1e9, o.contour_opacity = 0.0; }},
-      {"contour_all", [](FitOptions& o) { fast(o), o.contour_side_tolerance = 1e9; }},
-      {"contour_first", [](FitOptions& o) { fast(o), o.contour_opacity = 0.0; }},
+      {"contour_all_first", [](FitOptions& o) { fast(o), o.landmarks.contour.side_tolerance = 1e9, o.landmarks.contour.opacity = 0.0; }},
+      {"contour_all", [](FitOptions& o) { fast(o), o.landmarks.contour.side_tolerance = 1e9; }},
+      {"contour_first", [](FitOptions& o) { fast(o), o.landmarks.contour.opacity = 0.0; }},
       // Stricter near-side rules: views turned about 5 / 10 deg towards the landmark's side.
-      {"side5", [](FitOptions& o) { fast(o), o.contour_side_tolerance = -0.125; }},
-      {"side10", [](FitOptions& o) { fast(o), o.contour_side_tolerance = -0.25; }},
+      {"side5", [](FitOptions& o) { fast(o), o.landmarks.contour.side_tolerance = -0.125; }},
+      {"side10", [](FitOptions& o) { fast(o), o.landmarks.contour.side_tolerance = -0.25; }},
       {"thr50", [](FitOptions& o) { fast(o), o.surface_density = 50.0f; }},
       {"thr200", [](FitOptions& o) { fast(o), o.surface_density = 200.0f; }},
       {"thr1000", [](FitOptions& o) { fast(o), o.surface_density = 1000.0f; }},
@@ -108,17 +111,18 @@ struct Row {
   std::string stages, error;
 };
 
-Row run_fit(ViewSource& src, const GlassesInput& g, const GroundTruth& gt, const FitOptions& opt,
+// Scores the fit that `fit` runs (with `opt`) against the ground truth.
+Row run_fit(const std::function<FitResult()>& fit, const GlassesInput& g, const GroundTruth& gt, const FitOptions& opt,
             const Eigen::Vector3d& scene_up, MeshViewSource* mesh = nullptr) {
   Row row;
   try {
-    FitResult r = fit_glasses(src, g.ref, opt);
+    FitResult r = fit();
     row.e = compare_fit(r, gt);
     if (mesh) {
       std::vector<Camera> cams;
       for (const auto& v : r.views) cams.push_back(v.camera);
       FitOptions gt_opt = opt;  // the same contour rule as the main ground truth
-      gt_opt.contour_side_tolerance = gt.contour_side_tolerance;
+      gt_opt.landmarks.contour.side_tolerance = gt.contour_side_tolerance;
       row.own = compare_fit(r, mesh_ground_truth(*mesh, cams, g.ref, gt_opt));
     }
     for (const auto& [name, s] : r.seconds) {
@@ -230,13 +234,13 @@ std::vector<Row> read_rows(const std::string& path) {
 // how far the cropped render and the hinted detection are from the full ones.
 void profile(const Case& c, ViewSource& src, const std::vector<ViewRecord>& views, const FitOptions& opt,
              std::vector<std::vector<std::string>>& csv) {
-  DetectorOptions full_opt = opt.detector;
+  DetectorOptions full_opt = opt.detection.detector;
   full_opt.hog_face_px = 0.0;
   LandmarkDetector full(full_opt);
-  DetectorOptions hinted_opt = opt.detector;
+  DetectorOptions hinted_opt = opt.detection.detector;
   hinted_opt.hog_face_px = 100.0;
   LandmarkDetector hinted(hinted_opt);
-  const double face_px = opt.face_fraction * opt.width;
+  const double face_px = opt.front.face_fraction * opt.front.width;
   for (size_t i = 0; i < views.size(); ++i) {
     auto t0 = Clock::now();
     Image img = src.render(views[i].camera);
@@ -321,35 +325,32 @@ int main(int argc, char** argv) {
   for (const Case& c : cases) {
     nerf::NerfModel model = nerf::NerfModel::load(rt, c.model);
     ViewPrior prior = prior_from_transforms(c.dataset + "/transforms.json", model);
-    std::map<std::pair<float, float>, std::unique_ptr<NerfViewSource>> nerf_srcs;  // per render setting
-    auto nerf_src = [&](float step_scale, float min_transmittance = 0.0f) -> NerfViewSource& {
-      auto& p = nerf_srcs[{step_scale, min_transmittance}];
-      render::RenderOptions ro;
-      ro.step_scale = step_scale;
-      if (min_transmittance > 0.0f) ro.min_transmittance = min_transmittance;
-      if (!p) p = std::make_unique<NerfViewSource>(model, prior, ro);
-      return *p;
+    auto nerf_views = [&](float step_scale, float min_transmittance = 0.0f) {  // run_fit_job's views
+      NerfViewOptions views;
+      views.dataset = c.dataset;
+      views.render.step_scale = step_scale;
+      if (min_transmittance > 0.0f) views.render.min_transmittance = min_transmittance;
+      return views;
     };
     auto mesh_src = subject_source(c.dataset, model, prior, studio);
     FitOptions base;
-    base.frame_points = g.frame_points;
-    FitResult ref = fit_glasses(*mesh_src, g.ref, base);
+    FitResult ref = fit_glasses(*mesh_src, g, base);
     // Ground truth per jaw-contour view rule: each variant is scored against the mesh under its own
     // rule (the landmark's definition); --gt-contour all scores every variant against all views.
     std::map<double, GroundTruth> gts;
     auto gt_for = [&](const FitOptions& o) -> const GroundTruth& {
       FitOptions gt_opt = base;
-      gt_opt.contour_side_tolerance = gt_all_views ? 1e9 : o.contour_side_tolerance;
-      auto it = gts.find(gt_opt.contour_side_tolerance);
+      gt_opt.landmarks.contour.side_tolerance = gt_all_views ? 1e9 : o.landmarks.contour.side_tolerance;
+      auto it = gts.find(gt_opt.landmarks.contour.side_tolerance);
       if (it == gts.end())
-        it = gts.emplace(gt_opt.contour_side_tolerance,
+        it = gts.emplace(gt_opt.landmarks.contour.side_tolerance,
                          mesh_ground_truth(*mesh_src, ref.orbit, gt_yaws, g.ref, gt_opt)).first;
       return it->second;
     };
     const GroundTruth& gt = gt_for(base);
     std::cerr << fmt::format("{}: ground truth mm/unit {:.2f}, PD {:.1f} mm\n", c.name, gt.head.mm_per_unit,
                              gt.head.pd_mm);
-    Row mesh_row = run_fit(*mesh_src, g, gt, base, prior.up);
+    Row mesh_row = run_fit([&] { return fit_glasses(*mesh_src, g, base); }, g, gt, base, prior.up);
     mesh_row.name = c.name, mesh_row.variant = "mesh";
     rows.push_back(mesh_row);
     std::cerr << fmt::format("{} mesh: nose {:.2f} mm, ears {:.2f}/{:.2f} mm, rot {:.2f} deg, head pitch {:.1f} deg, "
@@ -368,7 +369,9 @@ int main(int argc, char** argv) {
         v.set(o);
         if (debug && rep == 0 && v.name == "fast") o.debug_dir = out + "/" + c.name + "-debug";
         if (!o.debug_dir.empty()) fs::create_directories(o.debug_dir);
-        Row row = run_fit(nerf_src(v.step_scale, v.min_transmittance), g, gt_for(o), o, prior.up, mesh_src.get());
+        const NerfViewOptions views = nerf_views(v.step_scale, v.min_transmittance);
+        Row row = run_fit([&] { return run_fit_job(model, g, o, views).fit; }, g, gt_for(o), o, prior.up,
+                          mesh_src.get());
         row.name = c.name, row.variant = v.name, row.repeat = rep;
         std::cerr << fmt::format(
             "{} {} #{}: nose {:.2f} mm, ears {:.2f}/{:.2f} mm, rot {:.2f} deg (own views: ears {:.2f}/{:.2f}), "
@@ -380,8 +383,9 @@ int main(int argc, char** argv) {
       }
     FitOptions po = base;
     try {
-      FitResult pr = fit_glasses(nerf_src(1.0f), g.ref, po);
-      profile(c, nerf_src(1.0f), pr.views, po, prof);
+      FitResult pr = run_fit_job(model, g, po, nerf_views(1.0f)).fit;
+      NerfViewSource src(model, prior);
+      profile(c, src, pr.views, po, prof);
     } catch (const std::exception& ex) {  // a model the fit fails on (its rows say why): no profile
       std::cerr << c.name << ": no per-view profile: " << ex.what() << "\n";
     }

@@ -37,7 +37,7 @@ Row run(MeshViewSource& src, const GlassesInput& g, const GroundTruth& gt, const
   row.sweep = sweep;
   row.value = value;
   try {
-    FitResult r = fit_glasses(src, g.ref, opt);
+    FitResult r = fit_glasses(src, g, opt);
     row.e = compare_fit(r, gt);
     for (const auto& [name, s] : r.seconds)
       if (name != "load_detector") row.seconds += s;  // the model load is a one-off 2-3 s
@@ -106,8 +106,7 @@ int main(int argc, char** argv) {
   auto src = MeshViewSource::load(kData + "/heads/lee-perry-smith/LeePerrySmith.glb");
   GlassesInput g = load_glasses_input(kData + "/glasses/glasses-06/scene.gltf", 2000);
   FitOptions base;
-  base.frame_points = g.frame_points;
-  FitResult ref = fit_glasses(*src, g.ref, base);
+  FitResult ref = fit_glasses(*src, g, base);
   GroundTruth gt = mesh_ground_truth(*src, ref.orbit, {-20, -10, 0, 10, 20}, g.ref, base);
   std::cerr << "ground truth: mm/unit " << gt.head.mm_per_unit << ", PD " << gt.head.pd_mm << " mm\n";
   std::vector<Row> rows;
@@ -124,12 +123,12 @@ int main(int argc, char** argv) {
   if (want("yaw_range"))
     for (double y : pick({5, 10, 20, 35, 45, 60}, {35})) add("yaw_range", y, [y](FitOptions& o) { o.cap.yaw_range_deg = y; });
   if (want("noise_px"))
-    for (double n : pick({0.5, 1, 2, 4, 8, 16}, {2})) add("noise_px", n, [n](FitOptions& o) { o.detector_noise_px = n; });
+    for (double n : pick({0.5, 1, 2, 4, 8, 16}, {2})) add("noise_px", n, [n](FitOptions& o) { o.detection.noise_px = n; });
   if (want("resolution"))
-    for (double w : pick({128, 192, 256, 384, 512, 768}, {256})) add("resolution", w, [w](FitOptions& o) { o.width = o.height = int(w); });
+    for (double w : pick({128, 192, 256, 384, 512, 768}, {256})) add("resolution", w, [w](FitOptions& o) { o.front.width = o.front.height = int(w); });
   if (want("ablation")) {
-    add("no_snap", 0, [](FitOptions& o) { o.snap_to_skin = false; });
-    add("no_snap_no_cast", 0, [](FitOptions& o) { o.snap_to_skin = false, o.cast_contour = false; });
+    add("no_snap", 0, [](FitOptions& o) { o.landmarks.snap_to_skin = false; });
+    add("no_snap_no_cast", 0, [](FitOptions& o) { o.landmarks.snap_to_skin = false, o.landmarks.cast_contour = false; });
   }
   return 0;
 }

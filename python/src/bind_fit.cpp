@@ -7,9 +7,8 @@
 #include <pybind11/stl.h>
 #include <spdlog/spdlog.h>
 
-#include "fit/fit.h"
+#include "fit/fit_job.h"
 #include "fit/glasses_input.h"
-#include "fit/nerf_view_source.h"
 #include "fit/placement_json.h"
 #include "python/src/bindings.h"
 
@@ -120,32 +119,29 @@ std::shared_ptr<Placement> run_fit(Model& model, const std::string& glasses_path
   opt.cap.views = a.views;
   opt.cap.yaw_range_deg = a.yaw_range;
   opt.cap.pitch_range_deg = a.pitch_range;
-  opt.width = opt.height = a.resolution;
-  opt.detector.upsample = a.upsample;
-  if (!a.landmark_model.empty()) opt.detector.model_path = a.landmark_model;
-  if (!a.mean_face.empty()) opt.mean_face_path = a.mean_face;
-  opt.scale_policy = fit::parse_scale_policy(a.policy);
+  opt.front.width = opt.front.height = a.resolution;
+  opt.detection.detector.upsample = a.upsample;
+  if (!a.landmark_model.empty()) opt.detection.detector.model_path = a.landmark_model;
+  if (!a.mean_face.empty()) opt.head.mean_face_path = a.mean_face;
+  opt.place.scale_policy = fit::parse_scale_policy(a.policy);
   opt.debug_dir = a.debug_dir;
   auto state = std::make_shared<CallbackState>();
   if (!a.landmarks.is_none()) {
     if (!PyCallable_Check(a.landmarks.ptr())) throw pyb::type_error("landmarks must be a callable (image -> points or None)");
     state->fn = a.landmarks;
     state->pass_face_px = a.pass_face_px;
-    opt.detect = python_detector(state);
+    opt.detection.detect = python_detector(state);
   }
   fit::PlacementFile pf;
   try {
     pyb::gil_scoped_release release;
     fit::GlassesInput glasses = fit::load_glasses_input(glasses_path);
-    opt.frame_points = glasses.frame_points;
     std::lock_guard<std::mutex> lock(model.device->mutex);
-    std::string transforms = a.dataset.empty() ? model.nerf->metadata.dataset_path : a.dataset;
-    if (!transforms.empty() && std::filesystem::is_directory(transforms)) transforms += "/transforms.json";
-    fit::ViewPrior prior = fit::prior_from_transforms(transforms, *model.nerf);
-    fit::NerfViewSource source(*model.nerf, prior);
-    fit::FitResult r = fit::fit_glasses(source, glasses.ref, opt);
-    pf = fit::make_placement_file(r, glasses_path, a.policy);
-    for (const auto& w : r.warnings) spdlog::warn("fit: {}", w);
+    fit::NerfViewOptions views;
+    views.dataset = a.dataset;
+    fit::FitJobResult job = fit::run_fit_job(*model.nerf, glasses, opt, views);
+    pf = std::move(job.placement);
+    for (const auto& w : job.fit.warnings) spdlog::warn("fit: {}", w);
   } catch (const CallbackFailed&) {
     raise_callback_error(*state);
   }

@@ -36,8 +36,8 @@ class DetectViews : public ::testing::Test {
     o.target = source_->bounds().center().cast<double>() + Eigen::Vector3d(0, 2.0, 0);
     o.distance = 14.0;
     o.fov_y_deg = 25.0;
-    o.width = o.height = opt.width = opt.height = 320;
-    opt.face_fraction = 0.43;
+    o.width = o.height = opt.front.width = opt.front.height = 320;
+    opt.front.face_fraction = 0.43;
     std::vector<Camera> cams;
     for (double yaw : {-20.0, -10.0, 0.0, 10.0, 20.0}) cams.push_back(orbit_camera(o, yaw, 5.0));
     return cams;
@@ -60,11 +60,11 @@ void expect_identical(const std::vector<ViewRecord>& a, const std::vector<ViewRe
 TEST_F(DetectViews, OverlappedDetectionEqualsSerial) {
   FitOptions opt;
   std::vector<Camera> cams = cameras(opt);
-  opt.detector_noise_px = 1.5;  // the noise draws must stay in view order
-  LandmarkDetector det(opt.detector);
-  opt.detector.overlap_render = false;
+  opt.detection.noise_px = 1.5;  // the noise draws must stay in view order
+  LandmarkDetector det(opt.detection.detector);
+  opt.detection.detector.overlap_render = false;
   std::vector<ViewRecord> serial = detect_views(*source_, det, cams, opt);
-  opt.detector.overlap_render = true;
+  opt.detection.detector.overlap_render = true;
   std::vector<ViewRecord> overlapped = detect_views(*source_, det, cams, opt);
   for (const auto& v : serial) EXPECT_TRUE(v.detection.found);
   expect_identical(serial, overlapped);
@@ -80,7 +80,7 @@ TEST_F(DetectViews, ShrunkHogGivesTheFullResolutionResult) {
   hinted_opt.hog_face_px = 100.0;  // 138 px faces: one pyramid step skipped
   LandmarkDetector hinted(hinted_opt);
   std::vector<ViewRecord> a = detect_views(*source_, full, cams, opt);
-  opt.detector.overlap_render = true;
+  opt.detection.detector.overlap_render = true;
   std::vector<ViewRecord> b = detect_views(*source_, hinted, cams, opt);
   for (const auto& v : b) EXPECT_TRUE(v.detection.found);
   // Exact: the shrink is the detector's own pyramid step and boxes are mapped back as dlib does.
@@ -116,10 +116,10 @@ TEST_F(DetectViews, CroppedRenderIsTheFullRenderInsideAndWhiteOutside) {
 TEST_F(DetectViews, CroppedViewsGiveTheFullViewDetections) {
   FitOptions opt;
   std::vector<Camera> cams = cameras(opt);
-  LandmarkDetector det(opt.detector);
-  opt.detector.render_crop = 0.0;
+  LandmarkDetector det(opt.detection.detector);
+  opt.detection.detector.render_crop = 0.0;
   std::vector<ViewRecord> full = detect_views(*source_, det, cams, opt);
-  opt.detector.render_crop = 0.75;  // the default: the face (0.43 of the width) with a margin
+  opt.detection.detector.render_crop = 0.75;  // the default: the face (0.43 of the width) with a margin
   std::vector<ViewRecord> cropped = detect_views(*source_, det, cams, opt);
   expect_identical(full, cropped);
 }

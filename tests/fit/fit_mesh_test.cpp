@@ -93,9 +93,8 @@ void write_temple_pictures(MeshViewSource& head, const FitResult& r, const std::
 TEST_F(LeePerrySmith, FitMatchesGroundTruth) {
   FitOptions opt;
   GlassesInput g = load_glasses_input(kGlasses, 2000);
-  opt.frame_points = g.frame_points;
   opt.debug_dir = std::string(LORGNETTE_TEST_TMP) + "/fit-debug";
-  FitResult r = fit_glasses(*source_, g.ref, opt);
+  FitResult r = fit_glasses(*source_, g, opt);
   GroundTruth gt = mesh_ground_truth(*source_, r.orbit, {-20, -10, 0, 10, 20}, g.ref, opt);
   FitErrors e = compare_fit(r, gt);
   // The targets: nose <= 2 mm, ears <= 4 mm, rotation <= 2 deg, penetration <= 0.5 mm.
@@ -126,7 +125,7 @@ TEST_F(LeePerrySmith, FitMatchesGroundTruth) {
   EXPECT_LT(r.head.pd_mm, 75.0);
   // The face looks along +z in the scan.
   EXPECT_GT(r.head.d_fwd.z(), 0.97);
-  EXPECT_GE(r.views_used, opt.min_views);
+  EXPECT_GE(r.views_used, opt.detection.min_views);
   EXPECT_TRUE(std::filesystem::exists(opt.debug_dir + "/view_00.png"));
   PlacementFile pf = make_placement_file(r, kGlasses, "stretch");
   EXPECT_EQ(pf.landmarks.size(), 7u);
@@ -149,9 +148,9 @@ TEST_F(LeePerrySmith, FitMatchesGroundTruth) {
 TEST_F(LeePerrySmith, TooFewViewsIsAClearError) {
   FitOptions opt;
   opt.cap.views = 2;
-  opt.min_views = 3;
+  opt.detection.min_views = 3;
   try {
-    fit_glasses(*source_, GlassesRefPoints{}, opt);
+    fit_glasses(*source_, GlassesInput{}, opt);
     FAIL() << "expected an error";
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("views"), std::string::npos) << e.what();
@@ -168,9 +167,9 @@ TEST(FitErrors, NoFaceAnywhereSaysWhatWasTried) {
   } ball;
   if (!std::filesystem::exists(DetectorOptions{}.model_path)) GTEST_SKIP() << "dlib model missing (libdlib-data)";
   FitOptions opt;
-  opt.width = opt.height = 128;
+  opt.front.width = opt.front.height = 128;
   try {
-    fit_glasses(ball, GlassesRefPoints{}, opt);
+    fit_glasses(ball, GlassesInput{}, opt);
     FAIL() << "expected an error";
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("no face found in any of the 8"), std::string::npos) << e.what();

@@ -104,8 +104,8 @@ TEST(Contact, PlateRestsOnASphere) {
   for (double start : {90.0, 70.0}) {  // floating in front, then sunk into the sphere
     Placement p;
     p.transform.block<3, 1>(0, 3) = Eigen::Vector3d(0, 0, start);
-    ContactResult r = refine_contact(p, plate, sphere, Eigen::Vector3d::UnitZ(), Eigen::Vector3d::UnitY(),
-                                     Eigen::Vector3d::Zero(), 1.0, opt);
+    HeadProbe head{sphere, Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitY(), 1.0, opt, plate};
+    ContactResult r = refine_contact(p, head, Eigen::Vector3d::UnitZ());
     double z = p.transform(2, 3);
     EXPECT_GE(z, radius - 1e-9) << "start " << start;
     EXPECT_LE(z, radius + opt.step_mm + 1e-9) << "start " << start;

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "fit/camera_math.h"
+#include "fit/fit.h"
 #include "fit/landmark_ids.h"
 #include "fit/ray_surface.h"
 #include "fit/surface_landmarks.h"
@@ -129,7 +130,7 @@ TEST(ContourSide, CastUsesOnlyTheNearSideViews) {
   SurfaceCastOptions so;
   so.first = so.last = lm::kTempleR;
   so.max_yaw_deg = 90.0;
-  cast_surface_landmarks(ball, views, orbit, so, pts);
+  cast_surface_landmarks(ball, views, orbit, so, 10.0f, pts);
   ASSERT_TRUE(pts[lm::kTempleR].ok);
   ASSERT_EQ(pts[lm::kTempleR].inliers, std::vector<int>{0});
   // The ball's surface along the first view's ray; the mesh-like step is resolved to a fine step.

@@ -43,8 +43,8 @@ TempleFitResult run(const Ball& ball, double limit = 0.5, TempleFitOptions opt =
   TempleFitInputs in;
   in.hinge_l = {kHx, 0, 0};
   in.hinge_r = {-kHx, 0, 0};
-  in.axis_point = ball.c;
-  return fit_temples(in, temples(), ball.fn(), ContactOptions{}, limit, opt);
+  HeadProbe head{ball.fn(), ball.c, Eigen::Vector3d::UnitY(), 1.0, ContactOptions{}, temples()};
+  return fit_temples(in, head, limit, opt);
 }
 
 // theta* for a temple whose hinge is hx from the centre sideways and |zc| ahead of it.

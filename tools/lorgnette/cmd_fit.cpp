@@ -1,6 +1,5 @@
 // `lorgnette fit MODEL --glasses FRAME -o placement.json [--views K] [--debug DIR]`: places the
 // frame on the NeRF head (paper Sec. 3.1 + contact refinement) and writes placement.json.
-#include <filesystem>
 #include <iostream>
 #include <memory>
 
@@ -9,10 +8,7 @@
 
 #include "tools/lorgnette/command.h"
 
-#include "fit/fit.h"
-#include "fit/glasses_input.h"
-#include "fit/nerf_view_source.h"
-#include "fit/placement_json.h"
+#include "fit/fit_job.h"
 
 namespace lorgnette::cli {
 namespace {
@@ -30,22 +26,20 @@ void run_fit(const FitArgs& a, GlobalOptions& global) {
   opt.cap.views = a.views;
   opt.cap.yaw_range_deg = a.yaw_range;
   opt.cap.pitch_range_deg = a.pitch_range;
-  opt.width = opt.height = a.resolution;
-  opt.detector.upsample = a.upsample;
-  if (!a.landmarks.empty()) opt.detector.model_path = a.landmarks;
-  if (!a.mean_face.empty()) opt.mean_face_path = a.mean_face;
-  opt.scale_policy = fit::parse_scale_policy(a.policy);
+  opt.front.width = opt.front.height = a.resolution;
+  opt.detection.detector.upsample = a.upsample;
+  if (!a.landmarks.empty()) opt.detection.detector.model_path = a.landmarks;
+  if (!a.mean_face.empty()) opt.head.mean_face_path = a.mean_face;
+  opt.place.scale_policy = fit::parse_scale_policy(a.policy);
   opt.debug_dir = a.debug;
   fit::GlassesInput glasses = fit::load_glasses_input(a.glasses);
-  opt.frame_points = glasses.frame_points;
   cl::Runtime rt(global.runtime());
   nerf::NerfModel model = nerf::NerfModel::load(rt, a.model);
-  std::string transforms = a.dataset.empty() ? model.metadata.dataset_path : a.dataset;
-  if (!transforms.empty() && std::filesystem::is_directory(transforms)) transforms += "/transforms.json";
-  fit::ViewPrior prior = fit::prior_from_transforms(transforms, model);
-  fit::NerfViewSource source(model, prior);
-  fit::FitResult r = fit::fit_glasses(source, glasses.ref, opt);
-  fit::PlacementFile pf = fit::make_placement_file(r, a.glasses, a.policy);
+  fit::NerfViewOptions views;
+  views.dataset = a.dataset;
+  fit::FitJobResult job = fit::run_fit_job(model, glasses, opt, views);
+  const fit::FitResult& r = job.fit;
+  const fit::PlacementFile& pf = job.placement;
   fit::write_placement(a.output, pf);
   for (const auto& w : r.warnings) spdlog::warn("fit: {}", w);
   if (a.json) {

@@ -1,0 +1,36 @@
+// The fit as one job on a trained NeRF: the view prior from the capture's cameras, the NeRF as the
+// ViewSource, fit_glasses and the placement.json it gives. `lorgnette fit`, the demo, the viewer,
+// the Python module and the NeRF benchmarks all run this; fit_glasses (fit.h) stays the entry for
+// other ViewSources (the mesh in tests and benchmarks).
+#pragma once
+#include <string>
+
+#include "fit/fit.h"
+#include "fit/glasses_input.h"
+#include "fit/nerf_view_source.h"
+#include "fit/placement_json.h"
+
+namespace lorgnette::fit {
+
+// Where the NeRF's views come from.
+struct NerfViewOptions {
+  // The capture's transforms.json (or its folder) for the prior front and up; empty: the dataset the
+  // model was trained on (its metadata), when it is still there.
+  std::string dataset;
+  render::RenderOptions render;  // the views' marcher (NerfViewSource)
+};
+
+struct FitJobResult {
+  FitResult fit;
+  PlacementFile placement;  // make_placement_file: the glasses' path and the options' scale policy
+};
+
+// Throws what fit_glasses throws. Writes nothing (write_placement is the caller's).
+FitJobResult run_fit_job(nerf::NerfModel& model, const GlassesInput& glasses, const FitOptions& options,
+                         const NerfViewOptions& views = {});
+
+// The same after loading the glasses file (load_glasses_input).
+FitJobResult run_fit_job(nerf::NerfModel& model, const std::string& glasses_path, const FitOptions& options,
+                         const NerfViewOptions& views = {});
+
+}  // namespace lorgnette::fit
