@@ -46,7 +46,7 @@ std::vector<Eigen::Vector2d> points_from(const pyb::handle& obj) {
 fit::FaceDetection detection_from(const pyb::handle& obj) {
   fit::FaceDetection d;
   if (obj.is_none()) return d;
-  pyb::handle pts = obj;
+  pyb::object pts = pyb::reinterpret_borrow<pyb::object>(obj);
   if (pyb::isinstance<pyb::dict>(obj)) {
     pyb::dict dict = pyb::reinterpret_borrow<pyb::dict>(obj);
     if (!dict.contains("points")) throw std::runtime_error("a dict result needs 'points' (68 x 2)");
@@ -56,11 +56,8 @@ fit::FaceDetection detection_from(const pyb::handle& obj) {
       d.box = Eigen::Vector4d(b[0], b[1], b[2], b[3]);
     }
     if (dict.contains("score")) d.score = dict["score"].cast<double>();
-    d.points = points_from(pts);
-    if (!dict.contains("box")) d.box << 0, 0, 0, 0;
-  } else {
-    d.points = points_from(pts);
   }
+  d.points = points_from(pts);
   if (d.box.isZero()) {
     Eigen::Vector2d lo = d.points[0], hi = d.points[0];
     for (const auto& p : d.points) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
@@ -89,17 +86,18 @@ fit::DetectFn python_detector(std::shared_ptr<CallbackState> state) {
   };
 }
 
-// A placement as an exception from the callable's failure: LandmarkError, chained to its cause.
+// The callable's failure as LandmarkError (chained to what it raised).
 [[noreturn]] void raise_callback_error(CallbackState& s) {
-  std::string msg = fmt::format("the landmarks callable failed on view {} (a {} image)", s.calls,
-                                "H x W x 3 uint8 sRGB");
+  std::string msg = fmt::format("the landmarks callable failed on call {}", s.calls);
   if (s.error) {
     pyb::raise_from(*s.error, landmark_error_type().ptr(),
                     fmt::format("{}: {}", msg, s.error->what()).c_str());
     throw pyb::error_already_set();
   }
-  throw pyb::value_error(fmt::format("{}: it returned something other than None, 68 x 2 points or a dict with "
-                                     "'points': {}", msg, s.problem));
+  PyErr_SetString(landmark_error_type().ptr(),
+                  fmt::format("{}: it must return None, 68 x 2 points or a dict with 'points': {}", msg, s.problem)
+                      .c_str());
+  throw pyb::error_already_set();
 }
 
 struct FitArgs {
