@@ -101,4 +101,18 @@ SubjectBoxChoice choose_subject_box(const dataset::Dataset& ds, BoxSource reques
   }
 }
 
+void apply_subject_box(dataset::Dataset& ds, BoxSource requested, bool masks_allowed, nerf::TrainJob& job) {
+  SubjectBoxChoice c = choose_subject_box(ds, requested, masks_allowed);
+  spdlog::info("subject box: {}", c.why);
+  ds.aabb.reset();
+  job.sizing.use_masks = c.use_masks;
+  if (c.aabb) {
+    nerf::Aabb box;
+    box.min = (*c.aabb)[0];
+    box.max = (*c.aabb)[1];
+    if (!box.valid()) throw std::runtime_error("the chosen subject box is empty: give a box yourself or use the cameras' box");
+    job.sizing.aabb = box;
+  }
+}
+
 }  // namespace lorgnette::capture

@@ -10,6 +10,7 @@
 
 #include "fit/head_box.h"
 #include "host/dataset/dataset.h"
+#include "host/nerf/train_job.h"
 
 namespace lorgnette::capture {
 
@@ -35,6 +36,11 @@ bool has_alpha_masks(const dataset::Dataset& ds);
 // (train --no-masks). Throws when a forced source does not apply (no aabb, no masks, no faces).
 SubjectBoxChoice choose_subject_box(const dataset::Dataset& ds, BoxSource requested, bool masks_allowed = true,
                                     const fit::HeadBoxOptions& head_options = {});
+
+// Chooses the box (choose_subject_box) and sets the training job up for it, as `lorgnette train
+// --box` and Python's train() do: an explicit box, or the dataset's aabb removed so the sizing
+// carves the mask hull or builds the camera box. Logs the choice; throws when the box is empty.
+void apply_subject_box(dataset::Dataset& ds, BoxSource requested, bool masks_allowed, nerf::TrainJob& job);
 
 // The dataset's training frames as posed photos for fit::estimate_head_box (pointers into `ds`).
 std::vector<fit::PosedPhoto> posed_photos(const dataset::Dataset& ds);

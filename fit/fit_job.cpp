@@ -21,4 +21,18 @@ FitJobResult run_fit_job(nerf::NerfModel& model, const std::string& glasses_path
   return run_fit_job(model, load_glasses_input(glasses_path), options, views);
 }
 
+FitOptions fit_options(const FitSettings& s) {
+  FitOptions opt;
+  opt.cap.views = s.views;
+  opt.cap.yaw_range_deg = s.yaw_range_deg;
+  opt.cap.pitch_range_deg = s.pitch_range_deg;
+  opt.front.width = opt.front.height = s.resolution;
+  opt.detection.detector.upsample = s.upsample;
+  if (!s.landmark_model.empty()) opt.detection.detector.model_path = s.landmark_model;
+  if (!s.mean_face.empty()) opt.head.mean_face_path = s.mean_face;
+  opt.place.scale_policy = parse_scale_policy(s.policy);
+  opt.debug_dir = s.debug_dir;
+  return opt;
+}
+
 }  // namespace lorgnette::fit

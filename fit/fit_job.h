@@ -20,6 +20,15 @@ struct NerfViewOptions {
   render::RenderOptions render;  // the views' marcher (NerfViewSource)
 };
 
+// The settings a user chooses (the `lorgnette fit` flags, the Python fit() arguments), with the
+// CLI's defaults; fit_options() turns them into FitOptions so every front end fits alike.
+struct FitSettings {
+  int views = 12, resolution = 384, upsample = 0;
+  double yaw_range_deg = 20.0, pitch_range_deg = 15.0;
+  std::string policy = "stretch", landmark_model, mean_face, debug_dir;
+};
+FitOptions fit_options(const FitSettings& settings);  // throws on an unknown policy
+
 struct FitJobResult {
   FitResult fit;
   PlacementFile placement;  // make_placement_file: the glasses' path and the options' scale policy

@@ -66,25 +66,11 @@ namespace {
 // The capture's cameras in the model's frame (positions normalised as the model was), when the
 // model names a dataset that can still be read.
 std::vector<Camera> capture_cameras(const nerf::NerfModel& model) {
-  const std::string& path = model.metadata.dataset_path;
-  if (path.empty()) return {};
-  try {
-    dataset::LoadOptions lo;
-    lo.load_images = false;
-    lo.skip_missing_images = true;
-    auto ds = dataset::load_dataset(path, lo);
-    std::vector<Camera> cams;
-    const auto& n = model.normalisation;
-    for (const auto& f : ds.frames) {
-      Camera c = f.camera;
-      for (int k = 0; k < 3; ++k) c.c2w[4 * k + 3] = c.c2w[4 * k + 3] * n.scale + n.offset[k];
-      cams.push_back(c);
-    }
-    return cams;
-  } catch (const std::exception& e) {
-    spdlog::warn("view: cannot read the model's dataset '{}' ({}): default orbit limits", path, e.what());
-    return {};
-  }
+  std::vector<Camera> cams = render::capture_cameras(model);
+  const auto& n = model.normalisation;
+  for (Camera& c : cams)
+    for (int k = 0; k < 3; ++k) c.c2w[4 * k + 3] = c.c2w[4 * k + 3] * n.scale + n.offset[k];
+  return cams;
 }
 
 uint32_t rounded_div(uint32_t v, uint32_t d) { return std::max<uint32_t>(16, (v + d / 2) / d); }

@@ -1,7 +1,29 @@
 // NerfModel rendering through the compositing marcher: see renderer.h.
 #include "host/render/renderer.h"
 
+#include <spdlog/spdlog.h>
+
+#include "host/dataset/dataset.h"
+
 namespace lorgnette::render {
+
+std::vector<Camera> capture_cameras(const nerf::NerfModel& model) {
+  const std::string& path = model.metadata.dataset_path;
+  if (path.empty()) return {};
+  try {
+    dataset::LoadOptions lo;
+    lo.load_images = false;
+    lo.skip_missing_images = true;
+    auto ds = dataset::load_dataset(path, lo);
+    std::vector<Camera> cams;
+    for (const auto& f : ds.frames) cams.push_back(f.camera);
+    spdlog::debug("orbit front from the capture's {} cameras", cams.size());
+    return cams;
+  } catch (const std::exception& e) {
+    spdlog::warn("could not read the model's dataset '{}' ({}); using +z as the front", path, e.what());
+    return {};
+  }
+}
 
 RenderResult Renderer::render(nerf::NerfModel& model, const Camera& cam, const lorgnette::SurfaceBuffers* surfaces,
                               const RenderOptions& options) {

@@ -38,6 +38,11 @@ class Renderer {
 RenderResult render(nerf::NerfModel& model, const Camera& cam, const lorgnette::SurfaceBuffers* surfaces,
                     const RenderOptions& options);
 
+// The cameras of the dataset the model was trained on (as its snapshot names it), in the dataset's
+// own frame, without images; {} with a warning when the model names none or it cannot be read.
+// They mark the face's front for orbits and the range of directions the capture saw.
+std::vector<Camera> capture_cameras(const nerf::NerfModel& model);
+
 // An orbit framing the model's box; its front and up come from the capture's cameras (the face's
 // front) when given, else +z and +y. Views, elevation, field of view and size keep their defaults.
 OrbitSpec model_orbit(const nerf::NerfModel& model, const std::vector<Camera>& capture_cameras);

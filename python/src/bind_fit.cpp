@@ -113,16 +113,17 @@ std::shared_ptr<Placement> run_fit(Model& model, const std::string& glasses_path
   if (a.views < 2 || a.views > 200) throw pyb::value_error("views must be within 2..200 (fit --views)");
   if (a.resolution < 64 || a.resolution > 4096) throw pyb::value_error("resolution must be within 64..4096");
   if (a.upsample < 0 || a.upsample > 3) throw pyb::value_error("upsample must be within 0..3");
-  fit::FitOptions opt;
-  opt.cap.views = a.views;
-  opt.cap.yaw_range_deg = a.yaw_range;
-  opt.cap.pitch_range_deg = a.pitch_range;
-  opt.front.width = opt.front.height = a.resolution;
-  opt.detection.detector.upsample = a.upsample;
-  if (!a.landmark_model.empty()) opt.detection.detector.model_path = a.landmark_model;
-  if (!a.mean_face.empty()) opt.head.mean_face_path = a.mean_face;
-  opt.place.scale_policy = fit::parse_scale_policy(a.policy);
-  opt.debug_dir = a.debug_dir;
+  fit::FitSettings settings;
+  settings.views = a.views;
+  settings.resolution = a.resolution;
+  settings.upsample = a.upsample;
+  settings.yaw_range_deg = a.yaw_range;
+  settings.pitch_range_deg = a.pitch_range;
+  settings.policy = a.policy;
+  settings.landmark_model = a.landmark_model;
+  settings.mean_face = a.mean_face;
+  settings.debug_dir = a.debug_dir;
+  fit::FitOptions opt = fit::fit_options(settings);
   auto state = std::make_shared<CallbackState>();
   if (!a.landmarks.is_none()) {
     if (!PyCallable_Check(a.landmarks.ptr())) throw pyb::type_error("landmarks must be a callable (image -> points or None)");

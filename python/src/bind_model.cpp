@@ -48,28 +48,11 @@ Camera make_camera(const pyb::array_t<double, pyb::array::c_style | pyb::array::
   return c;
 }
 
-// The capture's cameras from the model's dataset (as `render --orbit` reads them); {} when gone.
-std::vector<Camera> capture_cameras(const nerf::NerfModel& model) {
-  const std::string& path = model.metadata.dataset_path;
-  if (path.empty()) return {};
-  try {
-    dataset::LoadOptions lo;
-    lo.load_images = false;
-    lo.skip_missing_images = true;
-    auto ds = dataset::load_dataset(path, lo);
-    std::vector<Camera> cams;
-    for (const auto& f : ds.frames) cams.push_back(f.camera);
-    return cams;
-  } catch (const std::exception& e) {
-    spdlog::warn("could not read the model's dataset '{}' ({}); using +z as the front", path, e.what());
-    return {};
-  }
-}
 
 // Yaw (about up, + towards the head's right = the orbit's +x) and pitch of the capture's camera
 // positions around the box centre, in the orbit's front/up frame.
 pyb::dict captured_range(const nerf::NerfModel& model) {
-  std::vector<Camera> cams = capture_cameras(model);
+  std::vector<Camera> cams = render::capture_cameras(model);
   render::OrbitSpec spec = render::model_orbit(model, cams);
   Eigen::Vector3d f(spec.front[0], spec.front[1], spec.front[2]), u(spec.up[0], spec.up[1], spec.up[2]);
   u = (u - u.dot(f) * f).normalized();
@@ -240,7 +223,7 @@ void bind_model(pyb::module_& m) {
       .def("orbit", [](Model& self, uint32_t views, Size size, float elevation, float fov,
                        std::optional<render::Vec3> front) {
         if (views < 1) throw pyb::value_error("views must be >= 1");
-        render::OrbitSpec spec = render::model_orbit(*self.nerf, capture_cameras(*self.nerf));
+        render::OrbitSpec spec = render::model_orbit(*self.nerf, render::capture_cameras(*self.nerf));
         if (front) spec.front = *front;
         spec.views = views, spec.elevation_deg = elevation, spec.fov_y_deg = fov;
         spec.width = size[0], spec.height = size[1];
@@ -248,7 +231,7 @@ void bind_model(pyb::module_& m) {
       }, pyb::arg("views"), pyb::arg("size") = Size{854, 480}, pyb::arg("elevation_deg") = 0.0f,
          pyb::arg("fov_y_deg") = 30.0f, pyb::arg("front") = pyb::none(),
          "The cameras of `lorgnette render --orbit N`: around the head's box from its front (the capture's cameras).")
-      .def("capture_cameras", [](Model& self) { return capture_cameras(*self.nerf); },
+      .def("capture_cameras", [](Model& self) { return render::capture_cameras(*self.nerf); },
            "The cameras of the dataset the model was trained on (empty when it is gone).")
       .def("captured_range", [](Model& self) { return captured_range(*self.nerf); },
            "The yaw and pitch range (degrees) of the capture's cameras around the head, in the orbit's frame.")

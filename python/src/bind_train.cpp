@@ -50,21 +50,6 @@ struct StepHook {
   }
 };
 
-// The subject box as `lorgnette train --box` chooses it (cmd_train.cpp apply_subject_box).
-void apply_subject_box(dataset::Dataset& ds, const TrainArgs& a, nerf::TrainJob& job) {
-  capture::SubjectBoxChoice c = capture::choose_subject_box(ds, capture::box_source_from_string(a.box), true);
-  spdlog::info("subject box: {}", c.why);
-  ds.aabb.reset();
-  job.sizing.use_masks = c.use_masks;
-  if (c.aabb) {
-    nerf::Aabb box;
-    box.min = (*c.aabb)[0];
-    box.max = (*c.aabb)[1];
-    if (!box.valid()) throw std::runtime_error("the chosen subject box is empty: choose box='cameras'");
-    job.sizing.aabb = box;
-  }
-}
-
 pyb::object run_train(const TrainArgs& a) {
   if (a.seconds < 0.0) throw pyb::value_error("seconds must be positive (or leave it out for the default budget)");
   if (a.steps > 0 && a.seconds > 0.0) throw pyb::value_error("give steps or seconds, not both");
@@ -87,7 +72,7 @@ pyb::object run_train(const TrainArgs& a) {
     lo.splits = {dataset::Split::Train};
     dataset::Dataset ds = dataset::load_dataset(a.data, lo);
     nerf::TrainJob job;
-    apply_subject_box(ds, a, job);
+    capture::apply_subject_box(ds, capture::box_source_from_string(a.box), true, job);
     job.batch_log2 = a.batch_log2;
     job.deterministic = a.deterministic;
     job.background = a.background;

@@ -14,24 +14,14 @@ namespace lorgnette::cli {
 namespace {
 
 struct FitArgs {
-  std::string model, glasses, output = "placement.json", debug, policy = "stretch", dataset, mean_face, landmarks;
-  int views = 12, resolution = 384, upsample = 0;
-  double yaw_range = 20.0, pitch_range = 15.0;
+  std::string model, glasses, output = "placement.json", dataset;
+  fit::FitSettings settings;  // the fit's own flags (fit_job.h)
   bool json = false, force = false;
 };
 
 void run_fit(const FitArgs& a, GlobalOptions& global) {
   refuse_existing_output(a.output, a.force);  // before minutes of fitting
-  fit::FitOptions opt;
-  opt.cap.views = a.views;
-  opt.cap.yaw_range_deg = a.yaw_range;
-  opt.cap.pitch_range_deg = a.pitch_range;
-  opt.front.width = opt.front.height = a.resolution;
-  opt.detection.detector.upsample = a.upsample;
-  if (!a.landmarks.empty()) opt.detection.detector.model_path = a.landmarks;
-  if (!a.mean_face.empty()) opt.head.mean_face_path = a.mean_face;
-  opt.place.scale_policy = fit::parse_scale_policy(a.policy);
-  opt.debug_dir = a.debug;
+  fit::FitOptions opt = fit::fit_options(a.settings);
   fit::GlassesInput glasses = fit::load_glasses_input(a.glasses);
   cl::Runtime rt(global.runtime());
   nerf::NerfModel model = nerf::NerfModel::load(rt, a.model);
@@ -58,16 +48,16 @@ void add_fit(CLI::App& app, GlobalOptions& global) {
   cmd->add_option("model", a->model, "trained model (.lnerf)")->required()->check(CLI::ExistingFile);
   cmd->add_option("--glasses", a->glasses, "glasses file (glTF/OBJ/PLY)")->required()->check(CLI::ExistingFile);
   cmd->add_option("-o,--output", a->output, "placement.json to write")->capture_default_str();
-  cmd->add_option("--views", a->views, "number of rendered views K")->capture_default_str()->check(CLI::Range(2, 200));
-  cmd->add_option("--yaw-range", a->yaw_range, "views span +-this yaw (deg; dlib works to ~45)")->capture_default_str();
-  cmd->add_option("--pitch-range", a->pitch_range, "views span +-this pitch (deg)")->capture_default_str();
-  cmd->add_option("--resolution", a->resolution, "view size in pixels")->capture_default_str()->check(CLI::Range(64, 4096));
-  cmd->add_option("--upsample", a->upsample, "detector up-sampling steps for small faces")->check(CLI::Range(0, 3));
-  cmd->add_option("--scale-policy", a->policy, "stretch (paper) or true-size")->capture_default_str();
+  cmd->add_option("--views", a->settings.views, "number of rendered views K")->capture_default_str()->check(CLI::Range(2, 200));
+  cmd->add_option("--yaw-range", a->settings.yaw_range_deg, "views span +-this yaw (deg; dlib works to ~45)")->capture_default_str();
+  cmd->add_option("--pitch-range", a->settings.pitch_range_deg, "views span +-this pitch (deg)")->capture_default_str();
+  cmd->add_option("--resolution", a->settings.resolution, "view size in pixels")->capture_default_str()->check(CLI::Range(64, 4096));
+  cmd->add_option("--upsample", a->settings.upsample, "detector up-sampling steps for small faces")->check(CLI::Range(0, 3));
+  cmd->add_option("--scale-policy", a->settings.policy, "stretch (paper) or true-size")->capture_default_str();
   cmd->add_option("--dataset", a->dataset, "transforms.json of the capture (prior front/up; default: the model's)");
-  cmd->add_option("--mean-face", a->mean_face, "68-point mean face (204 numbers)");
-  cmd->add_option("--landmark-model", a->landmarks, "dlib 68-point shape predictor (.dat)");
-  cmd->add_option("--debug", a->debug, "write annotated views to this directory");
+  cmd->add_option("--mean-face", a->settings.mean_face, "68-point mean face (204 numbers)");
+  cmd->add_option("--landmark-model", a->settings.landmark_model, "dlib 68-point shape predictor (.dat)");
+  cmd->add_option("--debug", a->settings.debug_dir, "write annotated views to this directory");
   cmd->add_flag("--json", a->json, "print placement.json on stdout");
   cmd->add_flag("--force", a->force, "overwrite an existing placement.json");
   cmd->callback([a, &global] { run_fit(*a, global); });

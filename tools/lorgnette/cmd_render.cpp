@@ -32,24 +32,6 @@ render::Vec3 vec3(const std::vector<float>& v, render::Vec3 fallback) {
   return v.empty() ? fallback : render::Vec3{v[0], v[1], v[2]};
 }
 
-// The capture's cameras (they mark the face's front), from the model's dataset when it is there.
-std::vector<Camera> capture_cameras(const nerf::NerfModel& model) {
-  const std::string& path = model.metadata.dataset_path;
-  if (path.empty()) return {};
-  try {
-    dataset::LoadOptions lo;
-    lo.load_images = false;
-    lo.skip_missing_images = true;
-    auto ds = dataset::load_dataset(path, lo);
-    std::vector<Camera> cams;
-    for (const auto& f : ds.frames) cams.push_back(f.camera);
-    spdlog::info("orbit front from the capture's {} cameras", cams.size());
-    return cams;
-  } catch (const std::exception& e) {
-    spdlog::warn("could not read the model's dataset '{}' for the orbit's front ({}); using +z", path, e.what());
-    return {};
-  }
-}
 
 // The placement transform (canonical mm -> scene), and the temple spread when it comes from a
 // placement.json (read by the placement module, fit/placement_json.h).
@@ -84,7 +66,7 @@ void run(const RenderArgs& a, GlobalOptions& global) {
   job.options.step_scale = a.step_scale;
   if (!a.background.empty()) job.options.background = vec3(a.background, {1, 1, 1});
   if (a.orbit > 0) {
-    render::OrbitSpec spec = render::model_orbit(model, capture_cameras(model));
+    render::OrbitSpec spec = render::model_orbit(model, render::capture_cameras(model));
     spec.front = vec3(a.front, spec.front);
     spec.views = a.orbit;
     spec.elevation_deg = a.elevation;

@@ -44,23 +44,6 @@ std::optional<nerf::Aabb> parse_aabb(const std::string& text) {
   return box;
 }
 
-// Chooses the box (capture/subject_box.h) and sets it up: an explicit box, or the dataset's aabb
-// removed so the sizing carves the mask hull or builds the camera box.
-void apply_subject_box(dataset::Dataset& ds, const TrainArgs& a, nerf::TrainJob& job) {
-  capture::SubjectBoxChoice c =
-      capture::choose_subject_box(ds, capture::box_source_from_string(a.box), !a.no_masks);
-  spdlog::info("subject box: {}", c.why);
-  ds.aabb.reset();
-  job.sizing.use_masks = c.use_masks;
-  if (c.aabb) {
-    nerf::Aabb box;
-    box.min = (*c.aabb)[0];
-    box.max = (*c.aabb)[1];
-    if (!box.valid()) throw std::runtime_error("the chosen subject box is empty: give --aabb or --box cameras");
-    job.sizing.aabb = box;
-  }
-}
-
 void run_train(const TrainArgs& a, GlobalOptions& global) {
   if (a.seconds < 0.0) throw std::runtime_error("--seconds must be positive (or leave it out for the default budget)");
   if (std::filesystem::exists(a.output) && !a.force)
@@ -79,7 +62,7 @@ void run_train(const TrainArgs& a, GlobalOptions& global) {
   if (job.sizing.aabb)
     spdlog::info("subject box: --aabb (given on the command line)");
   else
-    apply_subject_box(ds, a, job);
+    capture::apply_subject_box(ds, capture::box_source_from_string(a.box), !a.no_masks, job);
   if (a.finest) job.sizing.finest_resolution = a.finest;
   if (a.log2_table) job.sizing.log2_table_size = a.log2_table;
   if (a.levels) job.sizing.levels = a.levels;
