@@ -8,9 +8,11 @@
 #include <fstream>
 #include <iterator>
 #include <map>
+#include <set>
 #include <stdexcept>
 
 #include <Eigen/Geometry>
+#include <assimp/BaseImporter.h>
 #include <assimp/GltfMaterial.h>
 #include <assimp/commonMetaData.h>
 #include <assimp/IOStream.hpp>
@@ -223,6 +225,24 @@ const aiScene* post_process(Assimp::Importer& importer, const aiScene* scene, un
   return scene;
 }
 
+// Leaves Assimp only the importers for extension `ext` (glTF 1 and 2 for gltf and glb). Otherwise a
+// file its own importer refuses goes to whichever of Assimp's ~40 importers claims its first bytes:
+// a PLY named .gltf reached the PLY reader past check_ply and hung it
+// (fuzz/regressions/glasses/ply-named-gltf-hang). Other extensions keep every importer.
+void keep_importers_for(Assimp::Importer& importer, const std::string& ext) {
+  if (ext != "gltf" && ext != "glb" && ext != "obj" && ext != "ply") return;
+  std::vector<Assimp::BaseImporter*> others;
+  for (size_t i = 0; i < importer.GetImporterCount(); ++i) {
+    std::set<std::string> extensions;
+    importer.GetImporter(i)->GetExtensionList(extensions);
+    if (!extensions.count(ext)) others.push_back(importer.GetImporter(i));
+  }
+  for (Assimp::BaseImporter* other : others) {
+    importer.UnregisterLoader(other);
+    delete other;  // unregistering hands it back
+  }
+}
+
 const aiScene* read_scene(Assimp::Importer& importer, const std::string& path, const LoadOptions& options) {
   if (!fs::exists(path))
     throw std::runtime_error(fmt::format("mesh file '{}' does not exist (check the path)", path));
@@ -233,6 +253,8 @@ const aiScene* read_scene(Assimp::Importer& importer, const std::string& path, c
     std::ifstream in(path, std::ios::binary);
     check_ply(std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()), path);
   }
+  std::string ext = lower(fs::path(path).extension().string());
+  keep_importers_for(importer, ext.empty() ? ext : ext.substr(1));
   unsigned flags = import_flags(importer, options);
   return post_process(importer, importer.ReadFile(path, aiProcess_ValidateDataStructure), flags, path);
 }
@@ -325,6 +347,7 @@ TriMesh load_mesh_from_memory(const void* data, size_t bytes, const std::string&
   if (ext == "ply") check_ply(std::string_view(static_cast<const char*>(data), bytes), name);
   Assimp::Importer importer;
   importer.SetIOHandler(new NoFiles);  // the importer owns it
+  keep_importers_for(importer, ext);
   unsigned flags = import_flags(importer, options);
   LoadContext ctx;
   const aiScene* read =

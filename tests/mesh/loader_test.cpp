@@ -203,6 +203,10 @@ TEST(Loader, MalformedPlyIsRefusedNotHungOrAborted) {
   }
   const std::string good = ply("3", "3 0 1 2\n");
   EXPECT_EQ(load_mesh_from_memory(good.data(), good.size(), "ply").triangle_count(), 1u);
+  // Under another format's name it goes to that format's importer alone (by its first bytes it
+  // reached the PLY reader, past the check, and hung it).
+  const std::string truncated = "ply\nformat ascii 1.0\nelement vertex 4\n";
+  EXPECT_THROW(load_mesh_from_memory(truncated.data(), truncated.size(), "gltf"), std::runtime_error);
   // Binary files of either byte order with mixed property types pass the check and load.
   for (bool big : {false, true}) {
     std::string bin = std::string("ply\nformat binary_") + (big ? "big" : "little") +
