@@ -2,13 +2,13 @@
 // a timed stage each, and the report written beside the dataset (see capture.h).
 #include "capture/capture.h"
 
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
 #include <algorithm>
 #include <chrono>
-#include <stdexcept>
-
-#include <fmt/format.h>
 #include <opencv2/imgcodecs.hpp>
-#include <spdlog/spdlog.h>
+#include <stdexcept>
 
 #include "host/dataset/dataset.h"
 #include "host/util/image_io.h"
@@ -41,13 +41,16 @@ void check_output(const fs::path& out, const fs::path& input, bool force) {
     throw std::runtime_error(fmt::format("output '{}' exists and is not a folder", out.string()));
   if (!fs::exists(out) || fs::is_empty(out)) return;
   if (!fs::exists(out / "capture_report.json"))
-    throw std::runtime_error(fmt::format("output folder '{}' is not empty and is not an earlier "
-                                         "capture: choose a new folder", out.string()));
+    throw std::runtime_error(
+        fmt::format("output folder '{}' is not empty and is not an earlier "
+                    "capture: choose a new folder",
+                    out.string()));
   if (fs::equivalent(out, input)) throw std::runtime_error("the output folder must differ from the input");
   if (!force)
-    throw std::runtime_error(fmt::format("'{}' holds an earlier capture: pass --force to replace it (its "
-                                         "images/, colmap/ and transforms.json) or choose a new folder",
-                                         out.string()));
+    throw std::runtime_error(
+        fmt::format("'{}' holds an earlier capture: pass --force to replace it (its "
+                    "images/, colmap/ and transforms.json) or choose a new folder",
+                    out.string()));
 }
 
 // Clears an earlier capture's images/ and colmap/ (check_output allowed it), so stale frames never
@@ -105,9 +108,10 @@ void drop_missing_images(ColmapModel& model, const CaptureInput& in, CaptureRepo
         "relative to it), or run `lorgnette capture` on the folder of photos to make a new model",
         model.images.size(), named, in.model_dir.string(), in.image_dir.string(), first_names(missing),
         kMinUsableFrames, in.image_dir.string()));
-  report.warnings.push_back(fmt::format("{} of {} images named by the COLMAP model are not in '{}' ({}): "
-                                        "their frames are left out",
-                                        missing.size(), named, in.image_dir.string(), first_names(missing)));
+  report.warnings.push_back(
+      fmt::format("{} of {} images named by the COLMAP model are not in '{}' ({}): "
+                  "their frames are left out",
+                  missing.size(), named, in.image_dir.string(), first_names(missing)));
 }
 
 // COLMAP model input: copy the registered images beside the transforms.
@@ -123,7 +127,8 @@ void copy_model_images(const ColmapModel& model, const CaptureInput& in, const f
 void choose_capture_box(const ColmapModel& model, const CaptureOptions& opt, ConvertedScene& scene,
                         CaptureReport& report) {
   report.aabb_from = "sparse points";
-  report.aabb_note = fmt::format("robust box of {} sparse points around the cameras' focus", scene.subject_points);
+  report.aabb_note =
+      fmt::format("robust box of {} sparse points around the cameras' focus", scene.subject_points);
   if (!opt.head_box) {
     report.aabb_note += " (head box disabled)";
     return;
@@ -183,14 +188,23 @@ nlohmann::json CaptureReport::to_json() const {
   double total = 0;
   for (const auto& s : seconds) seconds_j[s.stage] = s.seconds, total += s.seconds;
   seconds_j["total"] = total;
-  return {{"input_kind", input_kind}, {"source_frames", source_frames},
-          {"candidate_frames", candidate_frames}, {"kept_frames", kept_frames},
-          {"faces_found", faces_found}, {"registered", registered}, {"models", models},
-          {"mean_reprojection_error_px", mean_reprojection_error}, {"subject_points", subject_points},
+  return {{"input_kind", input_kind},
+          {"source_frames", source_frames},
+          {"candidate_frames", candidate_frames},
+          {"kept_frames", kept_frames},
+          {"faces_found", faces_found},
+          {"registered", registered},
+          {"models", models},
+          {"mean_reprojection_error_px", mean_reprojection_error},
+          {"subject_points", subject_points},
           {"aabb", {{aabb_min.x(), aabb_min.y(), aabb_min.z()}, {aabb_max.x(), aabb_max.y(), aabb_max.z()}}},
-          {"aabb_from", aabb_from}, {"aabb_note", aabb_note},
-          {"dropped", dropped_j}, {"warnings", warnings}, {"seconds", seconds_j},
-          {"transforms", transforms_path}, {"workspace", workspace}};
+          {"aabb_from", aabb_from},
+          {"aabb_note", aabb_note},
+          {"dropped", dropped_j},
+          {"warnings", warnings},
+          {"seconds", seconds_j},
+          {"transforms", transforms_path},
+          {"workspace", workspace}};
 }
 
 CaptureReport run_capture(const CaptureOptions& opt) {
@@ -221,9 +235,10 @@ CaptureReport run_capture(const CaptureOptions& opt) {
     }
     report.kept_frames = keep.size();
     if (keep.size() < kMinUsableFrames)
-      throw std::runtime_error(fmt::format("only {} usable frames: COLMAP needs at least {} overlapping "
-                                           "views (give more photos or a longer video)", keep.size(),
-                                           kMinUsableFrames));
+      throw std::runtime_error(
+          fmt::format("only {} usable frames: COLMAP needs at least {} overlapping "
+                      "views (give more photos or a longer video)",
+                      keep.size(), kMinUsableFrames));
     prepare_output(out);
     {
       StageTimer t(report, "write");

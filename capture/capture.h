@@ -2,11 +2,10 @@
 // posed dataset (transforms.json + images/) with the COLMAP workspace kept in colmap/ and a
 // capture_report.json saying what was dropped and why, the warnings, and the time of each stage.
 #pragma once
-#include <string>
-#include <vector>
-
 #include <Eigen/Core>
 #include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
 
 #include "capture/colmap_runner.h"
 #include "capture/colmap_to_transforms.h"

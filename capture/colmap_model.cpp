@@ -2,11 +2,11 @@
 // binary or text layout of a model folder.
 #include "capture/colmap_model.h"
 
-#include <cmath>
-#include <stdexcept>
+#include <fmt/format.h>
 
 #include <Eigen/Geometry>
-#include <fmt/format.h>
+#include <cmath>
+#include <stdexcept>
 
 #include "capture/colmap_model_io.h"
 
@@ -19,11 +19,17 @@ struct ModelInfo {
   size_t params;
 };
 // COLMAP 3.x src/base/camera_models.h, in id order.
-constexpr ModelInfo kModels[] = {
-    {0, "SIMPLE_PINHOLE", 3}, {1, "PINHOLE", 4},         {2, "SIMPLE_RADIAL", 4},
-    {3, "RADIAL", 5},         {4, "OPENCV", 8},          {5, "OPENCV_FISHEYE", 8},
-    {6, "FULL_OPENCV", 12},   {7, "FOV", 5},             {8, "SIMPLE_RADIAL_FISHEYE", 4},
-    {9, "RADIAL_FISHEYE", 5}, {10, "THIN_PRISM_FISHEYE", 12}};
+constexpr ModelInfo kModels[] = {{0, "SIMPLE_PINHOLE", 3},
+                                 {1, "PINHOLE", 4},
+                                 {2, "SIMPLE_RADIAL", 4},
+                                 {3, "RADIAL", 5},
+                                 {4, "OPENCV", 8},
+                                 {5, "OPENCV_FISHEYE", 8},
+                                 {6, "FULL_OPENCV", 12},
+                                 {7, "FOV", 5},
+                                 {8, "SIMPLE_RADIAL_FISHEYE", 4},
+                                 {9, "RADIAL_FISHEYE", 5},
+                                 {10, "THIN_PRISM_FISHEYE", 12}};
 
 const ModelInfo& find_model(const std::string& name) {
   for (const auto& m : kModels)

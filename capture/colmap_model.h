@@ -3,14 +3,13 @@
 // to both of COLMAP's layouts (cameras/images/points3D as .bin or .txt, as COLMAP 3.x writes them).
 // No Debian library reads these files, so this is a small self-contained reader/writer.
 #pragma once
+#include <Eigen/Core>
 #include <cstdint>
 #include <filesystem>
 #include <map>
 #include <string>
 #include <utility>
 #include <vector>
-
-#include <Eigen/Core>
 
 namespace lorgnette::capture {
 
@@ -23,7 +22,7 @@ struct ColmapCamera {
 
 struct ColmapImage {
   uint32_t id = 0;
-  Eigen::Vector4d qvec{1, 0, 0, 0};  // world-to-camera rotation, (w, x, y, z)
+  Eigen::Vector4d qvec{1, 0, 0, 0};                // world-to-camera rotation, (w, x, y, z)
   Eigen::Vector3d tvec = Eigen::Vector3d::Zero();  // world-to-camera translation
   uint32_t camera_id = 0;
   std::string name;  // path relative to the image folder
@@ -35,7 +34,7 @@ struct ColmapPoint3D {
   uint64_t id = 0;
   Eigen::Vector3d xyz = Eigen::Vector3d::Zero();
   uint8_t rgb[3] = {0, 0, 0};
-  double error = 0;  // mean reprojection error in pixels
+  double error = 0;                                  // mean reprojection error in pixels
   std::vector<std::pair<uint32_t, uint32_t>> track;  // (image id, point2D index)
 };
 

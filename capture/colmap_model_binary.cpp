@@ -1,6 +1,8 @@
 // COLMAP's binary model layout (cameras.bin, images.bin, points3D.bin) as written by COLMAP 3.x
 // (src/base/reconstruction.cc): little-endian fixed-width records, counts as uint64, image names
 // NUL-terminated. Every read is bounds-checked so a truncated file gives a clear error.
+#include <fmt/format.h>
+
 #include <cstring>
 #include <fstream>
 #include <iterator>
@@ -8,8 +10,6 @@
 #include <string>
 #include <utility>
 #include <vector>
-
-#include <fmt/format.h>
 
 #include "capture/colmap_model_io.h"
 

@@ -2,14 +2,14 @@
 // '#' comment lines, whitespace-separated fields; images.txt has two lines per image (the pose line
 // and a possibly empty POINTS2D line). Numbers are written with 17 significant digits so a text
 // round trip is exact.
+#include <fmt/format.h>
+
 #include <fstream>
 #include <iterator>
 #include <sstream>
 #include <stdexcept>
 #include <string>
 #include <utility>
-
-#include <fmt/format.h>
 
 #include "capture/colmap_model_io.h"
 
@@ -176,9 +176,9 @@ void write_images_text(const ImageMap& images, const std::filesystem::path& path
        "#   POINTS2D[] as (X, Y, POINT3D_ID)\n"
     << fmt::format("# Number of images: {}\n", images.size());
   for (const auto& [id, im] : images) {
-    f << fmt::format("{} {:.17g} {:.17g} {:.17g} {:.17g} {:.17g} {:.17g} {:.17g} {} {}\n", im.id,
-                     im.qvec[0], im.qvec[1], im.qvec[2], im.qvec[3], im.tvec[0], im.tvec[1],
-                     im.tvec[2], im.camera_id, im.name);
+    f << fmt::format("{} {:.17g} {:.17g} {:.17g} {:.17g} {:.17g} {:.17g} {:.17g} {} {}\n", im.id, im.qvec[0],
+                     im.qvec[1], im.qvec[2], im.qvec[3], im.tvec[0], im.tvec[1], im.tvec[2], im.camera_id,
+                     im.name);
     for (size_t k = 0; k < im.xys.size(); ++k)
       f << fmt::format("{}{:.17g} {:.17g} {}", k ? " " : "", im.xys[k].x(), im.xys[k].y(),
                        k < im.point3d_ids.size() ? im.point3d_ids[k] : -1);
@@ -193,8 +193,8 @@ void write_points3d_text(const PointMap& points, const std::filesystem::path& pa
        "#   POINT3D_ID, X, Y, Z, R, G, B, ERROR, TRACK[] as (IMAGE_ID, POINT2D_IDX)\n"
     << fmt::format("# Number of points: {}\n", points.size());
   for (const auto& [id, p] : points) {
-    f << fmt::format("{} {:.17g} {:.17g} {:.17g} {} {} {} {:.17g}", p.id, p.xyz[0], p.xyz[1],
-                     p.xyz[2], p.rgb[0], p.rgb[1], p.rgb[2], p.error);
+    f << fmt::format("{} {:.17g} {:.17g} {:.17g} {} {} {} {:.17g}", p.id, p.xyz[0], p.xyz[1], p.xyz[2],
+                     p.rgb[0], p.rgb[1], p.rgb[2], p.error);
     for (const auto& t : p.track) f << fmt::format(" {} {}", t.first, t.second);
     f << "\n";
   }

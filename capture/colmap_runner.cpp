@@ -2,13 +2,13 @@
 // CPU, progress parsed from COLMAP's log, and failures turned into messages that say what to do.
 #include "capture/colmap_runner.h"
 
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
 #include <algorithm>
 #include <fstream>
 #include <regex>
 #include <stdexcept>
-
-#include <fmt/format.h>
-#include <spdlog/spdlog.h>
 
 #include "capture/colmap_model.h"
 #include "capture/subprocess.h"
@@ -42,12 +42,11 @@ void run_stage(const fs::path& exe, const std::string& stage, const std::vector<
   Progress progress(fmt::format("colmap {}", stage), total, "img");
   bool mapper = stage == "mapper";
   double done = 0;
-  ProcessResult r = run_process(exe, args, log, {"QT_QPA_PLATFORM=offscreen"},
-                                [&] {
-                                  // The counter can scroll out of the log tail: never go backwards.
-                                  done = std::max(done, log_progress(log, mapper));
-                                  progress.update(done);
-                                });
+  ProcessResult r = run_process(exe, args, log, {"QT_QPA_PLATFORM=offscreen"}, [&] {
+    // The counter can scroll out of the log tail: never go backwards.
+    done = std::max(done, log_progress(log, mapper));
+    progress.update(done);
+  });
   progress.finish();
   result.seconds.push_back({stage, r.seconds});
   if (r.interrupted) throw std::runtime_error(fmt::format("interrupted during colmap {}", stage));
@@ -55,11 +54,12 @@ void run_stage(const fs::path& exe, const std::string& stage, const std::vector<
     std::string hint;
     std::string tail = file_tail(log, 15);
     if (tail.find("No good initial image pair") != std::string::npos)
-      hint = "\nThe frames have too few matches: take more overlapping photos of a textured scene, or "
-             "try --matcher exhaustive.";
-    throw std::runtime_error(fmt::format(
-        "colmap {} failed (exit status {}); its log is '{}'. Last lines:\n{}{}", stage, r.exit_code,
-        log.string(), tail, hint));
+      hint =
+          "\nThe frames have too few matches: take more overlapping photos of a textured scene, or "
+          "try --matcher exhaustive.";
+    throw std::runtime_error(
+        fmt::format("colmap {} failed (exit status {}); its log is '{}'. Last lines:\n{}{}", stage,
+                    r.exit_code, log.string(), tail, hint));
   }
 }
 
@@ -75,7 +75,8 @@ fs::path find_colmap(const ColmapSettings& settings) {
   if (exe.empty())
     throw std::runtime_error(fmt::format(
         "COLMAP ('{}') was not found on PATH: install Debian's package with `sudo apt-get install "
-        "colmap`, or give a folder that already holds a COLMAP model (sparse/0)", name));
+        "colmap`, or give a folder that already holds a COLMAP model (sparse/0)",
+        name));
   return exe;
 }
 
@@ -92,13 +93,13 @@ ColmapResult run_colmap(const fs::path& image_dir, const fs::path& workspace, si
   ColmapResult result;
   double n = static_cast<double>(image_count);
 
-  run_stage(exe, "features",
-            {"feature_extractor", "--database_path", db.string(), "--image_path", image_dir.string(),
-             "--ImageReader.camera_model", "OPENCV", "--ImageReader.single_camera", "1",
-             "--SiftExtraction.use_gpu", "0", "--SiftExtraction.num_threads", std::to_string(s.threads),
-             "--SiftExtraction.max_num_features", std::to_string(s.max_features),
-             "--SiftExtraction.max_image_size", std::to_string(s.max_image_size)},
-            workspace / "features.log", n, result);
+  run_stage(
+      exe, "features",
+      {"feature_extractor", "--database_path", db.string(), "--image_path", image_dir.string(),
+       "--ImageReader.camera_model", "OPENCV", "--ImageReader.single_camera", "1", "--SiftExtraction.use_gpu",
+       "0", "--SiftExtraction.num_threads", std::to_string(s.threads), "--SiftExtraction.max_num_features",
+       std::to_string(s.max_features), "--SiftExtraction.max_image_size", std::to_string(s.max_image_size)},
+      workspace / "features.log", n, result);
 
   std::vector<std::string> match = {s.matcher + "_matcher", "--database_path", db.string()};
   for (auto& a : common_sift(s)) match.push_back(a);
@@ -108,9 +109,8 @@ ColmapResult run_colmap(const fs::path& image_dir, const fs::path& workspace, si
   run_stage(exe, "matching", match, workspace / "matching.log", n, result);
 
   run_stage(exe, "mapper",
-            {"mapper", "--database_path", db.string(), "--image_path", image_dir.string(),
-             "--output_path", (workspace / "sparse").string(), "--Mapper.num_threads",
-             std::to_string(s.threads)},
+            {"mapper", "--database_path", db.string(), "--image_path", image_dir.string(), "--output_path",
+             (workspace / "sparse").string(), "--Mapper.num_threads", std::to_string(s.threads)},
             workspace / "mapper.log", n, result);
 
   for (const auto& e : fs::directory_iterator(workspace / "sparse")) {
@@ -123,12 +123,13 @@ ColmapResult run_colmap(const fs::path& image_dir, const fs::path& workspace, si
     throw std::runtime_error(fmt::format(
         "COLMAP could not reconstruct the scene: too few matches between the frames (log: '{}'). "
         "Take more overlapping photos (move slowly around the head), with light and texture, or try "
-        "--matcher exhaustive", (workspace / "mapper.log").string()));
+        "--matcher exhaustive",
+        (workspace / "mapper.log").string()));
   if (result.models > 1)
     result.warnings.push_back(fmt::format(
         "COLMAP made {} disconnected models; kept the largest ({} of {} frames, '{}'): the others "
-        "did not overlap enough with it", result.models, result.registered, image_count,
-        result.model_dir.string()));
+        "did not overlap enough with it",
+        result.models, result.registered, image_count, result.model_dir.string()));
   if (result.registered * 2 < image_count)
     result.warnings.push_back(fmt::format("only {} of {} frames got a pose", result.registered, image_count));
   return result;

@@ -11,12 +11,12 @@
 namespace lorgnette::capture {
 
 struct ColmapSettings {
-  std::string executable;          // empty: `colmap` on PATH
+  std::string executable;              // empty: `colmap` on PATH
   std::string matcher = "sequential";  // "sequential" (ordered frames) or "exhaustive"
-  int max_features = 2048;         // SIFT features per image: bounds matching time on 2 cores
-  int max_image_size = 1024;       // SIFT works on images downscaled to this longer side
-  int sequential_overlap = 10;     // each frame is matched with this many following frames
-  int threads = -1;                // -1: all cores
+  int max_features = 2048;             // SIFT features per image: bounds matching time on 2 cores
+  int max_image_size = 1024;           // SIFT works on images downscaled to this longer side
+  int sequential_overlap = 10;         // each frame is matched with this many following frames
+  int threads = -1;                    // -1: all cores
 };
 
 struct StageSeconds {
@@ -25,10 +25,10 @@ struct StageSeconds {
 };
 
 struct ColmapResult {
-  std::filesystem::path model_dir;   // the chosen sparse model (largest)
-  size_t models = 0;                 // models COLMAP produced
-  size_t registered = 0;             // images in the chosen model
-  std::vector<StageSeconds> seconds; // features, matching, mapper
+  std::filesystem::path model_dir;    // the chosen sparse model (largest)
+  size_t models = 0;                  // models COLMAP produced
+  size_t registered = 0;              // images in the chosen model
+  std::vector<StageSeconds> seconds;  // features, matching, mapper
   std::vector<std::string> warnings;
 };
 

@@ -3,13 +3,13 @@
 // sparse points near where the optical axes meet (the subject), then written as transforms.json.
 #include "capture/colmap_to_transforms.h"
 
-#include <algorithm>
-#include <cmath>
-#include <stdexcept>
+#include <fmt/format.h>
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
-#include <fmt/format.h>
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
 
 #include "host/dataset/dataset.h"
 
@@ -153,9 +153,10 @@ Camera camera_from_colmap(const ColmapCamera& c) {
   Camera cam{};
   const auto& p = c.params;
   auto bad = [&] {
-    return std::runtime_error(fmt::format(
-        "COLMAP camera {} uses the {} model, which has no OPENCV equivalent: re-run COLMAP with "
-        "--ImageReader.camera_model OPENCV", c.id, c.model));
+    return std::runtime_error(
+        fmt::format("COLMAP camera {} uses the {} model, which has no OPENCV equivalent: re-run COLMAP with "
+                    "--ImageReader.camera_model OPENCV",
+                    c.id, c.model));
   };
   if (p.size() != colmap_camera_param_count(c.model)) throw bad();
   double fx = p[0], fy = p[0], cx = p[1], cy = p[2], k1 = 0, k2 = 0, p1 = 0, p2 = 0;
@@ -178,8 +179,7 @@ Camera camera_from_colmap(const ColmapCamera& c) {
   return cam;
 }
 
-void write_capture_transforms(const std::string& dir, const ColmapModel& model,
-                              const ConvertedScene& scene) {
+void write_capture_transforms(const std::string& dir, const ColmapModel& model, const ConvertedScene& scene) {
   std::vector<Camera> cameras;
   std::vector<std::string> files;
   for (const auto& f : scene.frames) {
@@ -190,16 +190,16 @@ void write_capture_transforms(const std::string& dir, const ColmapModel& model,
   }
   nlohmann::json to_scene = nlohmann::json::array();
   for (int r = 0; r < 4; ++r)
-    to_scene.push_back({scene.colmap_to_scene(r, 0), scene.colmap_to_scene(r, 1),
-                        scene.colmap_to_scene(r, 2), scene.colmap_to_scene(r, 3)});
-  nlohmann::json extra = {
-      {"aabb", {{scene.aabb_min.x(), scene.aabb_min.y(), scene.aabb_min.z()},
-                {scene.aabb_max.x(), scene.aabb_max.y(), scene.aabb_max.z()}}},
-      {"colmap_to_scene", to_scene},
-      {"scene_scale", scene.scale},
-      {"up", {0.0, 0.0, 1.0}},
-      {"mean_reprojection_error_px", scene.mean_reprojection_error},
-      {"generator", "lorgnette capture"}};
+    to_scene.push_back({scene.colmap_to_scene(r, 0), scene.colmap_to_scene(r, 1), scene.colmap_to_scene(r, 2),
+                        scene.colmap_to_scene(r, 3)});
+  nlohmann::json extra = {{"aabb",
+                           {{scene.aabb_min.x(), scene.aabb_min.y(), scene.aabb_min.z()},
+                            {scene.aabb_max.x(), scene.aabb_max.y(), scene.aabb_max.z()}}},
+                          {"colmap_to_scene", to_scene},
+                          {"scene_scale", scene.scale},
+                          {"up", {0.0, 0.0, 1.0}},
+                          {"mean_reprojection_error_px", scene.mean_reprojection_error},
+                          {"generator", "lorgnette capture"}};
   dataset::write_transforms_json(dir, cameras, files, extra);
 }
 

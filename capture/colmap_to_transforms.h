@@ -4,10 +4,9 @@
 // scaled on the subject: a robust bounding box of the sparse points the cameras look at (the head
 // for a head capture) becomes the "aabb" field, so training can ignore the room behind.
 #pragma once
+#include <Eigen/Core>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "capture/colmap_model.h"
 #include "common/camera_types.h"
@@ -18,9 +17,9 @@ struct ConvertOptions {
   // Points within this fraction of the median camera-to-focus distance of the focus point (where
   // the optical axes meet) are the subject; the rest is background.
   double subject_radius_fraction = 0.5;
-  double box_percentile = 0.03;  // per-axis robust extent: [p, 1 - p] quantiles of subject points
-  double box_padding = 0.15;     // grow the box by this fraction of its extent on each side
-  size_t min_track_length = 3;   // points seen by fewer images are too noisy for the box
+  double box_percentile = 0.03;          // per-axis robust extent: [p, 1 - p] quantiles of subject points
+  double box_padding = 0.15;             // grow the box by this fraction of its extent on each side
+  size_t min_track_length = 3;           // points seen by fewer images are too noisy for the box
   std::string image_prefix = "images/";  // file_path = prefix + COLMAP image name
 };
 
@@ -51,8 +50,7 @@ Camera camera_from_colmap(const ColmapCamera& camera);
 // Writes `dir`/transforms.json through host/dataset's writer: intrinsics (shared when all cameras
 // agree), frames, and the extra keys "aabb" ([[min], [max]] of the subject box in scene units),
 // "colmap_to_scene" (4x4), "scene_scale", "up" ([0, 0, 1]) and "mean_reprojection_error_px".
-void write_capture_transforms(const std::string& dir, const ColmapModel& model,
-                              const ConvertedScene& scene);
+void write_capture_transforms(const std::string& dir, const ColmapModel& model, const ConvertedScene& scene);
 
 // OpenGL camera-to-world of a COLMAP world-to-camera pose (no world change), and its inverse.
 Eigen::Matrix4d colmap_pose_to_opengl_c2w(const Eigen::Vector4d& qvec, const Eigen::Vector3d& tvec);

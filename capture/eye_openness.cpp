@@ -2,7 +2,6 @@
 #include "capture/eye_openness.h"
 
 #include <algorithm>
-
 #include <opencv2/imgproc.hpp>
 
 #include "capture/frame_filter.h"

@@ -3,10 +3,9 @@
 // on a downscaled copy (faces in head captures are large; EAR does not depend on scale).
 #pragma once
 #include <memory>
+#include <opencv2/core.hpp>
 #include <optional>
 #include <string>
-
-#include <opencv2/core.hpp>
 
 namespace lorgnette::fit {
 class LandmarkDetector;
@@ -17,8 +16,9 @@ namespace lorgnette::capture {
 class EyeOpenness {
  public:
   // Loads dlib's shape predictor (throws naming the file and Debian's libdlib-data when missing).
-  explicit EyeOpenness(const std::string& model_path = "/usr/share/dlib/shape_predictor_68_face_landmarks.dat",
-                       int max_side = 480);
+  explicit EyeOpenness(
+      const std::string& model_path = "/usr/share/dlib/shape_predictor_68_face_landmarks.dat",
+      int max_side = 480);
   ~EyeOpenness();
   EyeOpenness(const EyeOpenness&) = delete;
   EyeOpenness& operator=(const EyeOpenness&) = delete;

@@ -1,9 +1,9 @@
 // Blur and blink filters over a whole capture (see frame_filter.h for the rules).
 #include "capture/frame_filter.h"
 
-#include <algorithm>
-
 #include <fmt/format.h>
+
+#include <algorithm>
 #include <opencv2/imgproc.hpp>
 
 namespace lorgnette::capture {
@@ -59,7 +59,8 @@ FilterDecision blur_filter(const std::vector<double>& sharpness, const BlurOptio
   if (n > 0 && overall < opt.blurred_below)
     d.warnings.push_back(fmt::format(
         "the whole capture looks blurred (median sharpness {:.1f} < {:.1f}): frames kept, but poses "
-        "and the avatar will suffer; hold the phone steadier or use more light", overall, opt.blurred_below));
+        "and the avatar will suffer; hold the phone steadier or use more light",
+        overall, opt.blurred_below));
   keep_all_if_empty(d, "blurred");
   return d;
 }
@@ -89,7 +90,8 @@ FilterDecision blink_filter(const std::vector<std::optional<double>>& ear, const
   if (level < opt.closed_below)
     d.warnings.push_back(fmt::format(
         "the eyes look closed in most frames (median eye aspect ratio {:.3f} < {:.2f}): frames kept; "
-        "the avatar will have closed eyes", level, opt.closed_below));
+        "the avatar will have closed eyes",
+        level, opt.closed_below));
   keep_all_if_empty(d, "closed-eyed");
   return d;
 }

@@ -4,13 +4,12 @@
 // Neither filter ever drops every frame: a capture that is blurred or closed-eyed throughout is kept
 // and a warning says so. Decisions carry a reason per dropped frame for the report.
 #pragma once
+#include <Eigen/Core>
 #include <array>
+#include <opencv2/core.hpp>
 #include <optional>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
-#include <opencv2/core.hpp>
 
 namespace lorgnette::capture {
 
@@ -25,9 +24,9 @@ struct FilterDecision {
 double laplacian_variance(const cv::Mat& image);
 
 struct BlurOptions {
-  int half_window = 3;      // neighbours on each side that define the local sharpness level
-  double ratio = 0.6;       // drop frames sharper than less than this fraction of the local median
-  double blurred_below = 8; // warn when the capture's median sharpness is below this (8-bit grey)
+  int half_window = 3;       // neighbours on each side that define the local sharpness level
+  double ratio = 0.6;        // drop frames sharper than less than this fraction of the local median
+  double blurred_below = 8;  // warn when the capture's median sharpness is below this (8-bit grey)
 };
 FilterDecision blur_filter(const std::vector<double>& sharpness, const BlurOptions& options = {});
 

@@ -1,15 +1,15 @@
 // Frame sources for `lorgnette capture`: input classification, video sampling, image folders.
 #include "capture/frame_source.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cctype>
 #include <cmath>
-#include <stdexcept>
-
-#include <fmt/format.h>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
+#include <stdexcept>
 
 #include "capture/colmap_model.h"
 #include "host/util/interrupt.h"
@@ -36,8 +36,10 @@ cv::Mat fit_size(const cv::Mat& img, int max_side) {
   if (max_side <= 0 || side <= max_side) return img;
   double s = static_cast<double>(max_side) / side;
   cv::Mat out;
-  cv::resize(img, out, cv::Size(static_cast<int>(std::lround(img.cols * s)),
-                                static_cast<int>(std::lround(img.rows * s))), 0, 0, cv::INTER_AREA);
+  cv::resize(
+      img, out,
+      cv::Size(static_cast<int>(std::lround(img.cols * s)), static_cast<int>(std::lround(img.rows * s))), 0,
+      0, cv::INTER_AREA);
   return out;
 }
 
@@ -65,8 +67,10 @@ CaptureInput classify_input(const fs::path& path) {
   CaptureInput in;
   in.path = path;
   if (!fs::exists(path))
-    throw std::runtime_error(fmt::format("input '{}' does not exist: give a video file, a folder of "
-                                         "images, or a folder holding a COLMAP model", path.string()));
+    throw std::runtime_error(
+        fmt::format("input '{}' does not exist: give a video file, a folder of "
+                    "images, or a folder holding a COLMAP model",
+                    path.string()));
   if (fs::is_regular_file(path)) {
     in.kind = InputKind::Video;
     return in;
@@ -102,8 +106,10 @@ FrameSet read_image_folder(const fs::path& dir, const FrameOptions& opt) {
     const fs::path& f = files[pick[k]];
     cv::Mat img = cv::imread(f.string(), cv::IMREAD_COLOR);
     if (img.empty())
-      throw std::runtime_error(fmt::format("cannot read image '{}': not an image OpenCV can decode "
-                                           "(remove it or convert it to JPEG/PNG)", f.string()));
+      throw std::runtime_error(
+          fmt::format("cannot read image '{}': not an image OpenCV can decode "
+                      "(remove it or convert it to JPEG/PNG)",
+                      f.string()));
     set.images.push_back(fit_size(img, opt.max_side));
     // Resized frames are re-encoded as JPEG, so the name says so.
     set.names.push_back(f.stem().string() + ".jpg");
@@ -116,8 +122,10 @@ FrameSet read_image_folder(const fs::path& dir, const FrameOptions& opt) {
 FrameSet read_video_frames(const fs::path& video, const FrameOptions& opt) {
   cv::VideoCapture cap(video.string(), cv::CAP_FFMPEG);  // not GStreamer: it prints noise on failure
   if (!cap.isOpened())
-    throw std::runtime_error(fmt::format("cannot open video '{}': not a video OpenCV/FFmpeg can "
-                                         "decode (give an .mp4/.mov, or a folder of photos)", video.string()));
+    throw std::runtime_error(
+        fmt::format("cannot open video '{}': not a video OpenCV/FFmpeg can "
+                    "decode (give an .mp4/.mov, or a folder of photos)",
+                    video.string()));
   FrameSet set;
   set.source_fps = cap.get(cv::CAP_PROP_FPS);
   double count = cap.get(cv::CAP_PROP_FRAME_COUNT);

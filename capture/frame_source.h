@@ -4,10 +4,9 @@
 // side is at most `max_side` and evenly subsampled down to `max_frames`.
 #pragma once
 #include <filesystem>
+#include <opencv2/core.hpp>
 #include <string>
 #include <vector>
-
-#include <opencv2/core.hpp>
 
 namespace lorgnette::capture {
 
@@ -15,9 +14,9 @@ enum class InputKind { Video, ImageFolder, ColmapModel };
 
 struct CaptureInput {
   InputKind kind = InputKind::ImageFolder;
-  std::filesystem::path path;        // what the user gave
-  std::filesystem::path model_dir;   // ColmapModel: the folder with cameras/images/points3D
-  std::filesystem::path image_dir;   // ImageFolder: path; ColmapModel: its images folder
+  std::filesystem::path path;       // what the user gave
+  std::filesystem::path model_dir;  // ColmapModel: the folder with cameras/images/points3D
+  std::filesystem::path image_dir;  // ImageFolder: path; ColmapModel: its images folder
 };
 
 // Throws with what is wrong and what to give instead (missing path, empty folder, ...).
@@ -34,9 +33,9 @@ struct FrameSet {
 };
 
 struct FrameOptions {
-  double fps = 2.0;       // video sampling rate (frames per second of video)
-  int max_frames = 150;   // <= 0: no limit
-  int max_side = 768;     // <= 0: keep the size
+  double fps = 2.0;      // video sampling rate (frames per second of video)
+  int max_frames = 150;  // <= 0: no limit
+  int max_side = 768;    // <= 0: keep the size
 };
 
 // Throws when the video cannot be opened/decoded or a folder image cannot be read.

@@ -1,14 +1,14 @@
 // Similarity-aligned pose comparison (see pose_compare.h).
 #include "capture/pose_compare.h"
 
+#include <fmt/format.h>
+
+#include <Eigen/Geometry>
 #include <cmath>
 #include <fstream>
 #include <map>
-#include <stdexcept>
-
-#include <Eigen/Geometry>
-#include <fmt/format.h>
 #include <nlohmann/json.hpp>
+#include <stdexcept>
 
 #include "host/dataset/dataset.h"
 
@@ -47,7 +47,8 @@ PoseAccuracy compare_poses(const std::string& dataset_dir, const std::string& re
     b.push_back(it->second);
   }
   const int n = static_cast<int>(a.size());
-  if (n < 3) throw std::runtime_error(fmt::format("only {} frames of '{}' appear in '{}'", n, dataset_dir, reference));
+  if (n < 3)
+    throw std::runtime_error(fmt::format("only {} frames of '{}' appear in '{}'", n, dataset_dir, reference));
   Eigen::Matrix3Xd ours(3, n), theirs(3, n);
   for (int i = 0; i < n; ++i) ours.col(i) = a[i].block<3, 1>(0, 3), theirs.col(i) = b[i].block<3, 1>(0, 3);
   Eigen::Matrix4d sim = Eigen::umeyama(ours, theirs, true);

@@ -1,10 +1,10 @@
 // The frame-selection stage of a capture: blur filter, then blink filter on the sharp frames, with
 // progress, and every dropped frame recorded with its reason.
-#include <chrono>
-#include <memory>
-
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
+
+#include <chrono>
+#include <memory>
 
 #include "capture/capture.h"
 #include "capture/eye_openness.h"
@@ -19,8 +19,10 @@ std::vector<size_t> apply(const FilterDecision& d, const std::vector<size_t>& id
                           CaptureReport& report) {
   std::vector<size_t> kept;
   for (size_t k = 0; k < idx.size(); ++k) {
-    if (d.keep[k]) kept.push_back(idx[k]);
-    else report.dropped.push_back({frames.names[idx[k]], d.reasons[k]});
+    if (d.keep[k])
+      kept.push_back(idx[k]);
+    else
+      report.dropped.push_back({frames.names[idx[k]], d.reasons[k]});
   }
   report.warnings.insert(report.warnings.end(), d.warnings.begin(), d.warnings.end());
   return kept;

@@ -1,11 +1,11 @@
 // The subject-box choice for training (see subject_box.h).
 #include "capture/subject_box.h"
 
-#include <algorithm>
-#include <stdexcept>
-
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <stdexcept>
 
 namespace lorgnette::capture {
 namespace {
@@ -34,25 +34,33 @@ SubjectBoxChoice cameras_choice(const std::string& why) {
 
 const char* to_string(BoxSource s) {
   switch (s) {
-    case BoxSource::Auto: return "auto";
-    case BoxSource::Dataset: return "dataset";
-    case BoxSource::Masks: return "masks";
-    case BoxSource::Head: return "head";
-    case BoxSource::Cameras: return "cameras";
+    case BoxSource::Auto:
+      return "auto";
+    case BoxSource::Dataset:
+      return "dataset";
+    case BoxSource::Masks:
+      return "masks";
+    case BoxSource::Head:
+      return "head";
+    case BoxSource::Cameras:
+      return "cameras";
   }
   return "?";
 }
 
 BoxSource box_source_from_string(const std::string& name) {
-  for (BoxSource s : {BoxSource::Auto, BoxSource::Dataset, BoxSource::Masks, BoxSource::Head, BoxSource::Cameras})
+  for (BoxSource s :
+       {BoxSource::Auto, BoxSource::Dataset, BoxSource::Masks, BoxSource::Head, BoxSource::Cameras})
     if (name == to_string(s)) return s;
-  throw std::runtime_error(fmt::format("unknown box source '{}': use auto, dataset, masks, head or cameras", name));
+  throw std::runtime_error(
+      fmt::format("unknown box source '{}': use auto, dataset, masks, head or cameras", name));
 }
 
 bool has_alpha_masks(const dataset::Dataset& ds) {
   if (!ds.has_alpha) return false;
   auto train = ds.split(dataset::Split::Train);
-  return std::any_of(train.begin(), train.end(), [](const dataset::Frame* f) { return f->image.has_transparency(); });
+  return std::any_of(train.begin(), train.end(),
+                     [](const dataset::Frame* f) { return f->image.has_transparency(); });
 }
 
 std::vector<fit::PosedPhoto> posed_photos(const dataset::Dataset& ds) {
@@ -68,16 +76,22 @@ SubjectBoxChoice choose_subject_box(const dataset::Dataset& ds, BoxSource reques
   SubjectBoxChoice c;
   switch (requested) {
     case BoxSource::Dataset:
-      if (!ds.aabb) throw std::runtime_error("--box dataset: the dataset has no 'aabb' (use --box auto or head)");
+      if (!ds.aabb)
+        throw std::runtime_error("--box dataset: the dataset has no 'aabb' (use --box auto or head)");
       break;
     case BoxSource::Masks:
-      if (!masks) throw std::runtime_error("--box masks: the training images have no alpha masks" +
-                                           std::string(masks_allowed ? "" : " (or --no-masks was given)"));
-      c.source = BoxSource::Masks, c.use_masks = true, c.why = "the visual hull of the alpha masks (--box masks)";
+      if (!masks)
+        throw std::runtime_error("--box masks: the training images have no alpha masks" +
+                                 std::string(masks_allowed ? "" : " (or --no-masks was given)"));
+      c.source = BoxSource::Masks, c.use_masks = true,
+      c.why = "the visual hull of the alpha masks (--box masks)";
       return c;
-    case BoxSource::Head: return head_choice(ds, head_options);
-    case BoxSource::Cameras: return cameras_choice("the box around the cameras' look-at point (--box cameras)");
-    case BoxSource::Auto: break;
+    case BoxSource::Head:
+      return head_choice(ds, head_options);
+    case BoxSource::Cameras:
+      return cameras_choice("the box around the cameras' look-at point (--box cameras)");
+    case BoxSource::Auto:
+      break;
   }
   if (ds.aabb) {
     c.source = BoxSource::Dataset;
@@ -96,8 +110,10 @@ SubjectBoxChoice choose_subject_box(const dataset::Dataset& ds, BoxSource reques
     h.why += " (auto: no 'aabb', no alpha masks, faces found)";
     return h;
   } catch (const std::exception& e) {
-    return cameras_choice(fmt::format("the box around the cameras' look-at point (auto: no 'aabb', no alpha "
-                                      "masks, and no head box: {})", e.what()));
+    return cameras_choice(
+        fmt::format("the box around the cameras' look-at point (auto: no 'aabb', no alpha "
+                    "masks, and no head box: {})",
+                    e.what()));
   }
 }
 
@@ -110,7 +126,9 @@ void apply_subject_box(dataset::Dataset& ds, BoxSource requested, bool masks_all
     nerf::Aabb box;
     box.min = (*c.aabb)[0];
     box.max = (*c.aabb)[1];
-    if (!box.valid()) throw std::runtime_error("the chosen subject box is empty: give a box yourself or use the cameras' box");
+    if (!box.valid())
+      throw std::runtime_error(
+          "the chosen subject box is empty: give a box yourself or use the cameras' box");
     job.sizing.aabb = box;
   }
 }

@@ -34,8 +34,8 @@ bool has_alpha_masks(const dataset::Dataset& ds);
 
 // Chooses the box for training on `ds`'s training frames. `masks_allowed` = false ignores alpha
 // (train --no-masks). Throws when a forced source does not apply (no aabb, no masks, no faces).
-SubjectBoxChoice choose_subject_box(const dataset::Dataset& ds, BoxSource requested, bool masks_allowed = true,
-                                    const fit::HeadBoxOptions& head_options = {});
+SubjectBoxChoice choose_subject_box(const dataset::Dataset& ds, BoxSource requested,
+                                    bool masks_allowed = true, const fit::HeadBoxOptions& head_options = {});
 
 // Chooses the box (choose_subject_box) and sets the training job up for it, as `lorgnette train
 // --box` and Python's train() do: an explicit box, or the dataset's aabb removed so the sizing

@@ -2,6 +2,7 @@
 #include "capture/subprocess.h"
 
 #include <fcntl.h>
+#include <fmt/format.h>
 #include <signal.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
@@ -14,8 +15,6 @@
 #include <sstream>
 #include <stdexcept>
 #include <thread>
-
-#include <fmt/format.h>
 
 #include "host/util/interrupt.h"
 
@@ -39,11 +38,12 @@ fs::path find_executable(const std::string& name) {
   return {};
 }
 
-ProcessResult run_process(const fs::path& exe, const std::vector<std::string>& args,
-                          const fs::path& log, const std::vector<std::string>& env,
-                          const std::function<void()>& poll) {
+ProcessResult run_process(const fs::path& exe, const std::vector<std::string>& args, const fs::path& log,
+                          const std::vector<std::string>& env, const std::function<void()>& poll) {
   int fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
-  if (fd < 0) throw std::runtime_error(fmt::format("cannot create log file '{}': {}", log.string(), std::strerror(errno)));
+  if (fd < 0)
+    throw std::runtime_error(
+        fmt::format("cannot create log file '{}': {}", log.string(), std::strerror(errno)));
   std::vector<std::string> argv_s{exe.string()};
   argv_s.insert(argv_s.end(), args.begin(), args.end());
   std::vector<char*> argv;
@@ -66,7 +66,8 @@ ProcessResult run_process(const fs::path& exe, const std::vector<std::string>& a
   pid_t pid = ::fork();
   if (pid < 0) {
     ::close(fd);
-    throw std::runtime_error(fmt::format("cannot start '{}': fork failed: {}", exe.string(), std::strerror(errno)));
+    throw std::runtime_error(
+        fmt::format("cannot start '{}': fork failed: {}", exe.string(), std::strerror(errno)));
   }
   if (pid == 0) {  // child: only async-signal-safe calls until exec
     ::dup2(fd, STDOUT_FILENO);

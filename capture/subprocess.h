@@ -13,7 +13,7 @@ namespace lorgnette::capture {
 std::filesystem::path find_executable(const std::string& name);
 
 struct ProcessResult {
-  int exit_code = 0;    // exit status; 128 + signal number when killed by a signal
+  int exit_code = 0;  // exit status; 128 + signal number when killed by a signal
   bool interrupted = false;
   double seconds = 0;
 };

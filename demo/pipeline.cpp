@@ -1,17 +1,17 @@
 // The demo's stages, in order; see pipeline.h.
 #include "demo/pipeline.h"
 
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
 #include <chrono>
 #include <filesystem>
 #include <fstream>
 
-#include <fmt/format.h>
-#include <spdlog/spdlog.h>
-
 #include "fit/fit_job.h"
 #include "host/dataset/dataset.h"
-#include "host/render/evaluate.h"
 #include "host/nerf/train_job.h"
+#include "host/render/evaluate.h"
 #include "host/render/orbit.h"
 #include "host/render/render_job.h"
 #include "host/render/renderer.h"
@@ -21,8 +21,8 @@
 #include "mesh/glasses.h"
 #include "mesh/gltf_writer.h"
 #include "mesh/parametric.h"
-#include "mesh/preview.h"
 #include "mesh/placed_glasses.h"
+#include "mesh/preview.h"
 #include "mesh/surface_pass.h"
 #include "synth/procedural_head.h"
 #include "synth/subject.h"
@@ -59,11 +59,13 @@ struct Context {
 void prepare_output_dir(const DemoOptions& opt) {
   std::error_code ec;
   if (fs::exists(opt.out_dir, ec) && !fs::is_directory(opt.out_dir, ec))
-    throw std::runtime_error(fmt::format("'{}' exists and is not a directory: choose another -o", opt.out_dir));
+    throw std::runtime_error(
+        fmt::format("'{}' exists and is not a directory: choose another -o", opt.out_dir));
   if (fs::exists(opt.out_dir, ec) && !fs::is_empty(opt.out_dir, ec)) {
     if (!opt.force)
       throw std::runtime_error(fmt::format(
-          "'{}' is not empty: pass --force to replace it, or choose another -o (nothing was changed)", opt.out_dir));
+          "'{}' is not empty: pass --force to replace it, or choose another -o (nothing was changed)",
+          opt.out_dir));
     fs::remove_all(opt.out_dir, ec);
     if (ec) throw std::runtime_error(fmt::format("cannot clear '{}': {}", opt.out_dir, ec.message()));
   }
@@ -71,7 +73,8 @@ void prepare_output_dir(const DemoOptions& opt) {
   std::string probe = (fs::path(opt.out_dir) / ".write-test").string();
   std::ofstream test(probe);
   if (ec || !test)
-    throw std::runtime_error(fmt::format("cannot write into '{}': check the path and its permissions", opt.out_dir));
+    throw std::runtime_error(
+        fmt::format("cannot write into '{}': check the path and its permissions", opt.out_dir));
   test.close();
   fs::remove(probe, ec);
 }
@@ -108,7 +111,8 @@ nerf::NerfModel stage_train(Context& c, cl::Runtime& rt, dataset::Dataset& ds) {
   job.train.progress = c.opt.progress;
   nerf::TrainJobResult out = nerf::train_on_dataset(rt, ds, job);
   const nerf::TrainResult& r = out.result;
-  if (r.interrupted) throw std::runtime_error("interrupted during training (the model so far is in head.lnerf)");
+  if (r.interrupted)
+    throw std::runtime_error("interrupted during training (the model so far is in head.lnerf)");
   const nerf::ModelSizing& sizing = out.sizing;
   c.report.train_steps = r.steps;
   c.report.train_seconds = r.seconds;
@@ -119,7 +123,8 @@ nerf::NerfModel stage_train(Context& c, cl::Runtime& rt, dataset::Dataset& ds) {
     x.push_back(double(i + 1));
     y.push_back(r.loss_curve[i] > 0 ? -10.0 * std::log10(r.loss_curve[i]) : 0.0);
   }
-  write_chart(c.path("training_psnr.png"), {"training batch PSNR (sRGB)", "step", "dB"}, {{"batch PSNR", x, y}});
+  write_chart(c.path("training_psnr.png"), {"training batch PSNR (sRGB)", "step", "dB"},
+              {{"batch PSNR", x, y}});
   c.report.loss_chart = "training_psnr.png";
   c.report.stages.push_back({"train", sw.seconds()});
   return std::move(out.model);
@@ -221,16 +226,17 @@ void stage_render(Context& c, cl::Runtime& rt, nerf::NerfModel& model, const std
   spec.width = spec.height = static_cast<uint32_t>(c.opt.orbit_size);
   job.cameras = render::orbit_cameras(spec);
   // canonical mm -> scene, temples spread as the fit chose
-  mesh::PlacedGlasses placed = mesh::load_placed_glasses(glasses_path, fitted.placement.transform.cast<float>(),
-                                                         fitted.temples.bend);
+  mesh::PlacedGlasses placed =
+      mesh::load_placed_glasses(glasses_path, fitted.placement.transform.cast<float>(), fitted.temples.bend);
   const mesh::Glasses& g = placed.glasses;
   mesh::SurfaceParams sp;
   sp.samples_per_pixel = 4;
   job.surfaces = [&placed, sp](const Camera& cam) { return placed.pass->render(cam, sp); };
   render::Renderer renderer(rt);
-  nlohmann::json summary = render::run_render_job(job, [&](const Camera& cam, const lorgnette::SurfaceBuffers* s) {
-    return renderer.render(model, cam, s, job.options);
-  });
+  nlohmann::json summary =
+      render::run_render_job(job, [&](const Camera& cam, const lorgnette::SurfaceBuffers* s) {
+        return renderer.render(model, cam, s, job.options);
+      });
   c.report.config["render"] = summary;
   c.report.orbit_mp4 = fs::exists(c.path("orbit/orbit.mp4")) ? "orbit/orbit.mp4" : "";
   c.report.contact_sheet = fs::exists(c.path("orbit/contact_sheet.png")) ? "orbit/contact_sheet.png" : "";
@@ -262,9 +268,15 @@ DemoReport run_demo(const DemoOptions& options, const cl::RuntimeOptions& runtim
   c.opt = defaults_for(options);
   c.dir = c.opt.out_dir;
   c.report.version = fmt::format("{} (commit {})", version_string(), git_commit());
-  c.report.config = {{"quick", c.opt.quick}, {"views", c.opt.views}, {"image_size", c.opt.image_size},
-                     {"train_steps", c.opt.train_steps}, {"train_seconds", c.opt.train_seconds}, {"orbit_frames", c.opt.orbit_frames},
-                     {"orbit_size", c.opt.orbit_size}, {"fit_views", c.opt.fit_views}, {"seed", c.opt.seed}};
+  c.report.config = {{"quick", c.opt.quick},
+                     {"views", c.opt.views},
+                     {"image_size", c.opt.image_size},
+                     {"train_steps", c.opt.train_steps},
+                     {"train_seconds", c.opt.train_seconds},
+                     {"orbit_frames", c.opt.orbit_frames},
+                     {"orbit_size", c.opt.orbit_size},
+                     {"fit_views", c.opt.fit_views},
+                     {"seed", c.opt.seed}};
   prepare_output_dir(c.opt);
   cl::Runtime rt(runtime);
   c.report.device = rt.device().summary();

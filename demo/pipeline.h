@@ -14,10 +14,10 @@ namespace lorgnette::demo {
 
 struct DemoOptions {
   std::string out_dir = "demo-output";
-  std::string glasses;     // empty: a parametric frame made by `glasses make` logic
-  bool quick = false;      // the CI variant: smaller images, shorter training, fewer frames
-  bool force = false;      // replace a non-empty output directory
-  uint64_t seed = 7;       // head shape, cameras, training
+  std::string glasses;  // empty: a parametric frame made by `glasses make` logic
+  bool quick = false;   // the CI variant: smaller images, shorter training, fewer frames
+  bool force = false;   // replace a non-empty output directory
+  uint64_t seed = 7;    // head shape, cameras, training
   // Sizes; 0 = the default of the chosen variant (see defaults_for()).
   int views = 0, image_size = 0, orbit_frames = 0, orbit_size = 0, fit_views = 0;
   // Training budget: `train_steps` steps (0: the size-based default of host/nerf/train_budget.h),

@@ -1,9 +1,9 @@
 // report.json and report.html of the demo; see report.h.
 #include "demo/report.h"
 
-#include <filesystem>
-
 #include <fmt/format.h>
+
+#include <filesystem>
 
 #include "host/util/image_io.h"
 
@@ -14,11 +14,20 @@ std::string escape(const std::string& s) {
   std::string out;
   for (char c : s) {
     switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += c;
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      default:
+        out += c;
     }
   }
   return out;
@@ -54,7 +63,11 @@ nlohmann::json DemoReport::to_json() const {
           {"psnr", psnr},
           {"ssim", ssim},
           {"heldout_views", heldout_views},
-          {"train", {{"steps", train_steps}, {"seconds", train_seconds}, {"budget", train_budget}, {"model_mb", model_mb}}},
+          {"train",
+           {{"steps", train_steps},
+            {"seconds", train_seconds},
+            {"budget", train_budget},
+            {"model_mb", model_mb}}},
           {"fit", fit},
           {"ground_truth", ground_truth},
           {"config", config},
@@ -77,12 +90,15 @@ std::string render_report_html(const DemoReport& r) {
   stages += fmt::format("<tr><th>total</th><th>{:.1f} s</th></tr>\n", total);
   std::string status = r.ok ? "<p class=ok>The fit succeeded.</p>"
                             : fmt::format("<p class=bad>Not complete: {}</p>", escape(r.message));
-  std::string video = r.orbit_mp4.empty() ? ""
-                      : fmt::format("<video src=\"{0}\" controls loop autoplay muted width=\"480\"></video>"
-                                    "<p><a href=\"{0}\">{0}</a></p>",
-                                    escape(r.orbit_mp4));
+  std::string video = r.orbit_mp4.empty()
+                          ? ""
+                          : fmt::format(
+                                "<video src=\"{0}\" controls loop autoplay muted width=\"480\"></video>"
+                                "<p><a href=\"{0}\">{0}</a></p>",
+                                escape(r.orbit_mp4));
   std::string sheet = r.contact_sheet.empty() ? "" : image_row({r.contact_sheet}, 960);
-  return fmt::format(R"(<!doctype html>
+  return fmt::format(
+      R"(<!doctype html>
 <html><head><meta charset="utf-8"><title>Lorgnette demo report</title>
 <style>body{{font-family:sans-serif;max-width:1000px;margin:2em auto;color:#222}}
 table{{border-collapse:collapse}}td,th{{padding:2px 12px;text-align:left;border-bottom:1px solid #ddd}}
@@ -117,24 +133,23 @@ pre{{background:#f6f6f6;padding:8px;overflow:auto;font-size:12px}}</style></head
 <pre>{gt}</pre>
 </body></html>
 )",
-                     fmt::arg("status", status), fmt::arg("device", escape(r.device)),
-                     fmt::arg("version", escape(r.version)), fmt::arg("video", video), fmt::arg("sheet", sheet),
-                     fmt::arg("psnr", r.psnr), fmt::arg("views", r.heldout_views), fmt::arg("ssim", r.ssim),
-                     fmt::arg("steps", r.train_steps), fmt::arg("train_s", r.train_seconds),
-                     fmt::arg("budget", escape(r.train_budget)),
-                     fmt::arg("mb", r.model_mb), fmt::arg("pd", number(r.fit, "pd_mm", "{:.1f}")),
-                     fmt::arg("pen", number(r.fit, "penetration_mm")),
-                     fmt::arg("used", r.fit.is_object() && r.fit.contains("views_used") ? r.fit["views_used"].dump() : "–"),
-                     fmt::arg("stages", stages),
-                     fmt::arg("loss", r.loss_chart.empty() ? "" : image_row({r.loss_chart}, 640)),
-                     fmt::arg("heldout", image_row(r.heldout_images, 480)),
-                     fmt::arg("debug", image_row(r.debug_views, 240)),
-                     fmt::arg("preview", r.glasses_preview.empty() ? "" : image_row({r.glasses_preview}, 480)),
-                     fmt::arg("fit", escape(r.fit.dump(2))), fmt::arg("gt", escape(r.ground_truth.dump(2))));
+      fmt::arg("status", status), fmt::arg("device", escape(r.device)),
+      fmt::arg("version", escape(r.version)), fmt::arg("video", video), fmt::arg("sheet", sheet),
+      fmt::arg("psnr", r.psnr), fmt::arg("views", r.heldout_views), fmt::arg("ssim", r.ssim),
+      fmt::arg("steps", r.train_steps), fmt::arg("train_s", r.train_seconds),
+      fmt::arg("budget", escape(r.train_budget)), fmt::arg("mb", r.model_mb),
+      fmt::arg("pd", number(r.fit, "pd_mm", "{:.1f}")), fmt::arg("pen", number(r.fit, "penetration_mm")),
+      fmt::arg("used", r.fit.is_object() && r.fit.contains("views_used") ? r.fit["views_used"].dump() : "–"),
+      fmt::arg("stages", stages),
+      fmt::arg("loss", r.loss_chart.empty() ? "" : image_row({r.loss_chart}, 640)),
+      fmt::arg("heldout", image_row(r.heldout_images, 480)), fmt::arg("debug", image_row(r.debug_views, 240)),
+      fmt::arg("preview", r.glasses_preview.empty() ? "" : image_row({r.glasses_preview}, 480)),
+      fmt::arg("fit", escape(r.fit.dump(2))), fmt::arg("gt", escape(r.ground_truth.dump(2))));
 }
 
 void write_report(const std::string& dir, const DemoReport& report) {
-  write_text_file_atomic((std::filesystem::path(dir) / "report.json").string(), report.to_json().dump(2) + "\n");
+  write_text_file_atomic((std::filesystem::path(dir) / "report.json").string(),
+                         report.to_json().dump(2) + "\n");
   write_text_file_atomic((std::filesystem::path(dir) / "report.html").string(), render_report_html(report));
 }
 

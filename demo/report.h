@@ -2,10 +2,9 @@
 // placement fields with ok and pd_mm, device, version) and `report.html`, a page that shows those
 // numbers next to the pictures the demo wrote (orbit video, contact sheet, fit debug views).
 #pragma once
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 namespace lorgnette::demo {
 
@@ -22,16 +21,16 @@ struct DemoReport {
   int heldout_views = 0;
   uint64_t train_steps = 0;
   double train_seconds = 0.0;
-  std::string train_budget;       // which budget applied (host/nerf/train_budget.h)
+  std::string train_budget;  // which budget applied (host/nerf/train_budget.h)
   double model_mb = 0.0;
-  nlohmann::json fit;             // placement.json contents (ok, pd_mm, residuals, ...)
-  nlohmann::json ground_truth;    // errors of the fit against the synthetic head's known landmarks
-  nlohmann::json config;          // what the demo ran with (sizes, steps, frame)
+  nlohmann::json fit;           // placement.json contents (ok, pd_mm, residuals, ...)
+  nlohmann::json ground_truth;  // errors of the fit against the synthetic head's known landmarks
+  nlohmann::json config;        // what the demo ran with (sizes, steps, frame)
   // Files relative to the report's directory, shown in report.html.
   std::string orbit_mp4, contact_sheet, glasses_preview, loss_chart;
   std::vector<std::string> debug_views, heldout_images;
   bool ok = false;
-  std::string message;            // what went wrong when !ok
+  std::string message;  // what went wrong when !ok
 
   nlohmann::json to_json() const;
 };

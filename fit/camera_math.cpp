@@ -1,10 +1,9 @@
 // Eigen wrappers over the shared camera header (see camera_math.h).
 #include "fit/camera_math.h"
 
+#include <Eigen/Geometry>
 #include <cmath>
 #include <stdexcept>
-
-#include <Eigen/Geometry>
 
 namespace lorgnette::fit {
 
@@ -31,8 +30,8 @@ Eigen::Vector3d camera_forward(const Camera& cam) {
   return -Eigen::Vector3d(cam.c2w[2], cam.c2w[6], cam.c2w[10]).normalized();
 }
 
-Camera look_at_camera(const Eigen::Vector3d& eye, const Eigen::Vector3d& target,
-                      const Eigen::Vector3d& up, double fov_y_deg, int width, int height) {
+Camera look_at_camera(const Eigen::Vector3d& eye, const Eigen::Vector3d& target, const Eigen::Vector3d& up,
+                      double fov_y_deg, int width, int height) {
   Eigen::Vector3d back = eye - target;  // camera +z points away from what it looks at
   if (back.norm() < 1e-12) throw std::runtime_error("look_at_camera: eye and target coincide");
   if (up.cross(back.normalized()).norm() < 1e-9)

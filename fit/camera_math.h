@@ -25,7 +25,7 @@ Eigen::Vector3d camera_forward(const Camera& cam);
 
 // A pinhole camera at `eye` looking at `target` with the world `up` hint, vertical field of view
 // `fov_y_deg`, square pixels, principal point at the image centre, no distortion.
-Camera look_at_camera(const Eigen::Vector3d& eye, const Eigen::Vector3d& target,
-                      const Eigen::Vector3d& up, double fov_y_deg, int width, int height);
+Camera look_at_camera(const Eigen::Vector3d& eye, const Eigen::Vector3d& target, const Eigen::Vector3d& up,
+                      double fov_y_deg, int width, int height);
 
 }  // namespace lorgnette::fit

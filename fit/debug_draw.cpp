@@ -1,13 +1,13 @@
 // Annotated debug views with OpenCV drawing (see debug_draw.h).
 #include "fit/debug_draw.h"
 
+#include <fmt/format.h>
+
 #include <cmath>
 #include <filesystem>
-#include <stdexcept>
-
-#include <fmt/format.h>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <stdexcept>
 
 #include "fit/camera_math.h"
 #include "fit/fit.h"
@@ -37,7 +37,8 @@ bool is_key(int k) {
 void write_debug_views(const std::string& dir, const FitResult& r) {
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
-  if (ec) throw std::runtime_error(fmt::format("cannot create the debug directory '{}': {}", dir, ec.message()));
+  if (ec)
+    throw std::runtime_error(fmt::format("cannot create the debug directory '{}': {}", dir, ec.message()));
   std::string index = "view yaw_deg pitch_deg face rms_residual_px\n";
   for (size_t i = 0; i < r.views.size(); ++i) {
     const ViewRecord& v = r.views[i];
@@ -49,7 +50,8 @@ void write_debug_views(const std::string& dir, const FitResult& r) {
     if (d.found) {
       cv::rectangle(m, cv::Point(int(d.box[0]), int(d.box[1])), cv::Point(int(d.box[2]), int(d.box[3])),
                     cv::Scalar(255, 160, 0), 1);
-      for (const auto& p : d.points) cv::circle(m, cv::Point2d(p.x() - 0.5, p.y() - 0.5), 2, cv::Scalar(0, 200, 0), -1);
+      for (const auto& p : d.points)
+        cv::circle(m, cv::Point2d(p.x() - 0.5, p.y() - 0.5), 2, cv::Scalar(0, 200, 0), -1);
     }
     for (int k = 0; k < int(r.points.size()); ++k) {
       if (!r.points[k].ok) continue;
@@ -61,7 +63,8 @@ void write_debug_views(const std::string& dir, const FitResult& r) {
     double rms = n ? std::sqrt(sum2 / n) : 0.0;
     std::string label = fmt::format("yaw {:.0f} pitch {:.0f} {}", v.yaw_deg, v.pitch_deg,
                                     d.found ? fmt::format("rms {:.2f} px", rms) : std::string("NO FACE"));
-    cv::putText(m, label, cv::Point(6, 18), cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
+    cv::putText(m, label, cv::Point(6, 18), cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar(0, 0, 0), 1,
+                cv::LINE_AA);
     std::string path = fmt::format("{}/view_{:02d}.png", dir, i);
     if (!cv::imwrite(path, m)) throw std::runtime_error(fmt::format("cannot write '{}'", path));
     index += fmt::format("{} {:.2f} {:.2f} {} {:.3f}\n", i, v.yaw_deg, v.pitch_deg, d.found ? 1 : 0, rms);

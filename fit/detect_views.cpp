@@ -102,7 +102,8 @@ std::vector<ViewRecord> detect_views(ViewSource& source, const LandmarkDetector&
   std::normal_distribution<double> noise(0.0, 1.0);
   if (opt.detection.noise_px > 0.0)
     for (auto& v : out)
-      for (auto& p : v.detection.points) p += opt.detection.noise_px * Eigen::Vector2d(noise(rng), noise(rng));
+      for (auto& p : v.detection.points)
+        p += opt.detection.noise_px * Eigen::Vector2d(noise(rng), noise(rng));
   return out;
 }
 

@@ -4,7 +4,8 @@
 namespace lorgnette::fit {
 namespace {
 
-Eigen::Vector3d project_to_eye_height(const Eigen::Vector3d& t, const Eigen::Vector3d& e, const Eigen::Vector3d& up) {
+Eigen::Vector3d project_to_eye_height(const Eigen::Vector3d& t, const Eigen::Vector3d& e,
+                                      const Eigen::Vector3d& up) {
   return t + ((e - t).dot(up) / up.dot(up)) * up;  // Eq. 2
 }
 

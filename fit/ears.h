@@ -10,8 +10,8 @@
 namespace lorgnette::fit {
 
 struct EarInputs {
-  Eigen::Vector3d e_l, e_r;  // outer eye corners (dlib 45 = left, 36 = right)
-  Eigen::Vector3d t_l, t_r;  // temples (dlib 16 = left, 0 = right)
+  Eigen::Vector3d e_l, e_r;     // outer eye corners (dlib 45 = left, 36 = right)
+  Eigen::Vector3d t_l, t_r;     // temples (dlib 16 = left, 0 = right)
   Eigen::Vector3d d_up, d_fwd;  // unit
 };
 

@@ -1,16 +1,16 @@
 // The placement pipeline (see fit.h).
 #include "fit/fit.h"
 
-#include <algorithm>
-#include <chrono>
-#include <memory>
-#include <cmath>
-#include <stdexcept>
-
-#include <Eigen/Geometry>
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 #include <spdlog/spdlog.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <memory>
+#include <stdexcept>
 
 #include "fit/debug_draw.h"
 #include "fit/front_search.h"
@@ -50,7 +50,8 @@ std::vector<ViewRecord> plan_and_detect(ViewSource& src, const LandmarkDetector&
   std::vector<Camera> cams;
   for (const auto& a : angles) cams.push_back(orbit_camera(orbit, a.x(), a.y()));
   std::vector<ViewRecord> views = detect_views(src, det, cams, opt);
-  for (size_t i = 0; i < views.size(); ++i) views[i].yaw_deg = angles[i].x(), views[i].pitch_deg = angles[i].y();
+  for (size_t i = 0; i < views.size(); ++i)
+    views[i].yaw_deg = angles[i].x(), views[i].pitch_deg = angles[i].y();
   int found = 0;
   for (const auto& v : views) found += v.detection.found;
   if (found < opt.detection.min_views)
@@ -72,7 +73,8 @@ NamedLandmark named(const TriangulatedPoint& p, double mm_per_unit) {
 
 void require_points(const std::vector<TriangulatedPoint>& pts) {
   std::vector<std::string> missing;
-  for (int i : {lm::kTempleR, lm::kTempleL, lm::kNoseBridgeTop, lm::kNoseBridge2, lm::kEyeOuterR, lm::kEyeOuterL})
+  for (int i :
+       {lm::kTempleR, lm::kTempleL, lm::kNoseBridgeTop, lm::kNoseBridge2, lm::kEyeOuterR, lm::kEyeOuterL})
     if (!pts[i].ok) missing.push_back(fmt::format("{} ({})", i, pts[i].why));
   if (!missing.empty())
     throw std::runtime_error(fmt::format(
@@ -86,7 +88,8 @@ void summarise(FitResult& r, const FitOptions& opt) {
   const auto& P = r.points;
   NamedLandmark nose = named(P[lm::kNoseBridgeTop], mpu);
   nose.position = r.f_c;
-  nose.residual_px = 0.5 * (P[lm::kNoseBridgeTop].rms_reprojection_px + P[lm::kNoseBridge2].rms_reprojection_px);
+  nose.residual_px =
+      0.5 * (P[lm::kNoseBridgeTop].rms_reprojection_px + P[lm::kNoseBridge2].rms_reprojection_px);
   r.landmarks["nose"] = nose;
   r.landmarks["eye_l"] = named(P[lm::kEyeOuterL], mpu);
   r.landmarks["eye_r"] = named(P[lm::kEyeOuterR], mpu);
@@ -103,7 +106,8 @@ void summarise(FitResult& r, const FitOptions& opt) {
   for (const char* name : {"nose", "eye_l", "eye_r"})
     if (const NamedLandmark& l = r.landmarks[name]; l.residual_px > opt.landmarks.max_residual_px) {
       r.ok = false;
-      r.warnings.push_back(fmt::format("{}: reprojection residual {:.1f} px > {:.1f}", name, l.residual_px, opt.landmarks.max_residual_px));
+      r.warnings.push_back(fmt::format("{}: reprojection residual {:.1f} px > {:.1f}", name, l.residual_px,
+                                       opt.landmarks.max_residual_px));
     }
   // The front (rims, bridge, pads) must not clip: that is visible in every frontal view. The temples
   // flex: they are spread at the hinges (temple_fit.h) and fail only when that cannot clear them.
@@ -122,8 +126,10 @@ void summarise(FitResult& r, const FitOptions& opt) {
     r.warnings.insert(r.warnings.end(), w.begin(), w.end());
   } else if (r.contact.refined && r.contact.front_penetration_mm <= opt.place.max_penetration_mm &&
              r.contact.penetration_mm > opt.place.max_penetration_mm) {
-    r.warnings.push_back(fmt::format("the temples pass {:.2f} mm into the head near the ears (rigid frame: the "
-                                     "glasses have no hinges to spread them at)", r.contact.penetration_mm));
+    r.warnings.push_back(
+        fmt::format("the temples pass {:.2f} mm into the head near the ears (rigid frame: the "
+                    "glasses have no hinges to spread them at)",
+                    r.contact.penetration_mm));
   }
 }
 
@@ -141,7 +147,8 @@ struct FitRun {
 void load_detector(FitRun& run) {
   StageTimer t{run.r, "load_detector"};
   const DetectionOptions& o = run.opt.detection;
-  run.detector = o.detect ? std::make_unique<LandmarkDetector>(o.detect) : std::make_unique<LandmarkDetector>(o.detector);
+  run.detector = o.detect ? std::make_unique<LandmarkDetector>(o.detect)
+                          : std::make_unique<LandmarkDetector>(o.detector);
 }
 
 void find_front(FitRun& run) {
@@ -173,8 +180,8 @@ void estimate_head(FitRun& run) {
   require_points(r.points);
   r.head = estimate_head_frame(p, valid, run.mean_face);
   if (!o.snap_to_skin) return;
-  snap_to_surface(run.source, r.views, o.snap_reach_mm / r.head.mm_per_unit, run.surface, r.points, lm::kTempleR,
-                  o.cast_contour ? lm::kTempleL : -1);
+  snap_to_surface(run.source, r.views, o.snap_reach_mm / r.head.mm_per_unit, run.surface, r.points,
+                  lm::kTempleR, o.cast_contour ? lm::kTempleL : -1);
   r.head = estimate_head_frame(positions(r.points), valid, run.mean_face);
 }
 
@@ -209,8 +216,12 @@ void place_on_face(FitRun& run) {
   const HeadOptions& o = run.opt.head;
   const auto& P = r.points;
   r.f_c = nose_point(P[lm::kNoseBridgeTop].position, P[lm::kNoseBridge2].position, o.nose_blend);
-  EarInputs ei{P[lm::kEyeOuterL].position, P[lm::kEyeOuterR].position, P[lm::kTempleL].position,
-               P[lm::kTempleR].position, r.head.d_up, r.head.d_fwd};
+  EarInputs ei{P[lm::kEyeOuterL].position,
+               P[lm::kEyeOuterR].position,
+               P[lm::kTempleL].position,
+               P[lm::kTempleR].position,
+               r.head.d_up,
+               r.head.d_fwd};
   r.ears = ear_points(ei, o.alpha);
   PlaceInputs pi{r.f_c, r.ears.f_l, r.ears.f_r, ei.t_l, ei.t_r, r.head.mm_per_unit};
   r.placement = place_glasses(run.glasses.ref, pi, run.opt.place.scale_policy);
@@ -227,14 +238,16 @@ HeadProbe make_head_probe(const FitRun& run) {
   const FitResult& r = run.r;
   ContactSearchOptions search = run.opt.place.contact;
   if (spreads_temples(run))
-    search.front_z_mm = std::max(search.front_z_mm, std::min(g.hinge_l.z(), g.hinge_r.z()) - run.opt.temples.ramp_mm);
+    search.front_z_mm =
+        std::max(search.front_z_mm, std::min(g.hinge_l.z(), g.hinge_r.z()) - run.opt.temples.ramp_mm);
   ViewSource& source = run.source;
-  return HeadProbe{[&source](const std::vector<Eigen::Vector3f>& p) { return source.density(p); },
-                   0.5 * (r.ears.f_l + r.ears.f_r),
-                   r.head.d_up,
-                   r.head.mm_per_unit,
-                   ContactOptions{search, run.surface * run.opt.place.solid_factor, std::min(g.g_l.z(), g.g_r.z())},
-                   run.glasses.frame_points};
+  return HeadProbe{
+      [&source](const std::vector<Eigen::Vector3f>& p) { return source.density(p); },
+      0.5 * (r.ears.f_l + r.ears.f_r),
+      r.head.d_up,
+      r.head.mm_per_unit,
+      ContactOptions{search, run.surface * run.opt.place.solid_factor, std::min(g.g_l.z(), g.g_r.z())},
+      run.glasses.frame_points};
 }
 
 void rest_on_skin(FitRun& run, const HeadProbe& head) {

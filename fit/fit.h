@@ -27,22 +27,22 @@ namespace lorgnette::fit {
 // Per stage (the stage names are those of FitResult::seconds).
 struct DetectionOptions {  // "load_detector", "render_detect"
   DetectorOptions detector;
-  DetectFn detect;           // non-empty: this detector instead of dlib's (landmarks_dlib.h)
-  int min_views = 3;         // views with a face needed
-  double noise_px = 0.0;     // added Gaussian noise on 2D landmarks (stability study)
-  unsigned seed = 1;         // ... its draws
+  DetectFn detect;        // non-empty: this detector instead of dlib's (landmarks_dlib.h)
+  int min_views = 3;      // views with a face needed
+  double noise_px = 0.0;  // added Gaussian noise on 2D landmarks (stability study)
+  unsigned seed = 1;      // ... its draws
 };
 
 struct LandmarkOptions {  // "triangulate": the 68 points in 3D
   TriangulateOptions triangulate;
-  bool cast_contour = true;    // jaw contour (temples) by surface casting, not triangulation
-  SurfaceCastOptions contour;  // the views and depth of those casts
-  bool snap_to_skin = true;    // move triangulated landmarks along their rays onto the skin
-  double snap_reach_mm = 12.0;  // how far (estimated with the mean face's scale)
+  bool cast_contour = true;      // jaw contour (temples) by surface casting, not triangulation
+  SurfaceCastOptions contour;    // the views and depth of those casts
+  bool snap_to_skin = true;      // move triangulated landmarks along their rays onto the skin
+  double snap_reach_mm = 12.0;   // how far (estimated with the mean face's scale)
   double max_residual_px = 6.0;  // ok = false when a used landmark's RMS residual is above this
 };
 
-struct HeadOptions {  // the head frame ("triangulate") and the ears ("place")
+struct HeadOptions {           // the head frame ("triangulate") and the ears ("place")
   std::string mean_face_path;  // empty: the built-in mean face (mean_face.h)
   double recenter_deg = 8.0;   // re-plan the cap when d_fwd is further than this from its centre
   double alpha = 0.5;          // Eq. 3
@@ -63,21 +63,21 @@ struct PlaceOptions {  // "place", "contact"
 };
 
 struct FitOptions {
-  FrontSearchOptions front;     // "front": view size, field of view, framing (the cap inherits them)
-  CapOptions cap;               // "render_detect": K views and the yaw/pitch range around the front
+  FrontSearchOptions front;  // "front": view size, field of view, framing (the cap inherits them)
+  CapOptions cap;            // "render_detect": K views and the yaw/pitch range around the front
   DetectionOptions detection;
   LandmarkOptions landmarks;
   HeadOptions head;
   PlaceOptions place;
-  TempleFitOptions temples;     // "temples": spread them where they clip (needs the glasses' hinges)
+  TempleFitOptions temples;      // "temples": spread them where they clip (needs the glasses' hinges)
   float surface_density = 0.0f;  // skin for framing, surface casts and contact; 0: the source's own
   std::string debug_dir;         // non-empty: write annotated views there
 };
 
 struct NamedLandmark {
   Eigen::Vector3d position = Eigen::Vector3d::Zero();
-  double sigma_mm = 0.0;       // 1-sigma positional uncertainty (largest axis)
-  double residual_px = 0.0;    // RMS reprojection error over the views used
+  double sigma_mm = 0.0;     // 1-sigma positional uncertainty (largest axis)
+  double residual_px = 0.0;  // RMS reprojection error over the views used
   int views = 0;
 };
 
@@ -98,11 +98,11 @@ struct FitResult {
   std::map<std::string, NamedLandmark> landmarks;  // nose eye_l eye_r temple_l temple_r ear_l ear_r
   std::vector<TriangulatedPoint> points;           // all 68
   ContactResult contact;
-  Orbit orbit;                                     // the final view plan
-  std::vector<ViewRecord> views;                   // the final cap
-  int views_used = 0;                              // views with a face
+  Orbit orbit;                                          // the final view plan
+  std::vector<ViewRecord> views;                        // the final cap
+  int views_used = 0;                                   // views with a face
   std::vector<std::pair<std::string, double>> seconds;  // per stage, in order
-  TempleFitResult temples;                         // the temple spread after the contact refinement
+  TempleFitResult temples;                              // the temple spread after the contact refinement
   double total_seconds() const;
 };
 

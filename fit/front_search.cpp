@@ -1,14 +1,14 @@
 // Front sweep and face framing (see front_search.h).
 #include "fit/front_search.h"
 
-#include <algorithm>
-#include <cmath>
-#include <stdexcept>
-
-#include <Eigen/Geometry>
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 #include <spdlog/spdlog.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
 
 #include "fit/camera_math.h"
 #include "fit/landmark_ids.h"
@@ -45,8 +45,8 @@ Orbit initial_orbit(ViewSource& source, const FrontSearchOptions& opt) {
 
 }  // namespace
 
-FrontSearchResult find_front(ViewSource& source, const LandmarkDetector& detector, const FrontSearchOptions& opt,
-                             float density_threshold) {
+FrontSearchResult find_front(ViewSource& source, const LandmarkDetector& detector,
+                             const FrontSearchOptions& opt, float density_threshold) {
   FrontSearchResult res;
   Orbit o = initial_orbit(source, opt);
   std::vector<double> yaws = source.prior().front ? std::vector<double>{0.0} : sweep_yaws(opt.sweep_views);
@@ -83,7 +83,8 @@ FrontSearchResult find_front(ViewSource& source, const LandmarkDetector& detecto
   if (best >= 0) {
     double y0 = res.tried_yaws[best], a0 = face_asymmetry(best_det);
     double y1 = y0 - 40.0 * a0;  // first guess: asymmetry ~ yaw / 40 deg, sign found by the probe
-    for (int k = 0; k < opt.refine_views && std::abs(face_asymmetry(best_det)) > opt.asymmetry_tolerance; ++k) {
+    for (int k = 0; k < opt.refine_views && std::abs(face_asymmetry(best_det)) > opt.asymmetry_tolerance;
+         ++k) {
       y1 = std::clamp(y1, y0 - 45.0, y0 + 45.0);
       FaceDetection d = try_view(probe, y1);
       if (!d.found) break;
@@ -99,7 +100,8 @@ FrontSearchResult find_front(ViewSource& source, const LandmarkDetector& detecto
         "{}x{} px): check that the model shows a head, that up is right, or raise the resolution",
         res.tried_yaws.size(), fmt::join(res.tried_yaws, ", "), opt.width, opt.height));
   // Frame the face: box centre ray, surface depth, face width in scene units.
-  Eigen::Vector2d centre(0.5 * (best_det.box[0] + best_det.box[2]), 0.5 * (best_det.box[1] + best_det.box[3]));
+  Eigen::Vector2d centre(0.5 * (best_det.box[0] + best_det.box[2]),
+                         0.5 * (best_det.box[1] + best_det.box[3]));
   Ray ray = camera_ray(best_cam, centre);
   double t = o.distance;
   double radius = 0.5 * source.bounds().size().cast<double>().norm();
@@ -115,8 +117,9 @@ FrontSearchResult find_front(ViewSource& source, const LandmarkDetector& detecto
   framed.distance = 0.5 * view_w / std::tan(0.5 * opt.fov_y_deg * M_PI / 180.0) + 0.5 * face_w;
   res.orbit = framed;
   res.surface_distance = t;
-  spdlog::info("fit: front at yaw {:.0f} deg (asymmetry {:.2f}), face {:.3f} units wide, orbit distance {:.3f}",
-               res.tried_yaws[best], face_asymmetry(best_det), face_w, framed.distance);
+  spdlog::info(
+      "fit: front at yaw {:.0f} deg (asymmetry {:.2f}), face {:.3f} units wide, orbit distance {:.3f}",
+      res.tried_yaws[best], face_asymmetry(best_det), face_w, framed.distance);
   return res;
 }
 

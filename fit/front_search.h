@@ -26,10 +26,10 @@ struct FrontSearchOptions {
 };
 
 struct FrontSearchResult {
-  Orbit orbit;                        // framed on the face, yaw 0 = the most frontal view found
-  std::vector<double> tried_yaws;     // relative to the initial front, sweep then refinement
-  std::vector<bool> found;            // per tried yaw
-  double surface_distance = 0.0;      // camera to face surface along the box centre (scene units)
+  Orbit orbit;                     // framed on the face, yaw 0 = the most frontal view found
+  std::vector<double> tried_yaws;  // relative to the initial front, sweep then refinement
+  std::vector<bool> found;         // per tried yaw
+  double surface_distance = 0.0;   // camera to face surface along the box centre (scene units)
 };
 
 // Left/right asymmetry of a 68-point face in the image: 0 frontal, +-1 full profile.
@@ -37,7 +37,7 @@ double face_asymmetry(const FaceDetection& d);
 
 // `density_threshold`: the skin, for the ray cast that frames the face. Throws std::runtime_error
 // naming the yaws tried when no view shows a face.
-FrontSearchResult find_front(ViewSource& source, const LandmarkDetector& detector, const FrontSearchOptions& opt,
-                             float density_threshold);
+FrontSearchResult find_front(ViewSource& source, const LandmarkDetector& detector,
+                             const FrontSearchOptions& opt, float density_threshold);
 
 }  // namespace lorgnette::fit

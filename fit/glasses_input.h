@@ -2,10 +2,9 @@
 // samples of the frame (lenses excluded) in canonical millimetres, for the contact refinement, and the
 // temple hinges (mesh/temple_bend.h) for the temple spread.
 #pragma once
+#include <Eigen/Core>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "fit/place.h"
 

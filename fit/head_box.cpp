@@ -2,14 +2,14 @@
 // face, place the anthropometric box in the head frame and take its scene-axis bounds.
 #include "fit/head_box.h"
 
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
 #include <algorithm>
 #include <cmath>
-#include <stdexcept>
-
-#include <fmt/format.h>
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
-#include <spdlog/spdlog.h>
+#include <stdexcept>
 
 #include "fit/fit.h"
 #include "fit/landmark_ids.h"
@@ -30,8 +30,10 @@ Image shrink_for_detection(const Image& img, int max_side, double* scale) {
   double s = double(max_side) / side;
   cv::Mat src(img.height, img.width, CV_32FC(img.channels), const_cast<float*>(img.pixels.data()));
   cv::Mat dst;
-  cv::resize(src, dst, cv::Size(std::max(1, int(std::lround(img.width * s))), std::max(1, int(std::lround(img.height * s)))),
-             0, 0, cv::INTER_AREA);
+  cv::resize(
+      src, dst,
+      cv::Size(std::max(1, int(std::lround(img.width * s))), std::max(1, int(std::lround(img.height * s)))),
+      0, 0, cv::INTER_AREA);
   Image out(dst.cols, dst.rows, img.channels);
   std::copy(dst.ptr<float>(), dst.ptr<float>() + out.pixels.size(), out.pixels.begin());
   *scale = double(img.width) / dst.cols;
@@ -75,7 +77,8 @@ std::vector<size_t> even_subset(size_t n, size_t count) {
     return out;
   }
   if (count == 1) return {n / 2};
-  for (size_t i = 0; i < count; ++i) out.push_back(size_t(std::llround(double(i) * double(n - 1) / double(count - 1))));
+  for (size_t i = 0; i < count; ++i)
+    out.push_back(size_t(std::llround(double(i) * double(n - 1) / double(count - 1))));
   return out;
 }
 
@@ -105,8 +108,8 @@ std::string HeadBox::summary() const {
   return fmt::format(
       "head box from dlib landmarks on {} of {} photos ({} landmarks triangulated; {:.1f} mm per unit, PD "
       "{:.1f} mm): [{:.3f} {:.3f} {:.3f}] .. [{:.3f} {:.3f} {:.3f}]",
-      faces_found, photos_tried, landmarks_triangulated, head.mm_per_unit, head.pd_mm, min.x(), min.y(), min.z(),
-      max.x(), max.y(), max.z());
+      faces_found, photos_tried, landmarks_triangulated, head.mm_per_unit, head.pd_mm, min.x(), min.y(),
+      min.z(), max.x(), max.y(), max.z());
 }
 
 HeadBox estimate_head_box(const std::vector<PosedPhoto>& photos, const HeadBoxOptions& opt) {
@@ -132,8 +135,10 @@ HeadBox estimate_head_box(const std::vector<PosedPhoto>& photos, const HeadBoxOp
   try {
     head = estimate_head_frame(p, valid, mean_face_or_builtin(opt.mean_face_path));
   } catch (const std::exception& e) {
-    throw std::runtime_error(fmt::format("head box: faces in {} of {} photos, but the landmarks do not give a "
-                                         "head frame ({}): {}", found, tried, e.what(), kWhatToDo));
+    throw std::runtime_error(
+        fmt::format("head box: faces in {} of {} photos, but the landmarks do not give a "
+                    "head frame ({}): {}",
+                    found, tried, e.what(), kWhatToDo));
   }
   // Anchor: the outer-corner midpoint at eye level, at the inner corners' depth. From the triangulated
   // corners: their centroid, moved forward by the mean face's offset between the two depths.
@@ -141,8 +146,11 @@ HeadBox estimate_head_box(const std::vector<PosedPhoto>& photos, const HeadBoxOp
   const int corners[4] = {lm::kEyeOuterR, lm::kEyeInnerR, lm::kEyeInnerL, lm::kEyeOuterL};
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero(), mean_centroid = Eigen::Vector3d::Zero();
   for (int k : corners) {
-    if (!pts[k].ok) throw std::runtime_error(fmt::format("head box: eye corner landmark {} was not triangulated "
-                                                         "({}): {}", k, pts[k].why, kWhatToDo));
+    if (!pts[k].ok)
+      throw std::runtime_error(
+          fmt::format("head box: eye corner landmark {} was not triangulated "
+                      "({}): {}",
+                      k, pts[k].why, kWhatToDo));
     centroid += 0.25 * pts[k].position, mean_centroid += 0.25 * mean[k];
   }
   double inner_z = 0.5 * (mean[lm::kEyeInnerR].z() + mean[lm::kEyeInnerL].z());

@@ -7,10 +7,9 @@
 // triangulate, throw std::runtime_error saying how many photos were tried, how many showed a face,
 // and what to do instead.
 #pragma once
+#include <Eigen/Core>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "common/camera_types.h"
 #include "fit/head_frame.h"
@@ -52,8 +51,8 @@ struct HeadExtents {
 };
 
 struct HeadBoxOptions {
-  int max_photos = 24;   // photos tried, evenly spaced over the list (dlib costs ~0.1-0.3 s each)
-  int min_faces = 3;     // photos with a face needed to triangulate
+  int max_photos = 24;        // photos tried, evenly spaced over the list (dlib costs ~0.1-0.3 s each)
+  int min_faces = 3;          // photos with a face needed to triangulate
   int detect_max_side = 640;  // photos are shrunk to this for detection (faces in head captures are large)
   DetectorOptions detector;
   TriangulateOptions triangulate;
@@ -71,10 +70,10 @@ struct PosedPhoto {
 
 struct HeadBox {
   Eigen::Vector3d min = Eigen::Vector3d::Zero(), max = Eigen::Vector3d::Zero();  // scene axes
-  Eigen::Vector3d center = Eigen::Vector3d::Zero();    // the oriented box's centre (scene)
-  Eigen::Matrix3d axes = Eigen::Matrix3d::Identity();  // columns: head left, up, forward (scene)
+  Eigen::Vector3d center = Eigen::Vector3d::Zero();       // the oriented box's centre (scene)
+  Eigen::Matrix3d axes = Eigen::Matrix3d::Identity();     // columns: head left, up, forward (scene)
   Eigen::Vector3d half_extent = Eigen::Vector3d::Zero();  // oriented half sizes along axes (scene units)
-  HeadFrame head;            // d_fwd, d_up, d_eye, mm per unit, PD
+  HeadFrame head;                                         // d_fwd, d_up, d_eye, mm per unit, PD
   int photos_tried = 0, faces_found = 0, landmarks_triangulated = 0;
   std::string summary() const;  // one line for logs and reports
 };

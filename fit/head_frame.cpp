@@ -1,12 +1,12 @@
 // Mean-face Procrustes alignment and the head axes of Eq. 1 (see head_frame.h).
 #include "fit/head_frame.h"
 
-#include <cmath>
-#include <stdexcept>
+#include <fmt/format.h>
 
 #include <Eigen/Dense>
 #include <Eigen/Geometry>
-#include <fmt/format.h>
+#include <cmath>
+#include <stdexcept>
 
 #include "fit/landmark_ids.h"
 
@@ -14,7 +14,8 @@ namespace lorgnette::fit {
 
 SimilarityFit procrustes(const std::vector<Eigen::Vector3d>& src, const std::vector<Eigen::Vector3d>& dst) {
   if (src.size() != dst.size() || src.size() < 3)
-    throw std::runtime_error(fmt::format("procrustes: need >= 3 point pairs (got {} and {})", src.size(), dst.size()));
+    throw std::runtime_error(
+        fmt::format("procrustes: need >= 3 point pairs (got {} and {})", src.size(), dst.size()));
   const int n = int(src.size());
   Eigen::Matrix3Xd a(3, n), b(3, n);
   for (int i = 0; i < n; ++i) a.col(i) = src[i], b.col(i) = dst[i];
@@ -28,7 +29,8 @@ SimilarityFit procrustes(const std::vector<Eigen::Vector3d>& src, const std::vec
   out.rotation = t.block<3, 3>(0, 0) / out.scale;
   out.translation = t.block<3, 1>(0, 3);
   double sum = 0.0;
-  for (int i = 0; i < n; ++i) sum += (out.scale * out.rotation * src[i] + out.translation - dst[i]).squaredNorm();
+  for (int i = 0; i < n; ++i)
+    sum += (out.scale * out.rotation * src[i] + out.translation - dst[i]).squaredNorm();
   out.rms = std::sqrt(sum / n);
   return out;
 }
@@ -43,7 +45,8 @@ HeadFrame estimate_head_frame(const std::vector<Eigen::Vector3d>& landmarks, con
   if (src.size() < 6)
     throw std::runtime_error(fmt::format(
         "only {} of the 31 brow/nose/eye landmarks were triangulated: cannot find the head's front "
-        "(try more views or a larger angular range)", src.size()));
+        "(try more views or a larger angular range)",
+        src.size()));
   if (!valid[lm::kEyeOuterL] || !valid[lm::kEyeOuterR])
     throw std::runtime_error("the outer eye corners (dlib 36, 45) were not triangulated: no eye axis");
   SimilarityFit sim = procrustes(src, dst);
@@ -59,15 +62,18 @@ HeadFrame estimate_head_frame(const std::vector<Eigen::Vector3d>& landmarks, con
   Eigen::Vector3d fwd = sim.rotation.col(2);
   Eigen::Vector3d e = eye.normalized() - eye.normalized().dot(fwd) * fwd;
   if (e.norm() < 0.5)
-    throw std::runtime_error("degenerate landmarks: the eye axis is nearly parallel to the face's forward direction");
+    throw std::runtime_error(
+        "degenerate landmarks: the eye axis is nearly parallel to the face's forward direction");
   f.d_fwd = fwd;
   f.d_eye = e.normalized();
   // Eq. 1 with l = wearer's left: in the right-handed (left, up, forward) frame up = fwd x eye.
   f.d_up = f.d_fwd.cross(f.d_eye);
   Eigen::Vector3d cl = Eigen::Vector3d::Zero(), cr = Eigen::Vector3d::Zero();
   int nl = 0, nr = 0;
-  for (int i = lm::kEyeLFirst; i <= lm::kEyeLLast; ++i) if (valid[i]) cl += landmarks[i], ++nl;
-  for (int i = lm::kEyeRFirst; i <= lm::kEyeRLast; ++i) if (valid[i]) cr += landmarks[i], ++nr;
+  for (int i = lm::kEyeLFirst; i <= lm::kEyeLLast; ++i)
+    if (valid[i]) cl += landmarks[i], ++nl;
+  for (int i = lm::kEyeRFirst; i <= lm::kEyeRLast; ++i)
+    if (valid[i]) cr += landmarks[i], ++nr;
   if (nl > 0 && nr > 0) f.pd_mm = (cl / nl - cr / nr).norm() * f.mm_per_unit;
   return f;
 }

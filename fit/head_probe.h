@@ -3,10 +3,9 @@
 // solid and which frame samples form the front and the tips. fit_glasses builds one HeadProbe after
 // the head frame and the ears, and both stages read it.
 #pragma once
+#include <Eigen/Core>
 #include <functional>
 #include <vector>
-
-#include <Eigen/Core>
 
 namespace lorgnette::fit {
 

@@ -7,8 +7,8 @@ namespace lorgnette::fit::lm {
 constexpr int kCount = 68;
 // Jaw contour ends: the topmost contour points, at the tragus/temple height beside the eyes. They are
 // the dlib points nearest to the paper's temple landmarks (FaceMesh 127/356 sit on the same spot).
-constexpr int kTempleR = 0;   // subject's right (image left in a frontal view)
-constexpr int kTempleL = 16;  // subject's left
+constexpr int kTempleR = 0;         // subject's right (image left in a frontal view)
+constexpr int kTempleL = 16;        // subject's left
 constexpr int kNoseBridgeTop = 27;  // between the eyes
 constexpr int kNoseBridge2 = 28;
 constexpr int kNoseTip = 30;

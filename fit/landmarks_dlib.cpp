@@ -1,15 +1,15 @@
 // dlib adapter (see landmarks_dlib.h). The only translation unit that includes dlib.
 #include "fit/landmarks_dlib.h"
 
-#include <algorithm>
-#include <cmath>
-#include <filesystem>
-#include <stdexcept>
-
 #include <dlib/image_processing.h>
 #include <dlib/image_processing/frontal_face_detector.h>
 #include <dlib/image_transforms.h>
 #include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <stdexcept>
 
 namespace lorgnette::fit {
 
@@ -118,12 +118,13 @@ FaceDetection LandmarkDetector::detect(const Image& image, double face_px) const
   if (!fn_) return detect_srgb8(rgb.data(), image.width, image.height, face_px);
   FaceDetection d = fn_(rgb, image.width, image.height, face_px);
   if (d.found && d.points.size() != 68)
-    throw std::runtime_error(fmt::format("the landmark detector returned {} points, expected 68 in iBUG order",
-                                         d.points.size()));
+    throw std::runtime_error(
+        fmt::format("the landmark detector returned {} points, expected 68 in iBUG order", d.points.size()));
   return d;
 }
 
-FaceDetection LandmarkDetector::detect_srgb8(const unsigned char* rgb, int width, int height, double face_px) const {
+FaceDetection LandmarkDetector::detect_srgb8(const unsigned char* rgb, int width, int height,
+                                             double face_px) const {
   if (!impl_) throw std::logic_error("detect_srgb8: this detector wraps a caller's function, not dlib");
   dlib::array2d<dlib::rgb_pixel> img(height, width);
   for (int y = 0; y < height; ++y)

@@ -1,11 +1,11 @@
 // The mean face from a file or from the built-in table (see mean_face.h).
 #include "fit/mean_face.h"
 
+#include <fmt/format.h>
+
 #include <fstream>
 #include <stdexcept>
 #include <vector>
-
-#include <fmt/format.h>
 
 #include "fit/landmark_ids.h"
 
@@ -21,14 +21,16 @@ Face68 mean_face_from_columns(const double* x, const double* y, const double* z)
 Face68 load_mean_face(const std::string& path) {
   std::ifstream in(path);
   if (!in)
-    throw std::runtime_error(fmt::format("cannot open the mean face '{}': give a readable file of 204 numbers, or "
-                                         "leave the option out to use the built-in mean face",
-                                         path));
+    throw std::runtime_error(
+        fmt::format("cannot open the mean face '{}': give a readable file of 204 numbers, or "
+                    "leave the option out to use the built-in mean face",
+                    path));
   std::vector<double> v;
   double x;
   while (in >> x) v.push_back(x);
   if (v.size() != 3 * lm::kCount)
-    throw std::runtime_error(fmt::format("mean face '{}': expected 204 numbers (68 x, y, z), found {}", path, v.size()));
+    throw std::runtime_error(
+        fmt::format("mean face '{}': expected 204 numbers (68 x, y, z), found {}", path, v.size()));
   return mean_face_from_columns(v.data(), v.data() + lm::kCount, v.data() + 2 * lm::kCount);
 }
 

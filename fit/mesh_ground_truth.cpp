@@ -1,11 +1,10 @@
 // Ray-cast ground truth on a mesh head (see mesh_ground_truth.h).
 #include "fit/mesh_ground_truth.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
-
-#include <Eigen/Geometry>
 
 #include "fit/camera_math.h"
 #include "fit/landmark_ids.h"
@@ -34,7 +33,8 @@ GroundTruth mesh_ground_truth(MeshViewSource& source, const std::vector<Camera>&
       mesh::Hit h = source.cast(r.origin.cast<float>(), r.dir.cast<float>());
       if (!h.hit) continue;
       hits[k].push_back(h.position.cast<double>());
-      if (contour_side_visible(k, d, options.landmarks.contour.side_tolerance)) side_hits[k].push_back(hits[k].back());
+      if (contour_side_visible(k, d, options.landmarks.contour.side_tolerance))
+        side_hits[k].push_back(hits[k].back());
     }
   }
   // The fit's rule for the jaw contour (surface_landmarks.h), unless no view shows a landmark's side.
@@ -51,10 +51,12 @@ GroundTruth mesh_ground_truth(MeshViewSource& source, const std::vector<Camera>&
   gt.head = estimate_head_frame(gt.points, gt.valid, mean_face_or_builtin(options.head.mean_face_path));
   const auto& P = gt.points;
   gt.f_c = nose_point(P[lm::kNoseBridgeTop], P[lm::kNoseBridge2], options.head.nose_blend);
-  EarInputs ei{P[lm::kEyeOuterL], P[lm::kEyeOuterR], P[lm::kTempleL], P[lm::kTempleR], gt.head.d_up, gt.head.d_fwd};
+  EarInputs ei{P[lm::kEyeOuterL], P[lm::kEyeOuterR], P[lm::kTempleL],
+               P[lm::kTempleR],   gt.head.d_up,      gt.head.d_fwd};
   gt.ears = ear_points(ei, options.head.alpha);
-  gt.placement = place_glasses(glasses, {gt.f_c, gt.ears.f_l, gt.ears.f_r, ei.t_l, ei.t_r, gt.head.mm_per_unit},
-                               options.place.scale_policy);
+  gt.placement =
+      place_glasses(glasses, {gt.f_c, gt.ears.f_l, gt.ears.f_r, ei.t_l, ei.t_r, gt.head.mm_per_unit},
+                    options.place.scale_policy);
   return gt;
 }
 

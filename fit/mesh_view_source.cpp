@@ -10,8 +10,8 @@
 
 namespace lorgnette::fit {
 
-MeshViewSource::MeshViewSource(mesh::TriMesh m, const Eigen::Matrix4f& mesh_to_scene, std::optional<ViewPrior> prior,
-                               MeshShading shading)
+MeshViewSource::MeshViewSource(mesh::TriMesh m, const Eigen::Matrix4f& mesh_to_scene,
+                               std::optional<ViewPrior> prior, MeshShading shading)
     : prior_(std::move(prior)), shading_(shading) {
   if (m.triangles.empty()) throw std::runtime_error("MeshViewSource: the mesh has no triangles");
   scene_ = std::make_unique<mesh::EmbreeScene>(std::move(m), mesh_to_scene);
@@ -19,7 +19,8 @@ MeshViewSource::MeshViewSource(mesh::TriMesh m, const Eigen::Matrix4f& mesh_to_s
 
 std::unique_ptr<MeshViewSource> MeshViewSource::load(const std::string& path, std::optional<ViewPrior> prior,
                                                      MeshShading shading) {
-  return std::make_unique<MeshViewSource>(mesh::load_mesh(path), Eigen::Matrix4f::Identity(), std::move(prior), shading);
+  return std::make_unique<MeshViewSource>(mesh::load_mesh(path), Eigen::Matrix4f::Identity(),
+                                          std::move(prior), shading);
 }
 
 mesh::Hit MeshViewSource::cast(const Eigen::Vector3f& origin, const Eigen::Vector3f& dir) const {
@@ -46,7 +47,8 @@ Image MeshViewSource::render(const Camera& cam) {
         const mesh::Material& mat = m.materials[hit.material];
         albedo = mat.base_color;
         if (mat.base_color_texture >= 0 && !m.uvs.empty())
-          albedo = albedo.cwiseProduct(mesh::sample_texture(m.textures[mat.base_color_texture], hit.uv).head<3>());
+          albedo =
+              albedo.cwiseProduct(mesh::sample_texture(m.textures[mat.base_color_texture], hit.uv).head<3>());
       }
       float lambert = std::abs(hit.shading_normal.dot(rays[i].dir));  // light at the camera
       c = albedo * (shading_.ambient + shading_.diffuse * lambert);

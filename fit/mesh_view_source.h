@@ -13,10 +13,10 @@
 namespace lorgnette::fit {
 
 struct MeshShading {
-  float ambient = 0.45f;    // share of light that does not depend on the normal
-  float diffuse = 0.55f;    // Lambert term from a light at the camera
+  float ambient = 0.45f;  // share of light that does not depend on the normal
+  float diffuse = 0.55f;  // Lambert term from a light at the camera
   Eigen::Vector3f background{1.0f, 1.0f, 1.0f};
-  int threads = 0;          // 0 = hardware concurrency
+  int threads = 0;  // 0 = hardware concurrency
   // No UV option here: TriMesh UVs are in the glTF convention, the loader fixes files that break it
   // (mesh::LoadOptions::flip_v), so every consumer of a mesh samples its textures the same way.
 };
@@ -26,7 +26,8 @@ class MeshViewSource : public ViewSource {
   // `mesh_to_scene` places the mesh in the scene (scale included). Throws when the mesh is empty.
   MeshViewSource(mesh::TriMesh mesh, const Eigen::Matrix4f& mesh_to_scene = Eigen::Matrix4f::Identity(),
                  std::optional<ViewPrior> prior = std::nullopt, MeshShading shading = {});
-  static std::unique_ptr<MeshViewSource> load(const std::string& path, std::optional<ViewPrior> prior = std::nullopt,
+  static std::unique_ptr<MeshViewSource> load(const std::string& path,
+                                              std::optional<ViewPrior> prior = std::nullopt,
                                               MeshShading shading = {});
 
   Image render(const Camera& cam) override;

@@ -1,12 +1,12 @@
 // NeRF adapter of the fit (see nerf_view_source.h).
 #include "fit/nerf_view_source.h"
 
+#include <spdlog/spdlog.h>
+
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
-
 #include <nlohmann/json.hpp>
-#include <spdlog/spdlog.h>
 
 namespace lorgnette::fit {
 
@@ -28,7 +28,8 @@ std::vector<float> NerfViewSource::density(const std::vector<Eigen::Vector3f>& p
   field::Field& f = model_.field();
   cl::Runtime& rt = model_.runtime();
   const uint32_t batch = f.max_batch();
-  if (pos_.size() != 3u * batch) pos_ = cl::Buffer<float>(rt, 3u * batch), sigma_ = cl::Buffer<float>(rt, batch);
+  if (pos_.size() != 3u * batch)
+    pos_ = cl::Buffer<float>(rt, 3u * batch), sigma_ = cl::Buffer<float>(rt, batch);
   const nerf::Aabb& box = model_.aabb();
   std::vector<float> out(points.size(), 0.0f), soa(3u * batch);
   for (size_t start = 0; start < points.size(); start += batch) {

@@ -1,19 +1,20 @@
 // Scale, Kabsch, translation and contact refinement (see place.h).
 #include "fit/place.h"
 
+#include <fmt/format.h>
+
+#include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
-
-#include <Eigen/Dense>
-#include <fmt/format.h>
 
 namespace lorgnette::fit {
 
 Eigen::Matrix3d kabsch(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b,
                        const std::vector<double>& weights) {
   if (a.size() != b.size() || a.size() < 2 || (!weights.empty() && weights.size() != a.size()))
-    throw std::runtime_error(fmt::format("kabsch: need >= 2 matching vector pairs (got {} and {})", a.size(), b.size()));
+    throw std::runtime_error(
+        fmt::format("kabsch: need >= 2 matching vector pairs (got {} and {})", a.size(), b.size()));
   Eigen::Matrix3d h = Eigen::Matrix3d::Zero();
   for (size_t i = 0; i < a.size(); ++i) h += (weights.empty() ? 1.0 : weights[i]) * a[i] * b[i].transpose();
   Eigen::JacobiSVD<Eigen::Matrix3d> svd(h, Eigen::ComputeFullU | Eigen::ComputeFullV);
@@ -62,21 +63,23 @@ std::vector<bool> inside(const DensityFn& density, const std::vector<Eigen::Vect
   for (const auto& p : pts) q.push_back(p.cast<float>());
   std::vector<float> sigma = density(q);
   if (sigma.size() != pts.size())
-    throw std::runtime_error(fmt::format("density query returned {} values for {} points", sigma.size(), pts.size()));
+    throw std::runtime_error(
+        fmt::format("density query returned {} values for {} points", sigma.size(), pts.size()));
   std::vector<bool> out(pts.size());
   for (size_t i = 0; i < pts.size(); ++i) out[i] = sigma[i] > thr;
   return out;
 }
 
-int count_inside(const DensityFn& density, const std::vector<Eigen::Vector3d>& pts, const Eigen::Vector3d& shift,
-                 float thr) {
+int count_inside(const DensityFn& density, const std::vector<Eigen::Vector3d>& pts,
+                 const Eigen::Vector3d& shift, float thr) {
   std::vector<Eigen::Vector3d> moved;
   for (const auto& p : pts) moved.push_back(p + shift);
   auto in = inside(density, moved, thr);
   return int(std::count(in.begin(), in.end(), true));
 }
 
-std::vector<Eigen::Vector3d> transform_points(const Eigen::Matrix4d& t, const std::vector<Eigen::Vector3d>& pts) {
+std::vector<Eigen::Vector3d> transform_points(const Eigen::Matrix4d& t,
+                                              const std::vector<Eigen::Vector3d>& pts) {
   std::vector<Eigen::Vector3d> out;
   out.reserve(pts.size());
   for (const auto& p : pts) out.push_back(t.block<3, 3>(0, 0) * p + t.block<3, 1>(0, 3));
@@ -85,8 +88,8 @@ std::vector<Eigen::Vector3d> transform_points(const Eigen::Matrix4d& t, const st
 
 }  // namespace
 
-std::vector<double> penetration_depths_mm(const HeadProbe& head, const std::vector<Eigen::Vector3d>& scene_points,
-                                          int max_probes) {
+std::vector<double> penetration_depths_mm(const HeadProbe& head,
+                                          const std::vector<Eigen::Vector3d>& scene_points, int max_probes) {
   const ContactOptions& opt = head.contact;
   std::vector<double> depth(scene_points.size(), 0.0);
   auto in = inside(head.density, scene_points, opt.density_threshold);
@@ -123,7 +126,8 @@ double penetration_depth_mm(const HeadProbe& head, const std::vector<Eigen::Vect
   const ContactOptions& opt = head.contact;
   const int probes = static_cast<int>(std::floor(2.0 * opt.max_shift_mm / opt.step_mm + 1e-9));
   auto depth = penetration_depths_mm(head, scene_points, probes);
-  if (inside_count) *inside_count = int(std::count_if(depth.begin(), depth.end(), [](double d) { return d > 0.0; }));
+  if (inside_count)
+    *inside_count = int(std::count_if(depth.begin(), depth.end(), [](double d) { return d > 0.0; }));
   double deepest = depth.empty() ? 0.0 : *std::max_element(depth.begin(), depth.end());
   return std::min(deepest, probes * opt.step_mm);  // still inside at the last probe: that far at least
 }
@@ -151,7 +155,7 @@ ContactResult refine_contact(Placement& placement, const HeadProbe& head, const 
     double s = -opt.step_mm;
     for (; s >= -opt.max_shift_mm; s -= opt.step_mm)
       if (count_inside(density, front, s * unit, thr) > 0) break;
-    shift = s + opt.step_mm;  // the last position without contact: resting on the skin
+    shift = s + opt.step_mm;                 // the last position without contact: resting on the skin
     if (s < -opt.max_shift_mm) shift = 0.0;  // nothing to rest on within range: keep Eq. 4
   }
   placement.transform.block<3, 1>(0, 3) += shift * unit;

@@ -4,10 +4,9 @@
 // the paper lacks: slide the frame along d_fwd so that its front rests on the skin with nothing
 // inside the head, judged by density queries, and measure what still penetrates.
 #pragma once
+#include <Eigen/Core>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "fit/head_probe.h"
 
@@ -15,7 +14,7 @@ namespace lorgnette::fit {
 
 // Reference points annotated on the glasses, canonical frame (mm; x = wearer's left, y up, z forward).
 struct GlassesRefPoints {
-  Eigen::Vector3d g_c{0, 0, 0};  // nose bridge (the canonical origin)
+  Eigen::Vector3d g_c{0, 0, 0};                         // nose bridge (the canonical origin)
   Eigen::Vector3d g_l{70, 0, -100}, g_r{-70, 0, -100};  // temple tips where they rest on the ears
   // Where the temples join the front (mesh/temple_bend.h), for the temple spread; without them the
   // temples stay rigid.
@@ -48,11 +47,11 @@ struct PlaceInputs {
 Placement place_glasses(const GlassesRefPoints& g, const PlaceInputs& in, ScalePolicy policy);
 
 struct ContactResult {
-  double shift_mm = 0.0;            // applied along d_fwd (+ = away from the face)
+  double shift_mm = 0.0;                                     // applied along d_fwd (+ = away from the face)
   double penetration_before_mm = 0.0, penetration_mm = 0.0;  // deepest front/arm point inside the head
-  double tip_penetration_mm = 0.0;  // deepest temple-tip point (behind the ear rests)
+  double tip_penetration_mm = 0.0;    // deepest temple-tip point (behind the ear rests)
   double front_penetration_mm = 0.0;  // deepest point of the front (rims, bridge, pads) alone
-  int points_inside = 0;            // front/arm points inside after refinement
+  int points_inside = 0;              // front/arm points inside after refinement
   bool refined = false;
 };
 
@@ -61,8 +60,8 @@ struct ContactResult {
 // the probe's axis point), that is outside; (max_probes + 1) * step_mm when every probe is still
 // inside. One density query per probe step for all points, so callers batch (the temple search: 8
 // angles).
-std::vector<double> penetration_depths_mm(const HeadProbe& head, const std::vector<Eigen::Vector3d>& scene_points,
-                                          int max_probes);
+std::vector<double> penetration_depths_mm(const HeadProbe& head,
+                                          const std::vector<Eigen::Vector3d>& scene_points, int max_probes);
 
 // Deepest penetration (mm) of the frame's sample points (the above, probing up to 2 max_shift_mm).
 double penetration_depth_mm(const HeadProbe& head, const std::vector<Eigen::Vector3d>& scene_points,

@@ -1,14 +1,14 @@
 // placement.json read/write (see placement_json.h).
 #include "fit/placement_json.h"
 
+#include <fmt/format.h>
+
 #include <climits>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <stdexcept>
-
-#include <fmt/format.h>
 
 #include "fit/fit.h"
 #include "host/util/image_io.h"
@@ -20,8 +20,10 @@ namespace lorgnette::fit {
 // plus whatever else the writer adds (the fit adds penetration figures). Absent = no spread.
 nlohmann::json temple_bend_to_json(const mesh::TempleBend& b) {
   auto v = [](const Eigen::Vector3d& p) { return nlohmann::json::array({p.x(), p.y(), p.z()}); };
-  return {{"hinge_l", v(b.left.hinge)},          {"hinge_r", v(b.right.hinge)},
-          {"spread_l_deg", b.left.spread_deg},  {"spread_r_deg", b.right.spread_deg},
+  return {{"hinge_l", v(b.left.hinge)},
+          {"hinge_r", v(b.right.hinge)},
+          {"spread_l_deg", b.left.spread_deg},
+          {"spread_r_deg", b.right.spread_deg},
           {"ramp_mm", b.ramp_mm}};
 }
 
@@ -32,12 +34,14 @@ mesh::TempleBend temple_bend_from_placement(const nlohmann::json& placement) {
   const nlohmann::json& t = placement["temples"];
   auto vec = [&](const char* key) {
     if (!t.contains(key) || !t[key].is_array() || t[key].size() != 3)
-      throw std::runtime_error(std::string("placement.json: temples.") + key + " must be an array of 3 numbers");
+      throw std::runtime_error(std::string("placement.json: temples.") + key +
+                               " must be an array of 3 numbers");
     return Eigen::Vector3d(t[key][0].get<double>(), t[key][1].get<double>(), t[key][2].get<double>());
   };
   auto num = [&](const char* key, double fallback) {
     if (!t.contains(key)) return fallback;
-    if (!t[key].is_number()) throw std::runtime_error(std::string("placement.json: temples.") + key + " must be a number");
+    if (!t[key].is_number())
+      throw std::runtime_error(std::string("placement.json: temples.") + key + " must be a number");
     return t[key].get<double>();
   };
   b.left.hinge = vec("hinge_l");
@@ -62,7 +66,8 @@ std::string file_hash(const std::string& path) {
   return fmt::format("fnv1a64:{:016x}", h);
 }
 
-PlacementFile make_placement_file(const FitResult& r, const std::string& glasses_path, const std::string& policy) {
+PlacementFile make_placement_file(const FitResult& r, const std::string& glasses_path,
+                                  const std::string& policy) {
   PlacementFile p;
   p.glasses_path = glasses_path;
   if (!glasses_path.empty()) p.glasses_hash = file_hash(glasses_path);
@@ -135,31 +140,34 @@ TempleFitResult temples_from_json(const nlohmann::json& placement) {
 nlohmann::json to_json(const PlacementFile& p) {
   using nlohmann::json;
   json t = json::array();
-  for (int i = 0; i < 4; ++i) t.push_back({p.transform(i, 0), p.transform(i, 1), p.transform(i, 2), p.transform(i, 3)});
+  for (int i = 0; i < 4; ++i)
+    t.push_back({p.transform(i, 0), p.transform(i, 1), p.transform(i, 2), p.transform(i, 3)});
   json lms = json::object(), seconds = json::object();
   for (const auto& [name, l] : p.landmarks)
-    lms[name] = {{"position", {l.position.x(), l.position.y(), l.position.z()}}, {"sigma_mm", l.sigma_mm}, {"views", l.views}};
+    lms[name] = {{"position", {l.position.x(), l.position.y(), l.position.z()}},
+                 {"sigma_mm", l.sigma_mm},
+                 {"views", l.views}};
   double total = 0;
   for (const auto& [name, s] : p.seconds) seconds[name] = s, total += s;
   seconds["total"] = total;
   json out = {{"version", p.version},
-          {"glasses", {{"path", p.glasses_path}, {"hash", p.glasses_hash}}},
-          {"transform", t},
-          {"scale_policy", p.scale_policy},
-          {"scale", p.scale},
-          {"mm_per_unit", p.mm_per_unit},
-          {"pd_mm", p.pd_mm},
-          {"landmarks", lms},
-          {"residuals_px", p.residuals_px},
-          {"views_used", p.views_used},
-          {"views_total", p.views_total},
-          {"penetration_mm", p.penetration_mm},
-          {"contact_shift_mm", p.contact_shift_mm},
-          {"front_penetration_mm", p.front_penetration_mm},
-          {"tip_penetration_mm", p.tip_penetration_mm},
-          {"seconds", seconds},
-          {"warnings", p.warnings},
-          {"ok", p.ok}};
+              {"glasses", {{"path", p.glasses_path}, {"hash", p.glasses_hash}}},
+              {"transform", t},
+              {"scale_policy", p.scale_policy},
+              {"scale", p.scale},
+              {"mm_per_unit", p.mm_per_unit},
+              {"pd_mm", p.pd_mm},
+              {"landmarks", lms},
+              {"residuals_px", p.residuals_px},
+              {"views_used", p.views_used},
+              {"views_total", p.views_total},
+              {"penetration_mm", p.penetration_mm},
+              {"contact_shift_mm", p.contact_shift_mm},
+              {"front_penetration_mm", p.front_penetration_mm},
+              {"tip_penetration_mm", p.tip_penetration_mm},
+              {"seconds", seconds},
+              {"warnings", p.warnings},
+              {"ok", p.ok}};
   if (p.has_temples) out["temples"] = temples_json(p.temples);
   return out;
 }
@@ -172,7 +180,8 @@ T field(const nlohmann::json& j, const char* name) {
   try {
     return j.at(name).get<T>();
   } catch (const nlohmann::json::exception& e) {
-    throw std::runtime_error(fmt::format("placement.json: field '{}' has the wrong type ({})", name, e.what()));
+    throw std::runtime_error(
+        fmt::format("placement.json: field '{}' has the wrong type ({})", name, e.what()));
   }
 }
 
@@ -195,8 +204,10 @@ PlacementFile placement_from_json(const nlohmann::json& j) {
   PlacementFile p;
   p.version = field<int>(j, "version");
   if (p.version > PlacementFile::kVersion || p.version < 1)
-    throw std::runtime_error(fmt::format("placement.json version {} is not supported (this build reads up to {}): "
-                                         "re-run `lorgnette fit` or update lorgnette", p.version, PlacementFile::kVersion));
+    throw std::runtime_error(
+        fmt::format("placement.json version {} is not supported (this build reads up to {}): "
+                    "re-run `lorgnette fit` or update lorgnette",
+                    p.version, PlacementFile::kVersion));
   // Only the version and the transform are required: a hand-written placement (a transform, maybe
   // the glasses and the temples) is as valid as one `lorgnette fit` wrote with all its numbers.
   auto t = field<std::vector<std::vector<double>>>(j, "transform");
@@ -215,8 +226,10 @@ PlacementFile placement_from_json(const nlohmann::json& j) {
   const nlohmann::json lms = optional_field<nlohmann::json>(j, "landmarks", nlohmann::json::object());
   for (const auto& [name, l] : lms.items()) {
     auto pos = field<std::vector<double>>(l, "position");
-    if (pos.size() != 3) throw std::runtime_error(fmt::format("placement.json: landmark '{}' needs 3 coordinates", name));
-    p.landmarks[name] = {Eigen::Vector3d(pos[0], pos[1], pos[2]), field<double>(l, "sigma_mm"), field<int>(l, "views")};
+    if (pos.size() != 3)
+      throw std::runtime_error(fmt::format("placement.json: landmark '{}' needs 3 coordinates", name));
+    p.landmarks[name] = {Eigen::Vector3d(pos[0], pos[1], pos[2]), field<double>(l, "sigma_mm"),
+                         field<int>(l, "views")};
   }
   p.residuals_px = optional_field<std::map<std::string, double>>(j, "residuals_px", {});
   p.views_used = j.contains("views_used") ? whole_number(j["views_used"], "views_used") : 0;

@@ -8,13 +8,12 @@
 // and the temples) reads too; a relative glasses path is relative to the placement file
 // (glasses_file()), for every reader.
 #pragma once
+#include <Eigen/Core>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <utility>
 #include <vector>
-
-#include <Eigen/Core>
-#include <nlohmann/json.hpp>
 
 #include "fit/temple_fit.h"
 
@@ -25,7 +24,7 @@ struct FitResult;
 struct PlacementFile {
   static constexpr int kVersion = 1;
   int version = kVersion;
-  std::string glasses_path, glasses_hash;  // hash: FNV-1a 64 of the file's bytes, hex
+  std::string glasses_path, glasses_hash;                   // hash: FNV-1a 64 of the file's bytes, hex
   Eigen::Matrix4d transform = Eigen::Matrix4d::Identity();  // canonical mm -> scene
   std::string scale_policy = "stretch";
   double scale = 1.0, mm_per_unit = 0.0, pd_mm = 0.0;
@@ -58,13 +57,14 @@ mesh::TempleBend temple_bend_from_placement(const nlohmann::json& placement);
 // Content hash of a file (FNV-1a 64, hex); throws when it cannot be read.
 std::string file_hash(const std::string& path);
 
-PlacementFile make_placement_file(const FitResult& r, const std::string& glasses_path, const std::string& scale_policy);
+PlacementFile make_placement_file(const FitResult& r, const std::string& glasses_path,
+                                  const std::string& scale_policy);
 
 nlohmann::json to_json(const PlacementFile& p);
 PlacementFile placement_from_json(const nlohmann::json& j);  // throws naming the bad field
 
 void write_placement(const std::string& path, const PlacementFile& p);  // atomic
-PlacementFile read_placement(const std::string& path);  // errors name the file
+PlacementFile read_placement(const std::string& path);                  // errors name the file
 
 // The glasses file a placement names, a relative path taken from the placement file's folder; ""
 // when it names none.

@@ -17,16 +17,18 @@ std::vector<float> densities(ViewSource& source, const Eigen::Vector3d& origin, 
                              double a, double b, int count) {
   std::vector<Eigen::Vector3f> pts;
   pts.reserve(count);
-  for (int i = 0; i < count; ++i) pts.push_back((origin + (a + (b - a) * i / (count - 1)) * dir).cast<float>());
+  for (int i = 0; i < count; ++i)
+    pts.push_back((origin + (a + (b - a) * i / (count - 1)) * dir).cast<float>());
   std::vector<float> d = source.density(pts);
-  if (d.size() != pts.size()) throw std::runtime_error("ViewSource::density returned the wrong number of values");
+  if (d.size() != pts.size())
+    throw std::runtime_error("ViewSource::density returned the wrong number of values");
   return d;
 }
 
 }  // namespace
 
-bool first_surface_hit(ViewSource& source, const Eigen::Vector3d& origin, const Eigen::Vector3d& dir, double t0,
-                       double t1, float threshold, double* t_hit) {
+bool first_surface_hit(ViewSource& source, const Eigen::Vector3d& origin, const Eigen::Vector3d& dir,
+                       double t0, double t1, float threshold, double* t_hit) {
   auto first_above = [&](double a, double b, int count) {
     std::vector<float> d = densities(source, origin, dir, a, b, count);
     for (int i = 0; i < count; ++i)

@@ -12,8 +12,8 @@ namespace lorgnette::fit {
 
 // First point along the ray where density exceeds `threshold`, searched in [t0, t1]; returns false
 // when none.
-bool first_surface_hit(ViewSource& source, const Eigen::Vector3d& origin, const Eigen::Vector3d& dir, double t0,
-                       double t1, float threshold, double* t_hit);
+bool first_surface_hit(ViewSource& source, const Eigen::Vector3d& origin, const Eigen::Vector3d& dir,
+                       double t0, double t1, float threshold, double* t_hit);
 
 // First depth in [t0, t1] at which the opacity 1 - exp(-integral of density) reaches `level` (0, 1);
 // `dir` must be unit length (density is per scene unit). Returns false when the ray stays clearer.

@@ -47,8 +47,9 @@ void cast_surface_landmarks(ViewSource& source, const std::vector<ViewRecord>& v
     for (size_t v : usable) {
       Ray r = camera_ray(views[v].camera, views[v].detection.points[k]);
       double t = 0.0;
-      const bool hit = opt.opacity > 0.0 ? opacity_depth(source, r.origin, r.dir, t0, t1, opt.opacity, &t)
-                                         : first_surface_hit(source, r.origin, r.dir, t0, t1, density_threshold, &t);
+      const bool hit = opt.opacity > 0.0
+                           ? opacity_depth(source, r.origin, r.dir, t0, t1, opt.opacity, &t)
+                           : first_surface_hit(source, r.origin, r.dir, t0, t1, density_threshold, &t);
       if (hit) hits.push_back(r.origin + t * r.dir), used.push_back(int(v));
     }
     if (hits.empty()) continue;
@@ -74,8 +75,9 @@ void cast_surface_landmarks(ViewSource& source, const std::vector<ViewRecord>& v
   }
 }
 
-int snap_to_surface(ViewSource& source, const std::vector<ViewRecord>& views, double reach, float density_threshold,
-                    std::vector<TriangulatedPoint>& points, int skip_first, int skip_last) {
+int snap_to_surface(ViewSource& source, const std::vector<ViewRecord>& views, double reach,
+                    float density_threshold, std::vector<TriangulatedPoint>& points, int skip_first,
+                    int skip_last) {
   int moved = 0;
   for (int k = 0; k < int(points.size()); ++k) {
     TriangulatedPoint& p = points[k];
@@ -84,7 +86,8 @@ int snap_to_surface(ViewSource& source, const std::vector<ViewRecord>& views, do
     for (int v : p.inliers) dir += camera_forward(views[v].camera);
     dir.normalize();
     double t = 0.0;
-    if (!first_surface_hit(source, p.position - reach * dir, dir, 0.0, 2.0 * reach, density_threshold, &t)) continue;
+    if (!first_surface_hit(source, p.position - reach * dir, dir, 0.0, 2.0 * reach, density_threshold, &t))
+      continue;
     if (t <= 0.0) continue;  // already inside at the start of the search: leave it
     Eigen::Vector3d snapped = p.position - reach * dir + t * dir;
     p.sigma = std::sqrt(p.sigma * p.sigma + (snapped - p.position).squaredNorm());

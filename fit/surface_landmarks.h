@@ -9,9 +9,8 @@
 // by centimetres along the ray (and onto the ear or the cheek behind). From the near side the ray
 // meets the skin at an angle and the hit is stable (docs/bench/fit-accuracy.md, contour rays).
 #pragma once
-#include <vector>
-
 #include <Eigen/Core>
+#include <vector>
 
 #include "fit/landmarks_dlib.h"
 #include "fit/triangulate.h"
@@ -26,13 +25,13 @@ struct ViewRecord;  // fit.h
 Eigen::Vector3d component_median(std::vector<Eigen::Vector3d> points);
 
 struct SurfaceCastOptions {
-  int first = 0, last = 16;     // landmark index range (the jaw contour)
-  double max_yaw_deg = 25.0;    // only views this close to the front
+  int first = 0, last = 16;       // landmark index range (the jaw contour)
+  double max_yaw_deg = 25.0;      // only views this close to the front
   double side_tolerance = 0.025;  // see contour_side_visible
   // The surface point of a ray: where its opacity reaches this level (0, 1), as a render shows it;
   // 0 = the first density crossing of the skin's density (stops at a NeRF's haze and floaters).
   double opacity = 0.5;
-  double near = 0.5, far = 1.3; // search range along the ray, as fractions of the orbit distance
+  double near = 0.5, far = 1.3;  // search range along the ray, as fractions of the orbit distance
 };
 
 // Whether a detection shows jaw-contour landmark `k`'s side of the face turned towards the camera:
@@ -53,7 +52,8 @@ void cast_surface_landmarks(ViewSource& source, const std::vector<ViewRecord>& v
 // point. Landmarks lie on the skin, while least squares over rays that dlib places slightly
 // inconsistently across views can end a few mm in front of or behind it (the depth is the poorly
 // constrained direction). Returns how many moved; the move is added to the point's sigma.
-int snap_to_surface(ViewSource& source, const std::vector<ViewRecord>& views, double reach, float density_threshold,
-                    std::vector<TriangulatedPoint>& points, int skip_first = 0, int skip_last = 16);
+int snap_to_surface(ViewSource& source, const std::vector<ViewRecord>& views, double reach,
+                    float density_threshold, std::vector<TriangulatedPoint>& points, int skip_first = 0,
+                    int skip_last = 16);
 
 }  // namespace lorgnette::fit

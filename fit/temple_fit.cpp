@@ -1,12 +1,12 @@
 // Per-side temple spread search (see temple_fit.h).
 #include "fit/temple_fit.h"
 
+#include <fmt/format.h>
+
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
-
-#include <Eigen/Geometry>
-#include <fmt/format.h>
 
 #include "fit/place.h"
 
@@ -72,9 +72,12 @@ double search_spread(const TempleFitInputs& in, const HeadProbe& head, const mes
 
 TempleFitResult fit_temples(const TempleFitInputs& in, const HeadProbe& head, double max_penetration_mm,
                             const TempleFitOptions& opt) {
-  if (!(opt.step_deg > 0.0) || !(opt.max_spread_deg > 0.0) || opt.max_spread_deg > 60.0 || !(opt.ramp_mm > 0.0))
-    throw std::runtime_error(fmt::format("temple fit: need 0 < step ({}) and 0 < max spread ({}) <= 60 degrees and a "
-                                         "ramp > 0 ({} mm)", opt.step_deg, opt.max_spread_deg, opt.ramp_mm));
+  if (!(opt.step_deg > 0.0) || !(opt.max_spread_deg > 0.0) || opt.max_spread_deg > 60.0 ||
+      !(opt.ramp_mm > 0.0))
+    throw std::runtime_error(
+        fmt::format("temple fit: need 0 < step ({}) and 0 < max spread ({}) <= 60 degrees and a "
+                    "ramp > 0 ({} mm)",
+                    opt.step_deg, opt.max_spread_deg, opt.ramp_mm));
   if (!(head.mm_per_unit > 0.0)) throw std::runtime_error("temple fit: mm_per_unit must be > 0");
   TempleFitResult res;
   res.fitted = true;
@@ -106,9 +109,10 @@ std::vector<std::string> temple_warnings(const TempleFitResult& r) {
   for (int side : {+1, -1}) {
     const TempleSideFit& t = side > 0 ? r.left : r.right;
     if (t.clear) continue;
-    out.push_back(fmt::format("the {} temple still passes {:.2f} mm into the head at the largest spread ({:.1f} deg; "
-                              "{:.2f} mm rigid): the frame is too narrow for this head",
-                              side > 0 ? "left" : "right", t.penetration_mm, t.spread_deg, t.penetration_before_mm));
+    out.push_back(
+        fmt::format("the {} temple still passes {:.2f} mm into the head at the largest spread ({:.1f} deg; "
+                    "{:.2f} mm rigid): the frame is too narrow for this head",
+                    side > 0 ? "left" : "right", t.penetration_mm, t.spread_deg, t.penetration_before_mm));
   }
   return out;
 }

@@ -6,10 +6,9 @@
 // penetration_depth_mm does (place.h). Angles are tried in order, step_deg apart, up to
 // max_spread_deg; a side that is still clipping there keeps the maximum and is reported unclear.
 #pragma once
+#include <Eigen/Core>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "fit/head_probe.h"
 #include "mesh/temple_bend.h"
@@ -32,14 +31,14 @@ struct TempleSideFit {
 };
 
 struct TempleFitResult {
-  bool fitted = false;   // the search ran (the glasses have hinges, the option is on)
+  bool fitted = false;    // the search ran (the glasses have hinges, the option is on)
   mesh::TempleBend bend;  // hinges and chosen spreads: what placement.json carries, what render applies
   TempleSideFit left, right;
 };
 
 struct TempleFitInputs {
   Eigen::Matrix4d transform = Eigen::Matrix4d::Identity();  // canonical mm -> scene, after refine_contact
-  Eigen::Vector3d hinge_l{0, 0, 0}, hinge_r{0, 0, 0};        // canonical mm
+  Eigen::Vector3d hinge_l{0, 0, 0}, hinge_r{0, 0, 0};       // canonical mm
 };
 
 // The probe's frame points are the samples searched; `max_penetration_mm`: the allowed depth.

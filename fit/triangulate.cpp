@@ -1,12 +1,12 @@
 // Least-squares ray intersection with iterative outlier rejection (see triangulate.h).
 #include "fit/triangulate.h"
 
+#include <fmt/format.h>
+
+#include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
-
-#include <Eigen/Dense>
-#include <fmt/format.h>
 
 #include "fit/camera_math.h"
 
@@ -64,20 +64,23 @@ TriangulatedPoint triangulate_point(const std::vector<Observation>& obs, const T
   out.reprojection_px.assign(obs.size(), -1.0);
   for (int iter = 0; iter <= opt.max_iterations; ++iter) {
     if (int(use.size()) < std::max(2, opt.min_views)) {
-      out.why = fmt::format("only {} of {} views agree (need {})", use.size(), obs.size(), std::max(2, opt.min_views));
+      out.why = fmt::format("only {} of {} views agree (need {})", use.size(), obs.size(),
+                            std::max(2, opt.min_views));
       return out;
     }
     std::vector<Eigen::Vector3d> o, d;
     for (int i : use) o.push_back(rays[i].origin), d.push_back(rays[i].dir);
     if (max_angle_deg(d) < opt.min_angle_deg) {
-      out.why = fmt::format("the {} rays span {:.2f} deg (< {:.1f}): no depth", d.size(), max_angle_deg(d), opt.min_angle_deg);
+      out.why = fmt::format("the {} rays span {:.2f} deg (< {:.1f}): no depth", d.size(), max_angle_deg(d),
+                            opt.min_angle_deg);
       return out;
     }
     out.position = nearest_point_to_rays(o, d);
     std::vector<double> inlier_err;
     for (size_t i = 0; i < obs.size(); ++i) {
       Eigen::Vector2d uv;
-      out.reprojection_px[i] = camera_project(*obs[i].camera, out.position, &uv) ? (uv - obs[i].uv).norm() : 1e9;
+      out.reprojection_px[i] =
+          camera_project(*obs[i].camera, out.position, &uv) ? (uv - obs[i].uv).norm() : 1e9;
     }
     for (int i : use) inlier_err.push_back(out.reprojection_px[i]);
     double limit = std::max(opt.inlier_px, opt.outlier_factor * median(inlier_err));

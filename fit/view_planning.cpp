@@ -1,11 +1,11 @@
 // Orbit cameras, the cap of views and the front sweep (see view_planning.h).
 #include "fit/view_planning.h"
 
-#include <cmath>
-#include <stdexcept>
+#include <fmt/format.h>
 
 #include <Eigen/Geometry>
-#include <fmt/format.h>
+#include <cmath>
+#include <stdexcept>
 
 #include "fit/camera_math.h"
 
@@ -16,7 +16,8 @@ Camera orbit_camera(const Orbit& o, double yaw_deg, double pitch_deg) {
   Eigen::Vector3d up = o.up.normalized();
   Eigen::Vector3d front = (o.front - o.front.dot(up) * up).normalized();
   Eigen::Vector3d side = up.cross(front);  // yaw turns front towards side for positive angles
-  Eigen::Vector3d dir = std::cos(pitch) * (std::cos(yaw) * front + std::sin(yaw) * side) + std::sin(pitch) * up;
+  Eigen::Vector3d dir =
+      std::cos(pitch) * (std::cos(yaw) * front + std::sin(yaw) * side) + std::sin(pitch) * up;
   return look_at_camera(o.target + o.distance * dir, o.target, up, o.fov_y_deg, o.width, o.height);
 }
 
@@ -45,7 +46,8 @@ std::vector<Camera> cap_cameras(const Orbit& orbit, const CapOptions& opt) {
 
 std::vector<double> sweep_yaws(int count) {
   std::vector<double> out;
-  for (int i = 0; i < count; ++i) out.push_back(360.0 * i / count - (i * 360.0 / count > 180.0 ? 360.0 : 0.0));
+  for (int i = 0; i < count; ++i)
+    out.push_back(360.0 * i / count - (i * 360.0 / count > 180.0 ? 360.0 : 0.0));
   return out;
 }
 

@@ -2,9 +2,8 @@
 // +-45 deg of frontal, so the default cap stays inside that), and a coarse yaw sweep that finds the
 // front of an unknown head.
 #pragma once
-#include <vector>
-
 #include <Eigen/Core>
+#include <vector>
 
 #include "common/camera_types.h"
 
@@ -21,8 +20,9 @@ struct Orbit {
 };
 
 struct CapOptions {
-  int views = 12;                 // K
-  double yaw_range_deg = 20.0;    // cameras span [-range, +range] in yaw (stability study: 20 best, fails from 45)
+  int views = 12;  // K
+  double yaw_range_deg =
+      20.0;  // cameras span [-range, +range] in yaw (stability study: 20 best, fails from 45)
   double pitch_range_deg = 15.0;  // ... and [-range, +range] in pitch
 };
 

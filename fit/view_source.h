@@ -3,10 +3,9 @@
 // Implemented by the NeRF adapter (host/nerf + host/render) and by the mesh adapter (Embree ray
 // casting of a textured head scan), so the fit's core never depends on either.
 #pragma once
+#include <Eigen/Core>
 #include <optional>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "common/camera_types.h"
 #include "host/util/image_io.h"
@@ -21,9 +20,9 @@ struct Bounds {
 
 // Where the capture cameras were: the fit centres its first search there. Any field may be absent.
 struct ViewPrior {
-  Eigen::Vector3d up{0, 1, 0};                 // world up (mean camera up for a capture)
-  std::optional<Eigen::Vector3d> front;        // unit: from the head towards the typical camera
-  std::optional<Eigen::Vector3d> target;       // a point on/inside the head the cameras look at
+  Eigen::Vector3d up{0, 1, 0};            // world up (mean camera up for a capture)
+  std::optional<Eigen::Vector3d> front;   // unit: from the head towards the typical camera
+  std::optional<Eigen::Vector3d> target;  // a point on/inside the head the cameras look at
 };
 
 class ViewSource {

@@ -1,12 +1,12 @@
 // Orientation and unit detection for glasses meshes; see canonical.h.
 #include "mesh/canonical.h"
 
+#include <fmt/format.h>
+
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <random>
-
-#include <Eigen/Geometry>
-#include <fmt/format.h>
 
 namespace lorgnette::mesh {
 namespace {
@@ -35,7 +35,8 @@ double mirror_error(const std::vector<Eigen::Vector3f>& pts, int axis, float cen
 }
 
 // +1 when the "front" (where geometry crosses the symmetry plane: the bridge) lies towards +axis.
-int front_sign(const std::vector<Eigen::Vector3f>& pts, int x_axis, int z_axis, const Eigen::AlignedBox3f& b) {
+int front_sign(const std::vector<Eigen::Vector3f>& pts, int x_axis, int z_axis,
+               const Eigen::AlignedBox3f& b) {
   float cx = b.center()[x_axis], half = 0.06f * b.sizes()[x_axis];
   double sum = 0.0;
   int n = 0;
@@ -50,7 +51,8 @@ int front_sign(const std::vector<Eigen::Vector3f>& pts, int x_axis, int z_axis, 
 }
 
 // +1 when the temples leave the front towards +axis (hinges sit in the upper part of the front).
-int up_sign(const std::vector<Eigen::Vector3f>& pts, int y_axis, int z_axis, int zs, const Eigen::AlignedBox3f& b) {
+int up_sign(const std::vector<Eigen::Vector3f>& pts, int y_axis, int z_axis, int zs,
+            const Eigen::AlignedBox3f& b) {
   float depth = b.sizes()[z_axis];
   float front = zs > 0 ? b.max()[z_axis] : b.min()[z_axis];
   Eigen::AlignedBox<float, 1> front_y;
@@ -76,7 +78,9 @@ std::vector<Eigen::Vector3f> sample_surface(const TriMesh& mesh, int count, unsi
     const auto& t = mesh.triangles[i];
     bool use = mask == nullptr || (*mask)[i];
     if (use)
-      total += 0.5 * (mesh.positions[t[1]] - mesh.positions[t[0]]).cross(mesh.positions[t[2]] - mesh.positions[t[0]]).norm();
+      total += 0.5 * (mesh.positions[t[1]] - mesh.positions[t[0]])
+                         .cross(mesh.positions[t[2]] - mesh.positions[t[0]])
+                         .norm();
     cdf.push_back(total);
   }
   std::vector<Eigen::Vector3f> out;
@@ -120,30 +124,35 @@ Canonicalization detect_canonical_frame(const TriMesh& mesh, double mm_override)
   c.rotation.row(1) = ey;
   c.rotation.row(2) = ez;
   const char* names = "xyz";
-  c.notes.push_back(fmt::format("orientation: canonical x = {}file {}, y = {}file {}, z = {}file {} "
-                                "(symmetry plane, temples backwards, hinges up)",
-                                ex[x_axis] > 0 ? "+" : "-", names[x_axis], ys > 0 ? "+" : "-", names[y_axis],
-                                zs > 0 ? "+" : "-", names[z_axis]));
+  c.notes.push_back(
+      fmt::format("orientation: canonical x = {}file {}, y = {}file {}, z = {}file {} "
+                  "(symmetry plane, temples backwards, hinges up)",
+                  ex[x_axis] > 0 ? "+" : "-", names[x_axis], ys > 0 ? "+" : "-", names[y_axis],
+                  zs > 0 ? "+" : "-", names[z_axis]));
   double width = b.sizes()[x_axis];
   if (mm_override > 0) {
     c.mm_per_unit = mm_override;
     c.units = fmt::format("{} mm per unit (given)", mm_override);
   } else {
     c.mm_per_unit = 0.0;
-    const std::pair<double, const char*> candidates[] = {
-        {mesh.units_to_mm, "the file's declared unit"}, {1.0, "millimetres"}, {10.0, "centimetres"},
-        {1000.0, "metres"}, {25.4, "inches"}};
+    const std::pair<double, const char*> candidates[] = {{mesh.units_to_mm, "the file's declared unit"},
+                                                         {1.0, "millimetres"},
+                                                         {10.0, "centimetres"},
+                                                         {1000.0, "metres"},
+                                                         {25.4, "inches"}};
     for (const auto& [mm, name] : candidates)
       if (width * mm >= kMinWidthMm && width * mm <= kMaxWidthMm) {
         c.mm_per_unit = mm;
-        c.units = fmt::format("{} ({} mm per unit; total width {:.1f} mm is plausible)", name, mm, width * mm);
+        c.units =
+            fmt::format("{} ({} mm per unit; total width {:.1f} mm is plausible)", name, mm, width * mm);
         break;
       }
     if (c.mm_per_unit == 0.0) {
       c.mm_per_unit = kAssumedWidthMm / width;
-      c.units = fmt::format("unknown: no common unit gives a plausible width, assumed a total width of {:.0f} mm "
-                            "({:.4g} mm per unit); pass --mm-per-unit or a sidecar to override", kAssumedWidthMm,
-                            c.mm_per_unit);
+      c.units = fmt::format(
+          "unknown: no common unit gives a plausible width, assumed a total width of {:.0f} mm "
+          "({:.4g} mm per unit); pass --mm-per-unit or a sidecar to override",
+          kAssumedWidthMm, c.mm_per_unit);
     }
   }
   c.notes.push_back("units: " + c.units);

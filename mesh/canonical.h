@@ -6,11 +6,10 @@
 // Units: the file's declared unit if that gives a plausible total width, else mm / cm / m / inch,
 // else the width is assumed to be 140 mm; the choice is reported, never silent.
 #pragma once
-#include <string>
-#include <vector>
-
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <string>
+#include <vector>
 
 #include "mesh/trimesh.h"
 
@@ -18,11 +17,11 @@ namespace lorgnette::mesh {
 
 struct Canonicalization {
   Eigen::Matrix4f file_to_canonical = Eigen::Matrix4f::Identity();  // includes scale to mm
-  Eigen::Matrix3f rotation = Eigen::Matrix3f::Identity();  // rows: canonical x, y, z in file axes
+  Eigen::Matrix3f rotation = Eigen::Matrix3f::Identity();           // rows: canonical x, y, z in file axes
   double mm_per_unit = 1.0;
-  std::string units;                   // how the scale was chosen, for the user
-  std::vector<std::string> notes;      // what was assumed or detected
-  double symmetry_error_mm = 0.0;      // mean distance between the mesh and its mirror image
+  std::string units;               // how the scale was chosen, for the user
+  std::vector<std::string> notes;  // what was assumed or detected
+  double symmetry_error_mm = 0.0;  // mean distance between the mesh and its mirror image
 };
 
 // Detects orientation and scale. The result maps to canonical axes and millimetres with the

@@ -7,14 +7,13 @@
 // (1 - F(cos_l))(1 - F(cos_v)) so that light reflected by the specular layer at grazing angles is
 // not also diffused (the white furnace test checks albedo <= 1). Specular: microfacet GGX
 // (alpha = roughness^2) with the usual 1/(4 cos_l cos_v) normalisation, Schlick Fresnel from
-// F0 = mix(0.08 specular, base, metallic) and height-correlated Smith masking (Heitz 2014). Written once for host code; the
-// surface pass runs on the CPU (Embree), so no OpenCL copy exists. All vectors are unit length in
-// one frame; cos values below 0 mean "below the surface" and return 0.
+// F0 = mix(0.08 specular, base, metallic) and height-correlated Smith masking (Heitz 2014). Written once for
+// host code; the surface pass runs on the CPU (Embree), so no OpenCL copy exists. All vectors are unit length
+// in one frame; cos values below 0 mean "below the surface" and return 0.
 #pragma once
+#include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
-
-#include <Eigen/Core>
 
 namespace lorgnette::mesh {
 
@@ -76,7 +75,8 @@ inline Eigen::Vector3f disney_brdf(const BrdfParams& p, const Eigen::Vector3f& n
   float energy_bias = 0.5f * p.roughness, energy_factor = 1.0f + p.roughness * (1.0f / 1.51f - 1.0f);
   float fd90 = energy_bias + 2.0f * cos_d * cos_d * p.roughness;
   float fd = (1.0f + (fd90 - 1.0f) * fl) * (1.0f + (fd90 - 1.0f) * fv) * energy_factor;
-  Eigen::Vector3f f0 = (1.0f - p.metallic) * Eigen::Vector3f::Constant(0.08f * p.specular) + p.metallic * p.base_color;
+  Eigen::Vector3f f0 =
+      (1.0f - p.metallic) * Eigen::Vector3f::Constant(0.08f * p.specular) + p.metallic * p.base_color;
   float f0d = 0.08f * p.specular;  // the dielectric layer the diffuse light passes twice
   float coupling = (1.0f - (f0d + (1.0f - f0d) * fl)) * (1.0f - (f0d + (1.0f - f0d) * fv));
   Eigen::Vector3f diffuse = p.base_color * (fd * coupling / kPi * (1.0f - p.metallic));

@@ -1,6 +1,10 @@
 // Embree 3 device/scene RAII and hit reconstruction; see embree_scene.h.
 #include "mesh/embree_scene.h"
 
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include <Eigen/Geometry>
 #include <atomic>
 #include <cmath>
 #include <exception>
@@ -8,10 +12,6 @@
 #include <mutex>
 #include <stdexcept>
 #include <thread>
-
-#include <Eigen/Geometry>
-#include <fmt/format.h>
-#include <spdlog/spdlog.h>
 
 namespace lorgnette::mesh {
 namespace {
@@ -23,8 +23,8 @@ void error_callback(void* /*user*/, RTCError code, const char* message) {
 void check_device(RTCDevice device, const char* what) {
   RTCError e = rtcGetDeviceError(device);
   if (e != RTC_ERROR_NONE)
-    throw std::runtime_error(fmt::format("Embree failed while {} (error code {}); see the log above", what,
-                                         static_cast<int>(e)));
+    throw std::runtime_error(
+        fmt::format("Embree failed while {} (error code {}); see the log above", what, static_cast<int>(e)));
 }
 
 }  // namespace
@@ -32,8 +32,9 @@ void check_device(RTCDevice device, const char* what) {
 EmbreeDevice::EmbreeDevice(const char* config) {
   device_ = rtcNewDevice(config);
   if (device_ == nullptr)
-    throw std::runtime_error(fmt::format("cannot create an Embree device (error {}); is libembree3 installed?",
-                                         static_cast<int>(rtcGetDeviceError(nullptr))));
+    throw std::runtime_error(
+        fmt::format("cannot create an Embree device (error {}); is libembree3 installed?",
+                    static_cast<int>(rtcGetDeviceError(nullptr))));
   rtcSetDeviceErrorFunction(device_, error_callback, nullptr);
 }
 
@@ -80,7 +81,8 @@ EmbreeScene::EmbreeScene(TriMesh mesh, const Eigen::Matrix4f& transform, std::sh
       if (vi < 0 || vi >= nv) {
         rtcReleaseGeometry(geom);
         rtcReleaseScene(scene_);
-        throw std::runtime_error(fmt::format("triangle {} references vertex {} of {}: corrupt mesh", i, vi, nv));
+        throw std::runtime_error(
+            fmt::format("triangle {} references vertex {} of {}: corrupt mesh", i, vi, nv));
       }
       idx[3 * i + k] = static_cast<unsigned>(vi);
     }
@@ -131,11 +133,13 @@ Hit EmbreeScene::intersect(const Eigen::Vector3f& origin, const Eigen::Vector3f&
                            .normalized();
   h.shading_normal = h.geometric_normal;
   if (!mesh_.normals.empty()) {
-    Eigen::Vector3f n = b0 * mesh_.normals[tri[0]] + h.b1 * mesh_.normals[tri[1]] + h.b2 * mesh_.normals[tri[2]];
+    Eigen::Vector3f n =
+        b0 * mesh_.normals[tri[0]] + h.b1 * mesh_.normals[tri[1]] + h.b2 * mesh_.normals[tri[2]];
     if (n.squaredNorm() > 1e-12f) h.shading_normal = n.normalized();
   }
   if (!mesh_.uvs.empty()) h.uv = b0 * mesh_.uvs[tri[0]] + h.b1 * mesh_.uvs[tri[1]] + h.b2 * mesh_.uvs[tri[2]];
-  if (h.triangle < static_cast<int>(mesh_.triangle_material.size())) h.material = mesh_.triangle_material[h.triangle];
+  if (h.triangle < static_cast<int>(mesh_.triangle_material.size()))
+    h.material = mesh_.triangle_material[h.triangle];
   if (h.triangle < static_cast<int>(mesh_.triangle_part.size())) h.part = mesh_.triangle_part[h.triangle];
   return h;
 }

@@ -4,13 +4,13 @@
 // applied, so hits report world-space positions and normals, the uv and the material directly.
 // intersect()/occluded() are thread-safe; trace_rows() runs a per-row function on a few threads.
 #pragma once
-#include <functional>
-#include <limits>
-#include <memory>
+#include <embree3/rtcore.h>
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
-#include <embree3/rtcore.h>
+#include <functional>
+#include <limits>
+#include <memory>
 
 #include "mesh/trimesh.h"
 
@@ -33,15 +33,15 @@ class EmbreeDevice {
 
 struct Hit {
   bool hit = false;
-  float t = 0.0f;             // ray parameter (distance when the direction is unit length)
-  int triangle = -1;          // index into mesh().triangles
-  float b1 = 0, b2 = 0;       // barycentrics of vertices 1 and 2 (Embree's u, v)
+  float t = 0.0f;        // ray parameter (distance when the direction is unit length)
+  int triangle = -1;     // index into mesh().triangles
+  float b1 = 0, b2 = 0;  // barycentrics of vertices 1 and 2 (Embree's u, v)
   Eigen::Vector3f position{0, 0, 0};
   Eigen::Vector3f geometric_normal{0, 0, 0};  // unit, from the triangle winding
   Eigen::Vector3f shading_normal{0, 0, 0};    // unit, interpolated vertex normal (= geometric if none)
   Eigen::Vector2f uv{0, 0};
-  int material = -1;          // index into mesh().materials
-  int part = -1;              // index into mesh().part_names
+  int material = -1;  // index into mesh().materials
+  int part = -1;      // index into mesh().part_names
 };
 
 struct RayQuery {

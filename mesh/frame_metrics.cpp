@@ -1,11 +1,10 @@
 // Frame measurements on canonical meshes; see frame_metrics.h.
 #include "mesh/frame_metrics.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <map>
-
-#include <Eigen/Geometry>
 
 #include "mesh/canonical.h"
 #include "mesh/temple_bend.h"
@@ -102,7 +101,8 @@ FrameMetrics measure_frame(const TriMesh& mesh) {
   m.lens_parts = find_lens_parts(mesh, m.total_width_mm);
   std::vector<bool> lens(mesh.triangles.size(), false);
   for (size_t i = 0; i < lens.size() && i < mesh.triangle_part.size(); ++i)
-    lens[i] = std::find(m.lens_parts.begin(), m.lens_parts.end(), mesh.triangle_part[i]) != m.lens_parts.end();
+    lens[i] =
+        std::find(m.lens_parts.begin(), m.lens_parts.end(), mesh.triangle_part[i]) != m.lens_parts.end();
   Eigen::AlignedBox3f left, right;
   for (size_t i = 0; i < lens.size(); ++i)
     if (lens[i])

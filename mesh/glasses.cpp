@@ -1,9 +1,10 @@
 // load_glasses: load, canonicalise, reference points (sidecar or detection), measure; see glasses.h.
 #include "mesh/glasses.h"
 
-#include <Eigen/Geometry>
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
+
+#include <Eigen/Geometry>
 
 namespace lorgnette::mesh {
 namespace {

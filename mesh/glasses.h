@@ -14,8 +14,8 @@ namespace lorgnette::mesh {
 
 struct Glasses {
   std::string path;
-  TriMesh mesh;                    // canonical mm, origin at g_c
-  RefPoints ref;                   // canonical mm (g_c = 0)
+  TriMesh mesh;   // canonical mm, origin at g_c
+  RefPoints ref;  // canonical mm (g_c = 0)
   FrameMetrics metrics;
   Canonicalization canonical;      // file -> canonical (with the final translation to g_c)
   std::vector<std::string> notes;  // loader warnings, assumptions, detection notes

@@ -2,15 +2,15 @@
 // positions, normals (optional) and indices, each 4-byte aligned.
 #include "mesh/gltf_writer.h"
 
+#include <fmt/format.h>
+#include <unistd.h>
+
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <map>
-#include <stdexcept>
-
-#include <fmt/format.h>
 #include <nlohmann/json.hpp>
-#include <unistd.h>
+#include <stdexcept>
 
 namespace lorgnette::mesh {
 namespace {
@@ -43,7 +43,8 @@ struct BinWriter {
   }
   int add_indices(const std::vector<uint32_t>& idx) {
     int view = add_view(idx.data(), idx.size() * sizeof(uint32_t), 34963);
-    accessors.push_back({{"bufferView", view}, {"componentType", 5125}, {"count", idx.size()}, {"type", "SCALAR"}});
+    accessors.push_back(
+        {{"bufferView", view}, {"componentType", 5125}, {"count", idx.size()}, {"type", "SCALAR"}});
     return static_cast<int>(accessors.size()) - 1;
   }
 };
@@ -66,7 +67,8 @@ json material_json(const Material& m) {
 }
 
 // Vertices and indices of the triangles of one (part, material), re-indexed compactly.
-json primitive(BinWriter& w, const TriMesh& mesh, const std::vector<size_t>& tris, int material, float scale) {
+json primitive(BinWriter& w, const TriMesh& mesh, const std::vector<size_t>& tris, int material,
+               float scale) {
   std::map<int, uint32_t> remap;
   std::vector<Eigen::Vector3f> pos, nrm;
   std::vector<uint32_t> idx;
@@ -88,20 +90,24 @@ json primitive(BinWriter& w, const TriMesh& mesh, const std::vector<size_t>& tri
 }  // namespace
 
 void write_glb(const std::string& path, const TriMesh& mesh) {
-  if (mesh.triangles.empty()) throw std::runtime_error(fmt::format("cannot write '{}': the mesh is empty", path));
+  if (mesh.triangles.empty())
+    throw std::runtime_error(fmt::format("cannot write '{}': the mesh is empty", path));
   const float scale = static_cast<float>(mesh.units_to_mm / 1000.0);
   BinWriter w;
   json materials = json::array(), meshes = json::array(), nodes = json::array(), scene_nodes = json::array();
   bool transmission = false;
-  for (const auto& m : mesh.materials) materials.push_back(material_json(m)), transmission |= m.transmission > 0;
+  for (const auto& m : mesh.materials)
+    materials.push_back(material_json(m)), transmission |= m.transmission > 0;
   std::map<int, std::map<int, std::vector<size_t>>> by_part;  // part -> material -> triangles
   for (size_t t = 0; t < mesh.triangles.size(); ++t)
     by_part[t < mesh.triangle_part.size() ? mesh.triangle_part[t] : 0]
-           [t < mesh.triangle_material.size() ? mesh.triangle_material[t] : 0].push_back(t);
+           [t < mesh.triangle_material.size() ? mesh.triangle_material[t] : 0]
+               .push_back(t);
   for (const auto& [part, mats] : by_part) {
     json prims = json::array();
     for (const auto& [mat, tris] : mats) prims.push_back(primitive(w, mesh, tris, mat, scale));
-    std::string name = part < static_cast<int>(mesh.part_names.size()) ? mesh.part_names[part] : fmt::format("part{}", part);
+    std::string name =
+        part < static_cast<int>(mesh.part_names.size()) ? mesh.part_names[part] : fmt::format("part{}", part);
     meshes.push_back({{"name", name}, {"primitives", prims}});
     nodes.push_back({{"name", name}, {"mesh", meshes.size() - 1}});
     scene_nodes.push_back(nodes.size() - 1);
@@ -134,7 +140,8 @@ void write_glb(const std::string& path, const TriMesh& mesh) {
   {
     std::ofstream f(tmp, std::ios::binary);
     f.write(out.data(), static_cast<std::streamsize>(out.size()));
-    if (!f) throw std::runtime_error(fmt::format("cannot write '{}' (directory missing or not writable?)", path));
+    if (!f)
+      throw std::runtime_error(fmt::format("cannot write '{}' (directory missing or not writable?)", path));
   }
   std::filesystem::rename(tmp, path);
 }

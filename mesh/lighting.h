@@ -8,8 +8,8 @@
 namespace lorgnette::mesh {
 
 struct Lighting {
-  Eigen::Vector3f sky{0.50f, 0.50f, 0.52f};     // ambient radiance from above (linear RGB)
-  Eigen::Vector3f ground{0.22f, 0.20f, 0.19f};  // ambient radiance from below
+  Eigen::Vector3f sky{0.50f, 0.50f, 0.52f};             // ambient radiance from above (linear RGB)
+  Eigen::Vector3f ground{0.22f, 0.20f, 0.19f};          // ambient radiance from below
   Eigen::Vector3f key_direction{-0.35f, 0.55f, 0.76f};  // towards the light (normalised on use)
   Eigen::Vector3f key_irradiance{1.6f, 1.55f, 1.5f};    // at normal incidence
   float key_shadow = 0.6f;  // 0 = no shadows, 1 = hard shadows (soft light: partial)

@@ -2,7 +2,20 @@
 // (instead of aiProcess_PreTransformVertices) so that every mesh instance keeps its own named part.
 #include "mesh/loader.h"
 
+#include <assimp/BaseImporter.h>
+#include <assimp/GltfMaterial.h>
+#include <assimp/commonMetaData.h>
+#include <assimp/material.h>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include <Eigen/Geometry>
 #include <algorithm>
+#include <assimp/IOStream.hpp>
+#include <assimp/IOSystem.hpp>
+#include <assimp/Importer.hpp>
 #include <cctype>
 #include <filesystem>
 #include <fstream>
@@ -10,19 +23,6 @@
 #include <map>
 #include <set>
 #include <stdexcept>
-
-#include <Eigen/Geometry>
-#include <assimp/BaseImporter.h>
-#include <assimp/GltfMaterial.h>
-#include <assimp/commonMetaData.h>
-#include <assimp/IOStream.hpp>
-#include <assimp/IOSystem.hpp>
-#include <assimp/Importer.hpp>
-#include <assimp/material.h>
-#include <assimp/postprocess.h>
-#include <assimp/scene.h>
-#include <fmt/format.h>
-#include <spdlog/spdlog.h>
 
 #include "mesh/ply_check.h"
 #include "mesh/texture.h"
@@ -160,7 +160,8 @@ void append_mesh(LoadContext& ctx, const aiMesh* am, const aiMatrix4x4& xf, cons
     const aiFace& face = am->mFaces[f];
     if (face.mNumIndices != 3) continue;
     Eigen::Vector3i t(base + face.mIndices[0], base + face.mIndices[1], base + face.mIndices[2]);
-    Eigen::Vector3f e = (tm.positions[t[1]] - tm.positions[t[0]]).cross(tm.positions[t[2]] - tm.positions[t[0]]);
+    Eigen::Vector3f e =
+        (tm.positions[t[1]] - tm.positions[t[0]]).cross(tm.positions[t[2]] - tm.positions[t[0]]);
     if (!(e.squaredNorm() > 0.0f)) {  // also rejects NaN
       if (ctx.report) ctx.report->degenerate_triangles++;
       continue;
@@ -200,7 +201,7 @@ void check_faces(const aiScene* scene, const std::string& path) {
       if (n == 0)
         throw std::runtime_error(
             fmt::format("mesh file '{}' is corrupt: face {} of mesh {} has no vertices", path, f, m));
-      types |= n == 1 ? aiPrimitiveType_POINT
+      types |= n == 1   ? aiPrimitiveType_POINT
                : n == 2 ? aiPrimitiveType_LINE
                : n == 3 ? aiPrimitiveType_TRIANGLE
                         : aiPrimitiveType_POLYGON;
@@ -218,8 +219,9 @@ const aiScene* post_process(Assimp::Importer& importer, const aiScene* scene, un
     scene = importer.ApplyPostProcessing(flags & ~aiProcess_ValidateDataStructure);
   }
   if (scene == nullptr)
-    throw std::runtime_error(fmt::format("cannot load mesh '{}': {} (is it a valid glTF 2.0 / OBJ / PLY file?)",
-                                         path, importer.GetErrorString()));
+    throw std::runtime_error(
+        fmt::format("cannot load mesh '{}': {} (is it a valid glTF 2.0 / OBJ / PLY file?)", path,
+                    importer.GetErrorString()));
   if (scene->mRootNode == nullptr || (scene->mFlags & AI_SCENE_FLAGS_INCOMPLETE))
     throw std::runtime_error(fmt::format("mesh file '{}' is incomplete (no scene graph or geometry)", path));
   return scene;
@@ -247,8 +249,10 @@ const aiScene* read_scene(Assimp::Importer& importer, const std::string& path, c
   if (!fs::exists(path))
     throw std::runtime_error(fmt::format("mesh file '{}' does not exist (check the path)", path));
   if (fs::is_directory(path))
-    throw std::runtime_error(fmt::format("'{}' is a directory; give the .gltf/.glb/.obj/.ply file inside it", path));
-  if (fs::file_size(path) == 0) throw std::runtime_error(fmt::format("mesh file '{}' is empty (0 bytes)", path));
+    throw std::runtime_error(
+        fmt::format("'{}' is a directory; give the .gltf/.glb/.obj/.ply file inside it", path));
+  if (fs::file_size(path) == 0)
+    throw std::runtime_error(fmt::format("mesh file '{}' is empty (0 bytes)", path));
   if (lower(fs::path(path).extension().string()) == ".ply") {  // Assimp must not see a malformed PLY
     std::ifstream in(path, std::ios::binary);
     check_ply(std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()), path);

@@ -2,15 +2,15 @@
 // see parametric.h. All geometry is built in canonical mm with g_c at the origin.
 #include "mesh/parametric.h"
 
-#include <array>
-#include <cctype>
-#include <cstdio>
-#include <cmath>
-#include <map>
-#include <stdexcept>
+#include <fmt/format.h>
 
 #include <Eigen/Geometry>
-#include <fmt/format.h>
+#include <array>
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <map>
+#include <stdexcept>
 
 #include "host/util/image_io.h"
 #include "mesh/disney_brdf.h"
@@ -20,7 +20,7 @@ namespace {
 
 using Section = std::array<Eigen::Vector3f, 4>;  // corners in order around the section
 
-constexpr float kRimDepth = 4.0f;     // z thickness of rims and bridge
+constexpr float kRimDepth = 4.0f;  // z thickness of rims and bridge
 constexpr float kTempleW = 3.0f, kTempleH = 4.5f;
 constexpr float kBendLength = 35.0f;  // temple length after the ear bend
 constexpr float kBendAngle = 0.7f;    // radians the tip bends down
@@ -37,7 +37,8 @@ std::vector<Eigen::Vector2f> lens_outline(FrameShape shape, float w, float h, in
     float y = 0.5f * h * std::copysign(std::pow(std::abs(s), 2.0f / e), s);
     float u = x / (0.5f * w) * temporal_sign;  // -1 nasal .. +1 temporal
     if (shape == FrameShape::kAviator) y *= y > 0 ? 0.82f : 1.0f + 0.22f * std::max(0.0f, -u);
-    if (shape == FrameShape::kCateye && y > 0) y += 0.3f * h * std::pow(std::max(0.0f, u), 2.0f) - 0.1f * h * std::max(0.0f, -u);
+    if (shape == FrameShape::kCateye && y > 0)
+      y += 0.3f * h * std::pow(std::max(0.0f, u), 2.0f) - 0.1f * h * std::max(0.0f, -u);
     out.emplace_back(x, y);
   }
   return out;
@@ -54,11 +55,14 @@ struct Builder {
     m.triangle_part.push_back(part);
     m.triangle_material.push_back(mat);
   }
-  void quad(int a, int b, int c, int d, int part, int mat) { tri(a, b, c, part, mat), tri(a, c, d, part, mat); }
+  void quad(int a, int b, int c, int d, int part, int mat) {
+    tri(a, b, c, part, mat), tri(a, c, d, part, mat);
+  }
   // A closed surface swept through `sections` (a ring when `closed`, else capped at both ends).
   void sweep(const std::vector<Section>& sections, bool closed, int part, int mat) {
     std::vector<std::array<int, 4>> ids;
-    for (const auto& s : sections) ids.push_back({add_vertex(s[0]), add_vertex(s[1]), add_vertex(s[2]), add_vertex(s[3])});
+    for (const auto& s : sections)
+      ids.push_back({add_vertex(s[0]), add_vertex(s[1]), add_vertex(s[2]), add_vertex(s[3])});
     size_t n = ids.size(), segs = closed ? n : n - 1;
     for (size_t i = 0; i < segs; ++i) {
       const auto& a = ids[i];
@@ -88,7 +92,8 @@ struct Builder {
 
 void check_range(const char* what, float v, float lo, float hi) {
   if (!(v >= lo && v <= hi))
-    throw std::runtime_error(fmt::format("{} {} mm is outside the plausible range {}..{} mm", what, v, lo, hi));
+    throw std::runtime_error(
+        fmt::format("{} {} mm is outside the plausible range {}..{} mm", what, v, lo, hi));
 }
 
 Material frame_material(const FrameParams& p) {
@@ -131,7 +136,8 @@ void add_lens_and_rim(Builder& b, const FrameParams& p, float h, float side, int
   const float xc = side * (0.5f * p.bridge + 0.5f * p.lens_width);
   // The lens (boxing size, as printed on frames) sits kGroove * rim deep in the rim's groove, so the
   // visible opening is that much smaller on every side.
-  auto o = lens_outline(p.shape, p.lens_width - 2 * kGroove * p.rim, h - 2 * kGroove * p.rim, p.segments, side);
+  auto o =
+      lens_outline(p.shape, p.lens_width - 2 * kGroove * p.rim, h - 2 * kGroove * p.rim, p.segments, side);
   auto n = outline_normals(o);
   const float zf = 0.5f * kRimDepth, zb = -0.5f * kRimDepth;
   std::vector<Section> ring;
@@ -167,7 +173,8 @@ Eigen::Vector3f add_bridge(Builder& b, const FrameParams& p, float h, int part) 
 // Returns the exact ear point (temple underside at the start of the bend) of the temple on `side`.
 Eigen::Vector3f add_temple(Builder& b, const FrameParams& p, float h, float side, int part) {
   const float xc = side * (0.5f * p.bridge + 0.5f * p.lens_width);
-  auto o = lens_outline(p.shape, p.lens_width - 2 * kGroove * p.rim, h - 2 * kGroove * p.rim, p.segments, side);
+  auto o =
+      lens_outline(p.shape, p.lens_width - 2 * kGroove * p.rim, h - 2 * kGroove * p.rim, p.segments, side);
   const float yh = 0.3f * h;
   Eigen::Vector2f edge = o[0];
   for (const auto& q : o)
@@ -200,10 +207,14 @@ Eigen::Vector3f add_temple(Builder& b, const FrameParams& p, float h, float side
 
 float default_lens_height(const FrameParams& p) {
   switch (p.shape) {
-    case FrameShape::kRound: return 0.9f * p.lens_width;
-    case FrameShape::kRect: return 0.72f * p.lens_width;
-    case FrameShape::kAviator: return 0.9f * p.lens_width;
-    case FrameShape::kCateye: return 0.78f * p.lens_width;
+    case FrameShape::kRound:
+      return 0.9f * p.lens_width;
+    case FrameShape::kRect:
+      return 0.72f * p.lens_width;
+    case FrameShape::kAviator:
+      return 0.9f * p.lens_width;
+    case FrameShape::kCateye:
+      return 0.78f * p.lens_width;
   }
   return 0.8f * p.lens_width;
 }
@@ -220,10 +231,14 @@ FrameShape parse_frame_shape(const std::string& name) {
 
 const char* frame_shape_name(FrameShape shape) {
   switch (shape) {
-    case FrameShape::kRound: return "round";
-    case FrameShape::kRect: return "rect";
-    case FrameShape::kAviator: return "aviator";
-    case FrameShape::kCateye: return "cateye";
+    case FrameShape::kRound:
+      return "round";
+    case FrameShape::kRect:
+      return "rect";
+    case FrameShape::kAviator:
+      return "aviator";
+    case FrameShape::kCateye:
+      return "cateye";
   }
   return "?";
 }
@@ -240,7 +255,8 @@ ParametricFrame make_parametric_frame(const FrameParams& p) {
   ParametricFrame f;
   TriMesh& m = f.mesh;
   m.materials = {frame_material(p), lens_material(p)};
-  m.part_names = {"rim_left", "rim_right", "bridge", "temple_left", "temple_right", "lens_left", "lens_right"};
+  m.part_names = {"rim_left",     "rim_right", "bridge",    "temple_left",
+                  "temple_right", "lens_left", "lens_right"};
   Builder b{m};
   add_lens_and_rim(b, p, h, +1.0f, 0, 5);
   add_lens_and_rim(b, p, h, -1.0f, 1, 6);
@@ -267,7 +283,8 @@ Eigen::Vector3f parse_color(const std::string& text) {
     Eigen::Vector3f c;
     for (int k = 0; k < 3; ++k) {
       const std::string hex = text.substr(1 + 2 * k, 2);
-      if (!std::isxdigit(static_cast<unsigned char>(hex[0])) || !std::isxdigit(static_cast<unsigned char>(hex[1])))
+      if (!std::isxdigit(static_cast<unsigned char>(hex[0])) ||
+          !std::isxdigit(static_cast<unsigned char>(hex[1])))
         throw std::runtime_error(fmt::format("colour '{}' is not #rrggbb (hex digits)", text));
       int v = std::stoi(hex, nullptr, 16);
       c[k] = srgb_to_linear(v / 255.0f);
@@ -276,11 +293,13 @@ Eigen::Vector3f parse_color(const std::string& text) {
   }
   float r, g, bl;
   char extra;
-  if (std::sscanf(text.c_str(), "%f,%f,%f%c", &r, &g, &bl, &extra) == 3 && r >= 0 && g >= 0 && bl >= 0 && r <= 1 &&
-      g <= 1 && bl <= 1)
+  if (std::sscanf(text.c_str(), "%f,%f,%f%c", &r, &g, &bl, &extra) == 3 && r >= 0 && g >= 0 && bl >= 0 &&
+      r <= 1 && g <= 1 && bl <= 1)
     return {r, g, bl};
-  throw std::runtime_error(fmt::format("colour '{}' not understood: use #rrggbb, r,g,b in 0..1, or a name "
-                                       "(black, tortoise, gold, silver, red, blue, clear, grey, green, brown)", text));
+  throw std::runtime_error(
+      fmt::format("colour '{}' not understood: use #rrggbb, r,g,b in 0..1, or a name "
+                  "(black, tortoise, gold, silver, red, blue, clear, grey, green, brown)",
+                  text));
 }
 
 }  // namespace lorgnette::mesh

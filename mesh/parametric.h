@@ -6,9 +6,8 @@
 // g_c = underside of the bridge at x = 0 on the back face of the front; g_l/g_r = temple underside
 // where the temple starts to bend down behind the ear (temple_length - 35 mm behind the hinge).
 #pragma once
-#include <string>
-
 #include <Eigen/Core>
+#include <string>
 
 #include "mesh/refpoints.h"
 #include "mesh/trimesh.h"
@@ -26,12 +25,13 @@ struct FrameParams {
   float temple_length = 140.0f;  // mm, hinge (the rims' back face) to the tip's end along the
                                  // temple's centre line, the bend included (as frame_metrics.h measures)
   FrameShape shape = FrameShape::kRect;
-  float rim = 3.0f;              // mm, radial width of the rim around each lens
-  float lens_height = 0.0f;      // mm; 0 = from the shape (round 0.9, rect 0.72, aviator 0.9, cateye 0.78 x width)
-  Eigen::Vector3f color{0.02f, 0.02f, 0.025f};       // frame base colour, linear RGB
-  Eigen::Vector3f lens_tint{0.85f, 0.87f, 0.88f};    // transmitted colour of the lenses
+  float rim = 3.0f;  // mm, radial width of the rim around each lens
+  float lens_height =
+      0.0f;  // mm; 0 = from the shape (round 0.9, rect 0.72, aviator 0.9, cateye 0.78 x width)
+  Eigen::Vector3f color{0.02f, 0.02f, 0.025f};     // frame base colour, linear RGB
+  Eigen::Vector3f lens_tint{0.85f, 0.87f, 0.88f};  // transmitted colour of the lenses
   float metallic = 0.0f, roughness = 0.35f;
-  int segments = 96;             // outline resolution per lens
+  int segments = 96;  // outline resolution per lens
 };
 
 struct ParametricFrame {

@@ -1,15 +1,16 @@
 // Load, spread the temples, build the surface pass (see placed_glasses.h).
 #include "mesh/placed_glasses.h"
 
-#include <fstream>
-#include <stdexcept>
-
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include <fstream>
+#include <stdexcept>
+
 namespace lorgnette::mesh {
 
-PlacedGlasses place_glasses_mesh(Glasses glasses, const Eigen::Matrix4f& transform, const TempleBend& temples) {
+PlacedGlasses place_glasses_mesh(Glasses glasses, const Eigen::Matrix4f& transform,
+                                 const TempleBend& temples) {
   PlacedGlasses p;
   p.temples = temples;
   p.transform = transform;

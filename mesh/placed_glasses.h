@@ -4,11 +4,10 @@
 // transform (canonical mm -> scene). read_placement_temples() reads the spread from placement.json
 // (a file without "temples" — written before they existed — means no spread).
 #pragma once
+#include <Eigen/Core>
 #include <array>
 #include <memory>
 #include <string>
-
-#include <Eigen/Core>
 
 #include "mesh/glasses.h"
 #include "mesh/surface_pass.h"
@@ -17,10 +16,10 @@
 namespace lorgnette::mesh {
 
 struct PlacedGlasses {
-  Glasses glasses;                    // mesh with the temples already spread
-  TempleBend temples;                 // what was applied
+  Glasses glasses;                                          // mesh with the temples already spread
+  TempleBend temples;                                       // what was applied
   Eigen::Matrix4f transform = Eigen::Matrix4f::Identity();  // canonical mm -> scene
-  std::unique_ptr<SurfacePass> pass;  // over the spread mesh
+  std::unique_ptr<SurfacePass> pass;                        // over the spread mesh
 };
 
 PlacedGlasses load_placed_glasses(const std::string& glasses_path, const Eigen::Matrix4f& transform,
@@ -34,6 +33,7 @@ inline Eigen::Matrix4f row_major_matrix(const std::array<float, 16>& m) {
 }
 
 // The same for a frame already in memory (canonical mm), e.g. a parametric one.
-PlacedGlasses place_glasses_mesh(Glasses glasses, const Eigen::Matrix4f& transform, const TempleBend& temples);
+PlacedGlasses place_glasses_mesh(Glasses glasses, const Eigen::Matrix4f& transform,
+                                 const TempleBend& temples);
 
 }  // namespace lorgnette::mesh

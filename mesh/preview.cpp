@@ -1,10 +1,10 @@
 // Preview sheet rendering (surface pass + OpenCV annotations); see preview.h.
 #include "mesh/preview.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
-
-#include <fmt/format.h>
 #include <opencv2/imgproc.hpp>
 
 #include "mesh/disney_brdf.h"
@@ -63,18 +63,18 @@ cv::Mat render_panel(const SurfacePass& pass, const Glasses& g, const View& view
 
 Image render_glasses_preview(const Glasses& g, const PreviewOptions& o) {
   SurfacePass pass(g.mesh, Eigen::Matrix4f::Identity());
-  const View views[] = {
-      {"front (+z), x = wearer's left to the right", {0.0f, 0.0f, 1.0f}, {0, 1, 0}},
-      {"left side (+x), front to the left", {1.0f, 0.0f, 0.0f}, {0, 1, 0}},
-      {"top (+y), front at the bottom", {0.0f, 1.0f, 0.0f}, {0, 0, -1}}};
+  const View views[] = {{"front (+z), x = wearer's left to the right", {0.0f, 0.0f, 1.0f}, {0, 1, 0}},
+                        {"left side (+x), front to the left", {1.0f, 0.0f, 0.0f}, {0, 1, 0}},
+                        {"top (+y), front at the bottom", {0.0f, 1.0f, 0.0f}, {0, 0, -1}}};
   std::vector<cv::Mat> panels;
   for (const auto& v : views) panels.push_back(render_panel(pass, g, v, o));
   cv::Mat sheet;
   cv::hconcat(panels, sheet);
-  std::string info = fmt::format("width {:.1f}  lens {:.1f}  bridge {:.1f}  temple {:.1f} mm", g.metrics.total_width_mm,
-                                 g.metrics.lens_width_mm, g.metrics.bridge_mm, g.metrics.temple_length_mm);
-  cv::putText(sheet, info, cv::Point(10, sheet.rows - 12), cv::FONT_HERSHEY_SIMPLEX, 0.55, cv::Scalar(20, 20, 20),
-              1, cv::LINE_AA);
+  std::string info =
+      fmt::format("width {:.1f}  lens {:.1f}  bridge {:.1f}  temple {:.1f} mm", g.metrics.total_width_mm,
+                  g.metrics.lens_width_mm, g.metrics.bridge_mm, g.metrics.temple_length_mm);
+  cv::putText(sheet, info, cv::Point(10, sheet.rows - 12), cv::FONT_HERSHEY_SIMPLEX, 0.55,
+              cv::Scalar(20, 20, 20), 1, cv::LINE_AA);
   Image out(sheet.cols, sheet.rows, 3);
   for (int y = 0; y < sheet.rows; ++y)
     for (int x = 0; x < sheet.cols; ++x)

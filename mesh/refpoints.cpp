@@ -1,15 +1,15 @@
 // Reference point detection on canonical frames and the sidecar JSON; see refpoints.h.
 #include "mesh/refpoints.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <map>
-#include <stdexcept>
-
-#include <fmt/format.h>
 #include <nlohmann/json.hpp>
+#include <stdexcept>
 
 #include "host/util/image_io.h"
 #include "mesh/canonical.h"
@@ -26,7 +26,8 @@ float percentile(std::vector<float> v, float q) {
 
 Eigen::Vector3f mirror(const Eigen::Vector3f& p) { return {-p.x(), p.y(), p.z()}; }
 
-Eigen::Vector3f detect_bridge(const std::vector<Eigen::Vector3f>& pts, float width, float front, RefPoints& out) {
+Eigen::Vector3f detect_bridge(const std::vector<Eigen::Vector3f>& pts, float width, float front,
+                              RefPoints& out) {
   float half = std::max(1.5f, 0.012f * width);
   std::vector<float> ys, zs;
   for (const auto& p : pts)
@@ -51,22 +52,26 @@ std::vector<Bin> temple_profile(const std::vector<Eigen::Vector3f>& pts, float w
   const float bin = 3.0f, start = front - 25.0f;
   std::map<int, std::vector<Eigen::Vector3f>> bins;
   for (const auto& p : pts)
-    if (side * p.x() > 0.25f * width && p.z() < start) bins[static_cast<int>((start - p.z()) / bin)].push_back(p);
+    if (side * p.x() > 0.25f * width && p.z() < start)
+      bins[static_cast<int>((start - p.z()) / bin)].push_back(p);
   std::vector<Bin> out;
   for (auto& [k, v] : bins) {
     if (v.size() < 4) continue;
     std::vector<float> ys;
     float xs = 0;
     for (const auto& p : v) ys.push_back(p.y()), xs += p.x();
-    out.push_back({start - (k + 0.5f) * bin, percentile(ys, 0.05f), xs / v.size(), static_cast<int>(v.size())});
+    out.push_back(
+        {start - (k + 0.5f) * bin, percentile(ys, 0.05f), xs / v.size(), static_cast<int>(v.size())});
   }
   return out;
 }
 
 Eigen::Vector3f detect_ear_point(const std::vector<Bin>& prof, RefPoints& out, const char* name) {
   if (prof.size() < 3)
-    throw std::runtime_error(fmt::format("no temple found on the {} side: is this a glasses frame with temples "
-                                         "(arms)? Give the points in a .refpoints.json sidecar", name));
+    throw std::runtime_error(
+        fmt::format("no temple found on the {} side: is this a glasses frame with temples "
+                    "(arms)? Give the points in a .refpoints.json sidecar",
+                    name));
   // The ear sits well behind the hinge: search the back 55 % of the temple, against the chord from
   // the 30 % point to the tip (the front end is skewed by end pieces and hinges hanging down).
   const size_t first = static_cast<size_t>(0.30f * (prof.size() - 1));
@@ -140,13 +145,16 @@ std::optional<RefPointsSidecar> read_refpoints_sidecar(const std::string& mesh_p
   try {
     in >> j;
   } catch (const std::exception& e) {
-    throw std::runtime_error(fmt::format("sidecar '{}' is not valid JSON ({}); fix or delete it", path, e.what()));
+    throw std::runtime_error(
+        fmt::format("sidecar '{}' is not valid JSON ({}); fix or delete it", path, e.what()));
   }
   RefPointsSidecar s;
   s.space = j.value("space", std::string("file"));
   if (s.space != "file")
-    throw std::runtime_error(fmt::format("sidecar '{}': space must be \"file\" (the mesh file's own coordinates), "
-                                         "not \"{}\"", path, s.space));
+    throw std::runtime_error(
+        fmt::format("sidecar '{}': space must be \"file\" (the mesh file's own coordinates), "
+                    "not \"{}\"",
+                    path, s.space));
   s.mm_per_unit = j.value("mm_per_unit", 0.0);
   s.points.g_c = read_vec(j, "g_c", path);
   s.points.g_l = read_vec(j, "g_l", path);
@@ -157,8 +165,11 @@ std::optional<RefPointsSidecar> read_refpoints_sidecar(const std::string& mesh_p
 
 void write_refpoints_sidecar(const std::string& mesh_path, const RefPointsSidecar& s) {
   auto v = [](const Eigen::Vector3f& p) { return nlohmann::json::array({p.x(), p.y(), p.z()}); };
-  nlohmann::json j = {{"version", 1}, {"space", s.space}, {"g_c", v(s.points.g_c)},
-                      {"g_l", v(s.points.g_l)}, {"g_r", v(s.points.g_r)}};
+  nlohmann::json j = {{"version", 1},
+                      {"space", s.space},
+                      {"g_c", v(s.points.g_c)},
+                      {"g_l", v(s.points.g_l)},
+                      {"g_r", v(s.points.g_r)}};
   if (s.mm_per_unit > 0) j["mm_per_unit"] = s.mm_per_unit;
   write_text_file_atomic(sidecar_path(mesh_path), j.dump(2) + "\n");
 }

@@ -14,11 +14,10 @@
 // "mm_per_unit": optional}. Coordinates are the mesh file's own (after its node transforms, in its
 // units) — what a 3D tool shows — and go through the same canonicalisation as the mesh.
 #pragma once
+#include <Eigen/Core>
 #include <optional>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "mesh/trimesh.h"
 
@@ -26,8 +25,8 @@ namespace lorgnette::mesh {
 
 struct RefPoints {
   Eigen::Vector3f g_c{0, 0, 0}, g_l{0, 0, 0}, g_r{0, 0, 0};
-  std::string source;               // "detected", "sidecar" or "parametric"
-  std::vector<std::string> notes;   // what detection found or had to assume
+  std::string source;              // "detected", "sidecar" or "parametric"
+  std::vector<std::string> notes;  // what detection found or had to assume
 };
 
 // Per-triangle flag: true where the triangle's material is a lens.

@@ -2,11 +2,10 @@
 // (a cols x rows grid with cols = round(sqrt n), one uniformly jittered sample in each of the first
 // n cells), from a small deterministic per-pixel random stream (fixed seed => identical images).
 #pragma once
+#include <Eigen/Core>
 #include <cmath>
 #include <cstdint>
 #include <vector>
-
-#include <Eigen/Core>
 
 namespace lorgnette::mesh {
 

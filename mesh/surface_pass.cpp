@@ -1,14 +1,14 @@
 // Surface pass: sampling, Disney shading, lens transmission, buffer accumulation; see surface_pass.h.
 #include "mesh/surface_pass.h"
 
+#include <fmt/format.h>
+
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
-
-#include <Eigen/Geometry>
-#include <fmt/format.h>
 
 #include "mesh/disney_brdf.h"
 #include "mesh/sampling.h"
@@ -36,15 +36,17 @@ struct ShadeContext {
 };
 
 // Radiance of an opaque Disney surface towards v (unit, pointing to the camera).
-Eigen::Vector3f shade_opaque(const ShadeContext& c, const Hit& h, const BrdfParams& p, const Eigen::Vector3f& n,
-                             const Eigen::Vector3f& v) {
+Eigen::Vector3f shade_opaque(const ShadeContext& c, const Hit& h, const BrdfParams& p,
+                             const Eigen::Vector3f& n, const Eigen::Vector3f& v) {
   const Lighting& L = c.params->lighting;
   float cos_v = std::max(n.dot(v), 1e-4f);
   Eigen::Vector3f ambient_diffuse = environment(L, c.to_canonical * n);
-  Eigen::Vector3f f0 = (1.0f - p.metallic) * Eigen::Vector3f::Constant(0.08f * p.specular) + p.metallic * p.base_color;
+  Eigen::Vector3f f0 =
+      (1.0f - p.metallic) * Eigen::Vector3f::Constant(0.08f * p.specular) + p.metallic * p.base_color;
   Eigen::Vector3f r = 2.0f * n.dot(v) * n - v;
-  Eigen::Vector3f out = p.base_color.cwiseProduct(ambient_diffuse) * (1.0f - p.metallic) +
-                        env_specular_albedo(f0, cos_v, p.roughness).cwiseProduct(environment(L, c.to_canonical * r));
+  Eigen::Vector3f out =
+      p.base_color.cwiseProduct(ambient_diffuse) * (1.0f - p.metallic) +
+      env_specular_albedo(f0, cos_v, p.roughness).cwiseProduct(environment(L, c.to_canonical * r));
   float cos_l = n.dot(c.key_dir);
   if (cos_l > 0.0f) {
     float vis = 1.0f;
@@ -71,14 +73,16 @@ SampleResult trace_sample(const ShadeContext& c, Eigen::Vector3f origin, const E
     Hit h = c.scene->intersect(origin, dir, tnear);
     if (!h.hit) break;
     if (layer == 0) s.depth = h.t;
-    const Material& m = mesh.materials[std::clamp(h.material, 0, static_cast<int>(mesh.materials.size()) - 1)];
-    Eigen::Vector4f tex = m.base_color_texture >= 0 && m.base_color_texture < static_cast<int>(mesh.textures.size())
-                              ? sample_texture(mesh.textures[m.base_color_texture], h.uv)
-                              : Eigen::Vector4f::Ones();
+    const Material& m =
+        mesh.materials[std::clamp(h.material, 0, static_cast<int>(mesh.materials.size()) - 1)];
+    Eigen::Vector4f tex =
+        m.base_color_texture >= 0 && m.base_color_texture < static_cast<int>(mesh.textures.size())
+            ? sample_texture(mesh.textures[m.base_color_texture], h.uv)
+            : Eigen::Vector4f::Ones();
     BrdfParams p{m.base_color.cwiseProduct(tex.head<3>()), m.metallic, m.roughness, m.specular};
     const Eigen::Vector3f v = -dir;
     Eigen::Vector3f n = h.shading_normal;
-    if (h.geometric_normal.dot(v) < 0.0f) n = -n;  // double-sided: face the viewer
+    if (h.geometric_normal.dot(v) < 0.0f) n = -n;                       // double-sided: face the viewer
     if (n.dot(v) <= 0.0f) n = (n - 1.01f * n.dot(v) * v).normalized();  // keep the shading normal visible
     float a = std::clamp(m.alpha * tex.w(), 0.0f, 1.0f), tr = m.transmission;
     Eigen::Vector3f emitted = (1.0f - tr) * shade_opaque(c, h, p, n, v);
@@ -115,8 +119,8 @@ std::array<int, 4> screen_bounds(const Camera& cam, const Eigen::AlignedBox3f& b
     u0 = std::min(u0, u), u1 = std::max(u1, u), v0 = std::min(v0, v), v1 = std::max(v1, v);
   }
   auto clampi = [](float x, int hi) { return static_cast<int>(std::clamp(x, 0.0f, static_cast<float>(hi))); };
-  return {clampi(std::floor(u0) - 2, all[2]), clampi(std::floor(v0) - 2, all[3]), clampi(std::ceil(u1) + 2, all[2]),
-          clampi(std::ceil(v1) + 2, all[3])};
+  return {clampi(std::floor(u0) - 2, all[2]), clampi(std::floor(v0) - 2, all[3]),
+          clampi(std::ceil(u1) + 2, all[2]), clampi(std::ceil(v1) + 2, all[3])};
 }
 
 }  // namespace
@@ -131,10 +135,11 @@ SurfacePass::SurfacePass(const TriMesh& canonical_mesh, const Eigen::Matrix4f& p
 
 SurfaceBuffers SurfacePass::render(const Camera& cam, const SurfaceParams& params) const {
   if (cam.width == 0 || cam.height == 0 || cam.width > 16384 || cam.height > 16384)
-    throw std::runtime_error(fmt::format("surface pass: camera size {}x{} is invalid", cam.width, cam.height));
+    throw std::runtime_error(
+        fmt::format("surface pass: camera size {}x{} is invalid", cam.width, cam.height));
   if (params.samples_per_pixel < 1 || params.samples_per_pixel > 1024)
-    throw std::runtime_error(fmt::format("surface pass: samples per pixel must be 1..1024, not {}",
-                                         params.samples_per_pixel));
+    throw std::runtime_error(
+        fmt::format("surface pass: samples per pixel must be 1..1024, not {}", params.samples_per_pixel));
   SurfaceBuffers out(static_cast<int>(cam.width), static_cast<int>(cam.height));
   ShadeContext c{scene_.get(), &params, scene_to_canonical_rot_, Eigen::Vector3f::Zero(), 0.0f};
   c.key_dir = (scene_to_canonical_rot_.transpose() * params.lighting.key_direction.normalized()).normalized();

@@ -15,14 +15,13 @@
 // through up to `max_layers` transmissive surfaces. Rows run in parallel on `threads` threads;
 // pixels outside the frame's projected bounding box are skipped (they cannot be hit).
 #pragma once
+#include <Eigen/Core>
 #include <memory>
 
-#include <Eigen/Core>
-
 #include "common/camera_types.h"
+#include "host/util/surface_buffers.h"
 #include "mesh/embree_scene.h"
 #include "mesh/lighting.h"
-#include "host/util/surface_buffers.h"
 #include "mesh/trimesh.h"
 
 namespace lorgnette::mesh {

@@ -1,10 +1,10 @@
 // Temple spread on meshes and hinge detection on canonical frames (see temple_bend.h).
 #include "mesh/temple_bend.h"
 
-#include <map>
+#include <fmt/format.h>
 
 #include <Eigen/Geometry>
-#include <fmt/format.h>
+#include <map>
 
 #include "mesh/canonical.h"
 #include "mesh/refpoints.h"
@@ -44,10 +44,13 @@ std::optional<Eigen::Vector3d> side_hinge(const std::vector<Eigen::Vector3f>& pt
     const double z = front - k * bin;
     std::vector<double> xs, yv;
     for (const auto& p : pts)
-      if (s * p.x() > 0.25 * width && p.z() <= z && p.z() > z - temple_mm) xs.push_back(p.x()), yv.push_back(p.y());
+      if (s * p.x() > 0.25 * width && p.z() <= z && p.z() > z - temple_mm)
+        xs.push_back(p.x()), yv.push_back(p.y());
     return Eigen::Vector3d(quantile(xs, 0.5), quantile(yv, 0.5), z);
   }
-  if (why) *why = fmt::format("no temple found on the {} side (no thin section behind the front)", s > 0 ? "left" : "right");
+  if (why)
+    *why = fmt::format("no temple found on the {} side (no thin section behind the front)",
+                       s > 0 ? "left" : "right");
   return std::nullopt;
 }
 

@@ -16,15 +16,14 @@
 // temple_bend.cpp) run the very same function. placement.json's "temples" object, which carries it,
 // is read and written by the placement module (fit/placement_json.h).
 #pragma once
+#include <Eigen/Core>
+#include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
 #include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
-#include <Eigen/LU>
 
 #include "mesh/trimesh.h"
 
@@ -60,7 +59,7 @@ inline bool temple_weight(const TempleBend& b, const Eigen::Vector3d& p, const T
   *side = &t;
   if (t.spread_deg == 0.0) return false;
   const double d = t.hinge.z() - p.z(), ramp = std::max(b.ramp_mm, 1e-9), u = std::min(d / ramp, 1.0);
-  *w = u * u * (3.0 - 2.0 * u);                            // smoothstep
+  *w = u * u * (3.0 - 2.0 * u);                           // smoothstep
   *dw_dz = d < ramp ? -6.0 * u * (1.0 - u) / ramp : 0.0;  // d/dz = -d/dd
   return true;
 }
@@ -98,9 +97,9 @@ inline Eigen::Vector3d bend_normal(const TempleBend& b, const Eigen::Vector3d& p
   const Eigen::Vector3d r = p - side->hinge;
   const double c = std::cos(a), s = std::sin(a);
   Eigen::Matrix3d j;
-  j << c, 0, s, 0, 1, 0, -s, 0, c;                                           // rotation part
+  j << c, 0, s, 0, 1, 0, -s, 0, c;                                                   // rotation part
   const Eigen::Vector3d dq_da(-s * r.x() + c * r.z(), 0.0, -c * r.x() - s * r.z());  // d(R r)/da
-  j.col(2) += dq_da * da_dz;                                                 // the ramp's twist
+  j.col(2) += dq_da * da_dz;                                                         // the ramp's twist
   Eigen::Vector3d out = j.inverse().transpose() * n;
   double len = out.norm();
   return len > 0.0 ? Eigen::Vector3d(out / len) : n;
@@ -110,7 +109,8 @@ inline Eigen::Vector3d bend_normal(const TempleBend& b, const Eigen::Vector3d& p
 void bend_mesh(const TempleBend& b, TriMesh& mesh);
 
 // Deformed copies of canonical points (the fit's frame samples).
-inline std::vector<Eigen::Vector3d> bend_points(const TempleBend& b, const std::vector<Eigen::Vector3d>& pts) {
+inline std::vector<Eigen::Vector3d> bend_points(const TempleBend& b,
+                                                const std::vector<Eigen::Vector3d>& pts) {
   std::vector<Eigen::Vector3d> out;
   out.reserve(pts.size());
   for (const auto& p : pts) out.push_back(bend_point(b, p));

@@ -1,12 +1,12 @@
 // Bilinear texture sampling, in-memory image decoding (OpenCV) and downsampling; see texture.h.
 #include "mesh/texture.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
-#include <stdexcept>
-
-#include <fmt/format.h>
 #include <opencv2/imgcodecs.hpp>
+#include <stdexcept>
 
 namespace lorgnette::mesh {
 namespace {
@@ -21,10 +21,14 @@ Eigen::Vector4f texel(const Image& im, int x, int y) {
   y = wrap(y, im.height);
   const float* p = &im.pixels[(static_cast<size_t>(y) * im.width + x) * im.channels];
   switch (im.channels) {
-    case 1: return {p[0], p[0], p[0], 1.0f};
-    case 2: return {p[0], p[0], p[0], p[1]};
-    case 3: return {p[0], p[1], p[2], 1.0f};
-    default: return {p[0], p[1], p[2], p[3]};
+    case 1:
+      return {p[0], p[0], p[0], 1.0f};
+    case 2:
+      return {p[0], p[0], p[0], p[1]};
+    case 3:
+      return {p[0], p[1], p[2], 1.0f};
+    default:
+      return {p[0], p[1], p[2], p[3]};
   }
 }
 

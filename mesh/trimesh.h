@@ -2,10 +2,9 @@
 // parametric frames): flat arrays, one material per triangle, named parts, textures as linear
 // float images. Units are whatever `units_to_mm` says (glasses are canonicalised to millimetres).
 #pragma once
+#include <Eigen/Core>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "host/util/image_io.h"
 
@@ -16,9 +15,9 @@ struct Material {
   Eigen::Vector3f base_color{0.8f, 0.8f, 0.8f};  // linear RGB, multiplied with the texture
   float metallic = 0.0f;
   float roughness = 0.5f;
-  float specular = 0.5f;       // Disney "specular" (0.5 = F0 of 4 %)
-  float alpha = 1.0f;          // coverage (1 = opaque)
-  float transmission = 0.0f;   // KHR_materials_transmission factor (lenses)
+  float specular = 0.5f;      // Disney "specular" (0.5 = F0 of 4 %)
+  float alpha = 1.0f;         // coverage (1 = opaque)
+  float transmission = 0.0f;  // KHR_materials_transmission factor (lenses)
   float ior = 1.5f;
   Eigen::Vector3f tint{1.0f, 1.0f, 1.0f};  // transmitted colour (lens tint)
   int base_color_texture = -1;             // index into TriMesh::textures, or -1
@@ -34,9 +33,9 @@ struct TriMesh {
   std::vector<int> triangle_material;      // per triangle, index into materials
   std::vector<int> triangle_part;          // per triangle, index into part_names
   std::vector<Material> materials;
-  std::vector<Image> textures;             // linear RGB(A)
+  std::vector<Image> textures;  // linear RGB(A)
   std::vector<std::string> part_names;
-  double units_to_mm = 1.0;                // multiply positions by this to get millimetres
+  double units_to_mm = 1.0;  // multiply positions by this to get millimetres
 
   size_t vertex_count() const { return positions.size(); }
   size_t triangle_count() const { return triangles.size(); }

@@ -2,10 +2,9 @@
 // superellipse |x/a|^n + |z/b|^n = 1 around the centre (0, y, zc(y)), closed with flat caps.
 #include "synth/body.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
-
-#include <Eigen/Geometry>
 
 namespace lorgnette::synth {
 namespace {
@@ -25,8 +24,8 @@ struct Ring {
 // loft encloses the head's flat neck cut; shoulders widen over ~70 mm below the neck base.
 Ring ring_at(const HeadParams& p, float y) {
   const float neck_r = 0.34f * p.head_width + 1.5f;
-  const float base = -p.face_length - 70.0f;       // where the trapezius starts
-  const float shoulder = base - 60.0f;             // shoulder line
+  const float base = -p.face_length - 70.0f;                     // where the trapezius starts
+  const float shoulder = base - 60.0f;                           // shoulder line
   const float s = 1.0f - smoothstep(shoulder, base + 10.0f, y);  // 0 at the neck, 1 at the shoulder line
   Ring r;
   r.a = neck_r + s * (1.45f * p.head_width - neck_r);
@@ -103,8 +102,10 @@ mesh::TriMesh make_neck_and_shoulders(const HeadParams& p) {
     m.positions.emplace_back(0.0f, y, ring_at(p, y).zc);
     m.uvs.emplace_back(0.5f, cap == 0 ? 0.0f : 1.0f);
     for (int i = 0; i < cols; ++i) {
-      if (cap == 0) m.triangles.emplace_back(centre, idx(i, j), idx(i + 1, j));
-      else m.triangles.emplace_back(centre, idx(i + 1, j), idx(i, j));
+      if (cap == 0)
+        m.triangles.emplace_back(centre, idx(i, j), idx(i + 1, j));
+      else
+        m.triangles.emplace_back(centre, idx(i + 1, j), idx(i, j));
     }
   }
   m.normals.assign(m.positions.size(), V3::Zero());

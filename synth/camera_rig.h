@@ -5,10 +5,9 @@
 // Hand-held mode imitates a phone swept once across the face: yaw in order along the arc with a
 // little jitter, pitch wandering inside its range, distance and aim jittered, fixed phone field of view.
 #pragma once
+#include <Eigen/Core>
 #include <cstdint>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "common/camera_types.h"
 
@@ -21,10 +20,10 @@ struct RigOptions {
   float pitch_min_deg = -12.0f, pitch_max_deg = 18.0f;
   uint64_t seed = 0;
   Eigen::Vector3f target{0, 0, 0};
-  float distance = 3.0f;     // scene units from the target
-  float frame_radius = 0.7f; // scene units around the target that the view must contain (vertically)
-  float fov_y_deg = 0.0f;    // vertical field of view; 0 = fit frame_radius at `distance`
-  bool handheld = false;     // a sweep along the yaw range (see above) instead of the R2 cover
+  float distance = 3.0f;          // scene units from the target
+  float frame_radius = 0.7f;      // scene units around the target that the view must contain (vertically)
+  float fov_y_deg = 0.0f;         // vertical field of view; 0 = fit frame_radius at `distance`
+  bool handheld = false;          // a sweep along the yaw range (see above) instead of the R2 cover
   float distance_jitter = 0.08f;  // hand-held: relative distance change (uniform +-)
   float aim_jitter = 0.05f;       // hand-held: look-at offset, in units of frame_radius (uniform +-)
 };

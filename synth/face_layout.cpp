@@ -17,13 +17,14 @@ constexpr float kJaw[9][2] = {{-1.000f, -0.076f}, {-0.992f, -0.239f}, {-0.960f, 
                               {-0.911f, -0.559f}, {-0.815f, -0.702f}, {-0.659f, -0.822f},
                               {-0.465f, -0.914f}, {-0.244f, -0.983f}, {0.000f, -1.000f}};
 // Brow (outer to inner): x offset from the eye centre (mm at a 28 mm eye), height fraction.
-constexpr float kBrow[5][2] = {{-28.3f, 0.46f}, {-18.5f, 0.86f}, {-5.0f, 1.0f}, {8.8f, 0.96f}, {21.2f, 0.77f}};
+constexpr float kBrow[5][2] = {
+    {-28.3f, 0.46f}, {-18.5f, 0.86f}, {-5.0f, 1.0f}, {8.8f, 0.96f}, {21.2f, 0.77f}};
 // Upper lip 48..54 and lower lip 55..59: x as a fraction of the half width, y offset (mm at lip
 // thickness 1) from the mouth-corner line.
-constexpr float kUpperLip[7][2] = {{-1.0f, 0.0f},   {-0.605f, 6.2f}, {-0.232f, 9.0f}, {0.0f, 7.6f},
-                                   {0.232f, 9.0f},  {0.605f, 6.2f},  {1.0f, 0.0f}};
-constexpr float kLowerLip[5][2] = {{0.66f, -7.9f}, {0.31f, -11.2f}, {0.0f, -12.0f}, {-0.31f, -11.2f},
-                                   {-0.66f, -7.9f}};
+constexpr float kUpperLip[7][2] = {{-1.0f, 0.0f},  {-0.605f, 6.2f}, {-0.232f, 9.0f}, {0.0f, 7.6f},
+                                   {0.232f, 9.0f}, {0.605f, 6.2f},  {1.0f, 0.0f}};
+constexpr float kLowerLip[5][2] = {
+    {0.66f, -7.9f}, {0.31f, -11.2f}, {0.0f, -12.0f}, {-0.31f, -11.2f}, {-0.66f, -7.9f}};
 
 float lid_bump(float t) {
   t = std::clamp(t, 0.0f, 1.0f);
@@ -114,11 +115,15 @@ FaceLayout make_face_layout(const HeadParams& p) {
   f.nostril_r = V2(-0.25f * nw, tip_y - 11.8f);
   f.nostril_l = V2(0.25f * nw, tip_y - 11.8f);
   // Eyes: outer corners slightly higher (canthal tilt).
-  f.eye_r = {V2(-ex - 0.5f * ew, 1.5f), V2(-ex + 0.5f * ew, 0.0f), 0.64f * p.eye_opening, 0.36f * p.eye_opening};
-  f.eye_l = {V2(ex + 0.5f * ew, 1.5f), V2(ex - 0.5f * ew, 0.0f), 0.64f * p.eye_opening, 0.36f * p.eye_opening};
-  L[36] = f.eye_r.outer, L[37] = f.eye_r.upper(1.0f / 3), L[38] = f.eye_r.upper(2.0f / 3), L[39] = f.eye_r.inner;
+  f.eye_r = {V2(-ex - 0.5f * ew, 1.5f), V2(-ex + 0.5f * ew, 0.0f), 0.64f * p.eye_opening,
+             0.36f * p.eye_opening};
+  f.eye_l = {V2(ex + 0.5f * ew, 1.5f), V2(ex - 0.5f * ew, 0.0f), 0.64f * p.eye_opening,
+             0.36f * p.eye_opening};
+  L[36] = f.eye_r.outer, L[37] = f.eye_r.upper(1.0f / 3), L[38] = f.eye_r.upper(2.0f / 3),
+  L[39] = f.eye_r.inner;
   L[40] = f.eye_r.lower(2.0f / 3), L[41] = f.eye_r.lower(1.0f / 3);
-  L[42] = f.eye_l.inner, L[43] = f.eye_l.upper(2.0f / 3), L[44] = f.eye_l.upper(1.0f / 3), L[45] = f.eye_l.outer;
+  L[42] = f.eye_l.inner, L[43] = f.eye_l.upper(2.0f / 3), L[44] = f.eye_l.upper(1.0f / 3),
+  L[45] = f.eye_l.outer;
   L[46] = f.eye_l.lower(1.0f / 3), L[47] = f.eye_l.lower(2.0f / 3);
   f.iris_radius = 0.21f * ew;
   f.pupil_radius = 0.085f * ew;

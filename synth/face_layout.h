@@ -6,10 +6,9 @@
 // brows, lips and nose are curves through their landmarks. Proportions follow the usual adult
 // anthropometry (the widely used 68-point mean shape, re-derived from the parameters).
 #pragma once
+#include <Eigen/Core>
 #include <array>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "synth/head_params.h"
 
@@ -30,14 +29,14 @@ struct FaceLayout {
   EyeShape eye_r, eye_l;                 // wearer's right (image left, landmarks 36-41) and left (42-47)
   float iris_radius = 5.9f;
   float pupil_radius = 2.4f;
-  std::vector<Eigen::Vector2f> brow_r, brow_l;       // dense curves (outer to inner)
-  std::vector<Eigen::Vector2f> upper_lip_top;        // dense curve 48 -> 54 through 49-53
-  std::vector<Eigen::Vector2f> lower_lip_bottom;     // dense curve 54 -> 48 through 55-59
-  float mouth_y = -64.0f;                            // lip line height at the corners
+  std::vector<Eigen::Vector2f> brow_r, brow_l;    // dense curves (outer to inner)
+  std::vector<Eigen::Vector2f> upper_lip_top;     // dense curve 48 -> 54 through 49-53
+  std::vector<Eigen::Vector2f> lower_lip_bottom;  // dense curve 54 -> 48 through 55-59
+  float mouth_y = -64.0f;                         // lip line height at the corners
   float mouth_half_width = 28.0f;
-  float lip_line_lift = 1.0f;                        // lip line centre above the corners
-  Eigen::Vector2f nostril_r, nostril_l;              // nostril centres
-  float lip_line_y(float x) const;                   // closed-mouth lip line
+  float lip_line_lift = 1.0f;            // lip line centre above the corners
+  Eigen::Vector2f nostril_r, nostril_l;  // nostril centres
+  float lip_line_y(float x) const;       // closed-mouth lip line
 };
 
 FaceLayout make_face_layout(const HeadParams& p);
@@ -45,7 +44,8 @@ FaceLayout make_face_layout(const HeadParams& p);
 // Dense Catmull-Rom curve through the points (`per_segment` samples per segment).
 std::vector<Eigen::Vector2f> catmull_rom(const std::vector<Eigen::Vector2f>& pts, int per_segment);
 // Distance from q to a polyline; `t` (optional) receives the arc-length fraction of the closest point.
-float polyline_distance(const std::vector<Eigen::Vector2f>& line, const Eigen::Vector2f& q, float* t = nullptr);
+float polyline_distance(const std::vector<Eigen::Vector2f>& line, const Eigen::Vector2f& q,
+                        float* t = nullptr);
 // Height of a curve that is a function of x (sampled densely, x monotonic) at x; NaN outside.
 float curve_y_at(const std::vector<Eigen::Vector2f>& curve, float x);
 

@@ -38,7 +38,9 @@ float vnoise(float x, float y) {
   return (a + fx * (b - a)) + fy * ((c + fx * (d - c)) - (a + fx * (b - a)));
 }
 
-float lid_bump(float t) { return std::pow(std::max(0.0f, std::sin(float(M_PI) * std::clamp(t, 0.0f, 1.0f))), 0.85f); }
+float lid_bump(float t) {
+  return std::pow(std::max(0.0f, std::sin(float(M_PI) * std::clamp(t, 0.0f, 1.0f))), 0.85f);
+}
 
 }  // namespace
 
@@ -68,10 +70,12 @@ V3 HeadPainter::paint_brows(const V2& q, const V3& skin) const {
   V3 brow = mix(p_.hair, skin * 0.18f, 0.35f);
   V3 col = skin;
   for (const auto* curve : {&f_.brow_r, &f_.brow_l}) {
-    const V2 lo = curve->front().cwiseMin(curve->back()) - V2(8, 12), hi = curve->front().cwiseMax(curve->back()) + V2(8, 12);
+    const V2 lo = curve->front().cwiseMin(curve->back()) - V2(8, 12),
+             hi = curve->front().cwiseMax(curve->back()) + V2(8, 12);
     if (q.x() < std::min(lo.x(), hi.x()) || q.x() > std::max(lo.x(), hi.x()) || q.y() < -5.0f) continue;
     // Thicker towards the inner end (curves run outer -> inner).
-    float tx = std::clamp((q.x() - curve->front().x()) / (curve->back().x() - curve->front().x()), 0.0f, 1.0f);
+    float tx =
+        std::clamp((q.x() - curve->front().x()) / (curve->back().x() - curve->front().x()), 0.0f, 1.0f);
     float thick = 3.2f + 3.0f * tx;
     float d = polyline_distance(*curve, q + V2(0, 0.4f * thick));
     float cov = 1.0f - smoothstep(0.5f * thick - 0.6f, 0.5f * thick + 0.6f, d);
@@ -100,16 +104,19 @@ V3 HeadPainter::paint_eye(const EyeShape& eye, const V2& q, const V3& skin) cons
     col = sclera;
     col = mix(col, iris * 0.5f, 1.0f - smoothstep(f_.iris_radius - 0.4f, f_.iris_radius + 0.2f, r));
     col = mix(col, iris, 1.0f - smoothstep(f_.iris_radius - 1.2f, f_.iris_radius - 0.6f, r));
-    col = mix(col, V3(0.008f, 0.008f, 0.008f), 1.0f - smoothstep(f_.pupil_radius - 0.3f, f_.pupil_radius + 0.3f, r));
+    col = mix(col, V3(0.008f, 0.008f, 0.008f),
+              1.0f - smoothstep(f_.pupil_radius - 0.3f, f_.pupil_radius + 0.3f, r));
     col *= 1.0f - 0.55f * std::exp(-(up - q.y()) / 1.3f);  // the upper lid's shadow on the eye
   }
   // Lash line along the upper lid (thicker towards the outer corner, running a little past it).
-  float lash = (1.6f - 0.6f * std::clamp(t, 0.0f, 1.0f)) * smoothstep(-0.12f, 0.05f, t) * (1.0f - smoothstep(0.95f, 1.02f, t));
+  float lash = (1.6f - 0.6f * std::clamp(t, 0.0f, 1.0f)) * smoothstep(-0.12f, 0.05f, t) *
+               (1.0f - smoothstep(0.95f, 1.02f, t));
   float on_lash = smoothstep(-0.4f, 0.0f, dy) * (1.0f - smoothstep(lash - 0.3f, lash + 0.2f, dy)) *
                   smoothstep(0.0f, 0.3f, lash);
   col = mix(col, V3(0.012f, 0.01f, 0.01f), on_lash);
   float dl = lo - q.y();
-  float lower = smoothstep(-0.3f, 0.0f, dl) * (1.0f - smoothstep(0.5f, 0.9f, dl)) * (t > 0 && t < 1 ? 1.0f : 0.0f);
+  float lower =
+      smoothstep(-0.3f, 0.0f, dl) * (1.0f - smoothstep(0.5f, 0.9f, dl)) * (t > 0 && t < 1 ? 1.0f : 0.0f);
   col = mix(col, col * 0.45f, lower);
   return col;
 }

@@ -4,9 +4,8 @@
 // every landmark sits exactly on the feature it names. `bake_latlong_texture` evaluates the albedo
 // on the head's latitude-longitude texture (texel -> surface point through the vertex grid).
 #pragma once
-#include <functional>
-
 #include <Eigen/Core>
+#include <functional>
 
 #include "host/util/image_io.h"
 #include "synth/face_layout.h"

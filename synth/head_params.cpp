@@ -3,25 +3,28 @@
 // hair and iris colours drawn from a small palette so every seed still reads as a face.
 #include "synth/head_params.h"
 
+#include <fmt/format.h>
+
 #include <cmath>
+#include <nlohmann/json.hpp>
 #include <random>
 #include <stdexcept>
-
-#include <fmt/format.h>
-#include <nlohmann/json.hpp>
 
 namespace lorgnette::synth {
 namespace {
 
 Eigen::Vector3f srgb(float r, float g, float b) {
-  auto lin = [](float c) { c /= 255.0f; return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f); };
+  auto lin = [](float c) {
+    c /= 255.0f;
+    return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
+  };
   return {lin(r), lin(g), lin(b)};
 }
 
 void check(const char* name, float v, float lo, float hi) {
   if (!(v >= lo && v <= hi))
-    throw std::runtime_error(fmt::format("procedural head: {} = {} mm is outside the plausible range [{}, {}]",
-                                         name, v, lo, hi));
+    throw std::runtime_error(
+        fmt::format("procedural head: {} = {} mm is outside the plausible range [{}, {}]", name, v, lo, hi));
 }
 
 }  // namespace
@@ -76,12 +79,24 @@ void validate(const HeadParams& p) {
 
 void to_json(nlohmann::json& j, const HeadParams& p) {
   auto v3 = [](const Eigen::Vector3f& v) { return std::vector<float>{v.x(), v.y(), v.z()}; };
-  j = {{"seed", p.seed}, {"head_width", p.head_width}, {"head_depth", p.head_depth},
-       {"crown_height", p.crown_height}, {"face_length", p.face_length}, {"eye_distance", p.eye_distance},
-       {"eye_width", p.eye_width}, {"eye_opening", p.eye_opening}, {"nose_length", p.nose_length},
-       {"nose_protrusion", p.nose_protrusion}, {"nose_width", p.nose_width}, {"mouth_width", p.mouth_width},
-       {"lip_thickness", p.lip_thickness}, {"brow_height", p.brow_height}, {"ear_length", p.ear_length},
-       {"skin_linear", v3(p.skin)}, {"hair_linear", v3(p.hair)}, {"iris_linear", v3(p.iris)},
+  j = {{"seed", p.seed},
+       {"head_width", p.head_width},
+       {"head_depth", p.head_depth},
+       {"crown_height", p.crown_height},
+       {"face_length", p.face_length},
+       {"eye_distance", p.eye_distance},
+       {"eye_width", p.eye_width},
+       {"eye_opening", p.eye_opening},
+       {"nose_length", p.nose_length},
+       {"nose_protrusion", p.nose_protrusion},
+       {"nose_width", p.nose_width},
+       {"mouth_width", p.mouth_width},
+       {"lip_thickness", p.lip_thickness},
+       {"brow_height", p.brow_height},
+       {"ear_length", p.ear_length},
+       {"skin_linear", v3(p.skin)},
+       {"hair_linear", v3(p.hair)},
+       {"iris_linear", v3(p.iris)},
        {"lips_linear", v3(p.lips)}};
 }
 

@@ -70,7 +70,8 @@ float HeadShape::face_part(const V3& p) const {
   for (int s = -1; s <= 1; s += 2) {
     d = smin(d, ellipsoid(p, V3(s * (ex + 12.0f), -0.15f * F, g - 30.0f), V3(17.0f, 12.0f, 13.0f)), 12.0f);
   }
-  d = smin(d, ellipsoid(p, V3(0, 0.8f * P.brow_height, g - 14.0f), V3(0.75f * ex + 28.0f, 11.0f, 14.0f)), 10.0f);
+  d = smin(d, ellipsoid(p, V3(0, 0.8f * P.brow_height, g - 14.0f), V3(0.75f * ex + 28.0f, 11.0f, 14.0f)),
+           10.0f);
   for (int s = -1; s <= 1; s += 2) {
     V3 eye(s * ex, 1.0f, g + 10.0f);
     d = smax(d, -sphere(p, eye, 21.0f), 8.0f);

@@ -21,7 +21,8 @@ Image read_matte(const std::string& path) {
   Image in = read_image(path);
   Image out(in.width, in.height, 1);
   for (int y = 0; y < in.height; ++y)
-    for (int x = 0; x < in.width; ++x) out.at(x, y, 0) = std::clamp(linear_to_srgb(in.at(x, y, 0)), 0.0f, 1.0f);
+    for (int x = 0; x < in.width; ++x)
+      out.at(x, y, 0) = std::clamp(linear_to_srgb(in.at(x, y, 0)), 0.0f, 1.0f);
   return out;
 }
 

@@ -4,10 +4,10 @@
 // landmarks are found by ray casting the finished mesh with Embree.
 #include "synth/procedural_head.h"
 
+#include <fmt/format.h>
+
 #include <cmath>
 #include <stdexcept>
-
-#include <fmt/format.h>
 
 #include "mesh/embree_scene.h"
 #include "synth/head_paint.h"
@@ -33,7 +33,8 @@ struct Grid {
     float x = std::clamp(u, 0.0f, 1.0f) * cols, y = std::clamp(v, 0.0f, 1.0f) * rows;
     int i = std::min(int(x), cols - 1), j = std::min(int(y), rows - 1);
     float fx = x - i, fy = y - j;
-    return (1 - fy) * ((1 - fx) * at(i, j) + fx * at(i + 1, j)) + fy * ((1 - fx) * at(i, j + 1) + fx * at(i + 1, j + 1));
+    return (1 - fy) * ((1 - fx) * at(i, j) + fx * at(i + 1, j)) +
+           fy * ((1 - fx) * at(i, j + 1) + fx * at(i + 1, j + 1));
   }
 };
 
@@ -128,10 +129,12 @@ void find_landmarks(ProceduralHead& head, const HeadShape& shape) {
   for (int s = -1; s <= 1; s += 2) {
     const EyeShape& eye = s < 0 ? head.layout.eye_r : head.layout.eye_l;
     const char* side = s < 0 ? "r" : "l";
-    L[fmt::format("pupil_{}", side)] = cast(scene, V3(eye.centre().x(), eye.centre().y(), 400.0f), back, "pupil");
+    L[fmt::format("pupil_{}", side)] =
+        cast(scene, V3(eye.centre().x(), eye.centre().y(), 400.0f), back, "pupil");
     V3 ec = shape.ear_centre(s);
     // Ear top: a downward ray through the outer half of the ear ellipsoid's top.
-    L[fmt::format("ear_top_{}", side)] = cast(scene, V3(ec.x() + s * 3.0f, 300.0f, ec.z()), V3(0, -1, 0), "ear_top");
+    L[fmt::format("ear_top_{}", side)] =
+        cast(scene, V3(ec.x() + s * 3.0f, 300.0f, ec.z()), V3(0, -1, 0), "ear_top");
     // Ear rest (where a temple arm lies): the lowest point of the crease between the skull and the
     // ear's top, on the profile of downward rays across the ear root, a little in front of its centre.
     V3 rest = L[fmt::format("ear_top_{}", side)];
@@ -149,15 +152,17 @@ void find_landmarks(ProceduralHead& head, const HeadShape& shape) {
 ProceduralHead make_procedural_head(const HeadParams& params, const HeadMeshOptions& options) {
   validate(params);
   if (options.longitudes < 64 || options.latitudes < 32 || options.texture_width < 256)
-    throw std::runtime_error(fmt::format("procedural head: mesh grid {}x{} / texture {} too coarse (need >= 64x32 and 256)",
-                                         options.longitudes, options.latitudes, options.texture_width));
+    throw std::runtime_error(
+        fmt::format("procedural head: mesh grid {}x{} / texture {} too coarse (need >= 64x32 and 256)",
+                    options.longitudes, options.latitudes, options.texture_width));
   ProceduralHead head;
   head.params = params;
   head.layout = make_face_layout(params);
   HeadShape shape(params, head.layout);
   Grid grid = sample_surface(shape, options.longitudes, options.latitudes);
   head.mesh = grid_mesh(grid);
-  HeadPainter painter(params, head.layout, shape.ear_centre(1), shape.ear_radii(), shape.eye_corner_z() - 50.0f);
+  HeadPainter painter(params, head.layout, shape.ear_centre(1), shape.ear_radii(),
+                      shape.eye_corner_z() - 50.0f);
   head.mesh.textures.push_back(bake_latlong_texture(painter, options.texture_width,
                                                     [&](float u, float v) { return grid.sample(u, v); }));
   mesh::Material skin;

@@ -4,11 +4,10 @@
 // mesh surface (found by ray casting the final mesh), placed on the painted feature it names.
 // This is Lorgnette's demo subject and the ground truth for the fit's accuracy tests.
 #pragma once
+#include <Eigen/Core>
 #include <array>
 #include <map>
 #include <string>
-
-#include <Eigen/Core>
 
 #include "mesh/trimesh.h"
 #include "synth/face_layout.h"

@@ -4,13 +4,13 @@
 // pictures) with value noise, so the background has the kind of detail a NeRF latches onto.
 #include "synth/room.h"
 
+#include <fmt/format.h>
+
+#include <Eigen/Geometry>
 #include <cmath>
 #include <cstdint>
 #include <stdexcept>
 #include <string>
-
-#include <Eigen/Geometry>
-#include <fmt/format.h>
 
 namespace lorgnette::synth {
 namespace {
@@ -30,8 +30,11 @@ float value_noise(float x, float y, int cells, uint32_t seed) {
   int x0 = int(std::floor(x)), y0 = int(std::floor(y));
   float fx = x - x0, fy = y - y0;
   fx = fx * fx * (3 - 2 * fx), fy = fy * fy * (3 - 2 * fy);
-  auto h = [&](int i, int j) { return hash01(uint32_t(((i % cells) + cells) % cells), uint32_t(((j % cells) + cells) % cells), seed); };
-  return (1 - fy) * ((1 - fx) * h(x0, y0) + fx * h(x0 + 1, y0)) + fy * ((1 - fx) * h(x0, y0 + 1) + fx * h(x0 + 1, y0 + 1));
+  auto h = [&](int i, int j) {
+    return hash01(uint32_t(((i % cells) + cells) % cells), uint32_t(((j % cells) + cells) % cells), seed);
+  };
+  return (1 - fy) * ((1 - fx) * h(x0, y0) + fx * h(x0 + 1, y0)) +
+         fy * ((1 - fx) * h(x0, y0 + 1) + fx * h(x0 + 1, y0 + 1));
 }
 
 enum class Pattern { Wallpaper, Planks, Books, Fabric, Picture, Paint, Tiles };
@@ -42,7 +45,8 @@ Image make_texture(Pattern pat, const V3& base, const V3& accent, uint32_t seed)
   for (int j = 0; j < n; ++j)
     for (int i = 0; i < n; ++i) {
       float u = (i + 0.5f) / n, v = (j + 0.5f) / n;
-      float noise = 0.5f * value_noise(u * 16, v * 16, 16, seed) + 0.5f * value_noise(u * 64, v * 64, 64, seed + 1);
+      float noise =
+          0.5f * value_noise(u * 16, v * 16, 16, seed) + 0.5f * value_noise(u * 64, v * 64, 64, seed + 1);
       V3 c = base;
       switch (pat) {
         case Pattern::Wallpaper: {
@@ -65,10 +69,13 @@ Image make_texture(Pattern pat, const V3& base, const V3& accent, uint32_t seed)
           int shelf = int(v * 4.0f);
           float sv = std::fmod(v * 4.0f, 1.0f);
           int book = int(u * 28.0f + 3.0f * hash01(uint32_t(shelf), 1u, seed));
-          V3 spine(hash01(uint32_t(book), uint32_t(shelf), seed), hash01(uint32_t(book), uint32_t(shelf), seed + 5),
+          V3 spine(hash01(uint32_t(book), uint32_t(shelf), seed),
+                   hash01(uint32_t(book), uint32_t(shelf), seed + 5),
                    hash01(uint32_t(book), uint32_t(shelf), seed + 9));
           float height = 0.55f + 0.35f * hash01(uint32_t(book), uint32_t(shelf), seed + 11);
-          c = sv < 0.08f ? accent : (sv > 1.0f - height ? V3(V3::Constant(0.05f) + 0.6f * spine.cwiseProduct(spine)) : V3(0.3f * accent));
+          c = sv < 0.08f ? accent
+                         : (sv > 1.0f - height ? V3(V3::Constant(0.05f) + 0.6f * spine.cwiseProduct(spine))
+                                               : V3(0.3f * accent));
           c *= 0.9f + 0.2f * noise;
           break;
         }
@@ -134,7 +141,8 @@ struct RoomBuilder {
   // Axis-aligned box with outward faces; `front_mat` on the +z face (shelves, pictures, screens).
   void box(const V3& lo, const V3& hi, int mat, int front_mat, float tile) {
     V3 c[8];
-    for (int k = 0; k < 8; ++k) c[k] = V3(k & 1 ? hi.x() : lo.x(), k & 2 ? hi.y() : lo.y(), k & 4 ? hi.z() : lo.z());
+    for (int k = 0; k < 8; ++k)
+      c[k] = V3(k & 1 ? hi.x() : lo.x(), k & 2 ? hi.y() : lo.y(), k & 4 ? hi.z() : lo.z());
     quad(c[4], c[5], c[7], c[6], front_mat, front_mat == mat ? tile : 0.0f);  // +z
     quad(c[1], c[0], c[2], c[3], mat, tile);                                  // -z
     quad(c[5], c[1], c[3], c[7], mat, tile);                                  // +x
@@ -165,12 +173,12 @@ void living_room(RoomBuilder& b) {
   int fabric = b.material(Pattern::Fabric, V3(0.45f, 0.08f, 0.07f), V3(0.80f, 0.70f, 0.40f), 17);
   const float y0 = -1500.0f;
   b.shell(y0, -2400.0f, 2200.0f, -1600.0f, 1400.0f, 1300.0f, floor, wall, side);
-  b.box(V3(-1500, y0, -1600), V3(-600, 350, -1250), wood, books, 500.0f);        // bookshelf
-  b.box(V3(-100, -150, -1600), V3(700, 400, -1570), wood, picture, 500.0f);      // picture
-  b.box(V3(350, y0, -1000), V3(1100, -650, -450), fabric, fabric, 400.0f);       // armchair seat
-  b.box(V3(350, -650, -1000), V3(1100, -150, -850), fabric, fabric, 400.0f);     // armchair back
-  b.box(V3(-2400, y0, -300), V3(-2370, 550, 600), wood, wood, 500.0f);           // door
-  b.box(V3(1500, y0, -1500), V3(1900, -700, -1100), side, wood, 400.0f);         // side table
+  b.box(V3(-1500, y0, -1600), V3(-600, 350, -1250), wood, books, 500.0f);     // bookshelf
+  b.box(V3(-100, -150, -1600), V3(700, 400, -1570), wood, picture, 500.0f);   // picture
+  b.box(V3(350, y0, -1000), V3(1100, -650, -450), fabric, fabric, 400.0f);    // armchair seat
+  b.box(V3(350, -650, -1000), V3(1100, -150, -850), fabric, fabric, 400.0f);  // armchair back
+  b.box(V3(-2400, y0, -300), V3(-2370, 550, 600), wood, wood, 500.0f);        // door
+  b.box(V3(1500, y0, -1500), V3(1900, -700, -1100), side, wood, 400.0f);      // side table
 }
 
 // Layout 2, a corner office: a desk 0.4 m behind to the right with a monitor, a near side wall
@@ -186,13 +194,13 @@ void office(RoomBuilder& b) {
   int books = b.material(Pattern::Books, V3(0, 0, 0), V3(0.25f, 0.25f, 0.28f), 28);
   const float y0 = -1300.0f;
   b.shell(y0, -2800.0f, 1000.0f, -2800.0f, 1300.0f, 1400.0f, floor, wall, side);
-  b.box(V3(-1400, -550, -1100), V3(-400, -510, -400), desk, desk, 500.0f);       // desk top
-  b.box(V3(-1380, y0, -1080), V3(-1330, -550, -420), metal, metal, 400.0f);      // desk legs
+  b.box(V3(-1400, -550, -1100), V3(-400, -510, -400), desk, desk, 500.0f);   // desk top
+  b.box(V3(-1380, y0, -1080), V3(-1330, -550, -420), metal, metal, 400.0f);  // desk legs
   b.box(V3(-470, y0, -1080), V3(-420, -550, -420), metal, metal, 400.0f);
-  b.box(V3(-1150, -510, -1000), V3(-600, -150, -960), metal, screen, 400.0f);    // monitor
-  b.box(V3(200, y0, -2800), V3(900, 300, -2350), metal, books, 500.0f);          // cabinet
-  b.box(V3(-2200, -300, -2800), V3(-900, 900, -2780), metal, window, 400.0f);    // window
-  b.box(V3(500, y0, -900), V3(800, -900, -600), desk, desk, 300.0f);             // crate beside
+  b.box(V3(-1150, -510, -1000), V3(-600, -150, -960), metal, screen, 400.0f);  // monitor
+  b.box(V3(200, y0, -2800), V3(900, 300, -2350), metal, books, 500.0f);        // cabinet
+  b.box(V3(-2200, -300, -2800), V3(-900, 900, -2780), metal, window, 400.0f);  // window
+  b.box(V3(500, y0, -900), V3(800, -900, -600), desk, desk, 300.0f);           // crate beside
 }
 
 }  // namespace
@@ -200,10 +208,15 @@ void office(RoomBuilder& b) {
 mesh::TriMesh make_room(const RoomPlacement& placement) {
   RoomBuilder b;
   switch (placement.layout) {
-    case 1: living_room(b); break;
-    case 2: office(b); break;
+    case 1:
+      living_room(b);
+      break;
+    case 2:
+      office(b);
+      break;
     default:
-      throw std::runtime_error(fmt::format("room layout {} does not exist: use 1..{}", placement.layout, kRoomLayouts));
+      throw std::runtime_error(
+          fmt::format("room layout {} does not exist: use 1..{}", placement.layout, kRoomLayouts));
   }
   b.m.triangle_part.assign(b.m.triangles.size(), 0);
   b.m.part_names = {"room"};
@@ -233,8 +246,10 @@ void append_mesh(mesh::TriMesh& dst, const mesh::TriMesh& src, const Eigen::Matr
     dst.normals.push_back(t.norm() > 0 ? V3(t.normalized()) : V3(0, 1, 0));
   }
   if (dst.uvs.size() != size_t(v0)) dst.uvs.resize(v0, Eigen::Vector2f::Zero());
-  if (src.uvs.size() == src.positions.size()) dst.uvs.insert(dst.uvs.end(), src.uvs.begin(), src.uvs.end());
-  else dst.uvs.resize(dst.positions.size(), Eigen::Vector2f::Zero());
+  if (src.uvs.size() == src.positions.size())
+    dst.uvs.insert(dst.uvs.end(), src.uvs.begin(), src.uvs.end());
+  else
+    dst.uvs.resize(dst.positions.size(), Eigen::Vector2f::Zero());
   for (const auto& t : src.triangles) dst.triangles.emplace_back(t + Eigen::Vector3i::Constant(v0));
   for (size_t i = 0; i < src.triangles.size(); ++i) {
     dst.triangle_material.push_back(i < src.triangle_material.size() ? src.triangle_material[i] + m0 : m0);

@@ -14,7 +14,7 @@ namespace lorgnette::synth {
 constexpr int kRoomLayouts = 2;
 
 struct RoomPlacement {
-  int layout = 1;                                   // 1..kRoomLayouts
+  int layout = 1;                                               // 1..kRoomLayouts
   Eigen::Matrix4f mm_to_dataset = Eigen::Matrix4f::Identity();  // room millimetres -> dataset frame
 };
 

@@ -4,11 +4,11 @@
 // offset along the geometric normal (relative to the scene size) to avoid self-intersection.
 #include "synth/studio_render.h"
 
+#include <fmt/format.h>
+
 #include <cmath>
 #include <limits>
 #include <stdexcept>
-
-#include <fmt/format.h>
 
 #include "mesh/texture.h"
 
@@ -64,7 +64,8 @@ RenderedView render_view(const mesh::EmbreeScene& scene, const Camera& cam, cons
   const int w = int(cam.width), hgt = int(cam.height), n = settings.samples_per_axis;
   if (w <= 0 || hgt <= 0 || w > 16384 || hgt > 16384)
     throw std::runtime_error(fmt::format("render: image size {}x{} is out of range (1..16384)", w, hgt));
-  if (n < 1 || n > 16) throw std::runtime_error(fmt::format("render: samples per axis {} is out of range (1..16)", n));
+  if (n < 1 || n > 16)
+    throw std::runtime_error(fmt::format("render: samples per axis {} is out of range (1..16)", n));
   RenderedView out{Image(w, hgt, 4), Image(w, hgt, 1), Image()};
   const int subject = settings.subject_triangles;
   if (subject >= 0) out.matte = Image(w, hgt, 1);
@@ -97,7 +98,8 @@ RenderedView render_view(const mesh::EmbreeScene& scene, const Camera& cam, cons
       for (int k = 0; k < 3; ++k) out.rgba.at(x, y, k) = c[k];
       out.rgba.at(x, y, 3) = alpha;
       mesh::Hit centre = scene.intersect(origin, to_v3(camera_ray_dir(&cam, x + 0.5f, y + 0.5f)));
-      out.depth.at(x, y, 0) = centre.hit && is_subject(centre) ? centre.t : std::numeric_limits<float>::infinity();
+      out.depth.at(x, y, 0) =
+          centre.hit && is_subject(centre) ? centre.t : std::numeric_limits<float>::infinity();
       if (subject >= 0) out.matte.at(x, y, 0) = matte / float(n * n);
     }
   });

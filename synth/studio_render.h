@@ -4,9 +4,8 @@
 // consistently into every view. Outputs linear RGBA with coverage alpha (straight colour, as
 // instant-ngp reads PNGs) and the depth of the pixel-centre ray.
 #pragma once
-#include <optional>
-
 #include <Eigen/Core>
+#include <optional>
 
 #include "common/camera_types.h"
 #include "host/util/image_io.h"
@@ -17,7 +16,7 @@ namespace lorgnette::synth {
 struct StudioLighting {
   Eigen::Vector3f key_dir{-0.45f, 0.55f, 0.70f};  // towards the light, world frame (normalised on use)
   float key = 0.85f;
-  float key_radius_deg = 9.0f;                    // angular radius of the key's disc: shadow softness
+  float key_radius_deg = 9.0f;  // angular radius of the key's disc: shadow softness
   Eigen::Vector3f fill_dir{0.65f, 0.15f, 0.75f};
   float fill = 0.30f;
   float sky = 0.30f;     // ambient from above (hemisphere, world +y)
@@ -26,9 +25,9 @@ struct StudioLighting {
 };
 
 struct RenderSettings {
-  int samples_per_axis = 3;  // anti-aliasing: n x n stratified samples per pixel
+  int samples_per_axis = 3;                   // anti-aliasing: n x n stratified samples per pixel
   std::optional<Eigen::Vector3f> background;  // linear RGB; empty = transparent (alpha = coverage)
-  int threads = 0;           // 0 = hardware concurrency
+  int threads = 0;                            // 0 = hardware concurrency
   // Triangles [0, subject_triangles) are the subject, the rest its surroundings (a room): the view
   // then also gets the subject's matte, and depth counts the subject only. -1 = all are the subject.
   int subject_triangles = -1;

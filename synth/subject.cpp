@@ -1,10 +1,10 @@
 // Subjects for dataset synthesis; see subject.h.
 #include "synth/subject.h"
 
-#include <stdexcept>
+#include <fmt/format.h>
 
 #include <Eigen/Geometry>
-#include <fmt/format.h>
+#include <stdexcept>
 
 #include "mesh/loader.h"
 #include "synth/body.h"
@@ -40,7 +40,8 @@ Subject procedural_subject(const HeadParams& params, const HeadMeshOptions& opti
 
 Subject mesh_subject(const std::string& path, std::optional<double> mm_per_mesh_unit) {
   if (mm_per_mesh_unit && !(*mm_per_mesh_unit > 0))
-    throw std::runtime_error(fmt::format("mesh unit must be a positive number of millimetres, got {}", *mm_per_mesh_unit));
+    throw std::runtime_error(
+        fmt::format("mesh unit must be a positive number of millimetres, got {}", *mm_per_mesh_unit));
   Subject s;
   s.source = path;
   s.mesh = mesh::load_mesh(path);

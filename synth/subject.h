@@ -5,13 +5,12 @@
 // Dataset frame convention: the subject is centred near the origin and about one unit across, the
 // size instant-ngp style NeRFs expect (aabb_scale 1 with the usual 0.33 scale).
 #pragma once
+#include <Eigen/Core>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
-#include <nlohmann/json.hpp>
 
 #include "mesh/trimesh.h"
 #include "synth/procedural_head.h"
@@ -22,15 +21,15 @@ namespace lorgnette::synth {
 constexpr double kProceduralMmPerUnit = 200.0;
 
 struct Subject {
-  std::string source;                 // "procedural" or the mesh file path
-  mesh::TriMesh mesh;                 // in its own units (procedural: millimetres, head frame)
+  std::string source;  // "procedural" or the mesh file path
+  mesh::TriMesh mesh;  // in its own units (procedural: millimetres, head frame)
   Eigen::Matrix4f mesh_to_dataset = Eigen::Matrix4f::Identity();
-  std::optional<double> mm_per_unit;  // millimetres per dataset unit, when known
-  nlohmann::json params;              // procedural parameters (null for files)
+  std::optional<double> mm_per_unit;                 // millimetres per dataset unit, when known
+  nlohmann::json params;                             // procedural parameters (null for files)
   std::map<std::string, Eigen::Vector3f> landmarks;  // dataset frame
   std::vector<Eigen::Vector3f> ibug68;               // dataset frame; empty when unknown
-  Eigen::Vector3f look_at{0, 0, 0};   // dataset frame: where the rig cameras look
-  float frame_radius = 0.7f;          // dataset units the views must contain around look_at
+  Eigen::Vector3f look_at{0, 0, 0};                  // dataset frame: where the rig cameras look
+  float frame_radius = 0.7f;                         // dataset units the views must contain around look_at
   // Where a room is placed around the subject (synth/room.h): the eye point in the dataset frame
   // and the room's scale (mm_per_unit when known, else assumed from the mesh's size).
   Eigen::Vector3f eye_point{0, 0, 0};
@@ -38,7 +37,8 @@ struct Subject {
 };
 
 // with_body: the head also gets a neck and shoulders (synth/body.h), as a subject in a room needs.
-Subject procedural_subject(const HeadParams& params, const HeadMeshOptions& options = {}, bool with_body = false);
+Subject procedural_subject(const HeadParams& params, const HeadMeshOptions& options = {},
+                           bool with_body = false);
 
 // mm_per_mesh_unit: the file's unit in millimetres if known (the loader's glTF "metres" is not
 // trusted: scanned heads are often stored at arbitrary scale). Throws on unreadable files.

@@ -3,14 +3,14 @@
 // ground_truth.json come last, and the directory is renamed into place only after all of them.
 #include "synth/synthesize.h"
 
+#include <fmt/format.h>
+
 #include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <memory>
-#include <stdexcept>
-
-#include <fmt/format.h>
 #include <nlohmann/json.hpp>
+#include <stdexcept>
 
 #include "host/dataset/dataset.h"
 #include "host/util/interrupt.h"
@@ -35,11 +35,14 @@ json matrix_json(const Eigen::Matrix4f& m) {
 
 void check_options(const SynthOptions& o) {
   if (o.samples_per_axis < 1 || o.samples_per_axis > 16)
-    throw std::runtime_error(fmt::format("synth: samples per axis {} is out of range (1..16)", o.samples_per_axis));
+    throw std::runtime_error(
+        fmt::format("synth: samples per axis {} is out of range (1..16)", o.samples_per_axis));
   if (o.room < 0 || o.room > kRoomLayouts)
-    throw std::runtime_error(fmt::format("synth: room layout {} does not exist; use 1..{} (0 = no room)", o.room, kRoomLayouts));
+    throw std::runtime_error(
+        fmt::format("synth: room layout {} does not exist; use 1..{} (0 = no room)", o.room, kRoomLayouts));
   if (o.room > 0 && !(o.fov_y_deg > 10.0f && o.fov_y_deg < 120.0f))
-    throw std::runtime_error(fmt::format("synth: field of view {} deg is out of range (10..120)", o.fov_y_deg));
+    throw std::runtime_error(
+        fmt::format("synth: field of view {} deg is out of range (10..120)", o.fov_y_deg));
   if (o.background && (o.background->minCoeff() < 0.0f || o.background->maxCoeff() > 1.0f))
     throw std::runtime_error("synth: background colour components must lie in [0, 1]");
 }
@@ -61,25 +64,38 @@ json ground_truth_json(const Subject& s, const SynthOptions& o, const std::vecto
   json ibug = json::array();
   for (const auto& p : s.ibug68) ibug.push_back(vec_json(p));
   gt["ibug68"] = ibug;
-  gt["ibug68_note"] = "points 0-16 are the face contour of a frontal view (view dependent); 17-67 lie on painted features";
-  gt["depth"] = {{"kind", "ray_distance"}, {"units", "dataset"}, {"miss", "inf"},
+  gt["ibug68_note"] =
+      "points 0-16 are the face contour of a frontal view (view dependent); 17-67 lie on painted features";
+  gt["depth"] = {{"kind", "ray_distance"},
+                 {"units", "dataset"},
+                 {"miss", "inf"},
                  {"note", "distance along the unit-length ray through the pixel centre"}};
   gt["camera_seed"] = o.seed;
   gt["look_at"] = vec_json(s.look_at);
   json vj = json::array();
   for (size_t i = 0; i < views.size(); ++i)
-    vj.push_back({{"file", fmt::format("images/{:04d}.png", i)}, {"yaw_deg", views[i].yaw_deg},
+    vj.push_back({{"file", fmt::format("images/{:04d}.png", i)},
+                  {"yaw_deg", views[i].yaw_deg},
                   {"pitch_deg", views[i].pitch_deg}});
   gt["views"] = vj;
   const StudioLighting& l = o.lighting;
-  gt["lighting"] = {{"model", "lambert"}, {"key_dir", vec_json(l.key_dir.normalized())}, {"key", l.key},
-                    {"key_radius_deg", l.key_radius_deg}, {"fill_dir", vec_json(l.fill_dir.normalized())},
-                    {"fill", l.fill}, {"sky", l.sky}, {"ground", l.ground}, {"shadows", l.shadows}};
+  gt["lighting"] = {{"model", "lambert"},
+                    {"key_dir", vec_json(l.key_dir.normalized())},
+                    {"key", l.key},
+                    {"key_radius_deg", l.key_radius_deg},
+                    {"fill_dir", vec_json(l.fill_dir.normalized())},
+                    {"fill", l.fill},
+                    {"sky", l.sky},
+                    {"ground", l.ground},
+                    {"shadows", l.shadows}};
   gt["render"] = {{"samples_per_pixel", o.samples_per_axis * o.samples_per_axis},
                   {"background", o.background ? vec_json(*o.background) : json("transparent")}};
   if (o.room > 0) {
-    gt["room"] = {{"layout", o.room}, {"mm_per_unit", s.room_mm_per_unit}, {"eye_point", vec_json(s.eye_point)},
-                  {"cameras", "hand-held sweep"}, {"fov_y_deg", o.fov_y_deg},
+    gt["room"] = {{"layout", o.room},
+                  {"mm_per_unit", s.room_mm_per_unit},
+                  {"eye_point", vec_json(s.eye_point)},
+                  {"cameras", "hand-held sweep"},
+                  {"fov_y_deg", o.fov_y_deg},
                   {"distance_mm", o.phone_distance_mm},
                   {"mattes", "mattes/NNNN.png: subject coverage 0..255 (not sRGB); frames' eval_matte_path"},
                   {"depth_note", "depth counts the subject only (inf where the room is seen)"}};
@@ -97,7 +113,8 @@ void add_depth_paths(const std::string& dir, size_t count, bool mattes) {
     f["depth_path"] = "depth/" + fs::path(img).stem().string() + ".exr";
     if (mattes) f["eval_matte_path"] = "mattes/" + fs::path(img).stem().string() + ".png";
   }
-  if (tj.at("frames").size() != count) throw std::runtime_error("synth: transforms.json frame count mismatch");
+  if (tj.at("frames").size() != count)
+    throw std::runtime_error("synth: transforms.json frame count mismatch");
   write_text_file_atomic(p.string(), tj.dump(2) + "\n");
 }
 
@@ -155,7 +172,8 @@ SynthReport synthesize_dataset(const Subject& subject, const std::string& out_di
   std::vector<Camera> cameras;
   std::vector<std::string> files;
   for (size_t i = 0; i < views.size(); ++i) {
-    if (interrupted()) throw std::runtime_error("synth: interrupted; nothing was written to the output directory");
+    if (interrupted())
+      throw std::runtime_error("synth: interrupted; nothing was written to the output directory");
     auto r0 = std::chrono::steady_clock::now();
     RenderedView v = render_view(scene, views[i].camera, o.lighting, settings);
     report.render_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - r0).count();
@@ -174,11 +192,14 @@ SynthReport synthesize_dataset(const Subject& subject, const std::string& out_di
     files.push_back("images/" + name + ".png");
     if (o.progress) o.progress(int(i + 1), int(views.size()));
   }
-  json extra = {{"aabb_scale", 1}, {"scale", 0.33}, {"offset", {0.5, 0.5, 0.5}}, {"synthetic", "lorgnette synth"}};
+  json extra = {
+      {"aabb_scale", 1}, {"scale", 0.33}, {"offset", {0.5, 0.5, 0.5}}, {"synthetic", "lorgnette synth"}};
   dataset::write_transforms_json(staged.path(), cameras, files, extra);
   add_depth_paths(staged.path(), files.size(), o.room > 0);
-  write_text_file_atomic(staged.path() + "/ground_truth.json", ground_truth_json(subject, o, views).dump(2) + "\n");
-  if (interrupted()) throw std::runtime_error("synth: interrupted; nothing was written to the output directory");
+  write_text_file_atomic(staged.path() + "/ground_truth.json",
+                         ground_truth_json(subject, o, views).dump(2) + "\n");
+  if (interrupted())
+    throw std::runtime_error("synth: interrupted; nothing was written to the output directory");
   staged.commit();
   report.directory = fs::absolute(out_dir).lexically_normal().string();
   report.views = int(views.size());

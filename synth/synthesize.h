@@ -11,12 +11,11 @@
 //                       dataset frame, per-view yaw/pitch, lighting and render settings
 // The whole directory appears atomically (see staged_dir.h).
 #pragma once
+#include <Eigen/Core>
 #include <cstdint>
 #include <functional>
 #include <optional>
 #include <string>
-
-#include <Eigen/Core>
 
 #include "synth/camera_rig.h"
 #include "synth/studio_render.h"
@@ -32,8 +31,8 @@ struct SynthOptions {
   uint64_t seed = 0;                          // camera placement seed
   std::optional<Eigen::Vector3f> background;  // linear RGB; empty = transparent
   int samples_per_axis = 3;
-  float camera_distance = 3.0f;               // dataset units from the subject's look-at point
-  bool force = false;                         // replace a non-empty output directory
+  float camera_distance = 3.0f;  // dataset units from the subject's look-at point
+  bool force = false;            // replace a non-empty output directory
   StudioLighting lighting;
   // A room around the subject (synth/room.h; 0 = none). With a room the cameras are hand-held
   // phone cameras: a sweep along the yaw range, pitch/distance/aim jitter, fov_y_deg field of view,
@@ -67,6 +66,7 @@ RigOptions rig_for(const Subject& subject, const SynthOptions& options);
 
 // Throws std::runtime_error (nothing is left under out_dir) on bad options, unwritable output or
 // Ctrl-C (host/util/interrupt.h).
-SynthReport synthesize_dataset(const Subject& subject, const std::string& out_dir, const SynthOptions& options);
+SynthReport synthesize_dataset(const Subject& subject, const std::string& out_dir,
+                               const SynthOptions& options);
 
 }  // namespace lorgnette::synth

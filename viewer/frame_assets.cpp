@@ -1,15 +1,15 @@
 // Frames, placements, thumbnails, cached surface passes and the fit worker (frame_assets.h).
 #include "viewer/frame_assets.h"
 
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <future>
-
-#include <Eigen/Geometry>
-#include <fmt/format.h>
-#include <spdlog/spdlog.h>
 
 #include "fit/fit_job.h"
 #include "fit/glasses_input.h"
@@ -32,7 +32,8 @@ std::vector<uint8_t> render_thumbnail(const mesh::Glasses& g) {
   float half_w = 0.55f * std::max(hi.x() - lo.x(), 1.0f), half_h = 0.55f * std::max(hi.y() - lo.y(), 1.0f);
   const float fov = 20.0f, t = std::tan(0.5f * fov * 3.14159265f / 180.0f);
   float dist = std::max(half_h / t, half_w / (t * float(w) / float(h))) + hi.z();
-  Camera cam = mesh::look_at_camera(Eigen::Vector3f(c.x(), c.y(), dist + c.z()), c, Eigen::Vector3f(0, 1, 0), fov, w, h);
+  Camera cam = mesh::look_at_camera(Eigen::Vector3f(c.x(), c.y(), dist + c.z()), c, Eigen::Vector3f(0, 1, 0),
+                                    fov, w, h);
   mesh::SurfacePass pass(g.mesh, Eigen::Matrix4f::Identity());
   mesh::SurfaceParams sp;
   sp.samples_per_pixel = 4;
@@ -40,7 +41,8 @@ std::vector<uint8_t> render_thumbnail(const mesh::Glasses& g) {
   Image img(w, h, 3);
   const float bg = 0.86f;
   for (size_t i = 0; i < s.pixel_count(); ++i)
-    for (int k = 0; k < 3; ++k) img.pixels[i * 3 + k] = s.color_alpha[i * 4 + k] + (1.0f - s.color_alpha[i * 4 + 3]) * bg;
+    for (int k = 0; k < 3; ++k)
+      img.pixels[i * 3 + k] = s.color_alpha[i * 4 + k] + (1.0f - s.color_alpha[i * 4 + 3]) * bg;
   JpegEncoder jpeg;
   return jpeg.encode(to_srgb8(img), 85);
 }
@@ -51,9 +53,10 @@ std::string nudge_key(uint32_t i, uint64_t version, const Nudge& n) {
 
 }  // namespace
 
-Eigen::Matrix4d rough_placement(const OrbitFrame& o, const std::array<float, 3>& lo, const std::array<float, 3>& hi,
-                                double frame_width_mm) {
-  Eigen::Vector3d axes[3] = {{o.right[0], o.right[1], o.right[2]}, {o.up[0], o.up[1], o.up[2]},
+Eigen::Matrix4d rough_placement(const OrbitFrame& o, const std::array<float, 3>& lo,
+                                const std::array<float, 3>& hi, double frame_width_mm) {
+  Eigen::Vector3d axes[3] = {{o.right[0], o.right[1], o.right[2]},
+                             {o.up[0], o.up[1], o.up[2]},
                              {o.front[0], o.front[1], o.front[2]}};
   Eigen::Vector3d c(o.center[0], o.center[1], o.center[2]);
   double mn[3] = {1e30, 1e30, 1e30}, mx[3] = {-1e30, -1e30, -1e30};
@@ -75,7 +78,11 @@ Eigen::Matrix4d rough_placement(const OrbitFrame& o, const std::array<float, 3>&
 
 FrameAssets::FrameAssets(std::vector<FrameEntry> catalogue, OrbitFrame orbit, std::array<float, 3> box_min,
                          std::array<float, 3> box_max, FitSettings fit, FitListener listener)
-    : entries_(std::move(catalogue)), orbit_(orbit), box_min_(box_min), box_max_(box_max), fit_(std::move(fit)),
+    : entries_(std::move(catalogue)),
+      orbit_(orbit),
+      box_min_(box_min),
+      box_max_(box_max),
+      fit_(std::move(fit)),
       listener_(std::move(listener)) {
   for (const auto& e : entries_) {
     try {
@@ -146,12 +153,16 @@ nlohmann::json FrameAssets::describe(uint32_t i) {
   const auto& m = glasses_.at(i)->metrics;
   nlohmann::json j = {{"index", i},
                       {"name", entries_[i].name},
-                      {"status", s.status == PlacementStatus::kReady ? "ready"
-                                 : s.status == PlacementStatus::kFitting ? "fitting" : "none"},
+                      {"status", s.status == PlacementStatus::kReady     ? "ready"
+                                 : s.status == PlacementStatus::kFitting ? "fitting"
+                                                                         : "none"},
                       {"source", s.source},
-                      {"size_mm", {{"total_width", m.total_width_mm}, {"lens_width", m.lens_width_mm},
-                                   {"lens_height", m.lens_height_mm}, {"bridge", m.bridge_mm},
-                                   {"temple", m.temple_length_mm}}}};
+                      {"size_mm",
+                       {{"total_width", m.total_width_mm},
+                        {"lens_width", m.lens_width_mm},
+                        {"lens_height", m.lens_height_mm},
+                        {"bridge", m.bridge_mm},
+                        {"temple", m.temple_length_mm}}}};
   if (s.placement && s.placement->pd_mm > 0) j["pd_mm"] = s.placement->pd_mm;
   if (!s.message.empty()) j["message"] = s.message;
   return j;
@@ -184,7 +195,8 @@ std::shared_ptr<const mesh::SurfacePass> FrameAssets::pass(uint32_t i, const Nud
   }
   // Built outside the lock (Embree BVH build); a rare duplicate build is harmless.
   mesh::TriMesh mesh = glasses_[i]->mesh;
-  if (placement->has_temples && placement->temples.bend.active()) mesh::bend_mesh(placement->temples.bend, mesh);
+  if (placement->has_temples && placement->temples.bend.active())
+    mesh::bend_mesh(placement->temples.bend, mesh);
   Eigen::Matrix4f t = (placement->transform * nudge_matrix(nudge)).cast<float>();
   auto built = std::make_shared<const mesh::SurfacePass>(mesh, t);
   std::lock_guard<std::mutex> lock(mutex_);
@@ -223,7 +235,8 @@ void FrameAssets::run_fit(uint32_t i) {
   });
   auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
   while (work.wait_for(std::chrono::seconds(1)) != std::future_status::ready)
-    listener_({{"type", "fit"}, {"state", "progress"}, {"frame", i}, {"elapsed_s", std::round(elapsed())}}, i);
+    listener_({{"type", "fit"}, {"state", "progress"}, {"frame", i}, {"elapsed_s", std::round(elapsed())}},
+              i);
   nlohmann::json done = {{"type", "fit"}, {"frame", i}, {"seconds", elapsed()}};
   try {
     auto pf = std::make_shared<fit::PlacementFile>(work.get());
@@ -252,7 +265,8 @@ void FrameAssets::run_fit(uint32_t i) {
     set_rough(i, "the fit failed");
     states_[i].message = ex.what();
     done["state"] = "failed";
-    done["message"] = std::string(ex.what()) + " (showing a rough stand-in; nudge it and save, or run `lorgnette fit`)";
+    done["message"] =
+        std::string(ex.what()) + " (showing a rough stand-in; nudge it and save, or run `lorgnette fit`)";
   }
   listener_(done, i);
 }

@@ -1,13 +1,13 @@
 // capture_bench: runs `lorgnette capture` on the 50 fox photos and the in2n-face head frames,
 // recording the seconds of every stage and the pose accuracy against each capture's provided
 // transforms.json. Writes capture_stages.csv, capture_accuracy.csv and capture_stages.png to --out.
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include <CLI/CLI.hpp>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
-
-#include <CLI/CLI.hpp>
-#include <fmt/format.h>
-#include <spdlog/spdlog.h>
 
 #include "capture/capture.h"
 #include "capture/pose_compare.h"
@@ -62,11 +62,11 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
   if (!compare.empty()) {
     PoseAccuracy a = compare_poses(compare, reference);
-    std::cout << fmt::format("{} frames: rotation error mean {:.3f} max {:.3f} deg, centre error mean "
-                             "{:.2f}% max {:.2f}%, mean camera-frame residual ({:.2f}, {:.2f}, {:.2f}) deg\n",
-                             a.matched, a.rotation_deg_mean, a.rotation_deg_max, 100 * a.centre_rel_mean,
-                             100 * a.centre_rel_max, a.residual_camera_deg[0], a.residual_camera_deg[1],
-                             a.residual_camera_deg[2]);
+    std::cout << fmt::format(
+        "{} frames: rotation error mean {:.3f} max {:.3f} deg, centre error mean "
+        "{:.2f}% max {:.2f}%, mean camera-frame residual ({:.2f}, {:.2f}, {:.2f}) deg\n",
+        a.matched, a.rotation_deg_mean, a.rotation_deg_max, 100 * a.centre_rel_mean, 100 * a.centre_rel_max,
+        a.residual_camera_deg[0], a.residual_camera_deg[1], a.residual_camera_deg[2]);
     return 0;
   }
   fs::path data = LORGNETTE_DATA_DIR;
@@ -94,25 +94,30 @@ int main(int argc, char** argv) {
       s.y.push_back(total);
     }
     series.push_back(s);
-    acc_rows.push_back({c.name, std::to_string(r.report.candidate_frames), std::to_string(r.report.kept_frames),
-                        std::to_string(r.report.registered), std::to_string(r.report.models),
-                        fmt::format("{:.3f}", r.report.mean_reprojection_error),
-                        fmt::format("{:.3f}", r.acc.rotation_deg_mean), fmt::format("{:.3f}", r.acc.rotation_deg_max),
-                        fmt::format("{:.4f}", r.acc.centre_rel_mean), fmt::format("{:.4f}", r.acc.centre_rel_max),
-                        fmt::format("{:.1f}", total)});
+    acc_rows.push_back(
+        {c.name, std::to_string(r.report.candidate_frames), std::to_string(r.report.kept_frames),
+         std::to_string(r.report.registered), std::to_string(r.report.models),
+         fmt::format("{:.3f}", r.report.mean_reprojection_error),
+         fmt::format("{:.3f}", r.acc.rotation_deg_mean), fmt::format("{:.3f}", r.acc.rotation_deg_max),
+         fmt::format("{:.4f}", r.acc.centre_rel_mean), fmt::format("{:.4f}", r.acc.centre_rel_max),
+         fmt::format("{:.1f}", total)});
     std::cout << r.report.to_json().dump(2) << "\n";
-    std::cout << fmt::format("{}: rotation error mean {:.3f} max {:.3f} deg, centre error mean {:.2f}% max "
-                             "{:.2f}% of the camera spread ({} frames matched)\n", c.name,
-                             r.acc.rotation_deg_mean, r.acc.rotation_deg_max, 100 * r.acc.centre_rel_mean,
-                             100 * r.acc.centre_rel_max, r.acc.matched);
+    std::cout << fmt::format(
+        "{}: rotation error mean {:.3f} max {:.3f} deg, centre error mean {:.2f}% max "
+        "{:.2f}% of the camera spread ({} frames matched)\n",
+        c.name, r.acc.rotation_deg_mean, r.acc.rotation_deg_max, 100 * r.acc.centre_rel_mean,
+        100 * r.acc.centre_rel_max, r.acc.matched);
   }
   write_csv((fs::path(out) / "capture_stages.csv").string(), {"capture", "stage", "seconds"}, stage_rows);
   write_csv((fs::path(out) / "capture_accuracy.csv").string(),
-            {"capture", "frames", "kept", "registered", "models", "reproj_px", "rot_deg_mean",
-             "rot_deg_max", "centre_rel_mean", "centre_rel_max", "total_s"}, acc_rows);
+            {"capture", "frames", "kept", "registered", "models", "reproj_px", "rot_deg_mean", "rot_deg_max",
+             "centre_rel_mean", "centre_rel_max", "total_s"},
+            acc_rows);
   if (!series.empty())
     write_chart((fs::path(out) / "capture_stages.png").string(),
                 {"capture: cumulative seconds after each stage (frames, select, write, features, "
-                 "matching, mapper, convert)", "stage", "seconds"}, series);
+                 "matching, mapper, convert)",
+                 "stage", "seconds"},
+                series);
   return 0;
 }

@@ -3,15 +3,15 @@
 // its volume against the automatic camera box that training used before, and overlay PNGs of the
 // oriented box (projected with the photo's camera, distortion included) on three photos so the box
 // can be checked by eye. Writes head_box.csv and <name>_box_<i>.png to --out.
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
-
-#include <CLI/CLI.hpp>
-#include <fmt/format.h>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
-#include <spdlog/spdlog.h>
 
 #include "capture/subject_box.h"
 #include "fit/camera_math.h"
@@ -67,7 +67,8 @@ double camera_box_volume(const dataset::Dataset& ds) {
   for (const auto& f : ds.frames) cams.push_back(f.camera);
   auto la = nerf::cameras_look_at(cams);
   std::vector<double> d;
-  for (const auto& c : cams) d.push_back((fit::camera_center(c) - Eigen::Vector3d(la[0], la[1], la[2])).norm());
+  for (const auto& c : cams)
+    d.push_back((fit::camera_center(c) - Eigen::Vector3d(la[0], la[1], la[2])).norm());
   std::nth_element(d.begin(), d.begin() + d.size() / 2, d.end());
   double side = ds.aabb_scale * d[d.size() / 2];
   return side * side * side;
@@ -93,13 +94,14 @@ int main(int argc, char** argv) {
     double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     Eigen::Vector3d mm = 2.0 * b.half_extent * b.head.mm_per_unit;
     double vol = (b.max - b.min).prod(), cam_vol = camera_box_volume(ds);
-    spdlog::info("{}: {} in {:.1f} s; box volume {:.3g} vs camera box {:.3g} ({:.1f}x smaller)", name, b.summary(),
-                 sec, vol, cam_vol, cam_vol / vol);
-    rows.push_back({name, std::to_string(ds.split(dataset::Split::Train).size()), std::to_string(b.photos_tried),
-                    std::to_string(b.faces_found), std::to_string(b.landmarks_triangulated),
-                    fmt::format("{:.1f}", b.head.mm_per_unit), fmt::format("{:.1f}", b.head.pd_mm),
-                    fmt::format("{:.2f}", sec), fmt::format("{:.0f}x{:.0f}x{:.0f}", mm.x(), mm.y(), mm.z()),
-                    fmt::format("{:.4g}", vol), fmt::format("{:.4g}", cam_vol)});
+    spdlog::info("{}: {} in {:.1f} s; box volume {:.3g} vs camera box {:.3g} ({:.1f}x smaller)", name,
+                 b.summary(), sec, vol, cam_vol, cam_vol / vol);
+    rows.push_back({name, std::to_string(ds.split(dataset::Split::Train).size()),
+                    std::to_string(b.photos_tried), std::to_string(b.faces_found),
+                    std::to_string(b.landmarks_triangulated), fmt::format("{:.1f}", b.head.mm_per_unit),
+                    fmt::format("{:.1f}", b.head.pd_mm), fmt::format("{:.2f}", sec),
+                    fmt::format("{:.0f}x{:.0f}x{:.0f}", mm.x(), mm.y(), mm.z()), fmt::format("{:.4g}", vol),
+                    fmt::format("{:.4g}", cam_vol)});
     auto train = ds.split(dataset::Split::Train);
     for (size_t k : fit::even_subset(train.size(), 3))
       write_overlay(*train[k], b, (fs::path(out) / fmt::format("{}_box_{}.png", name, k)).string());

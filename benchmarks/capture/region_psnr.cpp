@@ -1,17 +1,17 @@
-// region_psnr: PSNR of `lorgnette eval` outputs restricted to the head region (or the face), for comparing models
-// of one capture trained in different boxes or with different poses. A model trained in a head box
+// region_psnr: PSNR of `lorgnette eval` outputs restricted to the head region (or the face), for comparing
+// models of one capture trained in different boxes or with different poses. A model trained in a head box
 // renders nothing outside it, so whole-image PSNR mostly scores the room; here a pixel counts when
 // its ray (through the holdout camera of each --mask dataset, distortion included) meets that
 // dataset's box in every mask, i.e. the intersection of the boxes' footprints. Frames are matched by
 // holdout order (the datasets must list the same images). Reads the prediction|truth|error PNGs that
 // `lorgnette eval -o DIR` writes; prints and writes CSV (per model: full and region PSNR, mask share).
+#include <fmt/format.h>
+
+#include <CLI/CLI.hpp>
 #include <cmath>
 #include <filesystem>
 #include <iostream>
 #include <memory>
-
-#include <CLI/CLI.hpp>
-#include <fmt/format.h>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
@@ -64,10 +64,12 @@ bool ray_hits_box(const fit::Ray& r, const Eigen::Vector3d& lo, const Eigen::Vec
 cv::Mat region_mask(const std::vector<MaskSpec>& masks, size_t frame, int w, int h) {
   cv::Mat m(h, w, CV_8U, cv::Scalar(1));
   for (const auto& s : masks) {
-    if (frame >= s.holdout.size()) throw std::runtime_error("a --mask dataset has fewer holdout frames than the eval");
+    if (frame >= s.holdout.size())
+      throw std::runtime_error("a --mask dataset has fewer holdout frames than the eval");
     for (int y = 0; y < h; ++y)
       for (int x = 0; x < w; ++x)
-        if (!ray_hits_box(fit::camera_ray(s.holdout[frame], {x + 0.5, y + 0.5}), s.lo, s.hi)) m.at<uint8_t>(y, x) = 0;
+        if (!ray_hits_box(fit::camera_ray(s.holdout[frame], {x + 0.5, y + 0.5}), s.lo, s.hi))
+          m.at<uint8_t>(y, x) = 0;
   }
   return m;
 }
@@ -85,7 +87,8 @@ void restrict_to_face(const cv::Mat& trip, const fit::LandmarkDetector& det, cv:
   cv::Mat face(mask.size(), CV_8U, cv::Scalar(0));
   if (d.found) {
     std::vector<cv::Point> pts, hull;
-    for (const auto& p : d.points) pts.emplace_back(int(std::lround(p.x() - 0.5)), int(std::lround(p.y() - 0.5)));
+    for (const auto& p : d.points)
+      pts.emplace_back(int(std::lround(p.x() - 0.5)), int(std::lround(p.y() - 0.5)));
     cv::convexHull(pts, hull);
     cv::fillConvexPoly(face, hull, cv::Scalar(1));
   }
@@ -93,7 +96,8 @@ void restrict_to_face(const cv::Mat& trip, const fit::LandmarkDetector& det, cv:
 }
 
 // Squared-error sums over sRGB [0,1] RGB of the whole image and of the masked region.
-void accumulate(const cv::Mat& trip, const cv::Mat& mask, double* se_all, double* n_all, double* se_in, double* n_in) {
+void accumulate(const cv::Mat& trip, const cv::Mat& mask, double* se_all, double* n_all, double* se_in,
+                double* n_in) {
   int w = trip.cols / 3;
   for (int y = 0; y < trip.rows; ++y)
     for (int x = 0; x < w; ++x) {
@@ -112,7 +116,8 @@ int main(int argc, char** argv) {
   std::vector<std::string> mask_args, evals;
   std::string csv;
   bool face = false;
-  app.add_option("--mask", mask_args, "DATASET@minx,miny,minz,maxx,maxy,maxz (repeatable; intersected)")->required();
+  app.add_option("--mask", mask_args, "DATASET@minx,miny,minz,maxx,maxy,maxz (repeatable; intersected)")
+      ->required();
   app.add_option("--eval", evals, "NAME=EVAL_DIR from lorgnette eval -o (repeatable)")->required();
   app.add_option("--csv", csv, "CSV file to write");
   app.add_flag("--face", face, "also restrict to the landmark hull of the face on the truth photo");
@@ -137,17 +142,20 @@ int main(int argc, char** argv) {
         if (det) restrict_to_face(trip, *det, mask);
         double sa = 0, na = 0, si = 0, ni = 0;
         accumulate(trip, mask, &sa, &na, &si, &ni);
-        if (ni == 0) throw std::runtime_error(fmt::format("view {} of '{}' has an empty head region", k, dir));
+        if (ni == 0)
+          throw std::runtime_error(fmt::format("view {} of '{}' has an empty head region", k, dir));
         full += -10 * std::log10(sa / na), region += -10 * std::log10(si / ni), n_all += na, n_in += ni;
       }
       if (k == 0) throw std::runtime_error("no eval images in '" + dir + "'");
       full /= double(k), region /= double(k);
-      std::cout << fmt::format("{:<20} {} views: PSNR full {:.2f} dB, head region {:.2f} dB ({:.0f}% of pixels)\n",
-                               name, k, full, region, 100 * n_in / n_all);
+      std::cout << fmt::format(
+          "{:<20} {} views: PSNR full {:.2f} dB, head region {:.2f} dB ({:.0f}% of pixels)\n", name, k, full,
+          region, 100 * n_in / n_all);
       rows.push_back({name, std::to_string(k), fmt::format("{:.3f}", full), fmt::format("{:.3f}", region),
                       fmt::format("{:.3f}", n_in / n_all)});
     }
-    if (!csv.empty()) write_csv(csv, {"model", "views", "psnr_full_db", "psnr_head_region_db", "region_fraction"}, rows);
+    if (!csv.empty())
+      write_csv(csv, {"model", "views", "psnr_full_db", "psnr_head_region_db", "region_fraction"}, rows);
   } catch (const std::exception& e) {
     std::cerr << "error: " << e.what() << "\n";
     return 1;

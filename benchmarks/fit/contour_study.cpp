@@ -4,12 +4,12 @@
 // detection) and the NeRF's opacity-0.5 depth (O@m / O@n), in the ground truth's head frame (mm from
 // f_c: x = d_eye, y = d_up, z = d_fwd).
 // Usage: contour_study --case MODEL DATASET
+#include <fmt/format.h>
+
 #include <cmath>
 #include <cstring>
-#include <tuple>
 #include <iostream>
-
-#include <fmt/format.h>
+#include <tuple>
 
 #include "fit/camera_math.h"
 #include "fit/fit.h"
@@ -38,8 +38,10 @@ std::vector<Interval> intervals(ViewSource& s, const Ray& r, double t0, double t
   bool inside = false;
   for (int i = 0; i < n; ++i) {
     double t = t0 + (t1 - t0) * i / (n - 1);
-    if (!inside && d[i] > thr) out.push_back({t, t1}), inside = true;
-    else if (inside && d[i] <= thr) out.back().out = t, inside = false;
+    if (!inside && d[i] > thr)
+      out.push_back({t, t1}), inside = true;
+    else if (inside && d[i] <= thr)
+      out.back().out = t, inside = false;
   }
   return out;
 }
@@ -53,7 +55,8 @@ int main(int argc, char** argv) {
   ViewPrior prior = prior_from_transforms(std::string(argv[3]) + "/transforms.json", model);
   NerfViewSource nerf(model, prior);
   auto mesh = subject_source(argv[3], model, prior, true);
-  GlassesInput g = load_glasses_input(std::string(LORGNETTE_DATA_DIR) + "/glasses/glasses-06/scene.gltf", 500);
+  GlassesInput g =
+      load_glasses_input(std::string(LORGNETTE_DATA_DIR) + "/glasses/glasses-06/scene.gltf", 500);
   FitOptions base;
   GlassesInput no_frame;  // the reference points alone: no contact stage, as only the orbit is used
   no_frame.ref = g.ref;
@@ -79,14 +82,16 @@ int main(int argc, char** argv) {
       continue;
     }
     for (int k : {lm::kTempleR, lm::kTempleL}) {
-      std::string line = fmt::format("yaw {:4.0f} lm {:2d} duv ({:5.1f} {:5.1f})", yaw, k,
-                                     dn.points[k].x() - dm.points[k].x(), dn.points[k].y() - dm.points[k].y());
+      std::string line =
+          fmt::format("yaw {:4.0f} lm {:2d} duv ({:5.1f} {:5.1f})", yaw, k,
+                      dn.points[k].x() - dm.points[k].x(), dn.points[k].y() - dm.points[k].y());
       auto show = [&](const char* name, ViewSource& s, const Eigen::Vector2d& uv, float th) {
         Ray r = camera_ray(cam, uv);
         auto iv = intervals(s, r, t0, t1, th);
         line += fmt::format(" | {}:", name);
         for (size_t i = 0; i < iv.size() && i < 2; ++i)
-          line += fmt::format(" in{} len {:5.1f}", head(r.origin + iv[i].in * r.dir), (iv[i].out - iv[i].in) * mm);
+          line += fmt::format(" in{} len {:5.1f}", head(r.origin + iv[i].in * r.dir),
+                              (iv[i].out - iv[i].in) * mm);
       };
       show("M@m", *mesh, dm.points[k], 10.0f);
       show("N@m", nerf, dm.points[k], thr);
@@ -95,7 +100,8 @@ int main(int argc, char** argv) {
                                    std::tuple{"O@n", (ViewSource*)&nerf, dn.points[k]}}) {
         Ray r = camera_ray(cam, uv);
         double t = 0;
-        if (opacity_depth(*src, r.origin, r.dir, t0, t1, 0.5, &t)) line += fmt::format(" | {} {}", name, head(r.origin + t * r.dir));
+        if (opacity_depth(*src, r.origin, r.dir, t0, t1, 0.5, &t))
+          line += fmt::format(" | {} {}", name, head(r.origin + t * r.dir));
       }
       std::cout << line << "\n";
     }

@@ -14,6 +14,8 @@
 // fit_nerf_training.png (error against training time, for cases named NAME@N, N seconds or steps) and, with
 // --debug, the annotated views of the first fast fit per case in OUT_DIR/<case>-debug/. --mesh-only
 // fits the mesh alone (the ground-truth geometry: head pitch, contact slide) and skips the NeRF.
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -24,10 +26,8 @@
 #include <functional>
 #include <iostream>
 #include <map>
-#include <sstream>
-
-#include <fmt/format.h>
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 #include "fit/camera_math.h"
 #include "fit/detect_views.h"
@@ -37,8 +37,8 @@
 #include "fit/landmark_ids.h"
 #include "fit/mesh_ground_truth.h"
 #include "fit/nerf_view_source.h"
-#include "subject_mesh.h"
 #include "host/util/chart.h"
+#include "subject_mesh.h"
 
 using namespace lorgnette;
 using namespace lorgnette::fit;
@@ -57,7 +57,7 @@ struct Case {
 struct Variant {
   std::string name;
   std::function<void(FitOptions&)> set;
-  float step_scale = 1.0f;  // NeRF marching step multiplier (render::RenderOptions)
+  float step_scale = 1.0f;         // NeRF marching step multiplier (render::RenderOptions)
   float min_transmittance = 0.0f;  // the views' early termination (0: the renderer's default)
 };
 
@@ -86,7 +86,10 @@ const std::vector<Variant>& all_variants() {
       {"fast_t4e3", [](FitOptions& o) { fast(o); }, 1.0f, 1.0f / 255.0f},  // stop below one 8-bit level
       // The jaw contour cast from every view at its first density crossing (the fit before the
       // near-side views and the opacity depth), and each of the two changes alone.
-      {"contour_all_first", [](FitOptions& o) { fast(o), o.landmarks.contour.side_tolerance = 1e9, o.landmarks.contour.opacity = 0.0; }},
+      {"contour_all_first",
+       [](FitOptions& o) {
+         fast(o), o.landmarks.contour.side_tolerance = 1e9, o.landmarks.contour.opacity = 0.0;
+       }},
       {"contour_all", [](FitOptions& o) { fast(o), o.landmarks.contour.side_tolerance = 1e9; }},
       {"contour_first", [](FitOptions& o) { fast(o), o.landmarks.contour.opacity = 0.0; }},
       // Stricter near-side rules: views turned about 5 / 10 deg towards the landmark's side.
@@ -112,8 +115,8 @@ struct Row {
 };
 
 // Scores the fit that `fit` runs (with `opt`) against the ground truth.
-Row run_fit(const std::function<FitResult()>& fit, const GlassesInput& g, const GroundTruth& gt, const FitOptions& opt,
-            const Eigen::Vector3d& scene_up, MeshViewSource* mesh = nullptr) {
+Row run_fit(const std::function<FitResult()>& fit, const GlassesInput& g, const GroundTruth& gt,
+            const FitOptions& opt, const Eigen::Vector3d& scene_up, MeshViewSource* mesh = nullptr) {
   Row row;
   try {
     FitResult r = fit();
@@ -134,7 +137,8 @@ Row run_fit(const std::function<FitResult()>& fit, const GlassesInput& g, const 
     }
     row.front_penetration = r.contact.front_penetration_mm;
     row.contact_shift_mm = r.contact.shift_mm;
-    row.head_pitch_deg = std::asin(std::clamp(r.head.d_fwd.dot(scene_up.normalized()), -1.0, 1.0)) * 180.0 / M_PI;
+    row.head_pitch_deg =
+        std::asin(std::clamp(r.head.d_fwd.dot(scene_up.normalized()), -1.0, 1.0)) * 180.0 / M_PI;
     auto err = [&](int k) { return (r.points[k].position - gt.points[k]).norm() * gt.head.mm_per_unit; };
     row.temple_r_mm = err(lm::kTempleR), row.temple_l_mm = err(lm::kTempleL);
     row.eye_r_mm = err(lm::kEyeOuterR), row.eye_l_mm = err(lm::kEyeOuterL);
@@ -151,23 +155,55 @@ void write_charts(const std::string& out, const std::vector<Row>& rows);
 void write_rows(const std::string& out, const std::vector<Row>& rows) {
   std::vector<std::vector<std::string>> csv;
   for (const auto& r : rows)
-    csv.push_back({r.name, r.variant, std::to_string(r.repeat), fmt::format("{:.3f}", r.e.nose_mm),
-                   fmt::format("{:.3f}", r.e.ear_l_mm), fmt::format("{:.3f}", r.e.ear_r_mm),
-                   fmt::format("{:.3f}", r.e.rotation_deg), fmt::format("{:.3f}", r.own.nose_mm),
-                   fmt::format("{:.3f}", r.own.ear_l_mm), fmt::format("{:.3f}", r.own.ear_r_mm),
-                   fmt::format("{:.3f}", r.own.rotation_deg), fmt::format("{:.4f}", r.e.mm_per_unit_rel),
-                   fmt::format("{:.3f}", r.front_penetration), fmt::format("{:.2f}", r.contact_shift_mm),
-                   fmt::format("{:.2f}", r.head_pitch_deg), fmt::format("{:.3f}", r.temple_l_mm),
-                   fmt::format("{:.3f}", r.temple_r_mm), fmt::format("{:.3f}", r.eye_l_mm),
-                   fmt::format("{:.3f}", r.eye_r_mm), fmt::format("{}/{}", r.views_used, r.views),
-                   fmt::format("{:.3f}", r.seconds), fmt::format("{:.3f}", r.load_seconds), r.stages,
+    csv.push_back({r.name,
+                   r.variant,
+                   std::to_string(r.repeat),
+                   fmt::format("{:.3f}", r.e.nose_mm),
+                   fmt::format("{:.3f}", r.e.ear_l_mm),
+                   fmt::format("{:.3f}", r.e.ear_r_mm),
+                   fmt::format("{:.3f}", r.e.rotation_deg),
+                   fmt::format("{:.3f}", r.own.nose_mm),
+                   fmt::format("{:.3f}", r.own.ear_l_mm),
+                   fmt::format("{:.3f}", r.own.ear_r_mm),
+                   fmt::format("{:.3f}", r.own.rotation_deg),
+                   fmt::format("{:.4f}", r.e.mm_per_unit_rel),
+                   fmt::format("{:.3f}", r.front_penetration),
+                   fmt::format("{:.2f}", r.contact_shift_mm),
+                   fmt::format("{:.2f}", r.head_pitch_deg),
+                   fmt::format("{:.3f}", r.temple_l_mm),
+                   fmt::format("{:.3f}", r.temple_r_mm),
+                   fmt::format("{:.3f}", r.eye_l_mm),
+                   fmt::format("{:.3f}", r.eye_r_mm),
+                   fmt::format("{}/{}", r.views_used, r.views),
+                   fmt::format("{:.3f}", r.seconds),
+                   fmt::format("{:.3f}", r.load_seconds),
+                   r.stages,
                    r.error.empty() ? "ok" : "error: " + r.error.substr(0, 200)});
   write_csv(out + "/fit_nerf.csv",
-            {"case", "variant", "repeat", "nose_mm", "ear_l_mm", "ear_r_mm", "rotation_deg",
-             "nose_own_views_mm", "ear_l_own_views_mm", "ear_r_own_views_mm", "rotation_own_views_deg",
-             "mm_per_unit_rel_err", "front_penetration_mm", "contact_shift_mm", "head_pitch_deg", "temple_l_mm",
-             "temple_r_mm", "eye_l_mm", "eye_r_mm", "views_used", "seconds_excl_model_load", "model_load_seconds",
-             "stages", "status"},
+            {"case",
+             "variant",
+             "repeat",
+             "nose_mm",
+             "ear_l_mm",
+             "ear_r_mm",
+             "rotation_deg",
+             "nose_own_views_mm",
+             "ear_l_own_views_mm",
+             "ear_r_own_views_mm",
+             "rotation_own_views_deg",
+             "mm_per_unit_rel_err",
+             "front_penetration_mm",
+             "contact_shift_mm",
+             "head_pitch_deg",
+             "temple_l_mm",
+             "temple_r_mm",
+             "eye_l_mm",
+             "eye_r_mm",
+             "views_used",
+             "seconds_excl_model_load",
+             "model_load_seconds",
+             "stages",
+             "status"},
             csv);
   write_charts(out, rows);
 }
@@ -193,8 +229,10 @@ void write_charts(const std::string& out, const std::vector<Row>& rows) {
     size_t at = r.name.rfind('@');
     if (at == std::string::npos || r.repeat != 0 || r.variant == "mesh" || !r.error.empty()) continue;
     double x = std::atof(r.name.c_str() + at + 1);
-    const std::pair<const char*, double> ys[4] = {
-        {"nose mm", r.e.nose_mm}, {"ear l mm", r.e.ear_l_mm}, {"ear r mm", r.e.ear_r_mm}, {"rotation deg", r.e.rotation_deg}};
+    const std::pair<const char*, double> ys[4] = {{"nose mm", r.e.nose_mm},
+                                                  {"ear l mm", r.e.ear_l_mm},
+                                                  {"ear r mm", r.e.ear_r_mm},
+                                                  {"rotation deg", r.e.rotation_deg}};
     for (const auto& [what, y] : ys) {
       std::string key = std::string(what) + " " + r.variant;
       if (!line.count(key)) line[key] = trained.size(), trained.push_back({key, {}, {}});
@@ -204,7 +242,8 @@ void write_charts(const std::string& out, const std::vector<Row>& rows) {
   if (!trained.empty())
     write_chart(out + "/fit_nerf_training.png",
                 {"Fit error against NeRF training", "training (the N of case NAME@N: seconds or steps)",
-                 "error (mm, deg)"}, trained);
+                 "error (mm, deg)"},
+                trained);
 }
 
 // --replot CSV: the rows of an earlier run (its fit_nerf.csv), with the columns the charts need.
@@ -218,7 +257,8 @@ std::vector<Row> read_rows(const std::string& path) {
     std::vector<std::string> f;
     std::stringstream ss(text);
     for (std::string cell; std::getline(ss, cell, ',');) f.push_back(cell);
-    if (f.size() < 24) throw std::runtime_error(path + ": a row has " + std::to_string(f.size()) + " columns, not 24");
+    if (f.size() < 24)
+      throw std::runtime_error(path + ": a row has " + std::to_string(f.size()) + " columns, not 24");
     Row r;
     r.name = f[0], r.variant = f[1], r.repeat = std::atoi(f[2].c_str());
     r.e.nose_mm = std::atof(f[3].c_str()), r.e.ear_l_mm = std::atof(f[4].c_str());
@@ -301,7 +341,8 @@ int main(int argc, char** argv) {
       debug = true;
     else if (std::strcmp(argv[i], "--gt-yaws") == 0 && i + 1 < argc) {
       gt_yaws.clear();
-      for (char* tok = std::strtok(argv[++i], ","); tok; tok = std::strtok(nullptr, ",")) gt_yaws.push_back(std::atof(tok));
+      for (char* tok = std::strtok(argv[++i], ","); tok; tok = std::strtok(nullptr, ","))
+        gt_yaws.push_back(std::atof(tok));
     } else if (std::strcmp(argv[i], "--gt-contour") == 0 && i + 1 < argc)
       gt_all_views = std::strcmp(argv[++i], "all") == 0;
     else if (std::strcmp(argv[i], "--gt-shading") == 0 && i + 1 < argc)
@@ -344,7 +385,8 @@ int main(int argc, char** argv) {
       auto it = gts.find(gt_opt.landmarks.contour.side_tolerance);
       if (it == gts.end())
         it = gts.emplace(gt_opt.landmarks.contour.side_tolerance,
-                         mesh_ground_truth(*mesh_src, ref.orbit, gt_yaws, g.ref, gt_opt)).first;
+                         mesh_ground_truth(*mesh_src, ref.orbit, gt_yaws, g.ref, gt_opt))
+                 .first;
       return it->second;
     };
     const GroundTruth& gt = gt_for(base);
@@ -353,10 +395,11 @@ int main(int argc, char** argv) {
     Row mesh_row = run_fit([&] { return fit_glasses(*mesh_src, g, base); }, g, gt, base, prior.up);
     mesh_row.name = c.name, mesh_row.variant = "mesh";
     rows.push_back(mesh_row);
-    std::cerr << fmt::format("{} mesh: nose {:.2f} mm, ears {:.2f}/{:.2f} mm, rot {:.2f} deg, head pitch {:.1f} deg, "
-                             "contact shift {:.2f} mm\n", c.name, mesh_row.e.nose_mm, mesh_row.e.ear_l_mm,
-                             mesh_row.e.ear_r_mm, mesh_row.e.rotation_deg, mesh_row.head_pitch_deg,
-                             mesh_row.contact_shift_mm);
+    std::cerr << fmt::format(
+        "{} mesh: nose {:.2f} mm, ears {:.2f}/{:.2f} mm, rot {:.2f} deg, head pitch {:.1f} deg, "
+        "contact shift {:.2f} mm\n",
+        c.name, mesh_row.e.nose_mm, mesh_row.e.ear_l_mm, mesh_row.e.ear_r_mm, mesh_row.e.rotation_deg,
+        mesh_row.head_pitch_deg, mesh_row.contact_shift_mm);
     if (mesh_only) {
       write_rows(out, rows);
       continue;
@@ -374,10 +417,11 @@ int main(int argc, char** argv) {
                           mesh_src.get());
         row.name = c.name, row.variant = v.name, row.repeat = rep;
         std::cerr << fmt::format(
-            "{} {} #{}: nose {:.2f} mm, ears {:.2f}/{:.2f} mm, rot {:.2f} deg (own views: ears {:.2f}/{:.2f}), "
-            "{:.2f} s [{}] {}\n", c.name, v.name, rep, row.e.nose_mm, row.e.ear_l_mm, row.e.ear_r_mm,
-            row.e.rotation_deg, row.own.ear_l_mm, row.own.ear_r_mm, row.seconds,
-            row.stages, row.error.substr(0, 160));
+            "{} {} #{}: nose {:.2f} mm, ears {:.2f}/{:.2f} mm, rot {:.2f} deg (own views: ears "
+            "{:.2f}/{:.2f}), "
+            "{:.2f} s [{}] {}\n",
+            c.name, v.name, rep, row.e.nose_mm, row.e.ear_l_mm, row.e.ear_r_mm, row.e.rotation_deg,
+            row.own.ear_l_mm, row.own.ear_r_mm, row.seconds, row.stages, row.error.substr(0, 160));
         rows.push_back(row);
         write_rows(out, rows);
       }

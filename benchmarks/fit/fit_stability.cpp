@@ -3,12 +3,12 @@
 // range, detector noise and image resolution. Writes fit_stability.csv and one chart per sweep.
 // Usage: bench_fit_stability OUT_DIR [--quick] [--sweeps views,yaw_range,noise_px,resolution,ablation]
 // The CSV and charts are rewritten after every row, so an interrupted run keeps what it measured.
-#include <cstring>
-#include <functional>
-#include <filesystem>
-#include <iostream>
-
 #include <fmt/format.h>
+
+#include <cstring>
+#include <filesystem>
+#include <functional>
+#include <iostream>
 
 #include "fit/fit.h"
 #include "fit/glasses_input.h"
@@ -31,8 +31,8 @@ struct Row {
   std::string error;
 };
 
-Row run(MeshViewSource& src, const GlassesInput& g, const GroundTruth& gt, const std::string& sweep, double value,
-        FitOptions opt) {
+Row run(MeshViewSource& src, const GlassesInput& g, const GroundTruth& gt, const std::string& sweep,
+        double value, FitOptions opt) {
   Row row;
   row.sweep = sweep;
   row.value = value;
@@ -48,13 +48,14 @@ Row run(MeshViewSource& src, const GlassesInput& g, const GroundTruth& gt, const
   } catch (const std::exception& ex) {
     row.error = ex.what();
   }
-  std::cerr << fmt::format("{} = {}: nose {:.2f} mm, ears {:.2f}/{:.2f} mm, rot {:.2f} deg, {:.2f} s {}\n", sweep, value,
-                           row.e.nose_mm, row.e.ear_l_mm, row.e.ear_r_mm, row.e.rotation_deg, row.seconds,
-                           row.error.empty() ? "" : "FAILED: " + row.error.substr(0, 120));
+  std::cerr << fmt::format("{} = {}: nose {:.2f} mm, ears {:.2f}/{:.2f} mm, rot {:.2f} deg, {:.2f} s {}\n",
+                           sweep, value, row.e.nose_mm, row.e.ear_l_mm, row.e.ear_r_mm, row.e.rotation_deg,
+                           row.seconds, row.error.empty() ? "" : "FAILED: " + row.error.substr(0, 120));
   return row;
 }
 
-void chart(const std::string& out, const std::string& sweep, const std::string& xlabel, const std::vector<Row>& rows) {
+void chart(const std::string& out, const std::string& sweep, const std::string& xlabel,
+           const std::vector<Row>& rows) {
   ChartSeries nose, ear, rot, t;
   nose.name = "nose mm", ear.name = "max ear mm", rot.name = "rotation deg", t.name = "seconds";
   for (const auto& r : rows) {
@@ -65,7 +66,8 @@ void chart(const std::string& out, const std::string& sweep, const std::string& 
     t.x.push_back(r.value), t.y.push_back(r.seconds);
   }
   if (nose.x.empty()) return;
-  write_chart(out + "/fit_" + sweep + ".png", {"Fit error and time vs " + xlabel + " (Lee Perry-Smith mesh)", xlabel, "mm / deg / s"},
+  write_chart(out + "/fit_" + sweep + ".png",
+              {"Fit error and time vs " + xlabel + " (Lee Perry-Smith mesh)", xlabel, "mm / deg / s"},
               {nose, ear, rot, t});
 }
 
@@ -74,14 +76,15 @@ void chart(const std::string& out, const std::string& sweep, const std::string& 
 void write_outputs(const std::string& out, const std::vector<Row>& rows) {
   std::vector<std::vector<std::string>> csv;
   for (const auto& r : rows)
-    csv.push_back({r.sweep, fmt::format("{}", r.value), fmt::format("{:.4f}", r.e.nose_mm), fmt::format("{:.4f}", r.e.ear_l_mm),
-                   fmt::format("{:.4f}", r.e.ear_r_mm), fmt::format("{:.4f}", r.e.rotation_deg),
-                   fmt::format("{:.4f}", r.e.mm_per_unit_rel), fmt::format("{:.3f}", r.pd),
-                   fmt::format("{:.3f}", r.penetration), std::to_string(r.views_used), fmt::format("{:.3f}", r.seconds),
+    csv.push_back({r.sweep, fmt::format("{}", r.value), fmt::format("{:.4f}", r.e.nose_mm),
+                   fmt::format("{:.4f}", r.e.ear_l_mm), fmt::format("{:.4f}", r.e.ear_r_mm),
+                   fmt::format("{:.4f}", r.e.rotation_deg), fmt::format("{:.4f}", r.e.mm_per_unit_rel),
+                   fmt::format("{:.3f}", r.pd), fmt::format("{:.3f}", r.penetration),
+                   std::to_string(r.views_used), fmt::format("{:.3f}", r.seconds),
                    r.error.empty() ? "ok" : "error"});
   write_csv(out + "/fit_stability.csv",
-            {"sweep", "value", "nose_mm", "ear_l_mm", "ear_r_mm", "rotation_deg", "mm_per_unit_rel_err", "pd_mm",
-             "penetration_mm", "views_used", "seconds", "status"},
+            {"sweep", "value", "nose_mm", "ear_l_mm", "ear_r_mm", "rotation_deg", "mm_per_unit_rel_err",
+             "pd_mm", "penetration_mm", "views_used", "seconds", "status"},
             csv);
   chart(out, "views", "number of views K", rows);
   chart(out, "yaw_range", "yaw range +- (deg)", rows);
@@ -119,16 +122,21 @@ int main(int argc, char** argv) {
   add("default", 0, [](FitOptions&) {});
   auto pick = [&](std::vector<double> full, std::vector<double> small) { return quick ? small : full; };
   if (want("views"))
-    for (double k : pick({3, 4, 6, 8, 12, 20, 30, 45, 60}, {3, 12})) add("views", k, [k](FitOptions& o) { o.cap.views = int(k); });
+    for (double k : pick({3, 4, 6, 8, 12, 20, 30, 45, 60}, {3, 12}))
+      add("views", k, [k](FitOptions& o) { o.cap.views = int(k); });
   if (want("yaw_range"))
-    for (double y : pick({5, 10, 20, 35, 45, 60}, {35})) add("yaw_range", y, [y](FitOptions& o) { o.cap.yaw_range_deg = y; });
+    for (double y : pick({5, 10, 20, 35, 45, 60}, {35}))
+      add("yaw_range", y, [y](FitOptions& o) { o.cap.yaw_range_deg = y; });
   if (want("noise_px"))
-    for (double n : pick({0.5, 1, 2, 4, 8, 16}, {2})) add("noise_px", n, [n](FitOptions& o) { o.detection.noise_px = n; });
+    for (double n : pick({0.5, 1, 2, 4, 8, 16}, {2}))
+      add("noise_px", n, [n](FitOptions& o) { o.detection.noise_px = n; });
   if (want("resolution"))
-    for (double w : pick({128, 192, 256, 384, 512, 768}, {256})) add("resolution", w, [w](FitOptions& o) { o.front.width = o.front.height = int(w); });
+    for (double w : pick({128, 192, 256, 384, 512, 768}, {256}))
+      add("resolution", w, [w](FitOptions& o) { o.front.width = o.front.height = int(w); });
   if (want("ablation")) {
     add("no_snap", 0, [](FitOptions& o) { o.landmarks.snap_to_skin = false; });
-    add("no_snap_no_cast", 0, [](FitOptions& o) { o.landmarks.snap_to_skin = false, o.landmarks.cast_contour = false; });
+    add("no_snap_no_cast", 0,
+        [](FitOptions& o) { o.landmarks.snap_to_skin = false, o.landmarks.cast_contour = false; });
   }
   return 0;
 }

@@ -2,9 +2,8 @@
 #include "subject_mesh.h"
 
 #include <fstream>
-#include <stdexcept>
-
 #include <nlohmann/json.hpp>
+#include <stdexcept>
 
 #include "mesh/loader.h"
 #include "synth/head_params.h"

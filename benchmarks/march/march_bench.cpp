@@ -4,31 +4,32 @@
 //  quality.csv/.png         frame time against PSNR to a reference render (step 1/4 of the model's)
 //                           for coarser steps and for lower resolutions upsampled bilinearly
 // The head is a trained model (--model) or, without one, the analytic head stand-in.
+#include <fmt/format.h>
+
+#include <CLI/CLI.hpp>
+#include <Eigen/Core>
 #include <chrono>
 #include <cstring>
 #include <filesystem>
 #include <iostream>
 #include <memory>
-
-#include <CLI/CLI.hpp>
-#include <Eigen/Core>
-#include <fmt/format.h>
 #include <opencv2/imgproc.hpp>
 
 #include "host/dataset/metrics.h"
 #include "host/render/analytic_field.h"
 #include "host/render/frame_bench.h"
+#include "host/render/renderer.h"
 #include "host/util/chart.h"
 #include "mesh/glasses.h"
 #include "mesh/surface_pass.h"
-#include "host/render/renderer.h"
 
 using namespace lorgnette;
 using namespace lorgnette::render;
 
 namespace {
 struct Args {
-  std::string model, glasses = std::string(LORGNETTE_DATA_DIR) + "/glasses/glasses-06/scene.gltf", out = "bench-march";
+  std::string model, glasses = std::string(LORGNETTE_DATA_DIR) + "/glasses/glasses-06/scene.gltf",
+                     out = "bench-march";
   std::string quality_size = "640x360", sizes;
   uint32_t repeats = 3;
   bool skip_table = false, skip_quality = false;
@@ -51,7 +52,8 @@ void write_table1(const Args& a, const nlohmann::json& rows) {
   ChartSeries head{"head", {}, {}}, glasses{"head + glasses", {}, {}};
   for (const auto& r : rows) {
     csv.push_back({r["device"], r["scene"], r["resolution"], r["glasses"].get<bool>() ? "yes" : "no",
-                   fmt::format("{:.2f}", r["median_ms"].get<double>()), fmt::format("{:.2f}", r["march_ms"].get<double>()),
+                   fmt::format("{:.2f}", r["median_ms"].get<double>()),
+                   fmt::format("{:.2f}", r["march_ms"].get<double>()),
                    fmt::format("{:.2f}", r["surface_ms"].get<double>()),
                    fmt::format("{:.3f}", r["samples_per_ray"].get<double>()),
                    std::to_string(r["samples_evaluated"].get<uint64_t>())});
@@ -60,8 +62,8 @@ void write_table1(const Args& a, const nlohmann::json& rows) {
     (r["glasses"].get<bool>() ? glasses : head).y.push_back(r["median_ms"].get<double>());
   }
   write_csv(a.out + "/table1.csv",
-            {"device", "scene", "resolution", "glasses", "median_ms", "march_ms", "surface_ms", "samples_per_ray",
-             "samples_evaluated"},
+            {"device", "scene", "resolution", "glasses", "median_ms", "march_ms", "surface_ms",
+             "samples_per_ray", "samples_evaluated"},
             csv);
   write_chart(a.out + "/table1.png", {"Frame time (Table 1 replica)", "image height (px, 16:9)", "ms"},
               {head, glasses});
@@ -79,7 +81,8 @@ void write_table1(const Args& a, const nlohmann::json& rows) {
             {"resolution", "march_ms_head", "march_ms_glasses", "time_ratio", "samples_ratio"}, et);
 }
 
-using RenderFn = std::function<RenderResult(const Camera&, const lorgnette::SurfaceBuffers*, const RenderOptions&)>;
+using RenderFn =
+    std::function<RenderResult(const Camera&, const lorgnette::SurfaceBuffers*, const RenderOptions&)>;
 
 double timed_median(const std::function<void()>& f, int n) {
   std::vector<double> ms;
@@ -92,7 +95,8 @@ double timed_median(const std::function<void()>& f, int n) {
 }
 
 // Frame time against PSNR to a reference (step x 1/4): coarser steps, and lower resolutions.
-void quality_vs_time(const Args& a, const std::function<Camera(uint32_t, uint32_t)>& camera, const RenderFn& render) {
+void quality_vs_time(const Args& a, const std::function<Camera(uint32_t, uint32_t)>& camera,
+                     const RenderFn& render) {
   auto size = parse_size(a.quality_size);
   Camera cam = camera(size[0], size[1]);
   RenderOptions ref_opts;
@@ -100,7 +104,8 @@ void quality_vs_time(const Args& a, const std::function<Camera(uint32_t, uint32_
   Image ref = rgb_of(render(cam, nullptr, ref_opts));
   write_image(a.out + "/quality_reference.png", ref);
   std::vector<std::vector<std::string>> csv;
-  ChartSeries steps{"step scale (full resolution)", {}, {}}, res{"resolution scale (step 1, bilinear up)", {}, {}};
+  ChartSeries steps{"step scale (full resolution)", {}, {}},
+      res{"resolution scale (step 1, bilinear up)", {}, {}};
   for (float step : {0.5f, 1.0f, 1.5f, 2.0f, 3.0f, 4.0f}) {
     RenderOptions o;
     o.step_scale = step;
@@ -117,15 +122,15 @@ void quality_vs_time(const Args& a, const std::function<Camera(uint32_t, uint32_
     RenderResult r;
     double ms = timed_median([&] { r = render(small, nullptr, {}); }, 2);
     double p = dataset::psnr(resize_to(rgb_of(r), ref.width, ref.height), ref);
-    csv.push_back({"resolution", fmt::format("{}", scale), fmt::format("{:.2f}", ms), fmt::format("{:.2f}", p),
-                   fmt::format("{:.2f}", r.samples_per_ray())});
+    csv.push_back({"resolution", fmt::format("{}", scale), fmt::format("{:.2f}", ms),
+                   fmt::format("{:.2f}", p), fmt::format("{:.2f}", r.samples_per_ray())});
     res.x.push_back(ms);
     res.y.push_back(p);
   }
   write_csv(a.out + "/quality.csv", {"setting", "value", "frame_ms", "psnr_db", "samples_per_ray"}, csv);
   write_chart(a.out + "/quality.png",
-              {fmt::format("Frame time vs quality at {} (reference: step x 0.25)", a.quality_size), "frame ms",
-               "PSNR dB"},
+              {fmt::format("Frame time vs quality at {} (reference: step x 0.25)", a.quality_size),
+               "frame ms", "PSNR dB"},
               {steps, res});
 }
 }  // namespace
@@ -138,7 +143,8 @@ int main(int argc, char** argv) {
   app.add_option("--out", a.out, "output directory")->capture_default_str();
   app.add_option("--repeats", a.repeats, "timed frames per Table 1 row")->capture_default_str();
   app.add_option("--quality-size", a.quality_size, "size of the quality study")->capture_default_str();
-  app.add_option("--sizes", a.sizes, "Table 1 sizes, comma-separated WxH (default 854x480,1280x720,1920x1080)");
+  app.add_option("--sizes", a.sizes,
+                 "Table 1 sizes, comma-separated WxH (default 854x480,1280x720,1920x1080)");
   app.add_flag("--skip-quality", a.skip_quality, "only Table 1");
   app.add_flag("--skip-table", a.skip_table, "only the quality study");
   CLI11_PARSE(app, argc, argv);

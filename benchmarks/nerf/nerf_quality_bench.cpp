@@ -3,21 +3,21 @@
 // fixed subset of held-out views. Writes <out>/<label>_quality.csv (seconds, steps, samples,
 // samples_per_s, psnr, ssim, mb) and <out>/<label>_quality.png; prints the final row as JSON.
 // The model-size study runs it once per configuration (see docs/bench/nerf.md).
+#include <fmt/format.h>
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
+
+#include <CLI/CLI.hpp>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <iostream>
-
-#include <CLI/CLI.hpp>
-#include <fmt/format.h>
 #include <nlohmann/json.hpp>
-#include <spdlog/sinks/stdout_color_sinks.h>
-#include <spdlog/spdlog.h>
 
 #include "host/dataset/dataset.h"
-#include "host/render/evaluate.h"
 #include "host/nerf/sizing.h"
 #include "host/nerf/trainer.h"
+#include "host/render/evaluate.h"
 #include "host/util/chart.h"
 
 using namespace lorgnette;
@@ -54,8 +54,8 @@ int main(int argc, char** argv) {
     nerf::ModelSizing sizing = nerf::choose_model_size(train, ov);
     spdlog::info("{}", sizing.summary());
     cl::Runtime rt({device, "", false});
-    nerf::NerfModel model(rt, sizing.field, sizing.aabb, sizing.occupancy_resolution, sizing.step, 1u << batch_log2,
-                          1337, false);
+    nerf::NerfModel model(rt, sizing.field, sizing.aabb, sizing.occupancy_resolution, sizing.step,
+                          1u << batch_log2, 1337, false);
     nerf::TrainOptions to;
     to.seconds = seconds;
     to.progress = false;
@@ -77,19 +77,21 @@ int main(int argc, char** argv) {
       render::EvalResult e = render::evaluate(model, test, eo);
       double sps = double(trainer.samples_done()) / trained;
       rows.push_back({fmt::format("{:.1f}", trained), std::to_string(trainer.steps_done()),
-                      std::to_string(trainer.samples_done()), fmt::format("{:.0f}", sps), fmt::format("{:.3f}", e.psnr),
-                      fmt::format("{:.4f}", e.ssim), fmt::format("{:.2f}", sizing.megabytes())});
+                      std::to_string(trainer.samples_done()), fmt::format("{:.0f}", sps),
+                      fmt::format("{:.3f}", e.psnr), fmt::format("{:.4f}", e.ssim),
+                      fmt::format("{:.2f}", sizing.megabytes())});
       series.x.push_back(trained);
       series.y.push_back(e.psnr);
-      last = {{"label", label}, {"seconds", trained}, {"steps", trainer.steps_done()}, {"samples_per_s", sps},
-              {"psnr", e.psnr}, {"ssim", e.ssim}, {"mb", sizing.megabytes()}, {"eval_views", e.views}};
+      last = {{"label", label},           {"seconds", trained},   {"steps", trainer.steps_done()},
+              {"samples_per_s", sps},     {"psnr", e.psnr},       {"ssim", e.ssim},
+              {"mb", sizing.megabytes()}, {"eval_views", e.views}};
       spdlog::info("{}", last.dump());
       if (trained >= seconds) break;
       next_eval = std::min(seconds, next_eval + eval_every);
     }
     std::filesystem::create_directories(out);
-    write_csv(out + "/" + label + "_quality.csv", {"seconds", "steps", "samples", "samples_per_s", "psnr", "ssim", "mb"},
-              rows);
+    write_csv(out + "/" + label + "_quality.csv",
+              {"seconds", "steps", "samples", "samples_per_s", "psnr", "ssim", "mb"}, rows);
     write_chart(out + "/" + label + "_quality.png",
                 {"held-out PSNR vs training time (" + std::filesystem::path(data).filename().string() + ")",
                  "training seconds", "PSNR (dB)"},

@@ -3,12 +3,12 @@
 // PNG/EXR writing, and dlib face detection on the procedural head across yaw. Writes CSV files and
 // PNG charts into the output directory (default ./bench-synth).
 //   bench_synth [OUT_DIR] [--quick]
+#include <fmt/format.h>
+
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <string>
-
-#include <fmt/format.h>
 
 #include "fit/landmarks_dlib.h"
 #include "host/util/chart.h"
@@ -36,7 +36,8 @@ void bench_render(const synth::Subject& head, const std::string& out, bool quick
     o.force = true;
     auto views = synth::make_camera_rig(synth::rig_for(head, o));
     auto t0 = std::chrono::steady_clock::now();
-    for (const auto& v : views) synth::render_view(scene, v.camera, o.lighting, {o.samples_per_axis, std::nullopt, 0});
+    for (const auto& v : views)
+      synth::render_view(scene, v.camera, o.lighting, {o.samples_per_axis, std::nullopt, 0});
     double per_view = seconds_since(t0) / views.size();
     synth::SynthReport r = synth::synthesize_dataset(head, out + "/dataset-" + std::to_string(size), o);
     double per_view_full = r.seconds / r.views;
@@ -47,9 +48,10 @@ void bench_render(const synth::Subject& head, const std::string& out, bool quick
     full.x.push_back(double(size) * size / 1e3), full.y.push_back(per_view_full);
   }
   write_csv(out + "/synth_time_per_view.csv", {"size", "samples_per_pixel", "render_s", "synthesis_s"}, rows);
-  write_chart(out + "/synth_time_per_view.png",
-              {"Procedural head: synthesis time per view (9 spp, soft shadows)", "kilopixels", "seconds per view"},
-              {render, full});
+  write_chart(
+      out + "/synth_time_per_view.png",
+      {"Procedural head: synthesis time per view (9 spp, soft shadows)", "kilopixels", "seconds per view"},
+      {render, full});
 }
 
 void bench_detection(const synth::Subject& head, const std::string& out) {
@@ -71,8 +73,8 @@ void bench_detection(const synth::Subject& head, const std::string& out) {
         camera_project(&cam, lgn_vec3(p.x(), p.y(), p.z()), &u, &w);
         err += (d.points[i] - Eigen::Vector2d(u, w)).norm() / 51;
       }
-    std::printf("yaw %+3d: %s score %.2f mean landmark error (17-67) %.2f px\n", yaw, d.found ? "found" : "MISSED",
-                d.score, d.found ? err : -1.0);
+    std::printf("yaw %+3d: %s score %.2f mean landmark error (17-67) %.2f px\n", yaw,
+                d.found ? "found" : "MISSED", d.score, d.found ? err : -1.0);
     rows.push_back({std::to_string(yaw), d.found ? "1" : "0", fmt::format("{:.3f}", d.score),
                     d.found ? fmt::format("{:.2f}", err) : ""});
     found.x.push_back(yaw), found.y.push_back(d.found ? 1.0 : 0.0);
@@ -91,16 +93,18 @@ int main(int argc, char** argv) {
   bool quick = false;
   for (int i = 1; i < argc; ++i) {
     std::string a = argv[i];
-    if (a == "--quick") quick = true;
-    else out = a;
+    if (a == "--quick")
+      quick = true;
+    else
+      out = a;
   }
   fs::create_directories(out);
   try {
     auto t0 = std::chrono::steady_clock::now();
     synth::Subject head = synth::procedural_subject(synth::random_head_params(0));
     double build = seconds_since(t0);
-    std::printf("procedural head: %zu triangles, texture %dx%d, built in %.2f s\n", head.mesh.triangle_count(),
-                head.mesh.textures[0].width, head.mesh.textures[0].height, build);
+    std::printf("procedural head: %zu triangles, texture %dx%d, built in %.2f s\n",
+                head.mesh.triangle_count(), head.mesh.textures[0].width, head.mesh.textures[0].height, build);
     write_csv(out + "/head_build.csv", {"triangles", "texture_width", "seconds"},
               {{std::to_string(head.mesh.triangle_count()), std::to_string(head.mesh.textures[0].width),
                 fmt::format("{:.3f}", build)}});

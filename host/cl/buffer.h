@@ -23,8 +23,8 @@ class Buffer {
     mem_ = MemHandle(clCreateBuffer(rt.context(), flags, bytes, nullptr, &err));
     if (err == CL_INVALID_BUFFER_SIZE || err == CL_MEM_OBJECT_ALLOCATION_FAILURE ||
         err == CL_OUT_OF_RESOURCES || err == CL_OUT_OF_HOST_MEMORY)
-      throw Error("Could not allocate " + std::to_string(bytes >> 20) + " MiB on " +
-                      rt.device().name + ": reduce the model size or batch size",
+      throw Error("Could not allocate " + std::to_string(bytes >> 20) + " MiB on " + rt.device().name +
+                      ": reduce the model size or batch size",
                   err);
     LGN_CL_CHECK(err);
   }
@@ -37,8 +37,8 @@ class Buffer {
   void write(Runtime& rt, const T* data, size_t count, size_t offset = 0) {
     check_range(offset, count, "write");
     if (count == 0) return;
-    LGN_CL_CHECK(clEnqueueWriteBuffer(rt.queue(), mem_.get(), CL_TRUE, offset * sizeof(T),
-                                      count * sizeof(T), data, 0, nullptr, nullptr));
+    LGN_CL_CHECK(clEnqueueWriteBuffer(rt.queue(), mem_.get(), CL_TRUE, offset * sizeof(T), count * sizeof(T),
+                                      data, 0, nullptr, nullptr));
   }
   void write(Runtime& rt, const std::vector<T>& host, size_t offset = 0) {
     write(rt, host.data(), host.size(), offset);
@@ -46,8 +46,8 @@ class Buffer {
   void read(Runtime& rt, T* data, size_t count, size_t offset = 0) const {
     check_range(offset, count, "read");
     if (count == 0) return;
-    LGN_CL_CHECK(clEnqueueReadBuffer(rt.queue(), mem_.get(), CL_TRUE, offset * sizeof(T),
-                                     count * sizeof(T), data, 0, nullptr, nullptr));
+    LGN_CL_CHECK(clEnqueueReadBuffer(rt.queue(), mem_.get(), CL_TRUE, offset * sizeof(T), count * sizeof(T),
+                                     data, 0, nullptr, nullptr));
   }
   std::vector<T> read(Runtime& rt, size_t count, size_t offset = 0) const {
     std::vector<T> out(count);
@@ -74,8 +74,8 @@ class Buffer {
   void check_range(size_t offset, size_t count, const char* what) const {
     if (offset + count > count_)
       throw std::out_of_range(std::string("device buffer ") + what + " of " + std::to_string(count) +
-                              " elements at offset " + std::to_string(offset) +
-                              " exceeds its size " + std::to_string(count_));
+                              " elements at offset " + std::to_string(offset) + " exceeds its size " +
+                              std::to_string(count_));
   }
   MemHandle mem_;
   size_t count_ = 0;

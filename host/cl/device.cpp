@@ -1,11 +1,11 @@
 // Device discovery through the ICD loader; selection by index or name substring.
 #include "host/cl/device.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cctype>
 #include <stdexcept>
-
-#include <fmt/format.h>
 
 #include "host/cl/error.h"
 
@@ -50,8 +50,8 @@ std::string lower(std::string s) {
 }  // namespace
 
 std::string DeviceInfo::summary() const {
-  return fmt::format("[{}] {} ({}, {}, {} CU, {:.1f} GiB, {})", index, name, platform_name,
-                     type_name(), compute_units, global_mem_bytes / double(1ull << 30), version);
+  return fmt::format("[{}] {} ({}, {}, {} CU, {:.1f} GiB, {})", index, name, platform_name, type_name(),
+                     compute_units, global_mem_bytes / double(1ull << 30), version);
 }
 
 std::vector<DeviceInfo> list_devices() {
@@ -113,10 +113,10 @@ DeviceInfo select_device(const std::string& spec) {
   }
   std::string listing;
   for (const DeviceInfo& d : all) listing += "\n  " + d.summary();
-  throw std::runtime_error(fmt::format(
-      "No OpenCL device matches --device '{}'. Use an index or part of a name from `lorgnette "
-      "devices`:{}",
-      spec, listing));
+  throw std::runtime_error(
+      fmt::format("No OpenCL device matches --device '{}'. Use an index or part of a name from `lorgnette "
+                  "devices`:{}",
+                  spec, listing));
 }
 
 }  // namespace lorgnette::cl

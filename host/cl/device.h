@@ -1,11 +1,11 @@
 // OpenCL platform and device discovery, and the `--device` selection rule (index or name
 // substring; by default the first GPU, else the first device, which is PoCL on a plain machine).
 #pragma once
+#include <CL/cl.h>
+
 #include <cstdint>
 #include <string>
 #include <vector>
-
-#include <CL/cl.h>
 
 namespace lorgnette::cl {
 

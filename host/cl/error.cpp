@@ -51,8 +51,8 @@ const char* error_name(cl_int code) {
 }
 
 void throw_error(cl_int code, const char* call, const char* file, int line) {
-  throw Error(fmt::format("OpenCL call failed: {} returned {} ({}) at {}:{}", call,
-                          error_name(code), code, file, line),
+  throw Error(fmt::format("OpenCL call failed: {} returned {} ({}) at {}:{}", call, error_name(code), code,
+                          file, line),
               code);
 }
 

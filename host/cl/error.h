@@ -1,10 +1,10 @@
 // OpenCL error reporting: every failing call becomes a lorgnette::cl::Error that names the call,
 // the error code, and the source location, so a log line is enough to find the failure.
 #pragma once
+#include <CL/cl.h>
+
 #include <stdexcept>
 #include <string>
-
-#include <CL/cl.h>
 
 namespace lorgnette::cl {
 

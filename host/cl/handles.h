@@ -1,10 +1,10 @@
 // Move-only RAII owners for OpenCL handles: a handle is released exactly once, destructors never
 // throw (a failing release is logged), and copies cannot happen by accident.
 #pragma once
+#include <CL/cl.h>
+
 #include <typeinfo>
 #include <utility>
-
-#include <CL/cl.h>
 
 namespace lorgnette::cl {
 

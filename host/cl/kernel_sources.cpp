@@ -68,7 +68,9 @@ AssembledSource assemble_kernel_source_mapped(const std::string& root) {
   return std::move(a.out);
 }
 
-std::string assemble_kernel_source(const std::string& root) { return assemble_kernel_source_mapped(root).text; }
+std::string assemble_kernel_source(const std::string& root) {
+  return assemble_kernel_source_mapped(root).text;
+}
 
 std::string map_build_log(const std::string& log, const LineMap& lines) {
   // A placeholder name in angle brackets anywhere, or nothing at the start of a line, then :L:C.

@@ -1,15 +1,15 @@
 // Runtime: context, queue, and the two-level program cache. See runtime.h.
 #include "host/cl/runtime.h"
 
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
 #include <vector>
-
-#include <fmt/format.h>
-#include <spdlog/spdlog.h>
 
 #include "host/cl/error.h"
 #include "host/cl/kernel_sources.h"
@@ -71,8 +71,8 @@ Runtime::Runtime(const RuntimeOptions& options) : device_(select_device(options.
     std::error_code ec;
     fs::create_directories(cache_dir_, ec);
     if (ec) {
-      spdlog::warn("kernel cache directory {} is not usable ({}); compiling without a disk cache",
-                   cache_dir_, ec.message());
+      spdlog::warn("kernel cache directory {} is not usable ({}); compiling without a disk cache", cache_dir_,
+                   ec.message());
       cache_dir_.clear();
     }
   }
@@ -119,8 +119,8 @@ ProgramHandle Runtime::build_from_source(const AssembledSource& source, const st
   LGN_CL_CHECK(err);
   err = clBuildProgram(prog.get(), 1, &device_.id, options.c_str(), nullptr, nullptr);
   if (err != CL_SUCCESS) {
-    throw Error(fmt::format("OpenCL kernel compilation failed on {} with options '{}':\n{}",
-                            device_.name, options, map_build_log(build_log(prog.get(), device_.id), source.lines)),
+    throw Error(fmt::format("OpenCL kernel compilation failed on {} with options '{}':\n{}", device_.name,
+                            options, map_build_log(build_log(prog.get(), device_.id), source.lines)),
                 err);
   }
   return prog;

@@ -13,9 +13,9 @@
 namespace lorgnette::cl {
 
 struct RuntimeOptions {
-  std::string device;     // --device spec (see select_device)
-  std::string cache_dir;  // "" = $LORGNETTE_KERNEL_CACHE, else $XDG_CACHE_HOME/lorgnette/kernels,
-                          // else ~/.cache/lorgnette/kernels; "off" disables the disk cache
+  std::string device;      // --device spec (see select_device)
+  std::string cache_dir;   // "" = $LORGNETTE_KERNEL_CACHE, else $XDG_CACHE_HOME/lorgnette/kernels,
+                           // else ~/.cache/lorgnette/kernels; "off" disables the disk cache
   bool profiling = false;  // queue with CL_QUEUE_PROFILING_ENABLE
 };
 

@@ -195,8 +195,8 @@ std::vector<FrameSpec> collect_frames(const Source& src, Dataset& ds, const Load
         "dataset '{}': {} of {} {} name an image file that is not there ({}): restore those images, "
         "remove their frames from {}, or re-run `lorgnette capture` to make the dataset again",
         src.root, missing.size(), wanted_frames, frames, names, json_files));
-  spdlog::warn("dataset '{}': skipping {} of {} {} whose image file is missing ({})", src.root, missing.size(),
-               wanted_frames, frames, names);
+  spdlog::warn("dataset '{}': skipping {} of {} {} whose image file is missing ({})", src.root,
+               missing.size(), wanted_frames, frames, names);
   return kept;
 }
 

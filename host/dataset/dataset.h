@@ -73,7 +73,7 @@ struct Dataset {
   // "aabb": [[min x, y, z], [max x, y, z]] in scene units, the subject's box (written by `capture`);
   // training uses it instead of the automatic box so the room behind a head is ignored.
   std::optional<std::array<std::array<float, 3>, 2>> aabb;
-  nlohmann::json ground_truth;                 // its full content (null when absent)
+  nlohmann::json ground_truth;  // its full content (null when absent)
 
   // Frames of a split, in dataset order; an empty list when the split has none.
   std::vector<const Frame*> split(Split s) const;

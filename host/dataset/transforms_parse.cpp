@@ -112,9 +112,10 @@ DeclaredIntrinsics parse_intrinsics(const json& obj, const DeclaredIntrinsics& b
 
 std::array<std::array<float, 3>, 2> parse_aabb(const json& value, const std::string& where) {
   auto bad = [&] {
-    return std::runtime_error(fmt::format("{}: 'aabb' must be [[min x, y, z], [max x, y, z]] with finite numbers and "
-                                          "max > min on every axis; fix or remove it",
-                                          where));
+    return std::runtime_error(
+        fmt::format("{}: 'aabb' must be [[min x, y, z], [max x, y, z]] with finite numbers and "
+                    "max > min on every axis; fix or remove it",
+                    where));
   };
   if (!value.is_array() || value.size() != 2) throw bad();
   std::array<std::array<float, 3>, 2> box{};

@@ -4,8 +4,8 @@
 // field of view and the image size comes from the image itself.
 #pragma once
 #include <Eigen/Core>
-#include <nlohmann/json.hpp>
 #include <array>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>

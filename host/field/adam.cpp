@@ -10,8 +10,10 @@ namespace lorgnette::field {
 AdamParams make_adam_params(const AdamConfig& cfg, uint64_t t, uint32_t count, uint32_t mlp_offset) {
   if (!(cfg.lr > 0) || !(cfg.beta1 >= 0 && cfg.beta1 < 1) || !(cfg.beta2 >= 0 && cfg.beta2 < 1) ||
       !(cfg.eps >= 0) || !(cfg.mlp_weight_decay >= 0))
-    throw std::invalid_argument("invalid Adam configuration: need lr > 0, 0 <= beta1, beta2 < 1, eps >= 0, "
-                                "weight decay >= 0 (lr=" + std::to_string(cfg.lr) + ")");
+    throw std::invalid_argument(
+        "invalid Adam configuration: need lr > 0, 0 <= beta1, beta2 < 1, eps >= 0, "
+        "weight decay >= 0 (lr=" +
+        std::to_string(cfg.lr) + ")");
   AdamParams p{};
   p.count = count;
   p.mlp_offset = mlp_offset;

@@ -22,8 +22,8 @@ float uniform(std::mt19937_64& rng, float a) {
 }
 
 // Xavier-uniform weights (tiny-cuda-nn's default) on the logical rows/columns; padding stays zero.
-void init_layer(const LayerShape& L, std::vector<float>& params, std::mt19937_64& rng,
-                uint32_t gap_begin = 0, uint32_t gap_end = 0) {
+void init_layer(const LayerShape& L, std::vector<float>& params, std::mt19937_64& rng, uint32_t gap_begin = 0,
+                uint32_t gap_end = 0) {
   const float a = std::sqrt(6.0f / float(L.in + L.out));
   for (uint32_t j = 0; j < L.out; ++j)
     for (uint32_t k = 0, used = 0; k < L.in_pad && used < L.in; ++k) {
@@ -144,7 +144,8 @@ void Field::backward(const cl::Buffer<float>& dL_dsigma, const cl::Buffer<float>
   const LayerShape* shapes[LGN_MLP_MAX_LAYERS] = {&layout_.density[0], &layout_.density[1]};
   for (size_t h = 0; h < layout_.color.size(); ++h) shapes[2 + h] = &layout_.color[h];
   for (uint32_t l = 0; l < chain_.layers; ++l)
-    mlp_->weight_grad(*shapes[l], {&acts_, chain_.x_row[l], &deltas_, chain_.dy_row[l]}, n, dw_partial_, grads_);
+    mlp_->weight_grad(*shapes[l], {&acts_, chain_.x_row[l], &deltas_, chain_.dy_row[l]}, n, dw_partial_,
+                      grads_);
   hash_->backward(pos_copy_, deltas_, n, grads_, deterministic_);  // encoding deltas are rows 0..
 }
 

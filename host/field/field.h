@@ -3,8 +3,9 @@
 // geometry features -> RGB), trained by Adam. All parameters live in one flat device buffer and
 // their gradients in another; every kernel is deterministic (no float atomics) unless the caller
 // asks for the non-deterministic GPU path. The two MLPs run as one fused chain (all layers per
-// 32-sample slab on a CPU, kernels/mlp/mlp_chain.cl; per sample on a GPU, mlp_chain_per_sample.cl); activations and deltas are kept per sample for the
-// backward pass, about 2 x 260 floats per sample of max_batch with the default shapes.
+// 32-sample slab on a CPU, kernels/mlp/mlp_chain.cl; per sample on a GPU, mlp_chain_per_sample.cl);
+// activations and deltas are kept per sample for the backward pass, about 2 x 260 floats per sample of
+// max_batch with the default shapes.
 //
 // Per-sample arrays are structure-of-arrays Buffer<float> with stride max_batch():
 //   positions 3*max_batch (x[0..n) then y then z), in [0,1]^3 (the caller normalises the AABB);

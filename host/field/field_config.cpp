@@ -2,10 +2,9 @@
 #include "host/field/field_config.h"
 
 #include <cmath>
+#include <nlohmann/json.hpp>
 #include <stdexcept>
 #include <string>
-
-#include <nlohmann/json.hpp>
 
 namespace lorgnette::field {
 namespace {
@@ -43,7 +42,8 @@ nlohmann::json FieldConfig::to_json() const {
 }
 
 FieldConfig FieldConfig::from_json(const nlohmann::json& j) {
-  if (!j.is_object()) throw std::invalid_argument("field configuration must be a JSON object, got: " + j.dump());
+  if (!j.is_object())
+    throw std::invalid_argument("field configuration must be a JSON object, got: " + j.dump());
   FieldConfig c;
   auto get = [&j](const char* key, uint32_t& v) {
     if (!j.contains(key)) return;
@@ -75,13 +75,13 @@ void FieldConfig::validate() const {
           "log2_table_size = " + std::to_string(log2_table_size) + " (expected 8..24)");
   require(base_resolution >= 2 && base_resolution <= 1u << 16,
           "base_resolution = " + std::to_string(base_resolution) + " (expected 2..65536)");
-  require(finest_resolution >= base_resolution && finest_resolution <= 1u << 20,
-          "finest_resolution = " + std::to_string(finest_resolution) +
-              " (expected base_resolution..1048576)");
+  require(
+      finest_resolution >= base_resolution && finest_resolution <= 1u << 20,
+      "finest_resolution = " + std::to_string(finest_resolution) + " (expected base_resolution..1048576)");
   require(density_hidden >= 1 && density_hidden <= 256,
           "density_hidden = " + std::to_string(density_hidden) + " (expected 1..256)");
-  require(geo_features >= 1 && geo_features <= 64,
-          "geo_features = " + std::to_string(geo_features) + " (expected 1..64; feature 0 is the raw density)");
+  require(geo_features >= 1 && geo_features <= 64, "geo_features = " + std::to_string(geo_features) +
+                                                       " (expected 1..64; feature 0 is the raw density)");
   require(color_hidden >= 1 && color_hidden <= 256,
           "color_hidden = " + std::to_string(color_hidden) + " (expected 1..256)");
   require(color_hidden_layers >= 1 && color_hidden_layers <= 8,
@@ -98,9 +98,9 @@ ParamLayout make_layout(const FieldConfig& cfg) {
   cfg.validate();
   ParamLayout lay;
   const uint64_t table = uint64_t(1) << cfg.log2_table_size;
-  const double scale = cfg.levels > 1 ? std::log2(double(cfg.finest_resolution) / cfg.base_resolution) /
-                                            (cfg.levels - 1)
-                                      : 0.0;
+  const double scale = cfg.levels > 1
+                           ? std::log2(double(cfg.finest_resolution) / cfg.base_resolution) / (cfg.levels - 1)
+                           : 0.0;
   uint64_t cursor = 0;
   for (uint32_t l = 0; l < cfg.levels; ++l) {
     HashLevel h;
@@ -113,7 +113,8 @@ ParamLayout make_layout(const FieldConfig& cfg) {
     lay.levels.push_back(h);
   }
   lay.hash_count = cursor;
-  require(cursor < (uint64_t(1) << 31), "the hash tables exceed 2^31 parameters: lower log2_table_size or levels");
+  require(cursor < (uint64_t(1) << 31),
+          "the hash tables exceed 2^31 parameters: lower log2_table_size or levels");
   lay.enc_width = cfg.levels * cfg.features_per_level;
   lay.enc_pad = pad4(lay.enc_width);
   lay.sh_count = cfg.sh_degree * cfg.sh_degree;

@@ -3,23 +3,22 @@
 // each weight matrix lives inside the one parameter buffer the kernels and Adam operate on.
 #pragma once
 #include <cstdint>
+#include <nlohmann/json_fwd.hpp>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json_fwd.hpp>
 
 namespace lorgnette::field {
 
 struct FieldConfig {
   uint32_t levels = 16, features_per_level = 2, log2_table_size = 19, base_resolution = 16;
-  uint32_t finest_resolution = 2048;  // per-level scale derived from base/finest/levels
+  uint32_t finest_resolution = 2048;                // per-level scale derived from base/finest/levels
   uint32_t density_hidden = 64, geo_features = 16;  // density MLP 32 -> 64 -> 16 (out[0] = raw density)
   uint32_t color_hidden = 64, color_hidden_layers = 2, sh_degree = 4;  // (16 SH + 16) -> 64 -> 64 -> 3
 
   nlohmann::json to_json() const;
   static FieldConfig from_json(const nlohmann::json& j);  // missing keys keep their defaults
-  void validate() const;            // throws std::invalid_argument naming the bad value
-  uint64_t param_count() const;     // floats in the flat parameter vector (MLP widths padded to 4)
+  void validate() const;                                  // throws std::invalid_argument naming the bad value
+  uint64_t param_count() const;  // floats in the flat parameter vector (MLP widths padded to 4)
   uint64_t bytes() const { return param_count() * sizeof(float); }
   bool operator==(const FieldConfig& o) const;
 };

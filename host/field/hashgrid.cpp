@@ -25,7 +25,9 @@ HashGrid::HashGrid(cl::Runtime& rt, const FieldConfig& cfg, const ParamLayout& l
                    KernelVariant variant)
     : rt_(rt), base_(make_hashgrid_params(cfg, layout, stride)), hash_count_(layout.hash_count) {
   gpu_ = use_gpu_variant(rt, variant);
-  const std::string options = variant == KernelVariant::Auto ? "" : gpu_ ? "-DLGN_HASHGRID_GPU=1" : "-DLGN_HASHGRID_GPU=0";
+  const std::string options = variant == KernelVariant::Auto ? ""
+                              : gpu_                         ? "-DLGN_HASHGRID_GPU=1"
+                                                             : "-DLGN_HASHGRID_GPU=0";
   cl_program prog = rt.program("hashgrid/hashgrid.cl", options);
   encode_ = cl::Kernel(prog, "hashgrid_encode");
   backward_ = cl::Kernel(prog, "hashgrid_backward");

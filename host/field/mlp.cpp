@@ -6,7 +6,7 @@
 
 namespace lorgnette::field {
 namespace {
-constexpr size_t kLocal = 8;  // 32-sample work-items per work-group (2, 8 and 16 measured alike)
+constexpr size_t kLocal = 8;            // 32-sample work-items per work-group (2, 8 and 16 measured alike)
 constexpr size_t kLocalPerSample = 64;  // GPU chains: one sample per work-item, two warps per group
 uint32_t round16(uint32_t n) { return (n + 15u) & ~15u; }
 }  // namespace
@@ -34,7 +34,8 @@ ChainPlan plan_chain(const ParamLayout& lay, uint32_t stride) {
   MlpChainParams& c = plan.chain;
   c = MlpChainParams{};
   c.stride = stride;
-  auto add = [&c](const LayerShape& L, uint32_t act, uint32_t x_row, uint32_t y_row, uint32_t mask, uint32_t k_begin) {
+  auto add = [&c](const LayerShape& L, uint32_t act, uint32_t x_row, uint32_t y_row, uint32_t mask,
+                  uint32_t k_begin) {
     const uint32_t l = c.layers++;
     c.in[l] = L.in_pad;
     c.out[l] = L.out_pad;
@@ -99,9 +100,8 @@ void Mlp::forward(const LayerShape& L, const cl::Buffer<float>& params, const La
   forward_.args(p, params, *io.x, *io.y).launch(rt_, (p.n16 + 31) / 32, kLocal);
 }
 
-void Mlp::backward_input(const LayerShape& L, const cl::Buffer<float>& params, const LayerIo& io,
-                         uint32_t n, cl::Buffer<float>& dx, uint32_t dx_row, uint32_t k_begin,
-                         bool relu_mask) {
+void Mlp::backward_input(const LayerShape& L, const cl::Buffer<float>& params, const LayerIo& io, uint32_t n,
+                         cl::Buffer<float>& dx, uint32_t dx_row, uint32_t k_begin, bool relu_mask) {
   MlpParams p = base(n);
   p.in = L.in_pad;
   p.out = L.out_pad;
@@ -130,7 +130,8 @@ void Mlp::weight_grad(const LayerShape& L, const LayerIo& io, uint32_t n, cl::Bu
   grad_reduce_.args(p, partial, grads).launch(rt_, size_t(p.out) * p.in, 64);
 }
 
-void Mlp::chain_forward(MlpChainParams p, uint32_t n, const cl::Buffer<float>& params, cl::Buffer<float>& acts) {
+void Mlp::chain_forward(MlpChainParams p, uint32_t n, const cl::Buffer<float>& params,
+                        cl::Buffer<float>& acts) {
   p.n = n;
   p.n16 = round16(n);
   if (gpu_)
@@ -139,8 +140,9 @@ void Mlp::chain_forward(MlpChainParams p, uint32_t n, const cl::Buffer<float>& p
     chain_fwd_.args(p, params, acts).launch(rt_, (p.n16 + 31) / 32, kLocal);
 }
 
-void Mlp::chain_backward(MlpChainParams p, uint32_t n, const cl::Buffer<float>& params, const cl::Buffer<float>& acts,
-                         cl::Buffer<float>& deltas, const cl::Buffer<float>& d_sigma, const cl::Buffer<float>& d_rgb) {
+void Mlp::chain_backward(MlpChainParams p, uint32_t n, const cl::Buffer<float>& params,
+                         const cl::Buffer<float>& acts, cl::Buffer<float>& deltas,
+                         const cl::Buffer<float>& d_sigma, const cl::Buffer<float>& d_rgb) {
   p.n = n;
   p.n16 = round16(n);
   if (gpu_)

@@ -1,6 +1,6 @@
 // Host side of the tiny-MLP kernels: single dense layers and fused chains of them
-// (kernels/mlp/mlp.cl, mlp_chain.cl or mlp_chain_per_sample.cl), deterministic weight gradients (per-chunk partials +
-// fixed-order reduction), and the small head kernels (SH encoding, sigma) the Field uses.
+// (kernels/mlp/mlp.cl, mlp_chain.cl or mlp_chain_per_sample.cl), deterministic weight gradients (per-chunk
+// partials + fixed-order reduction), and the small head kernels (SH encoding, sigma) the Field uses.
 #pragma once
 #include <cstdint>
 
@@ -17,7 +17,7 @@ namespace lorgnette::field {
 struct LayerIo {
   const cl::Buffer<float>* x = nullptr;  // layer input (activated output of the previous layer)
   uint32_t x_row = 0;
-  cl::Buffer<float>* y = nullptr;        // forward: output; backward: the output delta dz
+  cl::Buffer<float>* y = nullptr;  // forward: output; backward: the output delta dz
   uint32_t y_row = 0;
 };
 
@@ -58,11 +58,13 @@ class Mlp {
 
   // Fused chains (see MlpChainParams); p.n and p.n16 are set from n.
   void chain_forward(MlpChainParams p, uint32_t n, const cl::Buffer<float>& params, cl::Buffer<float>& acts);
-  void chain_backward(MlpChainParams p, uint32_t n, const cl::Buffer<float>& params, const cl::Buffer<float>& acts,
-                      cl::Buffer<float>& deltas, const cl::Buffer<float>& d_sigma, const cl::Buffer<float>& d_rgb);
+  void chain_backward(MlpChainParams p, uint32_t n, const cl::Buffer<float>& params,
+                      const cl::Buffer<float>& acts, cl::Buffer<float>& deltas,
+                      const cl::Buffer<float>& d_sigma, const cl::Buffer<float>& d_rgb);
 
   // rows [row, row + sh_count) of `out` = SH basis of the directions.
-  void sh_encode(const cl::Buffer<float>& dir, uint32_t n, uint32_t sh_count, cl::Buffer<float>& out, uint32_t row);
+  void sh_encode(const cl::Buffer<float>& dir, uint32_t n, uint32_t sh_count, cl::Buffer<float>& out,
+                 uint32_t row);
   void sigma(const cl::Buffer<float>& geo, uint32_t raw_row, uint32_t n, cl::Buffer<float>& sigma);
 
  private:

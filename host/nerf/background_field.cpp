@@ -1,10 +1,10 @@
 // The room model trained beside the subject's; see background_field.h.
 #include "host/nerf/background_field.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
-
-#include <fmt/format.h>
 
 #include "kernels/train/occupancy.h"
 #include "kernels/train/render.h"
@@ -17,7 +17,8 @@ Aabb room_box(const NerfModel& subject, const DeviceViews& views, float scale) {
   float far = 0.0f;
   for (const Camera& cam : views.cameras()) {
     LgnVec3 o = camera_origin(&cam);
-    far = std::max(far, std::sqrt((o.x - c[0]) * (o.x - c[0]) + (o.y - c[1]) * (o.y - c[1]) + (o.z - c[2]) * (o.z - c[2])));
+    far = std::max(far, std::sqrt((o.x - c[0]) * (o.x - c[0]) + (o.y - c[1]) * (o.y - c[1]) +
+                                  (o.z - c[2]) * (o.z - c[2])));
   }
   const float half = scale * std::max(far, subject.aabb().max_extent());
   Aabb box;
@@ -62,9 +63,10 @@ BackgroundField::BackgroundField(cl::Runtime& rt, const NerfModel& subject, cons
   cfg.sh_degree = options.sh_degree;
   cfg.validate();
   model_ = std::make_unique<NerfModel>(rt, cfg, box, options.occupancy_resolution,
-                                       box.diagonal() / float(options.steps_per_diagonal), max_batch, seed + 7919u,
-                                       false);
-  std::vector<uint32_t> mask = room_mask(box, subject.aabb(), options.cutout_margin, options.occupancy_resolution);
+                                       box.diagonal() / float(options.steps_per_diagonal), max_batch,
+                                       seed + 7919u, false);
+  std::vector<uint32_t> mask =
+      room_mask(box, subject.aabb(), options.cutout_margin, options.occupancy_resolution);
   OccupancyGrid grid = model_->occupancy();
   for (size_t w = 0; w < grid.bits.size(); ++w) grid.bits[w] &= mask[w];
   model_->set_occupancy(std::move(grid));
@@ -74,7 +76,8 @@ BackgroundField::BackgroundField(cl::Runtime& rt, const NerfModel& subject, cons
   near_t_ = 3.0e38f;
   for (const Camera& cam : views.cameras()) {
     LgnVec3 o = camera_origin(&cam);
-    near_t_ = std::min(near_t_, std::sqrt((o.x - c[0]) * (o.x - c[0]) + (o.y - c[1]) * (o.y - c[1]) + (o.z - c[2]) * (o.z - c[2])));
+    near_t_ = std::min(near_t_, std::sqrt((o.x - c[0]) * (o.x - c[0]) + (o.y - c[1]) * (o.y - c[1]) +
+                                          (o.z - c[2]) * (o.z - c[2])));
   }
 }
 
@@ -82,10 +85,11 @@ BackgroundField::~BackgroundField() = default;
 
 std::string BackgroundField::summary() const {
   const Aabb& b = model_->aabb();
-  return fmt::format("room model: box {:.2f} units wide around the subject (subject box cut out), {} levels up to {}, "
-                     "2^{} table, {:.1f} MB (training only)",
-                     b.extent(0), options_.levels, options_.finest_resolution, options_.log2_table,
-                     double(model_->param_bytes()) / (1024.0 * 1024.0));
+  return fmt::format(
+      "room model: box {:.2f} units wide around the subject (subject box cut out), {} levels up to {}, "
+      "2^{} table, {:.1f} MB (training only)",
+      b.extent(0), options_.levels, options_.finest_resolution, options_.log2_table,
+      double(model_->param_bytes()) / (1024.0 * 1024.0));
 }
 
 uint32_t BackgroundField::count(const SampleParams& subject_params, const DeviceViews& views) {
@@ -105,7 +109,8 @@ void BackgroundField::render_backgrounds(const SampleParams&, const DeviceViews&
   uint32_t n = batch_->write(params_, views, 0, end);
   written_ = end;
   if (n > 0)
-    model_->field().forward(batch_->positions(), batch_->directions(), n, batch_->sigma(), batch_->rgb(), true);
+    model_->field().forward(batch_->positions(), batch_->directions(), n, batch_->sigma(), batch_->rgb(),
+                            true);
   batch_->render(LOSS_L2_LINEAR, true);
   colors_ = batch_->colors();
   if (end == 0) return;
@@ -115,7 +120,8 @@ void BackgroundField::render_backgrounds(const SampleParams&, const DeviceViews&
   subject.ray_info_mut().write(rt, info);
 }
 
-void BackgroundField::backward(RayBatch& subject, uint32_t loss_kind, const field::AdamConfig& adam, uint32_t step) {
+void BackgroundField::backward(RayBatch& subject, uint32_t loss_kind, const field::AdamConfig& adam,
+                               uint32_t step) {
   cl::Runtime& rt = model_->runtime();
   const uint32_t end = written_;
   if (end > 0) {

@@ -3,9 +3,9 @@
 // model. Every training ray is rendered by both: the room model's colour along the ray is the
 // background the subject's model composites over (C = C_subject + T_subject * C_room; the room model
 // is sampled only from the subject's distance from the cameras on, so none of it lies in front of
-// the subject), so the room no longer has to be painted onto the subject box's faces, and the subject model's opacity becomes
-// a matte. The room model is for training only: renders, the fit and snapshots use the subject
-// model alone, over a plain background.
+// the subject), so the room no longer has to be painted onto the subject box's faces, and the subject model's
+// opacity becomes a matte. The room model is for training only: renders, the fit and snapshots use the
+// subject model alone, over a plain background.
 //
 // Gradient to the room model without touching the kernels: with the linear L2 loss the loss kernel
 // computes dL/dC = 2 * grad_scale * (C - target), so setting the room rays' target to
@@ -27,7 +27,7 @@ namespace lorgnette::nerf {
 
 struct BackgroundOptions {
   bool enabled = false;
-  float box_scale = 4.0f;            // room box half-size = box_scale * farthest camera distance
+  float box_scale = 4.0f;  // room box half-size = box_scale * farthest camera distance
   uint32_t levels = 10, log2_table = 17, finest_resolution = 512, occupancy_resolution = 64;
   uint32_t steps_per_diagonal = 384;
   // Colour without view dependence (SH degree 1): a room model that could change colour with the
@@ -37,15 +37,15 @@ struct BackgroundOptions {
   // (not downwards: the shoulders and body below the head box belong to the room model) is cut
   // out of the room model, so it cannot paint the face on a surface just behind the head.
   float cutout_margin = 0.5f;
-  float lr_scale = 1.0f;             // the room model's learning rate relative to the subject's
+  float lr_scale = 1.0f;  // the room model's learning rate relative to the subject's
 };
 
 class BackgroundField {
  public:
   // subject: the subject's model (its box is cut out of the room's occupancy); views: the training
   // views (camera positions size the room box).
-  BackgroundField(cl::Runtime& rt, const NerfModel& subject, const DeviceViews& views, const BackgroundOptions& options,
-                  uint32_t max_batch, uint32_t seed);
+  BackgroundField(cl::Runtime& rt, const NerfModel& subject, const DeviceViews& views,
+                  const BackgroundOptions& options, uint32_t max_batch, uint32_t seed);
   ~BackgroundField();
 
   NerfModel& model() { return *model_; }

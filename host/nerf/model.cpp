@@ -2,10 +2,10 @@
 // (snapshot.h), which is validated in full before any device object is built.
 #include "host/nerf/model.h"
 
+#include <fmt/format.h>
+
 #include <cmath>
 #include <stdexcept>
-
-#include <fmt/format.h>
 
 #include "host/util/image_io.h"
 #include "kernels/train/occupancy.h"
@@ -18,10 +18,12 @@ NerfModel::NerfModel(cl::Runtime& rt, const field::FieldConfig& config, const Aa
       field_(std::make_unique<field::Field>(rt, config, max_batch, seed, deterministic)),
       aabb_(aabb),
       step_(step) {
-  if (!aabb.valid()) throw std::invalid_argument("NerfModel: the bounding box must have max > min on every axis");
+  if (!aabb.valid())
+    throw std::invalid_argument("NerfModel: the bounding box must have max > min on every axis");
   if (!(step > 0.0f)) throw std::invalid_argument("NerfModel: the step size must be positive");
   if (occ_res < 1 || occ_res > 1024)
-    throw std::invalid_argument(fmt::format("NerfModel: occupancy resolution {} is outside 1..1024", occ_res));
+    throw std::invalid_argument(
+        fmt::format("NerfModel: occupancy resolution {} is outside 1..1024", occ_res));
   set_occupancy(full_occupancy(occ_res));
 }
 

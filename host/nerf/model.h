@@ -27,8 +27,8 @@ namespace lorgnette::nerf {
 class NerfModel {
  public:
   // A fresh model: field initialised from `seed`, every occupancy cell occupied.
-  NerfModel(cl::Runtime& rt, const field::FieldConfig& config, const Aabb& aabb, uint32_t occ_res,
-            float step, uint32_t max_batch, uint64_t seed, bool deterministic);
+  NerfModel(cl::Runtime& rt, const field::FieldConfig& config, const Aabb& aabb, uint32_t occ_res, float step,
+            uint32_t max_batch, uint64_t seed, bool deterministic);
   NerfModel(NerfModel&&) = default;
   NerfModel& operator=(NerfModel&&) = default;
 

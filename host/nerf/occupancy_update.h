@@ -14,8 +14,8 @@
 namespace lorgnette::nerf {
 
 struct OccupancyOptions {
-  uint32_t update_every = 16;    // training steps between updates
-  uint32_t warmup_steps = 256;   // until then every cell is evaluated at every update
+  uint32_t update_every = 16;   // training steps between updates
+  uint32_t warmup_steps = 256;  // until then every cell is evaluated at every update
   float decay = 0.95f;
   float threshold_alpha = 0.01f;  // opacity of one step that counts as occupied
 };

@@ -1,9 +1,9 @@
 // RayBatch: drives kernels/train/sampling.cl and loss.cl for one batch of rays.
 #include "host/nerf/ray_batch.h"
 
-#include <stdexcept>
-
 #include <fmt/format.h>
+
+#include <stdexcept>
 
 namespace lorgnette::nerf {
 namespace {
@@ -50,10 +50,12 @@ RayBatch::RayBatch(NerfModel& model, uint32_t max_rays)
 
 const std::vector<uint32_t>& RayBatch::count(const SampleParams& p, const DeviceViews& views) {
   if (p.n_rays > max_rays_)
-    throw std::invalid_argument(fmt::format("RayBatch::count: {} rays exceed the capacity {}", p.n_rays, max_rays_));
+    throw std::invalid_argument(
+        fmt::format("RayBatch::count: {} rays exceed the capacity {}", p.n_rays, max_rays_));
   cl::Runtime& rt = model_.runtime();
   if (p.n_rays > 0) {
-    count_k_.args(p, views.camera_buffer(), views.offsets(), views.pixels(), model_.occupancy_bits(), counts_dev_)
+    count_k_
+        .args(p, views.camera_buffer(), views.offsets(), views.pixels(), model_.occupancy_bits(), counts_dev_)
         .launch(rt, p.n_rays, kLocal);
   }
   counts_ = counts_dev_.read(rt, p.n_rays);
@@ -68,7 +70,8 @@ uint32_t RayBatch::fit(uint32_t begin, uint32_t budget) const {
 }
 
 uint32_t RayBatch::write(SampleParams p, const DeviceViews& views, uint32_t begin, uint32_t end) {
-  if (end > counts_.size() || begin > end) throw std::out_of_range("RayBatch::write: ray range outside the counted rays");
+  if (end > counts_.size() || begin > end)
+    throw std::out_of_range("RayBatch::write: ray range outside the counted rays");
   cl::Runtime& rt = model_.runtime();
   uint32_t n = end - begin;
   std::vector<uint32_t> offsets(n), counts(counts_.begin() + begin, counts_.begin() + end);
@@ -77,7 +80,8 @@ uint32_t RayBatch::write(SampleParams p, const DeviceViews& views, uint32_t begi
     offsets[i] = static_cast<uint32_t>(total);
     total += counts[i];
   }
-  if (total > stride_) throw std::out_of_range(fmt::format("RayBatch::write: {} samples exceed the batch {}", total, stride_));
+  if (total > stride_)
+    throw std::out_of_range(fmt::format("RayBatch::write: {} samples exceed the batch {}", total, stride_));
   written_rays_ = n;
   written_samples_ = static_cast<uint32_t>(total);
   if (n == 0) return 0;
@@ -85,8 +89,9 @@ uint32_t RayBatch::write(SampleParams p, const DeviceViews& views, uint32_t begi
   sub_counts_.write(rt, counts);
   p.ray_begin = begin;
   p.ray_end = end;
-  write_k_.args(p, views.camera_buffer(), views.offsets(), views.pixels(), model_.occupancy_bits(), sub_offsets_,
-                pos_, dir_, ray_info_)
+  write_k_
+      .args(p, views.camera_buffer(), views.offsets(), views.pixels(), model_.occupancy_bits(), sub_offsets_,
+            pos_, dir_, ray_info_)
       .launch(rt, n, kLocal);
   return written_samples_;
 }
@@ -102,7 +107,8 @@ double RayBatch::render(uint32_t loss_kind, bool forward_only, float min_transmi
   lp.step = model_.step();
   lp.grad_scale = 1.0f / (3.0f * float(written_rays_));
   lp.min_transmittance = min_transmittance;
-  render_k_.args(lp, sub_offsets_, sub_counts_, ray_info_, sigma_, rgb_, dsigma_, drgb_, ray_loss_, ray_color_)
+  render_k_
+      .args(lp, sub_offsets_, sub_counts_, ray_info_, sigma_, rgb_, dsigma_, drgb_, ray_loss_, ray_color_)
       .launch(rt, written_rays_, kLocal);
   if (forward_only) return 0.0;
   std::vector<float> losses = ray_loss_.read(rt, written_rays_);

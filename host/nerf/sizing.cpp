@@ -2,14 +2,14 @@
 // pixel-footprint resolution and surface-area table size (see sizing.h for the rules).
 #include "host/nerf/sizing.h"
 
-#include <algorithm>
-#include <cmath>
-#include <stdexcept>
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
 
 #include <Eigen/Dense>
-#include <fmt/format.h>
+#include <algorithm>
+#include <cmath>
 #include <opencv2/imgproc.hpp>
-#include <spdlog/spdlog.h>
+#include <stdexcept>
 
 #include "kernels/train/occupancy.h"
 
@@ -20,10 +20,13 @@ constexpr int kCarveRes = 64;
 constexpr int kCarveViews = 48;
 
 Eigen::Vector3d cam_origin(const Camera& c) { return {c.c2w[3], c.c2w[7], c.c2w[11]}; }
-Eigen::Vector3d cam_forward(const Camera& c) { return -Eigen::Vector3d(c.c2w[2], c.c2w[6], c.c2w[10]).normalized(); }
+Eigen::Vector3d cam_forward(const Camera& c) {
+  return -Eigen::Vector3d(c.c2w[2], c.c2w[6], c.c2w[10]).normalized();
+}
 
 bool has_alpha(const std::vector<View>& views) {
-  return std::any_of(views.begin(), views.end(), [](const View& v) { return v.image && v.image->has_transparency(); });
+  return std::any_of(views.begin(), views.end(),
+                     [](const View& v) { return v.image && v.image->has_transparency(); });
 }
 
 struct Carve {
@@ -144,7 +147,8 @@ double nearest_hull_distance(const std::vector<View>& views, const Carve& c) {
     for (int y = 0; y < kCarveRes; ++y)
       for (int x = 0; x < kCarveRes; ++x) {
         if (!c.at(x, y, z)) continue;
-        Eigen::Vector3d p(c.min[0] + (x + 0.5) * c.voxel, c.min[1] + (y + 0.5) * c.voxel, c.min[2] + (z + 0.5) * c.voxel);
+        Eigen::Vector3d p(c.min[0] + (x + 0.5) * c.voxel, c.min[1] + (y + 0.5) * c.voxel,
+                          c.min[2] + (z + 0.5) * c.voxel);
         for (const auto& v : views) best = std::min(best, (cam_origin(v.camera) - p).norm());
       }
   return std::max(best - 0.87 * c.voxel, 0.5 * c.voxel);
@@ -208,13 +212,16 @@ ModelSizing choose_model_size(const std::vector<View>& views, const SizingOverri
   }
   if (s.from.empty()) {
     double half = ov.aabb_scale * 0.5 * median;
-    for (int a = 0; a < 3; ++a) s.aabb.min[a] = float(center[a] - half), s.aabb.max[a] = float(center[a] + half);
-    s.from = fmt::format("cameras (look-at point, half-size {:.3g} = aabb_scale {} x half the median camera distance)",
-                         half, ov.aabb_scale);
+    for (int a = 0; a < 3; ++a)
+      s.aabb.min[a] = float(center[a] - half), s.aabb.max[a] = float(center[a] + half);
+    s.from = fmt::format(
+        "cameras (look-at point, half-size {:.3g} = aabb_scale {} x half the median camera distance)", half,
+        ov.aabb_scale);
   }
   if (!s.aabb.valid()) throw std::runtime_error("the bounding box is empty or not finite: check --aabb");
-  if (area <= 0.0) area = 2.0 * (s.aabb.extent(0) * s.aabb.extent(1) + s.aabb.extent(1) * s.aabb.extent(2) +
-                                 s.aabb.extent(0) * s.aabb.extent(2));
+  if (area <= 0.0)
+    area = 2.0 * (s.aabb.extent(0) * s.aabb.extent(1) + s.aabb.extent(1) * s.aabb.extent(2) +
+                  s.aabb.extent(0) * s.aabb.extent(2));
   if (hull) s.occupancy_mask = mask_from_hull(*hull, s.aabb, s.occupancy_resolution);
   float fx = 0.0f;
   for (const auto& c : cams) fx = std::max({fx, c.fx, c.fy});
@@ -234,8 +241,10 @@ ModelSizing choose_model_size(const std::vector<View>& views, const SizingOverri
 
 std::string ModelSizing::summary() const {
   return fmt::format(
-      "model: AABB [{:.3f} {:.3f} {:.3f}] .. [{:.3f} {:.3f} {:.3f}] from {}; nearest camera {:.3f} units, pixel "
-      "footprint {:.2e} -> finest grid {} ({} levels from {}); hash table 2^{}; occupancy {}^3{}; step {:.4g}; "
+      "model: AABB [{:.3f} {:.3f} {:.3f}] .. [{:.3f} {:.3f} {:.3f}] from {}; nearest camera {:.3f} units, "
+      "pixel "
+      "footprint {:.2e} -> finest grid {} ({} levels from {}); hash table 2^{}; occupancy {}^3{}; step "
+      "{:.4g}; "
       "{:.1f} MB of parameters",
       aabb.min[0], aabb.min[1], aabb.min[2], aabb.max[0], aabb.max[1], aabb.max[2], from, nearest_distance,
       pixel_footprint, field.finest_resolution, field.levels, field.base_resolution, field.log2_table_size,

@@ -28,10 +28,10 @@ namespace lorgnette::nerf {
 struct SizingOverrides {
   std::optional<Aabb> aabb;
   std::optional<uint32_t> finest_resolution, log2_table_size, levels, occupancy_resolution;
-  std::optional<float> step;                      // scene units
-  float aabb_scale = 1.0f;                        // dataset hint (no-mask datasets)
-  uint32_t steps_per_diagonal = 512;              // default step = AABB diagonal / this
-  bool use_masks = true;                          // carve the visual hull from alpha when present
+  std::optional<float> step;          // scene units
+  float aabb_scale = 1.0f;            // dataset hint (no-mask datasets)
+  uint32_t steps_per_diagonal = 512;  // default step = AABB diagonal / this
+  bool use_masks = true;              // carve the visual hull from alpha when present
 };
 
 struct ModelSizing {

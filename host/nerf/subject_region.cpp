@@ -1,10 +1,10 @@
 // The subject's connected region on the occupancy grid; see subject_region.h.
 #include "host/nerf/subject_region.h"
 
+#include <fmt/format.h>
+
 #include <cmath>
 #include <vector>
-
-#include <fmt/format.h>
 
 namespace lorgnette::nerf {
 namespace {
@@ -14,10 +14,12 @@ bool bit(const std::vector<uint32_t>& bits, uint64_t cell) { return (bits[cell >
 }  // namespace
 
 std::string SubjectRegionReport::summary() const {
-  if (!found) return "subject region: nothing occupied near the middle of the subject box; the model was left as it is";
-  return fmt::format("subject region: kept {} occupied cells connected to the middle of the subject box, removed {} "
-                     "({:.1f} %) elsewhere",
-                     kept, removed, kept + removed ? 100.0 * double(removed) / double(kept + removed) : 0.0);
+  if (!found)
+    return "subject region: nothing occupied near the middle of the subject box; the model was left as it is";
+  return fmt::format(
+      "subject region: kept {} occupied cells connected to the middle of the subject box, removed {} "
+      "({:.1f} %) elsewhere",
+      kept, removed, kept + removed ? 100.0 * double(removed) / double(kept + removed) : 0.0);
 }
 
 SubjectRegionReport keep_central_region(OccupancyGrid& grid, float seed_radius) {
@@ -31,7 +33,8 @@ SubjectRegionReport keep_central_region(OccupancyGrid& grid, float seed_radius) 
       for (int x = 0; x < res; ++x) {
         float dx = x + 0.5f - c, dy = y + 0.5f - c, dz = z + 0.5f - c;
         uint64_t cell = uint64_t(x) + uint64_t(res) * (uint64_t(y) + uint64_t(res) * uint64_t(z));
-        if (dx * dx + dy * dy + dz * dz <= r * r && bit(grid.bits, cell)) keep[cell] = 1, stack.push_back(cell);
+        if (dx * dx + dy * dy + dz * dz <= r * r && bit(grid.bits, cell))
+          keep[cell] = 1, stack.push_back(cell);
       }
   SubjectRegionReport rep;
   rep.found = !stack.empty();

@@ -11,7 +11,7 @@
 namespace lorgnette::nerf {
 
 struct SubjectRegionReport {
-  bool found = false;        // a seed cell was occupied
+  bool found = false;              // a seed cell was occupied
   uint64_t kept = 0, removed = 0;  // occupied cells
   std::string summary() const;
 };

@@ -1,10 +1,10 @@
 // The default training budget in steps (see train_budget.h).
 #include "host/nerf/train_budget.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
-
-#include <fmt/format.h>
 
 namespace lorgnette::nerf {
 
@@ -16,11 +16,12 @@ StepBudget default_training_steps(uint64_t parameters, uint32_t batch_log2) {
   steps = std::clamp<uint64_t>(steps, kMinSteps, kMaxSteps);
   StepBudget b;
   b.steps = steps;
-  b.why = fmt::format("{} steps of 2^{} samples: {:.0f} samples for each of the model's {:.1f} M parameters{}",
-                      steps, batch_log2, kSamplesPerParameter, double(parameters) / 1e6,
-                      raw < double(kMinSteps) ? fmt::format(", raised to the minimum {}", kMinSteps)
-                      : raw > double(kMaxSteps) ? fmt::format(", capped at {}", kMaxSteps)
-                                                : std::string());
+  b.why =
+      fmt::format("{} steps of 2^{} samples: {:.0f} samples for each of the model's {:.1f} M parameters{}",
+                  steps, batch_log2, kSamplesPerParameter, double(parameters) / 1e6,
+                  raw < double(kMinSteps)   ? fmt::format(", raised to the minimum {}", kMinSteps)
+                  : raw > double(kMaxSteps) ? fmt::format(", capped at {}", kMaxSteps)
+                                            : std::string());
   return b;
 }
 

@@ -1,10 +1,10 @@
 // One-call training from a dataset; see train_job.h.
 #include "host/nerf/train_job.h"
 
-#include <filesystem>
-
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
+
+#include <filesystem>
 
 #include "host/nerf/subject_region.h"
 
@@ -14,7 +14,8 @@ std::vector<View> training_views(const dataset::Dataset& ds) {
   std::vector<View> views;
   for (const dataset::Frame* f : ds.split(dataset::Split::Train)) views.push_back({f->camera, &f->image});
   if (views.empty())
-    throw std::runtime_error("'" + ds.root + "' has no training frames: check the dataset's frame list and splits");
+    throw std::runtime_error("'" + ds.root +
+                             "' has no training frames: check the dataset's frame list and splits");
   return views;
 }
 
@@ -38,8 +39,8 @@ TrainJobResult train_on_dataset(cl::Runtime& rt, const dataset::Dataset& ds, Tra
   }
   ModelSizing sizing = choose_model_size(views, job.sizing);
   spdlog::info("{}", sizing.summary());
-  NerfModel model(rt, sizing.field, sizing.aabb, sizing.occupancy_resolution, sizing.step, 1u << job.batch_log2,
-                  job.train.seed, job.deterministic);
+  NerfModel model(rt, sizing.field, sizing.aabb, sizing.occupancy_resolution, sizing.step,
+                  1u << job.batch_log2, job.train.seed, job.deterministic);
   model.metadata.dataset_path = std::filesystem::absolute(ds.root).string();
   model.metadata.dataset_hash = dataset_fingerprint(ds);
   model.metadata.device = rt.device().name;
@@ -56,9 +57,9 @@ TrainJobResult train_on_dataset(cl::Runtime& rt, const dataset::Dataset& ds, Tra
   const bool from_cameras = sizing.from.find("cameras") != std::string::npos;
   bool background = job.background == "on" || (job.background == "auto" && !ds.has_alpha && !from_cameras);
   job.train.background.enabled = background;
-  spdlog::info("background: {}", background ? "a room model behind the subject (mask-less capture, subject box)"
-                                            : (ds.has_alpha ? "none (the images' alpha masks separate the subject)"
-                                                            : "none"));
+  spdlog::info("background: {}",
+               background ? "a room model behind the subject (mask-less capture, subject box)"
+                          : (ds.has_alpha ? "none (the images' alpha masks separate the subject)" : "none"));
   std::string region;
   {
     Trainer trainer(model, views, job.train, sizing.occupancy_mask);
@@ -74,9 +75,12 @@ TrainJobResult train_on_dataset(cl::Runtime& rt, const dataset::Dataset& ds, Tra
       }
       spdlog::info("{}", region);
       if (!rep.found)
-        spdlog::warn("the subject could not be separated from the room: nothing was reconstructed in the middle of the "
-                     "subject box. Film the face filling a third of the frame, in focus, sweeping slowly from one side "
-                     "to the other");
+        spdlog::warn(
+            "the subject could not be separated from the room: nothing was reconstructed in the middle of "
+            "the "
+            "subject box. Film the face filling a third of the frame, in focus, sweeping slowly from one "
+            "side "
+            "to the other");
     }
     TrainJobResult out{std::move(model), std::move(sizing), std::move(result), std::move(budget_text)};
     out.background = background;

@@ -15,21 +15,21 @@
 namespace lorgnette::nerf {
 
 struct TrainJob {
-  SizingOverrides sizing;   // its aabb_scale is replaced by `aabb_scale` below
-  float aabb_scale = 0.0f;  // box size factor for mask-less datasets; 0 = the dataset's own hint
-  uint32_t batch_log2 = 16; // samples per step = 2^batch_log2
+  SizingOverrides sizing;    // its aabb_scale is replaced by `aabb_scale` below
+  float aabb_scale = 0.0f;   // box size factor for mask-less datasets; 0 = the dataset's own hint
+  uint32_t batch_log2 = 16;  // samples per step = 2^batch_log2
   bool deterministic = false;
   // Room model behind the subject (background_field.h) and the subject's connected region after
   // training (subject_region.h): "auto" = on for mask-less datasets whose box is not the cameras'.
   std::string background = "auto";  // auto | on | off
-  TrainOptions train;       // steps/seconds (both 0: the size-based default, train_budget.h), seed, ...
+  TrainOptions train;  // steps/seconds (both 0: the size-based default, train_budget.h), seed, ...
 };
 
 struct TrainJobResult {
   NerfModel model;
   ModelSizing sizing;
   TrainResult result;
-  std::string budget;  // which budget applied and why (train_budget.h)
+  std::string budget;       // which budget applied and why (train_budget.h)
   bool background = false;  // trained with a room model
   std::string region;       // the subject region's summary ("" without a room model)
 };

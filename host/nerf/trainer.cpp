@@ -2,12 +2,12 @@
 // (schedule, progress, snapshots, Ctrl-C, divergence).
 #include "host/nerf/trainer.h"
 
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-
-#include <fmt/format.h>
-#include <spdlog/spdlog.h>
 
 #include "host/util/interrupt.h"
 #include "host/util/progress.h"
@@ -30,10 +30,12 @@ Trainer::Trainer(NerfModel& model, const std::vector<View>& views, const TrainOp
     for (size_t w = 0; w < grid.bits.size(); ++w) grid.bits[w] &= occupancy_mask[w];
     model.set_occupancy(std::move(grid));
   }
-  occupancy_ = std::make_unique<OccupancyUpdater>(model, options.occupancy, options.seed, std::move(occupancy_mask));
+  occupancy_ =
+      std::make_unique<OccupancyUpdater>(model, options.occupancy, options.seed, std::move(occupancy_mask));
   n_rays_ = std::max<uint32_t>(64, batch / 32);
   if (options.background.enabled) {
-    background_ = std::make_unique<BackgroundField>(rt, model, *views_, options.background, batch, options.seed);
+    background_ =
+        std::make_unique<BackgroundField>(rt, model, *views_, options.background, batch, options.seed);
     spdlog::info("{}", background_->summary());
   }
 }
@@ -66,7 +68,8 @@ double Trainer::step() {
   // Next step's ray count aims at a full batch (integer arithmetic: deterministic).
   uint64_t want = counted ? uint64_t(batch) * n_rays_ / counted : uint64_t(n_rays_) * 2;
   n_rays_ = static_cast<uint32_t>(std::clamp<uint64_t>(want, 64, batch_->max_rays()));
-  if (n > 0) field.forward(batch_->positions(), batch_->directions(), n, batch_->sigma(), batch_->rgb(), true);
+  if (n > 0)
+    field.forward(batch_->positions(), batch_->directions(), n, batch_->sigma(), batch_->rgb(), true);
   double loss_sum = batch_->render(options_.loss_kind, false);
   field::AdamConfig adam = options_.adam;
   adam.lr = learning_rate(elapsed_);
@@ -143,12 +146,13 @@ TrainResult Trainer::run() {
     if (options_.on_step) options_.on_step(step_, now, loss);
     if (options_.progress)
       bar.update(by_steps ? double(step_) : now,
-                 fmt::format("step {}  {:.0f}k samples/s  loss {:.5f}  PSNR {:.2f} dB  {:.1f}% occupied", step_,
-                             double(samples_ - samples_at_start) / std::max(now, 1e-9) / 1e3, loss,
+                 fmt::format("step {}  {:.0f}k samples/s  loss {:.5f}  PSNR {:.2f} dB  {:.1f}% occupied",
+                             step_, double(samples_ - samples_at_start) / std::max(now, 1e-9) / 1e3, loss,
                              -10.0 * std::log10(std::max(mse_ema, 1e-12)),
                              100.0 * model_.occupancy().occupied_fraction()));
     if (options_.snapshot_every_seconds > 0.0 &&
-        std::chrono::duration<double>(clock::now() - last_snapshot).count() > options_.snapshot_every_seconds) {
+        std::chrono::duration<double>(clock::now() - last_snapshot).count() >
+            options_.snapshot_every_seconds) {
       save_snapshot(now);
       last_snapshot = clock::now();
     }

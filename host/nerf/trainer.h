@@ -25,17 +25,17 @@
 namespace lorgnette::nerf {
 
 struct TrainOptions {
-  uint64_t steps = 0;           // stop after this many steps (0: no step limit)
-  double seconds = 0.0;         // stop after this much time (0: no time limit); one of the two is required
+  uint64_t steps = 0;    // stop after this many steps (0: no step limit)
+  double seconds = 0.0;  // stop after this much time (0: no time limit); one of the two is required
   uint32_t seed = 1337;
   uint32_t loss_kind = LOSS_L2_SRGB;
-  field::AdamConfig adam;       // lr is the base learning rate
+  field::AdamConfig adam;  // lr is the base learning rate
   // Learning rate: base until `decay_start` of the run (steps or seconds), then exponential decay
   // to base * final_lr_fraction at the end.
   double decay_start = 0.5, final_lr_fraction = 0.1;
   OccupancyOptions occupancy;
   BackgroundOptions background;  // a room model behind the subject (mask-less captures)
-  std::string snapshot_path;    // periodic / final / last-good snapshots ("" = none)
+  std::string snapshot_path;     // periodic / final / last-good snapshots ("" = none)
   double snapshot_every_seconds = 120.0;
   uint32_t good_copy_every = 50;  // steps between in-memory copies of the parameters for NaN recovery
   bool progress = true;
@@ -47,8 +47,8 @@ struct TrainResult {
   uint64_t steps = 0;
   double seconds = 0.0;
   uint64_t samples = 0;
-  double final_loss = 0.0;        // mean squared sRGB error of the last step
-  std::vector<double> loss_curve; // per step
+  double final_loss = 0.0;         // mean squared sRGB error of the last step
+  std::vector<double> loss_curve;  // per step
   bool interrupted = false;
 };
 

@@ -1,25 +1,27 @@
 // DeviceViews: uploads cameras, per-image pixel offsets and the concatenated RGBA pixels.
 #include "host/nerf/views.h"
 
-#include <stdexcept>
-
 #include <fmt/format.h>
+
+#include <stdexcept>
 
 namespace lorgnette::nerf {
 
 DeviceViews::DeviceViews(cl::Runtime& rt, const std::vector<View>& views, bool with_pixels)
     : count_(static_cast<uint32_t>(views.size())) {
-  if (views.empty()) throw std::runtime_error("no views: the dataset split is empty; check the dataset path and split");
+  if (views.empty())
+    throw std::runtime_error("no views: the dataset split is empty; check the dataset path and split");
   std::vector<uint32_t> offsets(views.size() + 1, 0);
   for (size_t i = 0; i < views.size(); ++i) {
     const Camera& c = views[i].camera;
-    if (c.width == 0 || c.height == 0) throw std::runtime_error(fmt::format("view {} has an empty image size", i));
+    if (c.width == 0 || c.height == 0)
+      throw std::runtime_error(fmt::format("view {} has an empty image size", i));
     if (with_pixels) {
       const Image* im = views[i].image;
       if (!im || im->channels != 4 || im->width != int(c.width) || im->height != int(c.height))
-        throw std::runtime_error(fmt::format(
-            "view {}: the image must be {}x{} RGBA to match its camera (got {}x{}x{})", i, c.width, c.height,
-            im ? im->width : 0, im ? im->height : 0, im ? im->channels : 0));
+        throw std::runtime_error(
+            fmt::format("view {}: the image must be {}x{} RGBA to match its camera (got {}x{}x{})", i,
+                        c.width, c.height, im ? im->width : 0, im ? im->height : 0, im ? im->channels : 0));
     }
     total_pixels_ += uint64_t(c.width) * c.height;
     if (total_pixels_ >= (1ull << 32) / 4)

@@ -48,7 +48,8 @@ AnalyticField::AnalyticField(cl::Runtime& rt, Vec3f aabb_min, Vec3f aabb_max,
                                 " primitives given, at most " + std::to_string(LGN_ANALYTIC_MAX_PRIMS));
   for (int a = 0; a < 3; ++a) {
     if (!(aabb_max[a] > aabb_min[a]))
-      throw std::invalid_argument("analytic field: the bounding box is empty along axis " + std::to_string(a));
+      throw std::invalid_argument("analytic field: the bounding box is empty along axis " +
+                                  std::to_string(a));
     params_.aabb_min[a] = aabb_min[a];
     params_.aabb_max[a] = aabb_max[a];
   }
@@ -62,8 +63,10 @@ void AnalyticField::evaluate(const cl::Buffer<float>& pos, const cl::Buffer<floa
                              cl::Buffer<float>& sigma, cl::Buffer<float>& rgb) {
   if (n > max_batch_ || pos.size() < 3ull * max_batch_ || sigma.size() < max_batch_ ||
       rgb.size() < 3ull * max_batch_)
-    throw std::invalid_argument("analytic field: " + std::to_string(n) + " samples or buffer sizes exceed "
-                                "the batch capacity " + std::to_string(max_batch_));
+    throw std::invalid_argument("analytic field: " + std::to_string(n) +
+                                " samples or buffer sizes exceed "
+                                "the batch capacity " +
+                                std::to_string(max_batch_));
   if (n == 0) return;
   AnalyticFieldParams p = params_;
   p.count = n;

@@ -1,13 +1,13 @@
 // Held-out views rendered by the marcher, and their metrics (see evaluate.h).
 #include "host/render/evaluate.h"
 
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
-
-#include <fmt/format.h>
-#include <spdlog/spdlog.h>
 
 #include "host/dataset/metrics.h"
 #include "host/render/renderer.h"
@@ -39,7 +39,8 @@ void write_comparison(const std::string& path, const Image& prediction, const Im
   write_image(path, sheet);
 }
 
-EvalResult evaluate(nerf::NerfModel& model, const std::vector<nerf::View>& views, const EvalOptions& options) {
+EvalResult evaluate(nerf::NerfModel& model, const std::vector<nerf::View>& views,
+                    const EvalOptions& options) {
   if (views.empty()) throw std::runtime_error("nothing to evaluate: the evaluation split has no views");
   auto start = std::chrono::steady_clock::now();
   size_t n = options.max_views ? std::min<size_t>(options.max_views, views.size()) : views.size();

@@ -17,8 +17,8 @@ namespace lorgnette::render {
 
 struct EvalOptions {
   std::array<float, 3> background{1.0f, 1.0f, 1.0f};  // linear RGB behind the model and the truth
-  uint32_t max_views = 0;   // > 0: evaluate at most this many views, evenly spaced
-  std::string output_dir;   // "" = no images; else <dir>/<index>_pred_truth_error.png
+  uint32_t max_views = 0;                             // > 0: evaluate at most this many views, evenly spaced
+  std::string output_dir;  // "" = no images; else <dir>/<index>_pred_truth_error.png
 };
 
 struct EvalResult {
@@ -29,7 +29,8 @@ struct EvalResult {
 };
 
 // views: held-out views with RGBA truth images (composited over the render background).
-EvalResult evaluate(nerf::NerfModel& model, const std::vector<nerf::View>& views, const EvalOptions& options = {});
+EvalResult evaluate(nerf::NerfModel& model, const std::vector<nerf::View>& views,
+                    const EvalOptions& options = {});
 
 // prediction | truth | error (|difference| x 4, sRGB) side by side, written as PNG.
 void write_comparison(const std::string& path, const Image& prediction, const Image& truth);

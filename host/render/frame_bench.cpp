@@ -1,12 +1,12 @@
 // Table 1 frame-time measurement: see frame_bench.h.
 #include "host/render/frame_bench.h"
 
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
 #include <algorithm>
 #include <chrono>
 #include <stdexcept>
-
-#include <fmt/format.h>
-#include <spdlog/spdlog.h>
 
 namespace lorgnette::render {
 

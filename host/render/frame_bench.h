@@ -5,10 +5,9 @@
 #pragma once
 #include <array>
 #include <functional>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "host/render/marcher.h"
 #include "host/render/render_job.h"
@@ -17,12 +16,12 @@ namespace lorgnette::render {
 
 struct FrameBenchSpec {
   std::vector<std::array<uint32_t, 2>> sizes{{854, 480}, {1280, 720}, {1920, 1080}};
-  uint32_t repeats = 3;   // timed frames per row (after one warm-up frame)
-  std::string device;     // written into every row
-  std::string scene;      // e.g. the model path or "analytic"
+  uint32_t repeats = 3;  // timed frames per row (after one warm-up frame)
+  std::string device;    // written into every row
+  std::string scene;     // e.g. the model path or "analytic"
   // Camera for a size: the head from the front, framed.
   std::function<Camera(uint32_t width, uint32_t height)> camera;
-  SurfacePass surfaces;   // empty: rows for the head alone only
+  SurfacePass surfaces;  // empty: rows for the head alone only
 };
 
 using FrameRenderer = std::function<RenderResult(const Camera&, const lorgnette::SurfaceBuffers*)>;

@@ -1,6 +1,8 @@
 // The compositing marcher's host loop: see marcher.h and kernels/march/march.cl.
 #include "host/render/marcher.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -8,13 +10,11 @@
 #include <string>
 #include <utility>
 
-#include <fmt/format.h>
-
 namespace lorgnette::render {
 namespace {
-constexpr uint32_t kMinWave = 4;     // segments per ray and wave when the tile is full
-constexpr uint32_t kMaxWave = 64;    // ... and when few rays are left
-constexpr uint32_t kScanBlock = 256; // entries per work-item in the prefix sums
+constexpr uint32_t kMinWave = 4;      // segments per ray and wave when the tile is full
+constexpr uint32_t kMaxWave = 64;     // ... and when few rays are left
+constexpr uint32_t kScanBlock = 256;  // entries per work-item in the prefix sums
 constexpr size_t kLocal = 64;
 }  // namespace
 
@@ -47,7 +47,8 @@ void Marcher::ensure_workspace(uint32_t max_batch) {
   batch_ = max_batch;
   tile_rays_ = max_batch / kMinWave;
   rays_ = cl::Buffer<MarchRay>(rt_, tile_rays_);
-  for (auto* b : {&live_, &live_next_, &counts_, &offsets_, &flags_}) *b = cl::Buffer<uint32_t>(rt_, tile_rays_);
+  for (auto* b : {&live_, &live_next_, &counts_, &offsets_, &flags_})
+    *b = cl::Buffer<uint32_t>(rt_, tile_rays_);
   block_sums_ = cl::Buffer<uint32_t>(rt_, tile_rays_ / kScanBlock + 1);
   seg_ = cl::Buffer<cl_float2>(rt_, batch_);
   pos_ = cl::Buffer<float>(rt_, 3ull * batch_);
@@ -79,8 +80,9 @@ void Marcher::march_tile(const VolumeScene& scene, MarchParams p, RenderResult& 
       gather_.args(p, rays_, live_, counts_, offsets_, seg_, pos_, dir_).launch(rt_, n_live, kLocal);
       scene.field->evaluate(pos_, dir_, total, sigma_, rgb_);
     }
-    composite_.args(p, rays_, live_, counts_, offsets_, seg_, sigma_, rgb_, surf_ca_, surf_filter_, out_rgba_,
-                    out_depth_, out_samples_, flags_)
+    composite_
+        .args(p, rays_, live_, counts_, offsets_, seg_, sigma_, rgb_, surf_ca_, surf_filter_, out_rgba_,
+              out_depth_, out_samples_, flags_)
         .launch(rt_, n_live, kLocal);
     uint32_t survivors = scan(n_live, flags_, offsets_);
     if (survivors > 0) {
@@ -98,8 +100,8 @@ void validate(const VolumeScene& scene, const Camera& cam, const lorgnette::Surf
               const RenderOptions& o) {
   if (!scene.field) throw std::invalid_argument("render: the scene has no field to march");
   if (cam.width == 0 || cam.height == 0 || uint64_t(cam.width) * cam.height > (1ull << 28))
-    throw std::invalid_argument(fmt::format("render: image size {}x{} is outside 1..2^28 pixels", cam.width,
-                                            cam.height));
+    throw std::invalid_argument(
+        fmt::format("render: image size {}x{} is outside 1..2^28 pixels", cam.width, cam.height));
   for (int a = 0; a < 3; ++a)
     if (!(scene.aabb_max[a] > scene.aabb_min[a]))
       throw std::invalid_argument(fmt::format("render: the bounding box is empty along axis {}", a));
@@ -114,15 +116,16 @@ void validate(const VolumeScene& scene, const Camera& cam, const lorgnette::Surf
         surfaces->color_alpha.size() != surfaces->pixel_count() * 4 ||
         surfaces->depth.size() != surfaces->pixel_count() ||
         (!surfaces->filter.empty() && surfaces->filter.size() != surfaces->pixel_count() * 3))
-      throw std::invalid_argument(fmt::format(
-          "render: surface buffers are {}x{} but the camera is {}x{}: run the surface pass with the same camera",
-          surfaces->width, surfaces->height, cam.width, cam.height));
+      throw std::invalid_argument(
+          fmt::format("render: surface buffers are {}x{} but the camera is {}x{}: run the surface pass with "
+                      "the same camera",
+                      surfaces->width, surfaces->height, cam.width, cam.height));
   }
 }
 }  // namespace
 
-RenderResult Marcher::render(const VolumeScene& scene, const Camera& cam, const lorgnette::SurfaceBuffers* surfaces,
-                             const RenderOptions& o) {
+RenderResult Marcher::render(const VolumeScene& scene, const Camera& cam,
+                             const lorgnette::SurfaceBuffers* surfaces, const RenderOptions& o) {
   validate(scene, cam, surfaces, o);
   auto start = std::chrono::steady_clock::now();
   ensure_workspace(scene.field->max_batch());
@@ -164,7 +167,8 @@ RenderResult Marcher::render(const VolumeScene& scene, const Camera& cam, const 
     p.max_samples = o.max_samples_per_ray;
   } else {  // every step across the box, plus the segments a surface split adds
     double d2 = 0;
-    for (int a = 0; a < 3; ++a) d2 += double(scene.aabb_max[a] - scene.aabb_min[a]) * (scene.aabb_max[a] - scene.aabb_min[a]);
+    for (int a = 0; a < 3; ++a)
+      d2 += double(scene.aabb_max[a] - scene.aabb_min[a]) * (scene.aabb_max[a] - scene.aabb_min[a]);
     p.max_samples = uint32_t(std::min(1e7, std::ceil(std::sqrt(d2) / p.step) + 8.0));
   }
   p.field_stride = batch_;

@@ -9,8 +9,8 @@
 #include "host/cl/kernel.h"
 #include "host/render/radiance_source.h"
 #include "host/util/image_io.h"
-#include "kernels/march/march_types.h"
 #include "host/util/surface_buffers.h"
+#include "kernels/march/march_types.h"
 
 namespace lorgnette::render {
 
@@ -34,16 +34,16 @@ struct RenderOptions {
   float step_scale = 1.0f;           // multiplies the scene's step (>1 = faster, coarser)
   uint32_t max_samples_per_ray = 0;  // safety cap on segments per ray; 0: the box diagonal in steps + 8
   std::array<float, 3> background{1.0f, 1.0f, 1.0f};  // linear RGB behind the head
-  bool alpha = false;                // true: no background; rgb premultiplied by alpha = 1 - T
-  float min_transmittance = 1e-4f;   // early termination threshold
+  bool alpha = false;               // true: no background; rgb premultiplied by alpha = 1 - T
+  float min_transmittance = 1e-4f;  // early termination threshold
 };
 
 struct RenderResult {
-  Image rgba;     // 4 channels, linear; alpha = 1 - T (coverage of head + glasses)
-  Image depth;    // 1 channel: expected termination depth along the unit ray (0 where empty)
-  Image samples;  // 1 channel: NeRF segments composited per pixel (summed over spp)
+  Image rgba;                      // 4 channels, linear; alpha = 1 - T (coverage of head + glasses)
+  Image depth;                     // 1 channel: expected termination depth along the unit ray (0 where empty)
+  Image samples;                   // 1 channel: NeRF segments composited per pixel (summed over spp)
   uint64_t samples_evaluated = 0;  // field evaluations issued (includes those past termination)
-  uint64_t samples_composited = 0; // sum of `samples`
+  uint64_t samples_composited = 0;  // sum of `samples`
   uint64_t rays = 0;
   uint32_t waves = 0;
   double seconds = 0.0;

@@ -3,9 +3,8 @@
 
 #include <cmath>
 #include <limits>
-#include <stdexcept>
-
 #include <opencv2/imgproc.hpp>
+#include <stdexcept>
 
 namespace lorgnette::render {
 namespace {

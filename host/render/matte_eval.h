@@ -5,11 +5,10 @@
 // body below the box are left out of both sides), plus the PSNR of the face (the convex hull of the
 // 68 ground-truth landmarks projected into the view).
 #pragma once
+#include <Eigen/Core>
 #include <array>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "common/camera_types.h"
 #include "host/nerf/model.h"

@@ -23,7 +23,8 @@ Vec3 normalized(const Vec3& a, const char* what) {
 Vec3 rotate(const Vec3& v, const Vec3& k, float a) {
   Vec3 kxv = cross(k, v);
   float c = std::cos(a), s = std::sin(a), kd = dot(k, v) * (1 - c);
-  return {v[0] * c + kxv[0] * s + k[0] * kd, v[1] * c + kxv[1] * s + k[1] * kd, v[2] * c + kxv[2] * s + k[2] * kd};
+  return {v[0] * c + kxv[0] * s + k[0] * kd, v[1] * c + kxv[1] * s + k[1] * kd,
+          v[2] * c + kxv[2] * s + k[2] * kd};
 }
 }  // namespace
 

@@ -22,10 +22,10 @@ struct OrbitSpec {
   Vec3 half_extent{1, 1, 1};  // half the box size: the radius frames its bounding sphere
   Vec3 front{0, 0, 1};        // direction from the centre to the first camera (the face's front)
   Vec3 up{0, 1, 0};
-  uint32_t views = 1;         // evenly spaced azimuths, starting at the front
+  uint32_t views = 1;  // evenly spaced azimuths, starting at the front
   float elevation_deg = 0.0f;
   float fov_y_deg = 30.0f;
-  float margin = 1.05f;       // > 1 leaves a border around the framed sphere
+  float margin = 1.05f;  // > 1 leaves a border around the framed sphere
   uint32_t width = 640, height = 480;
 };
 

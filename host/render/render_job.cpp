@@ -1,22 +1,22 @@
 // The `lorgnette render` job: see render_job.h.
 #include "host/render/render_job.h"
 
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <memory>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <regex>
 #include <sstream>
 #include <stdexcept>
 
-#include <fmt/format.h>
-#include <spdlog/spdlog.h>
-
+#include "host/dataset/media.h"
 #include "host/util/interrupt.h"
 #include "host/util/progress.h"
-#include "host/dataset/media.h"
 
 namespace lorgnette::render {
 namespace fs = std::filesystem;
@@ -41,10 +41,12 @@ Mat4 trs_transform(const Vec3& t, const Vec3& r_deg, float s) {
 }
 
 Mat4 rough_glasses_placement(float frame_width_mm, const Vec3& lo, const Vec3& hi) {
-  if (!(frame_width_mm > 0.0f)) throw std::invalid_argument("rough placement: the frame width must be positive");
+  if (!(frame_width_mm > 0.0f))
+    throw std::invalid_argument("rough placement: the frame width must be positive");
   float s = 0.8f * (hi[0] - lo[0]) / frame_width_mm;
-  return trs_transform({0.5f * (lo[0] + hi[0]), lo[1] + 0.6f * (hi[1] - lo[1]), hi[2] - 0.12f * (hi[2] - lo[2])},
-                       {0, 0, 0}, s);
+  return trs_transform(
+      {0.5f * (lo[0] + hi[0]), lo[1] + 0.6f * (hi[1] - lo[1]), hi[2] - 0.12f * (hi[2] - lo[2])}, {0, 0, 0},
+      s);
 }
 
 static void check_affine(const Mat4& m, const std::string& what) {
@@ -58,7 +60,8 @@ Mat4 matrix_from_json(const nlohmann::json& j, const std::string& what) {
   std::vector<float> v;
   if (j.is_array() && j.size() == 4 && j[0].is_array()) {
     for (const auto& row : j) {
-      if (!row.is_array() || row.size() != 4) throw std::invalid_argument(what + ": expected 4 rows of 4 numbers");
+      if (!row.is_array() || row.size() != 4)
+        throw std::invalid_argument(what + ": expected 4 rows of 4 numbers");
       for (const auto& x : row) v.push_back(x.get<float>());
     }
   } else if (j.is_array() && j.size() == 16) {
@@ -87,7 +90,8 @@ Mat4 parse_matrix(const std::string& text) {
     }
   }
   if (v.size() != 16)
-    throw std::invalid_argument(fmt::format("--transform: expected 16 numbers (row-major 4x4), got {}", v.size()));
+    throw std::invalid_argument(
+        fmt::format("--transform: expected 16 numbers (row-major 4x4), got {}", v.size()));
   Mat4 m;
   std::copy(v.begin(), v.end(), m.begin());
   check_affine(m, "--transform");
@@ -113,7 +117,8 @@ Camera read_pose(const std::string& path, uint32_t width, uint32_t height, float
       if (!j.contains(k) && top.contains(k)) j[k] = top[k];
   }
   if (!j.contains("transform_matrix"))
-    throw std::runtime_error("pose '" + path + "' has no \"transform_matrix\" (4x4 camera-to-world, OpenGL "
+    throw std::runtime_error("pose '" + path +
+                             "' has no \"transform_matrix\" (4x4 camera-to-world, OpenGL "
                              "convention as in transforms.json)");
   Mat4 m = matrix_from_json(j["transform_matrix"], "pose '" + path + "' transform_matrix");
   Camera c{};
@@ -154,8 +159,10 @@ void check_outputs_free(const std::string& dir, const std::vector<std::string>& 
   std::string list;
   for (size_t i = 0; i < taken.size() && i < 5; ++i) list += (i ? ", " : "") + taken[i];
   if (taken.size() > 5) list += fmt::format(" and {} more", taken.size() - 5);
-  throw std::runtime_error(fmt::format("'{}' already holds {}: choose another -o directory or pass --force to "
-                                       "overwrite", dir, list));
+  throw std::runtime_error(
+      fmt::format("'{}' already holds {}: choose another -o directory or pass --force to "
+                  "overwrite",
+                  dir, list));
 }
 
 std::vector<std::string> render_job_outputs(const RenderJob& job) {
@@ -193,8 +200,9 @@ std::vector<size_t> sheet_indices(size_t n, size_t k) {
 }
 }  // namespace
 
-nlohmann::json run_render_job(RenderJob& job,
-                              const std::function<RenderResult(const Camera&, const lorgnette::SurfaceBuffers*)>& render) {
+nlohmann::json run_render_job(
+    RenderJob& job,
+    const std::function<RenderResult(const Camera&, const lorgnette::SurfaceBuffers*)>& render) {
   if (job.cameras.empty()) throw std::invalid_argument("render: no camera to render");
   check_outputs_free(job.out_dir, render_job_outputs(job), job.force);
   fs::create_directories(job.out_dir);
@@ -237,15 +245,23 @@ nlohmann::json run_render_job(RenderJob& job,
     ms.push_back(r.seconds * 1e3);
     samples += double(r.samples_composited);
     rays += double(r.rays);
-    frames.push_back({{"index", i}, {"march_ms", r.seconds * 1e3}, {"surface_ms", surface_ms},
-                      {"samples_per_ray", r.samples_per_ray()}, {"samples_evaluated", r.samples_evaluated}});
+    frames.push_back({{"index", i},
+                      {"march_ms", r.seconds * 1e3},
+                      {"surface_ms", surface_ms},
+                      {"samples_per_ray", r.samples_per_ray()},
+                      {"samples_evaluated", r.samples_evaluated}});
     progress.update(double(i + 1), fmt::format("{:.0f} ms/frame", r.seconds * 1e3));
   }
   progress.finish();
-  nlohmann::json out = {{"views", n}, {"width", job.cameras[0].width}, {"height", job.cameras[0].height},
-                        {"spp", job.options.spp}, {"step_scale", job.options.step_scale},
-                        {"alpha", job.options.alpha}, {"glasses", bool(job.surfaces)},
-                        {"samples_per_ray", rays > 0 ? samples / rays : 0.0}, {"frames", frames}};
+  nlohmann::json out = {{"views", n},
+                        {"width", job.cameras[0].width},
+                        {"height", job.cameras[0].height},
+                        {"spp", job.options.spp},
+                        {"step_scale", job.options.step_scale},
+                        {"alpha", job.options.alpha},
+                        {"glasses", bool(job.surfaces)},
+                        {"samples_per_ray", rays > 0 ? samples / rays : 0.0},
+                        {"frames", frames}};
   if (video) {
     video->finish();
     out["video"] = "orbit.mp4";

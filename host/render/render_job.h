@@ -6,10 +6,9 @@
 #pragma once
 #include <array>
 #include <functional>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "host/render/marcher.h"
 #include "host/render/orbit.h"
@@ -51,17 +50,18 @@ using SurfacePass = std::function<lorgnette::SurfaceBuffers(const Camera&)>;
 struct RenderJob {
   std::vector<Camera> cameras;
   RenderOptions options;
-  SurfacePass surfaces;      // empty: the head alone
+  SurfacePass surfaces;  // empty: the head alone
   std::string out_dir;
   bool force = false;
-  bool video = true;         // the MP4 (when there is more than one view and media support)
+  bool video = true;  // the MP4 (when there is more than one view and media support)
   bool contact_sheet = true;
   double fps = 24.0;
 };
 
 // Renders every camera, writes the outputs and returns the summary written to render.json.
-nlohmann::json run_render_job(RenderJob& job, const std::function<RenderResult(const Camera&,
-                                                                                const lorgnette::SurfaceBuffers*)>& render);
+nlohmann::json run_render_job(
+    RenderJob& job,
+    const std::function<RenderResult(const Camera&, const lorgnette::SurfaceBuffers*)>& render);
 
 // File names the job writes for n views (frame_0000.png, depth_0000.exr, ..., orbit.mp4, ...).
 std::vector<std::string> render_job_outputs(const RenderJob& job);

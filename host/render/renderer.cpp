@@ -25,8 +25,8 @@ std::vector<Camera> capture_cameras(const nerf::NerfModel& model) {
   }
 }
 
-RenderResult Renderer::render(nerf::NerfModel& model, const Camera& cam, const lorgnette::SurfaceBuffers* surfaces,
-                              const RenderOptions& options) {
+RenderResult Renderer::render(nerf::NerfModel& model, const Camera& cam,
+                              const lorgnette::SurfaceBuffers* surfaces, const RenderOptions& options) {
   NerfSource source(model.field());
   VolumeScene scene;
   scene.aabb_min = model.aabb().min;

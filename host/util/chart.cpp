@@ -1,14 +1,14 @@
 // PNG charts drawn with OpenCV and CSV output; see chart.h.
 #include "host/util/chart.h"
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <cmath>
-#include <sstream>
-#include <stdexcept>
-
-#include <fmt/format.h>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
+#include <sstream>
+#include <stdexcept>
 
 #include "host/util/image_io.h"
 
@@ -48,7 +48,7 @@ void write_chart(const std::string& path, const ChartSpec& spec, const std::vect
   cv::putText(img, spec.x_label, {left + pw / 2 - 60, spec.height - 15}, font, 0.5, cv::Scalar(0, 0, 0), 1,
               cv::LINE_AA);
   cv::putText(img, spec.y_label, {8, top - 8}, font, 0.45, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
-  static const cv::Scalar palette[] = {{200, 80, 30}, {40, 40, 220}, {40, 160, 40}, {160, 40, 160},
+  static const cv::Scalar palette[] = {{200, 80, 30},  {40, 40, 220},   {40, 160, 40}, {160, 40, 160},
                                        {30, 160, 200}, {100, 100, 100}, {0, 120, 255}, {120, 60, 0}};
   for (size_t si = 0; si < series.size(); ++si) {
     const auto& s = series[si];

@@ -1,15 +1,15 @@
 // OpenImageIO-backed image reading and writing; see image_io.h.
 #include "host/util/image_io.h"
 
+#include <OpenImageIO/imageio.h>
+#include <fmt/format.h>
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <stdexcept>
-
-#include <OpenImageIO/imageio.h>
-#include <fmt/format.h>
-#include <unistd.h>
 
 namespace lorgnette {
 namespace fs = std::filesystem;
@@ -36,9 +36,7 @@ std::string decode_error_text(std::string text) {
   return text.empty() ? "the decoder gave no reason" : text;
 }
 
-float srgb_to_linear(float c) {
-  return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
-}
+float srgb_to_linear(float c) { return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f); }
 
 float linear_to_srgb(float c) {
   c = std::clamp(c, 0.0f, 1.0f);
@@ -49,8 +47,8 @@ Image read_image(const std::string& path) {
   if (!fs::exists(path)) throw std::runtime_error(fmt::format("image '{}' does not exist", path));
   auto in = OIIO::ImageInput::open(path);
   if (!in)
-    throw std::runtime_error(fmt::format("cannot read image '{}': {} (is it a valid PNG/JPEG/EXR?)", path,
-                                         OIIO::geterror()));
+    throw std::runtime_error(
+        fmt::format("cannot read image '{}': {} (is it a valid PNG/JPEG/EXR?)", path, OIIO::geterror()));
   const OIIO::ImageSpec& spec = in->spec();
   if (spec.width <= 0 || spec.height <= 0 || spec.nchannels <= 0)
     throw std::runtime_error(fmt::format("image '{}' has no pixels", path));
@@ -61,7 +59,8 @@ Image read_image(const std::string& path) {
   if (!ok || in->has_error())
     throw std::runtime_error(
         fmt::format("image '{}' is corrupt or truncated: {}", path, decode_error_text(in->geterror())));
-  bool encoded = spec.format.basetype == OIIO::TypeDesc::UINT8 || spec.format.basetype == OIIO::TypeDesc::UINT16;
+  bool encoded =
+      spec.format.basetype == OIIO::TypeDesc::UINT8 || spec.format.basetype == OIIO::TypeDesc::UINT16;
   if (encoded) {
     int colour = std::min(spec.nchannels, 3);
     if (spec.alpha_channel >= 0 && spec.alpha_channel < colour) colour = spec.alpha_channel;
@@ -78,7 +77,8 @@ void write_image(const std::string& path, const Image& image) {
   bool is_float = ext == ".exr" || ext == ".hdr";
   int channels = image.channels;
   if (ext == ".jpg" || ext == ".jpeg") channels = std::min(channels, 3);
-  OIIO::ImageSpec spec(image.width, image.height, channels, is_float ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
+  OIIO::ImageSpec spec(image.width, image.height, channels,
+                       is_float ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
   std::vector<float> data(static_cast<size_t>(image.width) * image.height * channels);
   for (size_t p = 0; p < static_cast<size_t>(image.width) * image.height; ++p)
     for (int c = 0; c < channels; ++c) {

@@ -1,9 +1,10 @@
 // SIGINT/SIGTERM -> a flag; see interrupt.h.
 #include "host/util/interrupt.h"
 
+#include <unistd.h>
+
 #include <atomic>
 #include <csignal>
-#include <unistd.h>
 
 namespace lorgnette {
 namespace {

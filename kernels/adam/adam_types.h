@@ -7,8 +7,8 @@ typedef struct AdamParams {
   lgn_uint count;       // parameters
   lgn_uint mlp_offset;  // first MLP parameter (weight decay applies from here on)
   float lr, beta1, beta2, eps, weight_decay;
-  float bias1;          // 1 - beta1^t
-  float bias2;          // 1 - beta2^t
+  float bias1;  // 1 - beta1^t
+  float bias2;  // 1 - beta2^t
   lgn_uint pad0;
 } AdamParams;
 

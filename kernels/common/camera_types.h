@@ -10,10 +10,10 @@ typedef struct LgnVec3 {
 } LgnVec3;
 
 typedef struct Camera {
-  float c2w[12];          // row-major 3x4 camera-to-world: rotation columns are camera x, y, z axes
-  float fx, fy, cx, cy;   // pixels
-  float k1, k2, p1, p2;   // OPENCV distortion (0 for an ideal pinhole)
-  lgn_uint width, height; // pixels
+  float c2w[12];           // row-major 3x4 camera-to-world: rotation columns are camera x, y, z axes
+  float fx, fy, cx, cy;    // pixels
+  float k1, k2, p1, p2;    // OPENCV distortion (0 for an ideal pinhole)
+  lgn_uint width, height;  // pixels
   lgn_uint pad0, pad1;
 } Camera;
 

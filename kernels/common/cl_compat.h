@@ -21,11 +21,11 @@ typedef int32_t lgn_int;
 
 #ifndef __OPENCL_C_VERSION__
 // Host spellings of the OpenCL built-ins the shared headers use.
-using std::sqrt;
 using std::exp;
 using std::fabs;
-using std::fmin;
-using std::fmax;
 using std::floor;
+using std::fmax;
+using std::fmin;
+using std::sqrt;
 using std::tan;
 #endif

@@ -10,10 +10,10 @@
 #define LGN_HASH_PRIME_Z 805459861u
 
 typedef struct HashgridParams {
-  lgn_uint n;         // samples
-  lgn_uint stride;    // row stride of positions / encodings (max_batch)
+  lgn_uint n;       // samples
+  lgn_uint stride;  // row stride of positions / encodings (max_batch)
   lgn_uint levels;
-  lgn_uint features;  // per level
+  lgn_uint features;                         // per level
   lgn_uint resolution[LGN_HASH_MAX_LEVELS];  // cells per axis
   lgn_uint size[LGN_HASH_MAX_LEVELS];        // entries per feature
   lgn_uint dense[LGN_HASH_MAX_LEVELS];       // 1: direct index, 0: hashed (size is a power of 2)
@@ -28,7 +28,7 @@ LGN_STATIC_ASSERT(sizeof(HashgridParams) == 16 + 4 * 4 * LGN_HASH_MAX_LEVELS, "H
 // hashed level (the Instant-NGP spatial hash: XOR of coordinates times large primes, masked).
 #define LGN_HASH_DENSE_INDEX(v, x, y, z) ((x) + (v) * ((y) + (v) * (z)))
 #define LGN_HASH_SPATIAL_INDEX(mask, x, y, z) \
-  (((x) ^ ((y) * LGN_HASH_PRIME_Y) ^ ((z) * LGN_HASH_PRIME_Z)) & (mask))
+  (((x) ^ ((y)*LGN_HASH_PRIME_Y) ^ ((z)*LGN_HASH_PRIME_Z)) & (mask))
 // Grid coordinate of p in [0,1] (clamped; NaN maps to 0) on a level of res_f cells, and the
 // cell's lower corner (as a float, at most res - 1). frac = pos - cell.
 #define LGN_HASH_GRID_POS(p, res_f) (fmin(fmax((p), 0.0f), 1.0f) * (res_f))

@@ -21,8 +21,8 @@ using std::ceil;
 #define LGN_MARCH_INF INFINITY
 
 // Intersects the ray with the box; returns 1 and the parametric range (clamped at t >= 0) on a hit.
-LGN_INLINE int march_clip_aabb(const float* bmin, const float* bmax, float ox, float oy, float oz,
-                               float dx, float dy, float dz, float* t0, float* t1) {
+LGN_INLINE int march_clip_aabb(const float* bmin, const float* bmax, float ox, float oy, float oz, float dx,
+                               float dy, float dz, float* t0, float* t1) {
   float o[3] = {ox, oy, oz};
   float d[3] = {dx, dy, dz};
   float tn = 0.0f, tf = LGN_MARCH_INF;
@@ -54,8 +54,8 @@ LGN_INLINE int march_occupied(lgn_uint layout, lgn_uint res, LGN_GLOBAL const lg
 // How far (in ray parameter) to jump from a sample at t in an empty cell: to the first position on
 // the step grid past the cell's exit, as the training sampler does (kernels/train/sampling.cl), so
 // inference takes the samples training took.
-LGN_INLINE float march_skip(const float* bmin, const float* bmax, lgn_uint res, float step, float t,
-                            float ox, float oy, float oz, float dx, float dy, float dz) {
+LGN_INLINE float march_skip(const float* bmin, const float* bmax, lgn_uint res, float step, float t, float ox,
+                            float oy, float oz, float dx, float dy, float dz) {
   float ex = bmax[0] - bmin[0], ey = bmax[1] - bmin[1], ez = bmax[2] - bmin[2];
   float s = occ_cell_exit(res, (ox + t * dx - bmin[0]) / ex, (oy + t * dy - bmin[1]) / ey,
                           (oz + t * dz - bmin[2]) / ez, dx / ex, dy / ey, dz / ez);

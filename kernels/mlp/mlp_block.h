@@ -15,8 +15,8 @@ inline float mlp_hsum(float16 a) {
 
 #define MLP_ZERO4 float16 a0 = 0.0f, a1 = 0.0f, a2 = 0.0f, a3 = 0.0f
 
-#define MLP_FMA8(a, xv, w, in, k)                 \
-  a##0 = fma((float16)((w)[k]), xv, a##0);          \
+#define MLP_FMA8(a, xv, w, in, k)                       \
+  a##0 = fma((float16)((w)[k]), xv, a##0);              \
   a##1 = fma((float16)((w)[(in) + (k)]), xv, a##1);     \
   a##2 = fma((float16)((w)[2 * (in) + (k)]), xv, a##2); \
   a##3 = fma((float16)((w)[3 * (in) + (k)]), xv, a##3); \
@@ -24,8 +24,8 @@ inline float mlp_hsum(float16 a) {
   a##5 = fma((float16)((w)[5 * (in) + (k)]), xv, a##5); \
   a##6 = fma((float16)((w)[6 * (in) + (k)]), xv, a##6); \
   a##7 = fma((float16)((w)[7 * (in) + (k)]), xv, a##7)
-#define MLP_STORE8(a, o, s, act)                      \
-  vstore16(lgn_activate16(a##0, act), 0, (o));          \
+#define MLP_STORE8(a, o, s, act)                         \
+  vstore16(lgn_activate16(a##0, act), 0, (o));           \
   vstore16(lgn_activate16(a##1, act), 0, (o) + (s));     \
   vstore16(lgn_activate16(a##2, act), 0, (o) + 2 * (s)); \
   vstore16(lgn_activate16(a##3, act), 0, (o) + 3 * (s)); \
@@ -47,21 +47,20 @@ inline float16 mlp_mask(float16 d, __global const float* x, uint relu) {
   a##5 = fma((float16)((wj)[5]), d, a##5); \
   a##6 = fma((float16)((wj)[6]), d, a##6); \
   a##7 = fma((float16)((wj)[7]), d, a##7)
-#define MLP_STORE8M(a, o, xb, s, relu)                                     \
-  vstore16(mlp_mask(a##0, (xb), relu), 0, (o));                            \
-  vstore16(mlp_mask(a##1, (xb) + (s), relu), 0, (o) + (s));                \
-  vstore16(mlp_mask(a##2, (xb) + 2 * (s), relu), 0, (o) + 2 * (s));        \
-  vstore16(mlp_mask(a##3, (xb) + 3 * (s), relu), 0, (o) + 3 * (s));        \
-  vstore16(mlp_mask(a##4, (xb) + 4 * (s), relu), 0, (o) + 4 * (s));        \
-  vstore16(mlp_mask(a##5, (xb) + 5 * (s), relu), 0, (o) + 5 * (s));        \
-  vstore16(mlp_mask(a##6, (xb) + 6 * (s), relu), 0, (o) + 6 * (s));        \
+#define MLP_STORE8M(a, o, xb, s, relu)                              \
+  vstore16(mlp_mask(a##0, (xb), relu), 0, (o));                     \
+  vstore16(mlp_mask(a##1, (xb) + (s), relu), 0, (o) + (s));         \
+  vstore16(mlp_mask(a##2, (xb) + 2 * (s), relu), 0, (o) + 2 * (s)); \
+  vstore16(mlp_mask(a##3, (xb) + 3 * (s), relu), 0, (o) + 3 * (s)); \
+  vstore16(mlp_mask(a##4, (xb) + 4 * (s), relu), 0, (o) + 4 * (s)); \
+  vstore16(mlp_mask(a##5, (xb) + 5 * (s), relu), 0, (o) + 5 * (s)); \
+  vstore16(mlp_mask(a##6, (xb) + 6 * (s), relu), 0, (o) + 6 * (s)); \
   vstore16(mlp_mask(a##7, (xb) + 7 * (s), relu), 0, (o) + 7 * (s))
-
 
 // y[j] = act(sum_k W[j][k] x[k]) for j < out; W points at the layer's first weight.
 inline void mlp_layer_forward(__global const float* restrict W, uint in, uint out, uint act,
-                              __global const float* restrict xb, __global float* restrict yb, uint s,
-                              uint i0, uint n16) {
+                              __global const float* restrict xb, __global float* restrict yb, uint s, uint i0,
+                              uint n16) {
   uint j = 0;
   if (i0 + 16 < n16) {
     for (; j + 8 <= out; j += 8) {

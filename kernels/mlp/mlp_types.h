@@ -55,20 +55,20 @@ LGN_STATIC_ASSERT(sizeof(MlpChainParams) == 32 + 10 * 4 * LGN_MLP_MAX_LAYERS, "M
 // type (OpenCL C 1.2 has neither templates nor overloading): float (suffix none; the per-sample
 // kernels), float16 (suffix 16; the CPU kernels, OpenCL only) and double (suffix _d; the host
 // reference of tests/host/field, C++ only). On float16 the comparison selects per lane.
-#define LGN_DEFINE_MLP_MATH(T, SFX)                                                                  \
-  /* y = act(a), act one of LGN_ACT_* */                                                             \
-  LGN_INLINE T lgn_activate##SFX(T a, lgn_uint act) {                                                \
-    if (act == LGN_ACT_RELU) return fmax(a, (T)(0.0f));                                              \
-    if (act == LGN_ACT_SIGMOID) return (T)(1.0f) / ((T)(1.0f) + exp(-a));                           \
-    return a;                                                                                        \
-  }                                                                                                  \
-  /* dL/da of a sigmoid output y = sigmoid(a) given dL/dy */                                         \
-  LGN_INLINE T lgn_sigmoid_backward##SFX(T dy, T y) { return dy * y * ((T)(1.0f) - y); }             \
-  /* sigma = exp(min(raw, 15)) */                                                                    \
-  LGN_INLINE T lgn_sigma_from_raw##SFX(T raw) { return exp(fmin(raw, (T)(LGN_SIGMA_MAX_RAW))); }     \
-  /* d sigma / d raw given sigma and raw: the exact derivative of exp(min(raw, 15)) */               \
-  LGN_INLINE T lgn_sigma_grad##SFX(T raw, T sigma) {                                                 \
-    return raw < (T)(LGN_SIGMA_MAX_RAW) ? sigma : (T)(0.0f);                                         \
+#define LGN_DEFINE_MLP_MATH(T, SFX)                                                              \
+  /* y = act(a), act one of LGN_ACT_* */                                                         \
+  LGN_INLINE T lgn_activate##SFX(T a, lgn_uint act) {                                            \
+    if (act == LGN_ACT_RELU) return fmax(a, (T)(0.0f));                                          \
+    if (act == LGN_ACT_SIGMOID) return (T)(1.0f) / ((T)(1.0f) + exp(-a));                        \
+    return a;                                                                                    \
+  }                                                                                              \
+  /* dL/da of a sigmoid output y = sigmoid(a) given dL/dy */                                     \
+  LGN_INLINE T lgn_sigmoid_backward##SFX(T dy, T y) { return dy * y * ((T)(1.0f) - y); }         \
+  /* sigma = exp(min(raw, 15)) */                                                                \
+  LGN_INLINE T lgn_sigma_from_raw##SFX(T raw) { return exp(fmin(raw, (T)(LGN_SIGMA_MAX_RAW))); } \
+  /* d sigma / d raw given sigma and raw: the exact derivative of exp(min(raw, 15)) */           \
+  LGN_INLINE T lgn_sigma_grad##SFX(T raw, T sigma) {                                             \
+    return raw < (T)(LGN_SIGMA_MAX_RAW) ? sigma : (T)(0.0f);                                     \
   }
 
 LGN_DEFINE_MLP_MATH(float, )

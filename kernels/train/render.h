@@ -83,8 +83,8 @@ LGN_INLINE float render_ray_loss(const float* color, const float* target, lgn_ui
 // Backward: writes dL/dsigma and dL/drgb for samples [first, first+count) (zero past `used`).
 LGN_INLINE void render_ray_backward(LGN_GLOBAL const float* sigma, LGN_GLOBAL const float* rgb,
                                     lgn_uint stride, lgn_uint first, lgn_uint count, lgn_uint used,
-                                    float step, const float* color, const float* dC,
-                                    LGN_GLOBAL float* dsigma, LGN_GLOBAL float* drgb) {
+                                    float step, const float* color, const float* dC, LGN_GLOBAL float* dsigma,
+                                    LGN_GLOBAL float* drgb) {
   float T = 1.0f, acc_r = 0.0f, acc_g = 0.0f, acc_b = 0.0f;
   for (lgn_uint k = 0; k < count; ++k) {
     lgn_uint i = first + k;
@@ -103,7 +103,8 @@ LGN_INLINE void render_ray_backward(LGN_GLOBAL const float* sigma, LGN_GLOBAL co
     drgb[i] = w * dC[0];
     drgb[stride + i] = w * dC[1];
     drgb[2u * stride + i] = w * dC[2];
-    float sr = T * cr - (color[0] - acc_r), sg = T * cg - (color[1] - acc_g), sb = T * cb - (color[2] - acc_b);
+    float sr = T * cr - (color[0] - acc_r), sg = T * cg - (color[1] - acc_g),
+          sb = T * cb - (color[2] - acc_b);
     dsigma[i] = step * (dC[0] * sr + dC[1] * sg + dC[2] * sb);
   }
 }

@@ -11,24 +11,24 @@
 #define LOSS_L2_LINEAR 1u  // squared error on linear colour
 
 typedef struct SampleParams {
-  float aabb_min[4];    // xyz, scene units (w unused)
-  float inv_extent[4];  // 1 / (max - min) per axis
-  float bg[4];          // view mode: background rgb (linear)
-  float step;           // distance between samples along a ray, scene units
-  float near_t;         // samples start at least this far from the camera
-  lgn_uint occ_res;     // occupancy grid resolution (cells per axis)
-  lgn_uint max_samples; // per ray
-  lgn_uint n_rays;      // rays in this launch
-  lgn_uint mode;        // SAMPLE_MODE_*
-  lgn_uint camera;      // view mode: camera index
-  lgn_uint first_pixel; // view mode: pixel index of ray 0
+  float aabb_min[4];     // xyz, scene units (w unused)
+  float inv_extent[4];   // 1 / (max - min) per axis
+  float bg[4];           // view mode: background rgb (linear)
+  float step;            // distance between samples along a ray, scene units
+  float near_t;          // samples start at least this far from the camera
+  lgn_uint occ_res;      // occupancy grid resolution (cells per axis)
+  lgn_uint max_samples;  // per ray
+  lgn_uint n_rays;       // rays in this launch
+  lgn_uint mode;         // SAMPLE_MODE_*
+  lgn_uint camera;       // view mode: camera index
+  lgn_uint first_pixel;  // view mode: pixel index of ray 0
   lgn_uint n_images;
   lgn_uint total_pixels;  // train mode: pixels over all images
   lgn_uint seed;
-  lgn_uint iteration;     // training step: selects the random stream
-  lgn_uint stride;        // SoA stride of the per-sample arrays (Field::max_batch)
-  lgn_uint ray_begin;     // write pass: first ray whose samples are written
-  lgn_uint ray_end;       // write pass: one past the last ray written
+  lgn_uint iteration;  // training step: selects the random stream
+  lgn_uint stride;     // SoA stride of the per-sample arrays (Field::max_batch)
+  lgn_uint ray_begin;  // write pass: first ray whose samples are written
+  lgn_uint ray_end;    // write pass: one past the last ray written
   lgn_uint pad;
 } SampleParams;
 LGN_STATIC_ASSERT(sizeof(SampleParams) == 112, "SampleParams layout is shared with OpenCL");
@@ -39,11 +39,11 @@ LGN_STATIC_ASSERT(sizeof(SampleParams) == 112, "SampleParams layout is shared wi
 
 typedef struct LossParams {
   lgn_uint n_rays;
-  lgn_uint stride;        // SoA stride of the per-sample arrays
-  lgn_uint forward_only;  // 1: colour only (no gradients)
-  lgn_uint loss_kind;     // LOSS_*
-  float step;             // sample spacing, scene units
-  float grad_scale;       // 1 / (3 * rays in the batch): the loss is a mean
+  lgn_uint stride;          // SoA stride of the per-sample arrays
+  lgn_uint forward_only;    // 1: colour only (no gradients)
+  lgn_uint loss_kind;       // LOSS_*
+  float step;               // sample spacing, scene units
+  float grad_scale;         // 1 / (3 * rays in the batch): the loss is a mean
   float min_transmittance;  // stop accumulating below this (instant-ngp: 1e-4)
   float pad;
 } LossParams;
@@ -53,9 +53,9 @@ typedef struct OccParams {
   lgn_uint res;
   lgn_uint first_cell;  // entries [first_cell, first_cell + n) of the cell list
   lgn_uint n;
-  lgn_uint stride;      // SoA stride of the position array
+  lgn_uint stride;  // SoA stride of the position array
   lgn_uint seed;
-  lgn_uint iteration;   // update counter: new jitter every update
+  lgn_uint iteration;  // update counter: new jitter every update
   lgn_uint pad0, pad1;
 } OccParams;
 LGN_STATIC_ASSERT(sizeof(OccParams) == 32, "OccParams layout is shared with OpenCL");

@@ -1,11 +1,11 @@
 // lorgnette.fit and lorgnette.dlib_landmarks: the glasses placement of `lorgnette fit` (the same
 // options and library calls), with the 2D landmarks from the built-in dlib detector or from a Python
 // callable (fit::DetectFn), and the project's dlib adapter on its own for Python code.
-#include <optional>
-
 #include <fmt/format.h>
 #include <pybind11/stl.h>
 #include <spdlog/spdlog.h>
+
+#include <optional>
 
 #include "fit/fit_job.h"
 #include "fit/glasses_input.h"
@@ -94,9 +94,10 @@ fit::DetectFn python_detector(std::shared_ptr<CallbackState> state) {
                     fmt::format("{}: {}", msg, s.error->what()).c_str());
     throw pyb::error_already_set();
   }
-  PyErr_SetString(landmark_error_type().ptr(),
-                  fmt::format("{}: it must return None, 68 x 2 points or a dict with 'points': {}", msg, s.problem)
-                      .c_str());
+  PyErr_SetString(
+      landmark_error_type().ptr(),
+      fmt::format("{}: it must return None, 68 x 2 points or a dict with 'points': {}", msg, s.problem)
+          .c_str());
   throw pyb::error_already_set();
 }
 
@@ -126,7 +127,8 @@ std::shared_ptr<Placement> run_fit(Model& model, const std::string& glasses_path
   fit::FitOptions opt = fit::fit_options(settings);
   auto state = std::make_shared<CallbackState>();
   if (!a.landmarks.is_none()) {
-    if (!PyCallable_Check(a.landmarks.ptr())) throw pyb::type_error("landmarks must be a callable (image -> points or None)");
+    if (!PyCallable_Check(a.landmarks.ptr()))
+      throw pyb::type_error("landmarks must be a callable (image -> points or None)");
     state->fn = a.landmarks;
     state->pass_face_px = a.pass_face_px;
     opt.detection.detect = python_detector(state);
@@ -172,7 +174,8 @@ pyb::object dlib_landmarks(const pyb::array_t<uint8_t, pyb::array::c_style | pyb
   }
   if (!d.found) return pyb::none();
   pyb::array_t<double> pts({pyb::ssize_t(d.points.size()), pyb::ssize_t(2)});
-  for (size_t i = 0; i < d.points.size(); ++i) pts.mutable_at(i, 0) = d.points[i].x(), pts.mutable_at(i, 1) = d.points[i].y();
+  for (size_t i = 0; i < d.points.size(); ++i)
+    pts.mutable_at(i, 0) = d.points[i].x(), pts.mutable_at(i, 1) = d.points[i].y();
   pyb::dict out;
   out["points"] = pts;
   out["box"] = std::array<double, 4>{d.box[0], d.box[1], d.box[2], d.box[3]};
@@ -184,20 +187,24 @@ pyb::object dlib_landmarks(const pyb::array_t<uint8_t, pyb::array::c_style | pyb
 }  // namespace
 
 void bind_fit(pyb::module_& m) {
-  m.def("_fit", [](Model& model, pyb::object glasses, pyb::object landmarks, bool pass_face_px, int views,
-                   int resolution, double yaw_range, double pitch_range, int upsample, const std::string& policy,
-                   const std::string& dataset, const std::string& mean_face, const std::string& landmark_model,
-                   const std::string& debug_dir) {
-    std::string path = pyb::isinstance<pyb::str>(glasses) ? glasses.cast<std::string>()
-                                                          : glasses.cast<std::shared_ptr<Glasses>>()->glasses.path;
-    require_file(path, "glasses");
-    FitArgs a{landmarks, pass_face_px, views, resolution, upsample, yaw_range, pitch_range, policy,
-              dataset, mean_face, landmark_model, debug_dir};
-    return run_fit(model, path, a);
-  }, pyb::arg("model"), pyb::arg("glasses"), pyb::arg("landmarks"), pyb::arg("pass_face_px"), pyb::arg("views"),
-     pyb::arg("resolution"), pyb::arg("yaw_range"), pyb::arg("pitch_range"), pyb::arg("upsample"),
-     pyb::arg("scale_policy"), pyb::arg("dataset"), pyb::arg("mean_face"), pyb::arg("landmark_model"),
-     pyb::arg("debug_dir"));
+  m.def(
+      "_fit",
+      [](Model& model, pyb::object glasses, pyb::object landmarks, bool pass_face_px, int views,
+         int resolution, double yaw_range, double pitch_range, int upsample, const std::string& policy,
+         const std::string& dataset, const std::string& mean_face, const std::string& landmark_model,
+         const std::string& debug_dir) {
+        std::string path = pyb::isinstance<pyb::str>(glasses)
+                               ? glasses.cast<std::string>()
+                               : glasses.cast<std::shared_ptr<Glasses>>()->glasses.path;
+        require_file(path, "glasses");
+        FitArgs a{landmarks,   pass_face_px, views,   resolution, upsample,       yaw_range,
+                  pitch_range, policy,       dataset, mean_face,  landmark_model, debug_dir};
+        return run_fit(model, path, a);
+      },
+      pyb::arg("model"), pyb::arg("glasses"), pyb::arg("landmarks"), pyb::arg("pass_face_px"),
+      pyb::arg("views"), pyb::arg("resolution"), pyb::arg("yaw_range"), pyb::arg("pitch_range"),
+      pyb::arg("upsample"), pyb::arg("scale_policy"), pyb::arg("dataset"), pyb::arg("mean_face"),
+      pyb::arg("landmark_model"), pyb::arg("debug_dir"));
   m.def("dlib_landmarks", &dlib_landmarks, pyb::arg("image"), pyb::arg("face_px") = 0.0,
         "The fit's built-in detector (dlib HOG face + 68-point shape predictor, Debian's libdlib-data; "
         "non-commercial licence) on an H x W x 3 uint8 sRGB image: None, or {'points': 68 x 2 (iBUG order, "

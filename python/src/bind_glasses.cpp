@@ -1,11 +1,10 @@
 // lorgnette.Glasses and lorgnette.Placement: a frame loaded and canonicalised in millimetres (the
 // calls of `lorgnette glasses inspect` / `glasses make`), its reference points and sizes, its
 // vertices under a transform; placement.json in memory (read, written, adjusted in canonical mm).
-#include <unistd.h>
-
 #include <fmt/format.h>
 #include <pybind11/stl.h>
 #include <spdlog/spdlog.h>
+#include <unistd.h>
 
 #include "fit/placement_json.h"
 #include "host/render/render_job.h"
@@ -42,8 +41,10 @@ pyb::dict glasses_info(const mesh::Glasses& g) {
   pyb::dict size, ref;
   size["total_width"] = m.total_width_mm, size["total_height"] = m.total_height_mm;
   size["total_depth"] = m.total_depth_mm, size["lens_width"] = m.lens_width_mm;
-  size["lens_height"] = m.lens_height_mm, size["bridge"] = m.bridge_mm, size["temple_length"] = m.temple_length_mm;
-  ref["g_c"] = vec(g.ref.g_c), ref["g_l"] = vec(g.ref.g_l), ref["g_r"] = vec(g.ref.g_r), ref["source"] = g.ref.source;
+  size["lens_height"] = m.lens_height_mm, size["bridge"] = m.bridge_mm,
+  size["temple_length"] = m.temple_length_mm;
+  ref["g_c"] = vec(g.ref.g_c), ref["g_l"] = vec(g.ref.g_l), ref["g_r"] = vec(g.ref.g_r),
+  ref["source"] = g.ref.source;
   std::vector<std::string> lenses;
   for (int p : m.lens_parts) lenses.push_back(g.mesh.part_names[p]);
   pyb::dict d;
@@ -57,15 +58,18 @@ pyb::dict glasses_info(const mesh::Glasses& g) {
 std::shared_ptr<Glasses> make_glasses(const mesh::FrameParams& params, std::string path, bool force) {
   if (path.empty()) {
     static int made = 0;
-    auto dir = std::filesystem::temp_directory_path() / fmt::format("lorgnette-glasses-{}-{}", getpid(), made++);
+    auto dir =
+        std::filesystem::temp_directory_path() / fmt::format("lorgnette-glasses-{}-{}", getpid(), made++);
     std::filesystem::create_directories(dir);
     path = (dir / fmt::format("frame-{:.0f}-{:.0f}-{:.0f}.glb", params.lens_width, params.bridge,
-                              params.temple_length)).string();
+                              params.temple_length))
+               .string();
   }
   if (!force)
     for (const std::string& p : {path, mesh::sidecar_path(path)})
       if (std::filesystem::exists(p))
-        throw std::runtime_error("'" + p + "' exists: pass force=True to overwrite it or choose another path");
+        throw std::runtime_error("'" + p +
+                                 "' exists: pass force=True to overwrite it or choose another path");
   mesh::ParametricFrame f = mesh::make_parametric_frame(params);
   mesh::write_glb(path, f.mesh);
   mesh::RefPointsSidecar s;  // file coordinates of a .glb are metres (as `glasses make`)
@@ -98,103 +102,137 @@ std::shared_ptr<Glasses> load_glasses(const std::string& path, double mm_per_uni
 
 void bind_glasses(pyb::module_& m) {
   pyb::class_<Glasses, std::shared_ptr<Glasses>>(m, "Glasses",
-      "A glasses frame in its canonical frame: millimetres, x to the wearer's left, +y up, +z forward, origin "
-      "at the bridge point g_c.")
+                                                 "A glasses frame in its canonical frame: millimetres, x to "
+                                                 "the wearer's left, +y up, +z forward, origin "
+                                                 "at the bridge point g_c.")
       .def_static("load", &load_glasses, pyb::arg("path"), pyb::arg("mm_per_unit") = 0.0,
                   "glTF/GLB/OBJ/PLY (a <file>.refpoints.json sidecar overrides the detected points).")
-      .def_static("make", [](float lens, float bridge, float temple, const std::string& shape, const std::string& path,
-                             const std::string& color, const std::string& tint, bool force) {
-        mesh::FrameParams p;
-        p.lens_width = lens, p.bridge = bridge, p.temple_length = temple;
-        p.shape = mesh::parse_frame_shape(shape);
-        p.color = mesh::parse_color(color);
-        p.lens_tint = mesh::parse_color(tint);
-        return make_glasses(p, path, force);
-      }, pyb::arg("lens"), pyb::arg("bridge"), pyb::arg("temple"), pyb::arg("shape") = "rect", pyb::arg("path") = "",
-         pyb::arg("color") = "black", pyb::arg("lens_tint") = "clear", pyb::arg("force") = false,
-         "`lorgnette glasses make`: writes PATH (.glb; default a temporary file) and its sidecar, then loads it.")
+      .def_static(
+          "make",
+          [](float lens, float bridge, float temple, const std::string& shape, const std::string& path,
+             const std::string& color, const std::string& tint, bool force) {
+            mesh::FrameParams p;
+            p.lens_width = lens, p.bridge = bridge, p.temple_length = temple;
+            p.shape = mesh::parse_frame_shape(shape);
+            p.color = mesh::parse_color(color);
+            p.lens_tint = mesh::parse_color(tint);
+            return make_glasses(p, path, force);
+          },
+          pyb::arg("lens"), pyb::arg("bridge"), pyb::arg("temple"), pyb::arg("shape") = "rect",
+          pyb::arg("path") = "", pyb::arg("color") = "black", pyb::arg("lens_tint") = "clear",
+          pyb::arg("force") = false,
+          "`lorgnette glasses make`: writes PATH (.glb; default a temporary file) and its sidecar, then "
+          "loads it.")
       .def_property_readonly("path", [](const Glasses& g) { return g.glasses.path; })
-      .def_property_readonly("info", [](const Glasses& g) { return glasses_info(g.glasses); },
-                             "What `lorgnette glasses inspect --json` prints.")
-      .def_property_readonly("size_mm", [](const Glasses& g) {
-        return pyb::object(glasses_info(g.glasses)["size_mm"]);
-      })
-      .def_property_readonly("reference_points", [](const Glasses& g) {
-        return pyb::object(glasses_info(g.glasses)["reference_points_mm"]);
-      }, "g_c (bridge), g_l and g_r (temple tips resting on the ears), canonical mm, and their source.")
+      .def_property_readonly(
+          "info", [](const Glasses& g) { return glasses_info(g.glasses); },
+          "What `lorgnette glasses inspect --json` prints.")
+      .def_property_readonly("size_mm",
+                             [](const Glasses& g) { return pyb::object(glasses_info(g.glasses)["size_mm"]); })
+      .def_property_readonly(
+          "reference_points",
+          [](const Glasses& g) { return pyb::object(glasses_info(g.glasses)["reference_points_mm"]); },
+          "g_c (bridge), g_l and g_r (temple tips resting on the ears), canonical mm, and their source.")
       .def_property_readonly("notes", [](const Glasses& g) { return g.glasses.notes; })
-      .def("vertices", [](const Glasses& g, pyb::object transform) {
-        const auto& pos = g.glasses.mesh.positions;
-        Eigen::Matrix4d t = transform.is_none() ? Eigen::Matrix4d::Identity() : matrix_from(transform);
-        pyb::array_t<double> out({pyb::ssize_t(pos.size()), pyb::ssize_t(3)});
-        double* o = out.mutable_data();
-        for (size_t i = 0; i < pos.size(); ++i) {
-          Eigen::Vector4d p = t * Eigen::Vector4d(pos[i].x(), pos[i].y(), pos[i].z(), 1.0);
-          o[3 * i] = p.x(), o[3 * i + 1] = p.y(), o[3 * i + 2] = p.z();
-        }
-        return out;
-      }, pyb::arg("transform") = pyb::none(),
-         "N x 3 vertices in canonical mm, or mapped by a 4x4 (e.g. placement.transform: into the scene).")
-      .def_property_readonly("triangles", [](const Glasses& g) {
-        const auto& t = g.glasses.mesh.triangles;
-        pyb::array_t<int32_t> out({pyb::ssize_t(t.size()), pyb::ssize_t(3)});
-        for (size_t i = 0; i < t.size(); ++i)
-          for (int k = 0; k < 3; ++k) out.mutable_data()[3 * i + k] = t[i][k];
-        return out;
-      })
+      .def(
+          "vertices",
+          [](const Glasses& g, pyb::object transform) {
+            const auto& pos = g.glasses.mesh.positions;
+            Eigen::Matrix4d t = transform.is_none() ? Eigen::Matrix4d::Identity() : matrix_from(transform);
+            pyb::array_t<double> out({pyb::ssize_t(pos.size()), pyb::ssize_t(3)});
+            double* o = out.mutable_data();
+            for (size_t i = 0; i < pos.size(); ++i) {
+              Eigen::Vector4d p = t * Eigen::Vector4d(pos[i].x(), pos[i].y(), pos[i].z(), 1.0);
+              o[3 * i] = p.x(), o[3 * i + 1] = p.y(), o[3 * i + 2] = p.z();
+            }
+            return out;
+          },
+          pyb::arg("transform") = pyb::none(),
+          "N x 3 vertices in canonical mm, or mapped by a 4x4 (e.g. placement.transform: into the scene).")
+      .def_property_readonly("triangles",
+                             [](const Glasses& g) {
+                               const auto& t = g.glasses.mesh.triangles;
+                               pyb::array_t<int32_t> out({pyb::ssize_t(t.size()), pyb::ssize_t(3)});
+                               for (size_t i = 0; i < t.size(); ++i)
+                                 for (int k = 0; k < 3; ++k) out.mutable_data()[3 * i + k] = t[i][k];
+                               return out;
+                             })
       .def("__repr__", [](const Glasses& g) {
         const auto& mm = g.glasses.metrics;
-        return fmt::format("Glasses('{}', {:.0f}-{:.0f}-{:.0f} mm)", g.glasses.path, mm.lens_width_mm, mm.bridge_mm,
-                           mm.temple_length_mm);
+        return fmt::format("Glasses('{}', {:.0f}-{:.0f}-{:.0f} mm)", g.glasses.path, mm.lens_width_mm,
+                           mm.bridge_mm, mm.temple_length_mm);
       });
 
   pyb::class_<Placement, std::shared_ptr<Placement>>(m, "Placement",
-      "placement.json in memory: `transform` (canonical mm -> scene), the fit's estimates, the temple spread.")
-      .def_static("load", [](const std::string& path) {
-        require_file(path, "placement");
-        return placement_from_file(fit::read_placement(path), std::filesystem::path(path).parent_path().string());
-      }, pyb::arg("path"), "Reads and validates placement.json (the fit's reader: a bad field raises naming it).")
-      .def_static("from_transform", [](pyb::object transform, pyb::object glasses) {
-        fit::PlacementFile pf;
-        pf.transform = matrix_from(transform);
-        if (!glasses.is_none()) pf.glasses_path = glasses.cast<std::shared_ptr<Glasses>>()->glasses.path;
-        pf.ok = true;
-        return placement_from_file(pf, "");
-      }, pyb::arg("transform"), pyb::arg("glasses") = pyb::none())
-      .def_static("from_json", [](const std::string& text) {
-        auto p = std::make_shared<Placement>();
-        p->json = fit::to_json(fit::placement_from_json(nlohmann::json::parse(text)));
-        return p;
-      }, pyb::arg("text"))
+                                                     "placement.json in memory: `transform` (canonical mm -> "
+                                                     "scene), the fit's estimates, the temple spread.")
+      .def_static(
+          "load",
+          [](const std::string& path) {
+            require_file(path, "placement");
+            return placement_from_file(fit::read_placement(path),
+                                       std::filesystem::path(path).parent_path().string());
+          },
+          pyb::arg("path"),
+          "Reads and validates placement.json (the fit's reader: a bad field raises naming it).")
+      .def_static(
+          "from_transform",
+          [](pyb::object transform, pyb::object glasses) {
+            fit::PlacementFile pf;
+            pf.transform = matrix_from(transform);
+            if (!glasses.is_none()) pf.glasses_path = glasses.cast<std::shared_ptr<Glasses>>()->glasses.path;
+            pf.ok = true;
+            return placement_from_file(pf, "");
+          },
+          pyb::arg("transform"), pyb::arg("glasses") = pyb::none())
+      .def_static(
+          "from_json",
+          [](const std::string& text) {
+            auto p = std::make_shared<Placement>();
+            p->json = fit::to_json(fit::placement_from_json(nlohmann::json::parse(text)));
+            return p;
+          },
+          pyb::arg("text"))
       .def("to_json", [](const Placement& p) { return p.json.dump(2); })
-      .def("save", [](const Placement& p, const std::string& path, bool force) {
-        if (!force && std::filesystem::exists(path))
-          throw std::runtime_error("'" + path + "' exists: pass force=True to overwrite it or choose another path");
-        fit::write_placement(path, parsed(p));
-      }, pyb::arg("path"), pyb::arg("force") = false)
-      .def_property("transform", [](const Placement& p) { return matrix(parsed(p).transform); },
-                    [](Placement& p, pyb::object t) {
-                      fit::PlacementFile pf = parsed(p);
-                      pf.transform = matrix_from(t);
-                      p.json = fit::to_json(pf);
-                    }, "4x4 canonical mm -> scene (writable).")
-      .def("adjusted", [](const Placement& p, std::array<float, 3> t, std::array<float, 3> r, float s) {
-        Eigen::Matrix4d mm;
-        render::Mat4 a = render::trs_transform(t, r, s);
-        for (int i = 0; i < 16; ++i) mm(i / 4, i % 4) = a[i];
-        fit::PlacementFile pf = parsed(p);
-        pf.transform = pf.transform * mm;
-        auto out = placement_from_file(pf, p.base_dir);
-        return out;
-      }, pyb::arg("translate_mm") = std::array<float, 3>{0, 0, 0},
-         pyb::arg("rotate_deg") = std::array<float, 3>{0, 0, 0}, pyb::arg("scale") = 1.0f,
-         "A copy moved in the frame's canonical millimetres (e.g. translate_mm=(0, -2, 0): 2 mm down the nose).")
-      .def_property("glasses_path", [](const Placement& p) { return parsed(p).glasses_path; },
-                    [](Placement& p, const std::string& path) {
-                      fit::PlacementFile pf = parsed(p);
-                      pf.glasses_path = path;
-                      p.json = fit::to_json(pf);
-                    })
+      .def(
+          "save",
+          [](const Placement& p, const std::string& path, bool force) {
+            if (!force && std::filesystem::exists(path))
+              throw std::runtime_error("'" + path +
+                                       "' exists: pass force=True to overwrite it or choose another path");
+            fit::write_placement(path, parsed(p));
+          },
+          pyb::arg("path"), pyb::arg("force") = false)
+      .def_property(
+          "transform", [](const Placement& p) { return matrix(parsed(p).transform); },
+          [](Placement& p, pyb::object t) {
+            fit::PlacementFile pf = parsed(p);
+            pf.transform = matrix_from(t);
+            p.json = fit::to_json(pf);
+          },
+          "4x4 canonical mm -> scene (writable).")
+      .def(
+          "adjusted",
+          [](const Placement& p, std::array<float, 3> t, std::array<float, 3> r, float s) {
+            Eigen::Matrix4d mm;
+            render::Mat4 a = render::trs_transform(t, r, s);
+            for (int i = 0; i < 16; ++i) mm(i / 4, i % 4) = a[i];
+            fit::PlacementFile pf = parsed(p);
+            pf.transform = pf.transform * mm;
+            auto out = placement_from_file(pf, p.base_dir);
+            return out;
+          },
+          pyb::arg("translate_mm") = std::array<float, 3>{0, 0, 0},
+          pyb::arg("rotate_deg") = std::array<float, 3>{0, 0, 0}, pyb::arg("scale") = 1.0f,
+          "A copy moved in the frame's canonical millimetres (e.g. translate_mm=(0, -2, 0): 2 mm down the "
+          "nose).")
+      .def_property(
+          "glasses_path", [](const Placement& p) { return parsed(p).glasses_path; },
+          [](Placement& p, const std::string& path) {
+            fit::PlacementFile pf = parsed(p);
+            pf.glasses_path = path;
+            p.json = fit::to_json(pf);
+          })
       .def_property_readonly("ok", [](const Placement& p) { return parsed(p).ok; })
       .def_property_readonly("warnings", [](const Placement& p) { return parsed(p).warnings; })
       .def_property_readonly("pd_mm", [](const Placement& p) { return parsed(p).pd_mm; })
@@ -202,8 +240,9 @@ void bind_glasses(pyb::module_& m) {
       .def_property_readonly("scale", [](const Placement& p) { return parsed(p).scale; })
       .def_property_readonly("penetration_mm", [](const Placement& p) { return parsed(p).penetration_mm; })
       .def_property_readonly("views_used", [](const Placement& p) { return parsed(p).views_used; })
-      .def_property_readonly("data", [](const Placement& p) { return to_python(p.json); },
-                             "The whole placement.json object as Python dicts and lists (a copy).")
+      .def_property_readonly(
+          "data", [](const Placement& p) { return to_python(p.json); },
+          "The whole placement.json object as Python dicts and lists (a copy).")
       .def("__repr__", [](const Placement& p) {
         fit::PlacementFile pf = parsed(p);
         return fmt::format("Placement(ok={}, PD {:.1f} mm, {:.1f} mm/unit, glasses '{}')", pf.ok, pf.pd_mm,

@@ -2,11 +2,11 @@
 // frame or look-at parameters; loading a .lnerf, rendering it with or without glasses (the same
 // calls as `lorgnette render`, with the GIL released), the orbit `render --orbit` uses and the range
 // of directions the capture saw.
-#include <cmath>
-
 #include <fmt/format.h>
 #include <pybind11/stl.h>
 #include <spdlog/spdlog.h>
+
+#include <cmath>
 
 #include "fit/placement_json.h"
 #include "host/dataset/dataset.h"
@@ -38,16 +38,16 @@ Camera resized(const Camera& c, Size size) {
   return r;
 }
 
-Camera make_camera(const pyb::array_t<double, pyb::array::c_style | pyb::array::forcecast>& c2w, float fx, float fy,
-                   float cx, float cy, Size size) {
+Camera make_camera(const pyb::array_t<double, pyb::array::c_style | pyb::array::forcecast>& c2w, float fx,
+                   float fy, float cx, float cy, Size size) {
   if (!((c2w.ndim() == 2 && c2w.shape(0) >= 3 && c2w.shape(0) <= 4 && c2w.shape(1) == 4)))
-    throw pyb::value_error("c2w must be a 3x4 or 4x4 camera-to-world matrix (OpenGL: the camera looks down -z)");
+    throw pyb::value_error(
+        "c2w must be a 3x4 or 4x4 camera-to-world matrix (OpenGL: the camera looks down -z)");
   Camera c{};
   for (int i = 0; i < 12; ++i) c.c2w[i] = float(c2w.data()[i]);
   c.fx = fx, c.fy = fy, c.cx = cx, c.cy = cy, c.width = size[0], c.height = size[1];
   return c;
 }
-
 
 // Yaw (about up, + towards the head's right = the orbit's +x) and pitch of the capture's camera
 // positions around the box centre, in the orbit's front/up frame.
@@ -63,7 +63,8 @@ pyb::dict captured_range(const nerf::NerfModel& model) {
     double yaw = std::atan2(d.dot(r), d.dot(f)) * 180.0 / M_PI;
     double pitch = std::asin(std::clamp(d.dot(u), -1.0, 1.0)) * 180.0 / M_PI;
     if (i == 0) ymin = ymax = yaw, pmin = pmax = pitch;
-    ymin = std::min(ymin, yaw), ymax = std::max(ymax, yaw), pmin = std::min(pmin, pitch), pmax = std::max(pmax, pitch);
+    ymin = std::min(ymin, yaw), ymax = std::max(ymax, yaw), pmin = std::min(pmin, pitch),
+    pmax = std::max(pmax, pitch);
   }
   pyb::dict out;
   out["cameras"] = cams.size();
@@ -87,7 +88,8 @@ std::shared_ptr<mesh::PlacedGlasses> placed_glasses(Glasses& g, const render::Ma
 
 render::Mat4 matrix_arg(const pyb::handle& obj) {
   auto a = pyb::array_t<double, pyb::array::c_style | pyb::array::forcecast>::ensure(obj);
-  if (!a || a.size() != 16) throw pyb::value_error("placement: a Placement or a 4x4 matrix (canonical mm -> scene)");
+  if (!a || a.size() != 16)
+    throw pyb::value_error("placement: a Placement or a 4x4 matrix (canonical mm -> scene)");
   render::Mat4 m;
   for (int i = 0; i < 16; ++i) m[i] = float(a.data()[i]);
   return m;
@@ -120,13 +122,16 @@ pyb::object render_model(Model& m, const Camera& camera, const RenderArgs& a) {
       temples = fit::temple_bend_from_placement(p.json);
       if (!glasses) {
         std::string path = p.json.contains("glasses") ? p.json["glasses"].value("path", "") : "";
-        if (path.empty()) throw std::runtime_error("a placement was given but no glasses: pass glasses=Glasses.load(FRAME)");
-        if (std::filesystem::path(path).is_relative()) path = (std::filesystem::path(p.base_dir) / path).string();
+        if (path.empty())
+          throw std::runtime_error("a placement was given but no glasses: pass glasses=Glasses.load(FRAME)");
+        if (std::filesystem::path(path).is_relative())
+          path = (std::filesystem::path(p.base_dir) / path).string();
         glasses = load_glasses(path);
       }
     } else {
       transform = matrix_arg(a.placement);
-      if (!glasses) throw std::runtime_error("a placement was given but no glasses: pass glasses=Glasses.load(FRAME)");
+      if (!glasses)
+        throw std::runtime_error("a placement was given but no glasses: pass glasses=Glasses.load(FRAME)");
     }
   }
   render::RenderResult r;
@@ -166,97 +171,130 @@ std::shared_ptr<Model> load_model(const std::string& path, const std::string& de
 void bind_model(pyb::module_& m) {
   pyb::class_<Camera>(m, "Camera",
                       "A pinhole camera (OpenGL convention: looks down -z, +y up; pixel centres at i + 0.5).")
-      .def(pyb::init(&make_camera), pyb::arg("c2w"), pyb::arg("fx"), pyb::arg("fy"), pyb::arg("cx"), pyb::arg("cy"),
-           pyb::arg("size"))
-      .def_static("look_at", [](render::Vec3 eye, render::Vec3 target, render::Vec3 up, Size size, float fov) {
-        return render::look_at(eye, target, up, size[0], size[1], fov);
-      }, pyb::arg("eye"), pyb::arg("target"), pyb::arg("up") = render::Vec3{0, 1, 0},
-         pyb::arg("size") = Size{640, 480}, pyb::arg("fov_y_deg") = 30.0f)
-      .def_static("from_pose", [](const std::string& path, Size size, float fov) {
-        require_file(path, "pose");
-        return render::read_pose(path, size[0], size[1], fov);
-      }, pyb::arg("path"), pyb::arg("size") = Size{854, 480}, pyb::arg("fov_y_deg") = 30.0f,
-         "The camera `lorgnette render --pose PATH --size WxH --fov F` renders.")
-      .def_static("from_transforms", [](const std::string& path, size_t index, std::optional<Size> size) {
-        if (!std::filesystem::exists(path)) require_file(path, "transforms");
-        dataset::LoadOptions lo;
-        lo.load_images = false;
-        lo.skip_missing_images = true;
-        auto ds = dataset::load_dataset(path, lo);
-        if (index >= ds.frames.size())
-          throw pyb::index_error(fmt::format("frame {} of '{}': it has {} frames", index, path, ds.frames.size()));
-        return size ? resized(ds.frames[index].camera, *size) : ds.frames[index].camera;
-      }, pyb::arg("path"), pyb::arg("index") = 0, pyb::arg("size") = pyb::none(),
-         "Frame `index` of a transforms.json (or its directory), in the loader's frame order.")
+      .def(pyb::init(&make_camera), pyb::arg("c2w"), pyb::arg("fx"), pyb::arg("fy"), pyb::arg("cx"),
+           pyb::arg("cy"), pyb::arg("size"))
+      .def_static(
+          "look_at",
+          [](render::Vec3 eye, render::Vec3 target, render::Vec3 up, Size size, float fov) {
+            return render::look_at(eye, target, up, size[0], size[1], fov);
+          },
+          pyb::arg("eye"), pyb::arg("target"), pyb::arg("up") = render::Vec3{0, 1, 0},
+          pyb::arg("size") = Size{640, 480}, pyb::arg("fov_y_deg") = 30.0f)
+      .def_static(
+          "from_pose",
+          [](const std::string& path, Size size, float fov) {
+            require_file(path, "pose");
+            return render::read_pose(path, size[0], size[1], fov);
+          },
+          pyb::arg("path"), pyb::arg("size") = Size{854, 480}, pyb::arg("fov_y_deg") = 30.0f,
+          "The camera `lorgnette render --pose PATH --size WxH --fov F` renders.")
+      .def_static(
+          "from_transforms",
+          [](const std::string& path, size_t index, std::optional<Size> size) {
+            if (!std::filesystem::exists(path)) require_file(path, "transforms");
+            dataset::LoadOptions lo;
+            lo.load_images = false;
+            lo.skip_missing_images = true;
+            auto ds = dataset::load_dataset(path, lo);
+            if (index >= ds.frames.size())
+              throw pyb::index_error(
+                  fmt::format("frame {} of '{}': it has {} frames", index, path, ds.frames.size()));
+            return size ? resized(ds.frames[index].camera, *size) : ds.frames[index].camera;
+          },
+          pyb::arg("path"), pyb::arg("index") = 0, pyb::arg("size") = pyb::none(),
+          "Frame `index` of a transforms.json (or its directory), in the loader's frame order.")
       .def("resized", &resized, pyb::arg("size"), "The same rays on a (width, height) image.")
       .def_property_readonly("width", [](const Camera& c) { return c.width; })
       .def_property_readonly("height", [](const Camera& c) { return c.height; })
-      .def_property_readonly("size", [](const Camera& c) { return Size{c.width, c.height}; })
+      .def_property_readonly("size",
+                             [](const Camera& c) {
+                               return Size{c.width, c.height};
+                             })
       .def_property_readonly("fx", [](const Camera& c) { return c.fx; })
       .def_property_readonly("fy", [](const Camera& c) { return c.fy; })
       .def_property_readonly("cx", [](const Camera& c) { return c.cx; })
       .def_property_readonly("cy", [](const Camera& c) { return c.cy; })
-      .def_property_readonly("distortion", [](const Camera& c) { return std::array<float, 4>{c.k1, c.k2, c.p1, c.p2}; })
+      .def_property_readonly("distortion",
+                             [](const Camera& c) {
+                               return std::array<float, 4>{c.k1, c.k2, c.p1, c.p2};
+                             })
       .def_property_readonly("c2w", &c2w_matrix, "4x4 camera-to-world")
       .def("__repr__", [](const Camera& c) {
-        return fmt::format("Camera({}x{}, f=({:.1f}, {:.1f}), eye=({:.3f}, {:.3f}, {:.3f}))", c.width, c.height, c.fx,
-                           c.fy, c.c2w[3], c.c2w[7], c.c2w[11]);
+        return fmt::format("Camera({}x{}, f=({:.1f}, {:.1f}), eye=({:.3f}, {:.3f}, {:.3f}))", c.width,
+                           c.height, c.fx, c.fy, c.c2w[3], c.c2w[7], c.c2w[11]);
       });
 
   pyb::class_<Model, std::shared_ptr<Model>>(m, "Model", pyb::dynamic_attr(),
-                                           "A trained NeRF head (.lnerf) on an OpenCL device.")
+                                             "A trained NeRF head (.lnerf) on an OpenCL device.")
       .def_static("load", &load_model, pyb::arg("path"), pyb::arg("device") = "",
                   "Loads a snapshot; a missing, newer or corrupt file raises with the CLI's message.")
-      .def("render", [](Model& self, const Camera& cam, pyb::object glasses, pyb::object placement,
-                        std::optional<Size> size, uint32_t spp, uint32_t surface_spp, float step_scale,
-                        std::array<float, 3> background, bool alpha, bool depth) {
-        RenderArgs a{glasses, placement, size, spp, surface_spp, step_scale, background, alpha, depth};
-        return render_model(self, cam, a);
-      }, pyb::arg("camera"), pyb::arg("glasses") = pyb::none(), pyb::arg("placement") = pyb::none(),
-         pyb::arg("size") = pyb::none(), pyb::arg("spp") = 1, pyb::arg("surface_spp") = 4,
-         pyb::arg("step_scale") = 1.0f, pyb::arg("background") = std::array<float, 3>{1, 1, 1},
-         pyb::arg("alpha") = false, pyb::arg("depth") = false,
-         "Renders the head (with glasses placed by a Placement or a 4x4 canonical mm -> scene) as a "
-         "float32 H x W x 4 array: linear RGB over `background` and alpha = coverage (alpha=True: no "
-         "background, RGB premultiplied). depth=True returns (rgba, depth H x W: distance along the unit "
-         "ray, 0 where empty). to_srgb8() gives the CLI's PNG pixels. The GIL is released meanwhile.")
-      .def("orbit", [](Model& self, uint32_t views, Size size, float elevation, float fov,
-                       std::optional<render::Vec3> front) {
-        if (views < 1) throw pyb::value_error("views must be >= 1");
-        render::OrbitSpec spec = render::model_orbit(*self.nerf, render::capture_cameras(*self.nerf));
-        if (front) spec.front = *front;
-        spec.views = views, spec.elevation_deg = elevation, spec.fov_y_deg = fov;
-        spec.width = size[0], spec.height = size[1];
-        return render::orbit_cameras(spec);
-      }, pyb::arg("views"), pyb::arg("size") = Size{854, 480}, pyb::arg("elevation_deg") = 0.0f,
-         pyb::arg("fov_y_deg") = 30.0f, pyb::arg("front") = pyb::none(),
-         "The cameras of `lorgnette render --orbit N`: around the head's box from its front (the capture's cameras).")
-      .def("capture_cameras", [](Model& self) { return render::capture_cameras(*self.nerf); },
-           "The cameras of the dataset the model was trained on (empty when it is gone).")
-      .def("captured_range", [](Model& self) { return captured_range(*self.nerf); },
-           "The yaw and pitch range (degrees) of the capture's cameras around the head, in the orbit's frame.")
-      .def("save", [](Model& self, const std::string& path, bool force) {
-        if (!force && std::filesystem::exists(path))
-          throw std::runtime_error("'" + path + "' exists: pass force=True to overwrite it or choose another path");
-        pyb::gil_scoped_release release;
-        std::lock_guard<std::mutex> lock(self.device->mutex);
-        self.nerf->save(path);
-        self.path = path;
-      }, pyb::arg("path"), pyb::arg("force") = false)
+      .def(
+          "render",
+          [](Model& self, const Camera& cam, pyb::object glasses, pyb::object placement,
+             std::optional<Size> size, uint32_t spp, uint32_t surface_spp, float step_scale,
+             std::array<float, 3> background, bool alpha, bool depth) {
+            RenderArgs a{glasses, placement, size, spp, surface_spp, step_scale, background, alpha, depth};
+            return render_model(self, cam, a);
+          },
+          pyb::arg("camera"), pyb::arg("glasses") = pyb::none(), pyb::arg("placement") = pyb::none(),
+          pyb::arg("size") = pyb::none(), pyb::arg("spp") = 1, pyb::arg("surface_spp") = 4,
+          pyb::arg("step_scale") = 1.0f, pyb::arg("background") = std::array<float, 3>{1, 1, 1},
+          pyb::arg("alpha") = false, pyb::arg("depth") = false,
+          "Renders the head (with glasses placed by a Placement or a 4x4 canonical mm -> scene) as a "
+          "float32 H x W x 4 array: linear RGB over `background` and alpha = coverage (alpha=True: no "
+          "background, RGB premultiplied). depth=True returns (rgba, depth H x W: distance along the unit "
+          "ray, 0 where empty). to_srgb8() gives the CLI's PNG pixels. The GIL is released meanwhile.")
+      .def(
+          "orbit",
+          [](Model& self, uint32_t views, Size size, float elevation, float fov,
+             std::optional<render::Vec3> front) {
+            if (views < 1) throw pyb::value_error("views must be >= 1");
+            render::OrbitSpec spec = render::model_orbit(*self.nerf, render::capture_cameras(*self.nerf));
+            if (front) spec.front = *front;
+            spec.views = views, spec.elevation_deg = elevation, spec.fov_y_deg = fov;
+            spec.width = size[0], spec.height = size[1];
+            return render::orbit_cameras(spec);
+          },
+          pyb::arg("views"), pyb::arg("size") = Size{854, 480}, pyb::arg("elevation_deg") = 0.0f,
+          pyb::arg("fov_y_deg") = 30.0f, pyb::arg("front") = pyb::none(),
+          "The cameras of `lorgnette render --orbit N`: around the head's box from its front (the capture's "
+          "cameras).")
+      .def(
+          "capture_cameras", [](Model& self) { return render::capture_cameras(*self.nerf); },
+          "The cameras of the dataset the model was trained on (empty when it is gone).")
+      .def(
+          "captured_range", [](Model& self) { return captured_range(*self.nerf); },
+          "The yaw and pitch range (degrees) of the capture's cameras around the head, in the orbit's frame.")
+      .def(
+          "save",
+          [](Model& self, const std::string& path, bool force) {
+            if (!force && std::filesystem::exists(path))
+              throw std::runtime_error("'" + path +
+                                       "' exists: pass force=True to overwrite it or choose another path");
+            pyb::gil_scoped_release release;
+            std::lock_guard<std::mutex> lock(self.device->mutex);
+            self.nerf->save(path);
+            self.path = path;
+          },
+          pyb::arg("path"), pyb::arg("force") = false)
       .def_property_readonly("path", [](const Model& self) { return self.path; })
       .def_property_readonly("device", [](const Model& self) { return self.device->runtime.device().name; })
-      .def_property_readonly("aabb", [](const Model& self) {
-        return std::make_pair(self.nerf->aabb().min, self.nerf->aabb().max);
-      }, "The scene box (min, max) the field covers.")
+      .def_property_readonly(
+          "aabb",
+          [](const Model& self) { return std::make_pair(self.nerf->aabb().min, self.nerf->aabb().max); },
+          "The scene box (min, max) the field covers.")
       .def_property_readonly("step", [](const Model& self) { return self.nerf->step(); })
-      .def_property_readonly("metadata", [](const Model& self) {
-        const auto& md = self.nerf->metadata;
-        pyb::dict d;
-        d["steps"] = md.steps, d["train_seconds"] = md.train_seconds, d["samples_trained"] = md.samples_trained;
-        d["seed"] = md.seed, d["final_loss"] = md.final_loss, d["dataset_path"] = md.dataset_path;
-        d["dataset_hash"] = md.dataset_hash, d["device"] = md.device, d["created"] = md.created;
-        return d;
-      })
+      .def_property_readonly(
+          "metadata",
+          [](const Model& self) {
+            const auto& md = self.nerf->metadata;
+            pyb::dict d;
+            d["steps"] = md.steps, d["train_seconds"] = md.train_seconds,
+            d["samples_trained"] = md.samples_trained;
+            d["seed"] = md.seed, d["final_loss"] = md.final_loss, d["dataset_path"] = md.dataset_path;
+            d["dataset_hash"] = md.dataset_hash, d["device"] = md.device, d["created"] = md.created;
+            return d;
+          })
       .def("__repr__", [](const Model& self) {
         return fmt::format("Model('{}', {} steps, on {})", self.path, self.nerf->metadata.steps,
                            self.device->runtime.device().name);

@@ -2,11 +2,11 @@
 // trainer), with the GIL released while it runs. A progress callable sees every step and stops
 // training cleanly by returning False (the trainer's interrupt poll, host/util/interrupt.h: the
 // snapshot is saved as after Ctrl-C); Ctrl-C in Python does the same and then raises KeyboardInterrupt.
-#include <optional>
-
 #include <fmt/format.h>
 #include <pybind11/stl.h>
 #include <spdlog/spdlog.h>
+
+#include <optional>
 
 #include "capture/subject_box.h"
 #include "host/dataset/dataset.h"
@@ -51,10 +51,12 @@ struct StepHook {
 };
 
 pyb::object run_train(const TrainArgs& a) {
-  if (a.seconds < 0.0) throw pyb::value_error("seconds must be positive (or leave it out for the default budget)");
+  if (a.seconds < 0.0)
+    throw pyb::value_error("seconds must be positive (or leave it out for the default budget)");
   if (a.steps > 0 && a.seconds > 0.0) throw pyb::value_error("give steps or seconds, not both");
   if (std::filesystem::exists(a.output) && !a.force)
-    throw std::runtime_error("'" + a.output + "' exists: pass force=True to overwrite it or choose another output");
+    throw std::runtime_error("'" + a.output +
+                             "' exists: pass force=True to overwrite it or choose another output");
   if (a.batch_log2 < 10 || a.batch_log2 > 22) throw pyb::value_error("batch_log2 must be within 10..22");
   if (!std::filesystem::exists(a.data)) require_file(a.data, "dataset");
   auto model = std::make_shared<Model>();
@@ -112,25 +114,29 @@ pyb::object run_train(const TrainArgs& a) {
 }  // namespace
 
 void bind_train(pyb::module_& m) {
-  m.def("train", [](const std::string& data, const std::string& output, uint64_t steps, double seconds,
-                    pyb::object progress, uint32_t seed, uint32_t batch_log2, const std::string& box,
-                    const std::string& background, bool deterministic, uint32_t max_side, uint32_t downscale,
-                    bool force, bool show_progress, const std::string& device) {
-    TrainArgs a;
-    a.data = data, a.output = output, a.steps = steps, a.seconds = seconds, a.progress = progress, a.seed = seed;
-    a.batch_log2 = batch_log2, a.box = box, a.background = background, a.deterministic = deterministic;
-    a.max_side = max_side, a.downscale = downscale, a.force = force, a.show_progress = show_progress;
-    a.device = device;
-    return run_train(a);
-  }, pyb::arg("dataset"), pyb::arg("output"), pyb::arg("steps") = 0, pyb::arg("seconds") = 0.0,
-     pyb::arg("progress") = pyb::none(), pyb::arg("seed") = 1337, pyb::arg("batch_log2") = 16,
-     pyb::arg("box") = "auto", pyb::arg("background") = "auto", pyb::arg("deterministic") = false,
-     pyb::arg("max_side") = 0, pyb::arg("downscale") = 1, pyb::arg("force") = false,
-     pyb::arg("show_progress") = false, pyb::arg("device") = "",
-     "`lorgnette train DATASET -o OUTPUT`: trains and saves the snapshot, returns the Model (its "
-     "`train_info` dict: steps, seconds, final_loss, stopped, budget, loss_curve). steps=0 and "
-     "seconds=0: the size-based default budget. progress(step, seconds, loss) is called after every step "
-     "(GIL held only then); returning False stops cleanly (the snapshot is saved, train_info['stopped']).");
+  m.def(
+      "train",
+      [](const std::string& data, const std::string& output, uint64_t steps, double seconds,
+         pyb::object progress, uint32_t seed, uint32_t batch_log2, const std::string& box,
+         const std::string& background, bool deterministic, uint32_t max_side, uint32_t downscale, bool force,
+         bool show_progress, const std::string& device) {
+        TrainArgs a;
+        a.data = data, a.output = output, a.steps = steps, a.seconds = seconds, a.progress = progress,
+        a.seed = seed;
+        a.batch_log2 = batch_log2, a.box = box, a.background = background, a.deterministic = deterministic;
+        a.max_side = max_side, a.downscale = downscale, a.force = force, a.show_progress = show_progress;
+        a.device = device;
+        return run_train(a);
+      },
+      pyb::arg("dataset"), pyb::arg("output"), pyb::arg("steps") = 0, pyb::arg("seconds") = 0.0,
+      pyb::arg("progress") = pyb::none(), pyb::arg("seed") = 1337, pyb::arg("batch_log2") = 16,
+      pyb::arg("box") = "auto", pyb::arg("background") = "auto", pyb::arg("deterministic") = false,
+      pyb::arg("max_side") = 0, pyb::arg("downscale") = 1, pyb::arg("force") = false,
+      pyb::arg("show_progress") = false, pyb::arg("device") = "",
+      "`lorgnette train DATASET -o OUTPUT`: trains and saves the snapshot, returns the Model (its "
+      "`train_info` dict: steps, seconds, final_loss, stopped, budget, loss_curve). steps=0 and "
+      "seconds=0: the size-based default budget. progress(step, seconds, loss) is called after every step "
+      "(GIL held only then); returning False stops cleanly (the snapshot is saved, train_info['stopped']).");
 }
 
 }  // namespace lorgnette::py

@@ -2,14 +2,13 @@
 // process and device, shared by the models on it, one piece of device work at a time), the Model
 // handle, NumPy <-> image conversion, and the binders each bind_*.cpp defines.
 #pragma once
-#include <memory>
-#include <mutex>
-#include <string>
-
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
+#include <memory>
+#include <mutex>
 #include <nlohmann/json.hpp>
+#include <string>
 
 #include "host/cl/runtime.h"
 #include "host/nerf/model.h"
@@ -37,7 +36,7 @@ std::shared_ptr<Device> device_for(const std::string& spec);
 struct Model {
   std::shared_ptr<Device> device;
   std::unique_ptr<nerf::NerfModel> nerf;
-  std::string path;  // the .lnerf it came from or was saved to
+  std::string path;                            // the .lnerf it came from or was saved to
   std::unique_ptr<render::Renderer> renderer;  // made on the first render (builds the marcher)
 };
 

@@ -1,15 +1,15 @@
 // The `lorgnette._lorgnette` extension module: errors (the library's messages as lorgnette.Error),
 // logging, OpenCL devices and the runtime per device, image IO and conversion to what the CLI
 // writes, and the binders of models, glasses, the fit and training (bind_*.cpp).
-#include <filesystem>
-#include <map>
-#include <new>
-
 #include <OpenImageIO/imageio.h>
 #include <fmt/format.h>
 #include <pybind11/stl.h>
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
+
+#include <filesystem>
+#include <map>
+#include <new>
 
 #include "host/cl/device.h"
 #include "host/render/render_job.h"
@@ -48,15 +48,19 @@ std::string effective_spec(const std::string& spec) {
 // Reads an image's stored values (8-bit files as uint8, others as float32), without conversion.
 pyb::array raw_image(const std::string& path) {
   auto in = OIIO::ImageInput::open(path);
-  if (!in) throw std::runtime_error(fmt::format("cannot read image '{}': {}", path, decode_error_text(OIIO::geterror())));
+  if (!in)
+    throw std::runtime_error(
+        fmt::format("cannot read image '{}': {}", path, decode_error_text(OIIO::geterror())));
   const OIIO::ImageSpec& spec = in->spec();
   const bool u8 = spec.format == OIIO::TypeDesc::UINT8;
   std::vector<pyb::ssize_t> shape{spec.height, spec.width, spec.nchannels};
-  pyb::array out = u8 ? pyb::array(pyb::dtype::of<uint8_t>(), shape) : pyb::array(pyb::dtype::of<float>(), shape);
+  pyb::array out =
+      u8 ? pyb::array(pyb::dtype::of<uint8_t>(), shape) : pyb::array(pyb::dtype::of<float>(), shape);
   bool ok = in->read_image(0, 0, 0, spec.nchannels, u8 ? OIIO::TypeDesc::UINT8 : OIIO::TypeDesc::FLOAT,
                            out.mutable_data());
   if (!ok || in->has_error())
-    throw std::runtime_error(fmt::format("cannot read image '{}': {}", path, decode_error_text(in->geterror())));
+    throw std::runtime_error(
+        fmt::format("cannot read image '{}': {}", path, decode_error_text(in->geterror())));
   return out;
 }
 
@@ -86,11 +90,12 @@ void save_image(const std::string& path, const pyb::array& image) {
     OIIO::ImageSpec spec(int(a.shape(1)), int(a.shape(0)), c, OIIO::TypeDesc::UINT8);
     auto out = OIIO::ImageOutput::create(path);
     if (!out || !out->open(path, spec) || !out->write_image(OIIO::TypeDesc::UINT8, a.data()) || !out->close())
-      throw std::runtime_error(fmt::format("cannot write image '{}': {}", path,
-                                           out ? out->geterror() : OIIO::geterror()));
+      throw std::runtime_error(
+          fmt::format("cannot write image '{}': {}", path, out ? out->geterror() : OIIO::geterror()));
     return;
   }
-  write_image(path, from_numpy(image.cast<pyb::array_t<float, pyb::array::c_style | pyb::array::forcecast>>()));
+  write_image(path,
+              from_numpy(image.cast<pyb::array_t<float, pyb::array::c_style | pyb::array::forcecast>>()));
 }
 
 }  // namespace
@@ -133,7 +138,9 @@ Image from_numpy(const pyb::array_t<float, pyb::array::c_style | pyb::array::for
   return img;
 }
 
-pyb::object to_python(const nlohmann::json& j) { return pyb::module_::import("json").attr("loads")(j.dump()); }
+pyb::object to_python(const nlohmann::json& j) {
+  return pyb::module_::import("json").attr("loads")(j.dump());
+}
 
 nlohmann::json from_python(const pyb::handle& obj) {
   return nlohmann::json::parse(pyb::module_::import("json").attr("dumps")(obj).cast<std::string>());
@@ -165,51 +172,71 @@ PYBIND11_MODULE(_lorgnette, m) {
   if (!spdlog::get("lorgnette")) spdlog::set_default_logger(spdlog::stderr_color_mt("lorgnette"));
   spdlog::set_pattern("lorgnette: %^%l%$: %v");
   spdlog::set_level(spdlog::level::warn);
-  m.def("set_log_level", [](const std::string& level) {
-    auto l = spdlog::level::from_str(level);
-    if (l == spdlog::level::off && level != "off")
-      throw pyb::value_error("log level must be trace, debug, info, warning, error, critical or off");
-    spdlog::set_level(l);
-  }, pyb::arg("level"), "Log level of the library's messages on stderr (default 'warning').");
+  m.def(
+      "set_log_level",
+      [](const std::string& level) {
+        auto l = spdlog::level::from_str(level);
+        if (l == spdlog::level::off && level != "off")
+          throw pyb::value_error("log level must be trace, debug, info, warning, error, critical or off");
+        spdlog::set_level(l);
+      },
+      pyb::arg("level"), "Log level of the library's messages on stderr (default 'warning').");
 
-  m.def("devices", [] {
-    auto all = cl::list_devices();
-    int chosen = cl::select_device(effective_spec("")).index;
-    pyb::list out;
-    for (const auto& d : all) out.append(device_dict(d, chosen));
-    return out;
-  }, "Every OpenCL device (as `lorgnette devices --json`); 'selected' marks the one in use.");
-  m.def("use_device", [](const std::string& spec) {
-    cl::DeviceInfo d = cl::select_device(spec);  // validates
-    g_device_spec = spec;
-    return device_dict(d, d.index);
-  }, pyb::arg("spec"), "Chooses the device for models loaded or trained from now on: an index or part of a name.");
-  m.def("device", [] {
-    cl::DeviceInfo d = cl::select_device(effective_spec(""));
-    return device_dict(d, d.index);
-  }, "The device in use (use_device, else $LORGNETTE_DEVICE, else the CLI's default rule).");
+  m.def(
+      "devices",
+      [] {
+        auto all = cl::list_devices();
+        int chosen = cl::select_device(effective_spec("")).index;
+        pyb::list out;
+        for (const auto& d : all) out.append(device_dict(d, chosen));
+        return out;
+      },
+      "Every OpenCL device (as `lorgnette devices --json`); 'selected' marks the one in use.");
+  m.def(
+      "use_device",
+      [](const std::string& spec) {
+        cl::DeviceInfo d = cl::select_device(spec);  // validates
+        g_device_spec = spec;
+        return device_dict(d, d.index);
+      },
+      pyb::arg("spec"),
+      "Chooses the device for models loaded or trained from now on: an index or part of a name.");
+  m.def(
+      "device",
+      [] {
+        cl::DeviceInfo d = cl::select_device(effective_spec(""));
+        return device_dict(d, d.index);
+      },
+      "The device in use (use_device, else $LORGNETTE_DEVICE, else the CLI's default rule).");
 
-  m.def("load_image", [](const std::string& path, bool raw) -> pyb::object {
-    require_file(path, "image");
-    if (raw) return raw_image(path);
-    return to_numpy(read_image(path));
-  }, pyb::arg("path"), pyb::arg("raw") = false,
-     "An image file as a NumPy array: linear float32 (H x W x C, as the library reads it), or with "
-     "raw=True the stored values (uint8 for 8-bit files such as the CLI's PNGs).");
+  m.def(
+      "load_image",
+      [](const std::string& path, bool raw) -> pyb::object {
+        require_file(path, "image");
+        if (raw) return raw_image(path);
+        return to_numpy(read_image(path));
+      },
+      pyb::arg("path"), pyb::arg("raw") = false,
+      "An image file as a NumPy array: linear float32 (H x W x C, as the library reads it), or with "
+      "raw=True the stored values (uint8 for 8-bit files such as the CLI's PNGs).");
   m.def("save_image", &save_image, pyb::arg("path"), pyb::arg("image"),
         "Writes a float32 linear image (PNG/JPG sRGB-encoded, EXR linear) as the CLI does, or a uint8 "
         "image's values as they are.");
   m.def("to_srgb8", &srgb8, pyb::arg("rgba"), pyb::arg("alpha") = false,
         "Model.render's float RGBA as the 8-bit sRGB pixels `lorgnette render` writes to its PNGs "
         "(H x W x 3, or H x W x 4 straight alpha with alpha=True).");
-  m.def("trs", [](std::array<float, 3> t, std::array<float, 3> r, float s) {
-    render::Mat4 a = render::trs_transform(t, r, s);
-    pyb::array_t<double> out({4, 4});
-    for (int i = 0; i < 16; ++i) out.mutable_data()[i] = a[i];
-    return out;
-  }, pyb::arg("translate") = std::array<float, 3>{0, 0, 0}, pyb::arg("rotate_deg") = std::array<float, 3>{0, 0, 0},
-     pyb::arg("scale") = 1.0f,
-     "4x4 p' = translate + R(rotate_deg) * scale * p with R = Rz Ry Rx (render --translate/--rotate/--scale).");
+  m.def(
+      "trs",
+      [](std::array<float, 3> t, std::array<float, 3> r, float s) {
+        render::Mat4 a = render::trs_transform(t, r, s);
+        pyb::array_t<double> out({4, 4});
+        for (int i = 0; i < 16; ++i) out.mutable_data()[i] = a[i];
+        return out;
+      },
+      pyb::arg("translate") = std::array<float, 3>{0, 0, 0},
+      pyb::arg("rotate_deg") = std::array<float, 3>{0, 0, 0}, pyb::arg("scale") = 1.0f,
+      "4x4 p' = translate + R(rotate_deg) * scale * p with R = Rz Ry Rx (render "
+      "--translate/--rotate/--scale).");
 
   bind_model(m);
   bind_glasses(m);

@@ -1,12 +1,12 @@
 // End to end (LABELS slow, ~20 s): 12 consecutive fox photos (instant-ngp's sample capture) at
 // 360x640 through frames -> COLMAP -> transforms.json; the recovered poses must match the provided
 // transforms.json (COLMAP at full size by instant-ngp's authors) up to a similarity transform.
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
-
-#include <gtest/gtest.h>
 
 #include "capture/capture.h"
 #include "capture/pose_compare.h"
@@ -32,7 +32,8 @@ TEST(CaptureEndToEnd, FoxPosesMatchTheReferenceUpToASimilarity) {
   fs::remove_all(root);
   fs::create_directories(root / "input");
   for (const char* f : kFrames)  // links, not copies: the data stays in the shared folder
-    fs::create_symlink(data / "images" / (std::string(f) + ".jpg"), root / "input" / (std::string(f) + ".jpg"));
+    fs::create_symlink(data / "images" / (std::string(f) + ".jpg"),
+                       root / "input" / (std::string(f) + ".jpg"));
 
   CaptureOptions opt;
   opt.input = (root / "input").string();
@@ -45,9 +46,10 @@ TEST(CaptureEndToEnd, FoxPosesMatchTheReferenceUpToASimilarity) {
 
   PoseAccuracy acc = compare_poses(opt.output, (data / "transforms.json").string());
   EXPECT_EQ(acc.matched, std::size(kFrames));
-  std::printf("fox e2e: rotation error mean %.3f max %.3f deg; centre error mean %.2f%% max %.2f%% of "
-              "the camera spread\n", acc.rotation_deg_mean, acc.rotation_deg_max,
-              100 * acc.centre_rel_mean, 100 * acc.centre_rel_max);
+  std::printf(
+      "fox e2e: rotation error mean %.3f max %.3f deg; centre error mean %.2f%% max %.2f%% of "
+      "the camera spread\n",
+      acc.rotation_deg_mean, acc.rotation_deg_max, 100 * acc.centre_rel_mean, 100 * acc.centre_rel_max);
   EXPECT_LE(acc.rotation_deg_max, 2.0);
   // Centres: 12 views over a short arc at a third of the resolution; 5% of the mean distance of
   // the centres from their centroid is well above COLMAP's noise at sub-pixel reprojection error

@@ -3,11 +3,11 @@
 // COLMAP finding no model; and several disconnected models keep the largest with a warning. An earlier
 // capture is replaced only with --force; a COLMAP model whose images are partly missing from the
 // folder loses those frames (named in a warning), or is refused when too few remain.
+#include <gtest/gtest.h>
+
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-
-#include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 
@@ -113,9 +113,10 @@ TEST_F(CaptureErrors, SeveralModelsKeepTheLargest) {
   fs::path models = tmp_dir("fake_models");
   write_colmap_model(synthetic::make_synthetic_scene(3, 20, 0).model, models / "0", true);
   write_colmap_model(synthetic::make_synthetic_scene(9, 40, 5).model, models / "1", false);
-  fake_colmap("if [ \"$1\" = mapper ]; then\n"
-              "  while [ $# -gt 0 ]; do [ \"$1\" = --output_path ] && cp -r '" + models.string() +
-              "'/. \"$2\"/; shift; done\nfi\nexit 0");
+  fake_colmap(
+      "if [ \"$1\" = mapper ]; then\n"
+      "  while [ $# -gt 0 ]; do [ \"$1\" = --output_path ] && cp -r '" +
+      models.string() + "'/. \"$2\"/; shift; done\nfi\nexit 0");
   CaptureReport r = run_capture(opt_);
   EXPECT_EQ(r.models, 2u);
   EXPECT_EQ(r.registered, 9u);

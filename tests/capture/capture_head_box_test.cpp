@@ -7,12 +7,11 @@
 
 #include <filesystem>
 #include <fstream>
-
 #include <nlohmann/json.hpp>
 
 #include "capture/capture.h"
-#include "host/dataset/dataset.h"
 #include "face_dataset.h"
+#include "host/dataset/dataset.h"
 #include "synthetic_model.h"
 
 namespace lorgnette::capture {

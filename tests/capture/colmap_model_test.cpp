@@ -1,12 +1,13 @@
 // COLMAP model IO: a synthetic model with known poses round-trips exactly through the binary layout
 // and through the text layout (17 significant digits), COLMAP's own text quirks (comments, empty
 // POINTS2D lines, names with spaces) are read, and corrupt files give errors naming the file.
-#include <filesystem>
-#include <fstream>
+#include "capture/colmap_model.h"
 
 #include <gtest/gtest.h>
 
-#include "capture/colmap_model.h"
+#include <filesystem>
+#include <fstream>
+
 #include "tests/capture/synthetic_model.h"
 
 namespace fs = std::filesystem;

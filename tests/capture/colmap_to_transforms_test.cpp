@@ -2,12 +2,13 @@
 // binary and in text and read back), the scene poses are exactly the known poses mapped by the
 // reported similarity (to 1e-9), the mean camera up becomes +z, the subject box holds the head and
 // not the room, and host/dataset's loader reads the written file back with the same cameras.
-#include <filesystem>
+#include "capture/colmap_to_transforms.h"
 
 #include <gtest/gtest.h>
+
+#include <filesystem>
 #include <opencv2/imgcodecs.hpp>
 
-#include "capture/colmap_to_transforms.h"
 #include "host/dataset/dataset.h"
 #include "tests/capture/synthetic_model.h"
 

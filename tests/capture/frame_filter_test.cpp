@@ -2,15 +2,16 @@
 // reason, an evenly blurred capture is kept with a warning; the eye aspect ratio of synthetic eye
 // landmarks, the blink decision (closed frames dropped, a closed-eyed capture kept with a warning,
 // faceless frames kept), and dlib's landmarks on a real open-eyed frame of the in2n-face capture.
-#include <filesystem>
+#include "capture/frame_filter.h"
 
 #include <gtest/gtest.h>
+
+#include <filesystem>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include "capture/capture.h"
 #include "capture/eye_openness.h"
-#include "capture/frame_filter.h"
 
 namespace fs = std::filesystem;
 using namespace lorgnette::capture;
@@ -28,7 +29,7 @@ cv::Mat textured_frame(int seed, double defocus_sigma) {
 }
 
 std::array<Eigen::Vector2d, 6> eye(double half_height) {
-  return {Eigen::Vector2d(0, 0),   Eigen::Vector2d(10, -half_height), Eigen::Vector2d(20, -half_height),
+  return {Eigen::Vector2d(0, 0),  Eigen::Vector2d(10, -half_height), Eigen::Vector2d(20, -half_height),
           Eigen::Vector2d(30, 0), Eigen::Vector2d(20, half_height),  Eigen::Vector2d(10, half_height)};
 }
 
@@ -72,8 +73,8 @@ TEST(BlinkFilter, EyeAspectRatioOfSyntheticEyes) {
 }
 
 TEST(BlinkFilter, DropsClosedFramesKeepsFacelessOnes) {
-  std::vector<std::optional<double>> ear = {0.30, 0.31, 0.29, eye_aspect_ratio(eye(1.0)), 0.30,
-                                            std::nullopt, 0.32};
+  std::vector<std::optional<double>> ear = {0.30, 0.31,         0.29, eye_aspect_ratio(eye(1.0)),
+                                            0.30, std::nullopt, 0.32};
   FilterDecision d = blink_filter(ear);
   EXPECT_EQ(d.keep, (std::vector<bool>{true, true, true, false, true, true, true}));
   EXPECT_NE(d.reasons[3].find("eyes closed"), std::string::npos);

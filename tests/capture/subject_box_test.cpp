@@ -2,9 +2,10 @@
 // alpha-mask hull, else the head box when faces are found, else the cameras (saying why); forced
 // sources that do not apply fail clearly. Datasets are built in memory; the face case renders a
 // small procedural-head dataset (a few seconds).
+#include "capture/subject_box.h"
+
 #include <gtest/gtest.h>
 
-#include "capture/subject_box.h"
 #include "face_dataset.h"
 
 namespace lorgnette::capture {

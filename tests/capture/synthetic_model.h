@@ -1,13 +1,12 @@
 // A synthetic COLMAP model with known poses for the capture tests: cameras on a tilted ring around
 // a "head" (a sphere of points seen by every camera) in a room (far points seen by two cameras).
 #pragma once
+#include <Eigen/Geometry>
 #include <cmath>
 #include <filesystem>
-#include <string>
 #include <random>
+#include <string>
 #include <vector>
-
-#include <Eigen/Geometry>
 
 #include "capture/colmap_model.h"
 #include "capture/colmap_to_transforms.h"
@@ -27,7 +26,7 @@ struct SyntheticScene {
   std::vector<Eigen::Matrix4d> c2w;  // OpenGL c2w per image id - 1, in COLMAP's world
   Eigen::Vector3d head_centre{0.3, -0.2, 2.0};
   double head_radius = 0.12;
-  Eigen::Vector3d world_up;          // the ring's up direction (unit)
+  Eigen::Vector3d world_up;  // the ring's up direction (unit)
   std::vector<uint64_t> head_ids, room_ids;
 };
 

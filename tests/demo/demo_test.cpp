@@ -1,10 +1,10 @@
 // `lorgnette demo --quick` end to end on PoCL: the report says the fit succeeded and the held-out
 // PSNR is above a floor; bad output directories and interruption leave nothing passing as complete.
+#include <gtest/gtest.h>
+
 #include <csignal>
 #include <filesystem>
 #include <fstream>
-
-#include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
 #include "demo/pipeline.h"
@@ -40,8 +40,8 @@ TEST(Demo, QuickRunFitsAndReachesThePsnrFloor) {
   double pd = j["fit"]["pd_mm"].get<double>();
   EXPECT_GT(pd, 50.0);  // anatomical range of adult PDs, with the head's true 64 mm inside it
   EXPECT_LT(pd, 76.0);
-  for (const char* f : {"report.html", "placement.json", "head.lnerf", "orbit/orbit.mp4", "orbit/contact_sheet.png",
-                        "dataset/transforms.json", "frame.glb"})
+  for (const char* f : {"report.html", "placement.json", "head.lnerf", "orbit/orbit.mp4",
+                        "orbit/contact_sheet.png", "dataset/transforms.json", "frame.glb"})
     EXPECT_TRUE(fs::exists(o.out_dir + "/" + f)) << f;
   EXPECT_EQ(r.stages.size(), 5u);
 }

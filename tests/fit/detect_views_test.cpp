@@ -2,13 +2,14 @@
 // thread while the next view renders gives exactly the serial results (also with detector noise,
 // whose draws must keep their order); running dlib's HOG stage on a shrunk copy (the framing hint)
 // gives exactly the full-resolution boxes and landmarks; bad options are clear errors.
-#include <algorithm>
-#include <filesystem>
+#include "fit/detect_views.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <filesystem>
+
 #include "fit/camera_math.h"
-#include "fit/detect_views.h"
 #include "fit/fit.h"
 #include "fit/mesh_view_source.h"
 

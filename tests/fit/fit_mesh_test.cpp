@@ -1,9 +1,9 @@
 // The dlib adapter and the whole fit on a mesh ViewSource of the Lee Perry-Smith head scan (textured,
 // Embree ray cast). Ground truth: the same detector on mesh renders, each landmark ray cast onto the
 // mesh (fit/mesh_ground_truth.h). Skips with a message when the scan or the dlib model is missing.
-#include <filesystem>
-
 #include <gtest/gtest.h>
+
+#include <filesystem>
 
 #include "fit/camera_math.h"
 #include "fit/fit.h"
@@ -26,7 +26,10 @@ class LeePerrySmith : public ::testing::Test {
     if (!std::filesystem::exists(kHead) || !std::filesystem::exists(DetectorOptions{}.model_path)) return;
     source_ = MeshViewSource::load(kHead).release();  // no prior: find the front
   }
-  static void TearDownTestSuite() { delete source_; source_ = nullptr; }
+  static void TearDownTestSuite() {
+    delete source_;
+    source_ = nullptr;
+  }
   void SetUp() override {
     if (!source_) GTEST_SKIP() << "needs " << kHead << " and the dlib model (Debian package libdlib-data)";
   }
@@ -37,14 +40,16 @@ MeshViewSource* LeePerrySmith::source_ = nullptr;
 TEST_F(LeePerrySmith, DlibFindsTheFaceFromTheFrontNotFromBehind) {
   LandmarkDetector det;
   Orbit o;
-  o.target = source_->bounds().center().cast<double>() + Eigen::Vector3d(0, 2.0, 0);  // the face, not the bust
+  o.target =
+      source_->bounds().center().cast<double>() + Eigen::Vector3d(0, 2.0, 0);  // the face, not the bust
   o.distance = 14.0;
   o.fov_y_deg = 25.0;
   FaceDetection front = det.detect(source_->render(orbit_camera(o, 0, 0)));  // the scan faces +z
   ASSERT_TRUE(front.found);
   ASSERT_EQ(front.points.size(), 68u);
   // Frontal: the nose tip in the middle between the temples, eyes above the nose.
-  EXPECT_LT(std::abs(front.points[lm::kNoseTip].x() - 0.5 * (front.points[0].x() + front.points[16].x())), 8.0);
+  EXPECT_LT(std::abs(front.points[lm::kNoseTip].x() - 0.5 * (front.points[0].x() + front.points[16].x())),
+            8.0);
   EXPECT_LT(front.points[lm::kEyeOuterL].y(), front.points[lm::kNoseTip].y());
   EXPECT_FALSE(det.detect(source_->render(orbit_camera(o, 180, 0))).found);
 }
@@ -69,7 +74,8 @@ Image with_glasses(MeshViewSource& head, const mesh::PlacedGlasses& g, const Cam
 }
 
 // Rigid (top row) and spread (bottom row) temples from above and from the side.
-void write_temple_pictures(MeshViewSource& head, const FitResult& r, const std::string& glasses, const std::string& path) {
+void write_temple_pictures(MeshViewSource& head, const FitResult& r, const std::string& glasses,
+                           const std::string& path) {
   mesh::GlassesOptions go;
   Eigen::Matrix4f t = r.placement.transform.cast<float>();
   mesh::PlacedGlasses rigid = mesh::load_placed_glasses(glasses, t, {}, go);
@@ -110,11 +116,11 @@ TEST_F(LeePerrySmith, FitMatchesGroundTruth) {
   for (const TempleSideFit* t : {&r.temples.left, &r.temples.right}) {
     EXPECT_GT(t->penetration_before_mm, 0.5);  // the rigid frame clips: the spread is needed
     EXPECT_GT(t->spread_deg, 0.0);
-    EXPECT_LT(t->spread_deg, 15.0);            // a flex, not a break
+    EXPECT_LT(t->spread_deg, 15.0);  // a flex, not a break
     EXPECT_LE(t->penetration_mm, 0.5);
     EXPECT_TRUE(t->clear);
   }
-  EXPECT_LE(r.contact.penetration_mm, 0.5);      // re-measured with the spread temples
+  EXPECT_LE(r.contact.penetration_mm, 0.5);  // re-measured with the spread temples
   EXPECT_LE(r.contact.tip_penetration_mm, 0.5);
   EXPECT_TRUE(r.ok);
   for (const auto& w : r.warnings) EXPECT_EQ(w.find("temple"), std::string::npos) << w;
@@ -135,11 +141,12 @@ TEST_F(LeePerrySmith, FitMatchesGroundTruth) {
   EXPECT_EQ(pf.temples.bend.left.spread_deg, r.temples.left.spread_deg);
   std::cerr << "fit errors: nose " << e.nose_mm << " mm, ears " << e.ear_l_mm << " / " << e.ear_r_mm
             << " mm, rotation " << e.rotation_deg << " deg, mm/unit " << r.head.mm_per_unit << " (gt "
-            << gt.head.mm_per_unit << "), pd " << r.head.pd_mm << " mm, penetration " << r.contact.penetration_mm
-            << " mm (shift " << r.contact.shift_mm << "), temples spread " << r.temples.left.spread_deg << " / "
-            << r.temples.right.spread_deg << " deg (penetration " << r.temples.left.penetration_before_mm << " -> "
-            << r.temples.left.penetration_mm << " / " << r.temples.right.penetration_before_mm << " -> "
-            << r.temples.right.penetration_mm << " mm), " << r.total_seconds() << " s\n";
+            << gt.head.mm_per_unit << "), pd " << r.head.pd_mm << " mm, penetration "
+            << r.contact.penetration_mm << " mm (shift " << r.contact.shift_mm << "), temples spread "
+            << r.temples.left.spread_deg << " / " << r.temples.right.spread_deg << " deg (penetration "
+            << r.temples.left.penetration_before_mm << " -> " << r.temples.left.penetration_mm << " / "
+            << r.temples.right.penetration_before_mm << " -> " << r.temples.right.penetration_mm << " mm), "
+            << r.total_seconds() << " s\n";
   std::cerr << "  hinge_l " << r.temples.bend.left.hinge.transpose() << " mm, tip penetration "
             << r.contact.tip_penetration_mm << " mm\n";
   for (const auto& [stage, sec] : r.seconds) std::cerr << "  " << stage << " " << sec << " s\n";
@@ -162,10 +169,13 @@ TEST(FitErrors, NoFaceAnywhereSaysWhatWasTried) {
   class Ball : public ViewSource {
    public:
     Image render(const Camera& c) override { return Image(int(c.width), int(c.height), 3, 0.5f); }
-    std::vector<float> density(const std::vector<Eigen::Vector3f>& p) override { return std::vector<float>(p.size(), 0.0f); }
+    std::vector<float> density(const std::vector<Eigen::Vector3f>& p) override {
+      return std::vector<float>(p.size(), 0.0f);
+    }
     Bounds bounds() const override { return {}; }
   } ball;
-  if (!std::filesystem::exists(DetectorOptions{}.model_path)) GTEST_SKIP() << "dlib model missing (libdlib-data)";
+  if (!std::filesystem::exists(DetectorOptions{}.model_path))
+    GTEST_SKIP() << "dlib model missing (libdlib-data)";
   FitOptions opt;
   opt.front.width = opt.front.height = 128;
   try {

@@ -2,11 +2,12 @@
 // (known geometry) the box contains the whole head down to the neck margin and is not much larger;
 // photos without a face give the clear error; the geometric half (oriented box from a head frame)
 // is exact on a hand-made frame; even_subset spreads its picks.
+#include "fit/head_box.h"
+
 #include <gtest/gtest.h>
 
 #include <cstdio>
 
-#include "fit/head_box.h"
 #include "host/dataset/dataset.h"
 #include "tests/synth/face_dataset.h"
 

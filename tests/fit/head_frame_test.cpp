@@ -2,14 +2,13 @@
 // of the axes, the scale (mm per unit) and the PD; with noise, within stated tolerances.
 #include "fit/head_frame.h"
 
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-
 #include <random>
-
-#include <Eigen/Geometry>
-#include <gtest/gtest.h>
 
 #include "fit/landmark_ids.h"
 #include "fit/mean_face.h"
@@ -33,7 +32,8 @@ Moved move(const Face68& f, double noise_mm, unsigned seed) {
   std::mt19937 rng(seed);
   std::normal_distribution<double> n(0.0, noise_mm);
   for (const auto& p : f)
-    m.pts.push_back(m.s * (m.r * (p + Eigen::Vector3d(n(rng), n(rng), n(rng)))) + Eigen::Vector3d(0.1, 1.5, -0.3));
+    m.pts.push_back(m.s * (m.r * (p + Eigen::Vector3d(n(rng), n(rng), n(rng)))) +
+                    Eigen::Vector3d(0.1, 1.5, -0.3));
   return m;
 }
 

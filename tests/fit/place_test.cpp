@@ -2,17 +2,18 @@
 // the contact refinement against an analytic head (a sphere of known radius).
 #include "fit/place.h"
 
-#include <random>
+#include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
-#include <gtest/gtest.h>
+#include <random>
 
 namespace lorgnette::fit {
 namespace {
 
 Eigen::Matrix3d some_rotation() {
   return (Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()) *
-          Eigen::AngleAxisd(-0.3, Eigen::Vector3d::UnitY())).toRotationMatrix();
+          Eigen::AngleAxisd(-0.3, Eigen::Vector3d::UnitY()))
+      .toRotationMatrix();
 }
 
 TEST(Kabsch, RecoversARotationExactly) {

@@ -2,11 +2,10 @@
 // newer versions and malformed files with named fields.
 #include "fit/placement_json.h"
 
-#include <filesystem>
-#include <fstream>
-
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <fstream>
 
 namespace lorgnette::fit {
 namespace {
@@ -102,10 +101,11 @@ TEST(PlacementJson, TemplesCodec) {
   placement["temples"]["hinge_l"] = {1, 2};
   EXPECT_THROW(temple_bend_from_placement(placement), std::runtime_error);
   const std::string path = std::string(LORGNETTE_TEST_TMP) + "/temple_codec.json";
-  std::ofstream(path) << nlohmann::json{{"version", 1},
-                                        {"transform", {{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}, {0, 0, 0, 1}}},
-                                        {"temples", temple_bend_to_json(b)}}
-                             .dump();
+  std::ofstream(path) << nlohmann::json{
+      {"version", 1},
+      {"transform", {{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}, {0, 0, 0, 1}}},
+      {"temples", temple_bend_to_json(
+                      b)}}.dump();
   EXPECT_EQ(read_placement(path).temples.bend.right.spread_deg, 11.5);
   EXPECT_THROW(read_placement("/nonexistent/p.json"), std::runtime_error);
 }

@@ -1,14 +1,15 @@
 // Surface depths along rays (fit/ray_surface.h) and the near-side rule for jaw-contour casts
 // (fit/surface_landmarks.h), on analytic densities with closed-form answers.
-#include <cmath>
-#include <functional>
+#include "fit/ray_surface.h"
 
 #include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
 
 #include "fit/camera_math.h"
 #include "fit/fit.h"
 #include "fit/landmark_ids.h"
-#include "fit/ray_surface.h"
 #include "fit/surface_landmarks.h"
 
 namespace lorgnette::fit {
@@ -123,7 +124,8 @@ TEST(ContourSide, CastUsesOnlyTheNearSideViews) {
     v.detection.points[lm::kTempleR] = uv;  // the landmark's pixel: the ray through `aim`
     return v;
   };
-  const Eigen::Vector3d near_hit = Eigen::Vector3d(-0.6, 0.0, 0.8), grazing = Eigen::Vector3d(-1.0, 0.0, -0.3);
+  const Eigen::Vector3d near_hit = Eigen::Vector3d(-0.6, 0.0, 0.8),
+                        grazing = Eigen::Vector3d(-1.0, 0.0, -0.3);
   std::vector<ViewRecord> views = {view({-1.0, 0.0, 5.0}, near_hit, 60, 40),
                                    view({3.0, 0.0, 4.0}, grazing, 40, 60)};
   std::vector<TriangulatedPoint> pts(lm::kCount);

@@ -10,9 +10,9 @@
 // plus 0.01 deg for the 0.25 mm sampling of the segment and float density queries (~1e-4 deg).
 #include "fit/temple_fit.h"
 
-#include <cmath>
-
 #include <gtest/gtest.h>
+
+#include <cmath>
 
 namespace lorgnette::fit {
 namespace {

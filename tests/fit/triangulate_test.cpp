@@ -2,9 +2,9 @@
 // with detector noise, and with gross outliers that the robust loop must reject.
 #include "fit/triangulate.h"
 
-#include <random>
-
 #include <gtest/gtest.h>
+
+#include <random>
 
 #include "fit/camera_math.h"
 #include "fit/view_planning.h"

@@ -3,10 +3,10 @@
 // reciprocity f(l, v) = f(v, l), the Lambert limit, and Fresnel sanity.
 #include "mesh/disney_brdf.h"
 
-#include <random>
+#include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
-#include <gtest/gtest.h>
+#include <random>
 
 namespace lorgnette::mesh {
 namespace {
@@ -27,7 +27,8 @@ std::pair<double, double> albedo(const BrdfParams& p, float cos_v, int n, unsign
       float r = std::sqrt(a), phi = 2 * kPi * b;
       l = {r * std::cos(phi), r * std::sin(phi), std::sqrt(std::max(0.0f, 1 - a))};
     } else {  // GGX half vector, reflected
-      float t2 = alpha * alpha * a / std::max(1e-12f, 1 - a), ct = 1 / std::sqrt(1 + t2), st = std::sqrt(1 - ct * ct);
+      float t2 = alpha * alpha * a / std::max(1e-12f, 1 - a), ct = 1 / std::sqrt(1 + t2),
+            st = std::sqrt(1 - ct * ct);
       Eigen::Vector3f h(st * std::cos(2 * kPi * b), st * std::sin(2 * kPi * b), ct);
       l = 2 * v.dot(h) * h - v;
     }
@@ -57,7 +58,7 @@ TEST(DisneyBrdf, WhiteFurnaceAlbedoAtMostOne) {
           // 4 standard errors: a false failure has probability ~3e-5 per grid point (810 points);
           // 0.01 absolute covers the GGX sampler's pdf floor at the grazing end.
           EXPECT_LE(a, 1.0 + 4 * se + 0.01) << "roughness " << rough << " metallic " << metal << " specular "
-                                             << spec << " cos_v " << cos_v << " (se " << se << ")";
+                                            << spec << " cos_v " << cos_v << " (se " << se << ")";
         }
   std::printf("largest white-furnace albedo on the grid: %.4f\n", worst);
 }

@@ -4,13 +4,12 @@
 // preview sheets into the test temp dir for checking by eye.
 #include "mesh/glasses.h"
 
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-
-#include <Eigen/Geometry>
-
-#include <gtest/gtest.h>
 
 #include "mesh/preview.h"
 #include "tests/mesh/test_paths.h"
@@ -25,9 +24,9 @@ TEST(Glasses, SharedFramesGivePlausibleSymmetricPoints) {
     Glasses g = load_glasses(test::data(s.path));
     const auto& r = g.ref;
     const auto& m = g.metrics;
-    std::printf("%s: W %.1f H %.1f D %.1f lens %.1f x %.1f bridge %.1f temple %.1f | gl %.1f %.1f %.1f\n", s.name,
-                m.total_width_mm, m.total_height_mm, m.total_depth_mm, m.lens_width_mm, m.lens_height_mm,
-                m.bridge_mm, m.temple_length_mm, r.g_l.x(), r.g_l.y(), r.g_l.z());
+    std::printf("%s: W %.1f H %.1f D %.1f lens %.1f x %.1f bridge %.1f temple %.1f | gl %.1f %.1f %.1f\n",
+                s.name, m.total_width_mm, m.total_height_mm, m.total_depth_mm, m.lens_width_mm,
+                m.lens_height_mm, m.bridge_mm, m.temple_length_mm, r.g_l.x(), r.g_l.y(), r.g_l.z());
     for (auto& n : g.notes) std::printf("   %s\n", n.c_str());
     if (previews) {
       std::filesystem::path dir = std::filesystem::path(LORGNETTE_TEST_TMP) / "mesh_previews";
@@ -70,8 +69,9 @@ TEST(Glasses, HandCheckedReferencePoints) {
     Eigen::Vector3f g_l;
     float lens, bridge;
   };
-  const Case cases[] = {{"glasses/khronos-sunglasses/SunglassesKhronos.glb", {68.8f, -15.9f, -118.7f}, 67.2f, 9.5f},
-                        {"glasses/glasses-04/scene.gltf", {70.7f, 3.3f, -101.7f}, 51.5f, 18.5f}};
+  const Case cases[] = {
+      {"glasses/khronos-sunglasses/SunglassesKhronos.glb", {68.8f, -15.9f, -118.7f}, 67.2f, 9.5f},
+      {"glasses/glasses-04/scene.gltf", {70.7f, 3.3f, -101.7f}, 51.5f, 18.5f}};
   for (const auto& c : cases) {
     SCOPED_TRACE(c.path);
     Glasses g = load_glasses(test::data(c.path));
@@ -99,7 +99,8 @@ TEST(Glasses, RotatedFileIsCanonicalisedBackToTheSameFrame) {
   // orientation and unit detection must undo both and find the same points (3 mm as above).
   TriMesh m = load_mesh(test::data("glasses/khronos-sunglasses/SunglassesKhronos.glb"));
   Eigen::Matrix4f xf = Eigen::Matrix4f::Identity();
-  xf.topLeftCorner<3, 3>() = 1000.0f * Eigen::AngleAxisf(0.5f * 3.14159265f, Eigen::Vector3f::UnitX()).toRotationMatrix();
+  xf.topLeftCorner<3, 3>() =
+      1000.0f * Eigen::AngleAxisf(0.5f * 3.14159265f, Eigen::Vector3f::UnitX()).toRotationMatrix();
   transform_mesh(m, xf);
   m.units_to_mm = 1.0;
   Glasses ref = load_glasses(test::data("glasses/khronos-sunglasses/SunglassesKhronos.glb"));

@@ -4,13 +4,13 @@
 // point reads what the file entry point reads.
 #include "mesh/loader.h"
 
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
-
-#include <Eigen/Geometry>
-#include <gtest/gtest.h>
 
 #include "tests/mesh/test_paths.h"
 
@@ -66,8 +66,8 @@ TEST(Loader, SharedGlassesLoadWithExpectedPartsAndBounds) {
 
 TEST(Loader, KhronosLensesUseTransmissionAndNamedParts) {
   TriMesh m = load_mesh(test::data("glasses/khronos-sunglasses/SunglassesKhronos.glb"));
-  std::vector<std::string> want = {"EarhookRight", "TempleRight", "EarhookLeft", "TempleLeft",
-                                   "Nosepads", "Frames", "LensesInterior", "LensesExterior"};
+  std::vector<std::string> want = {"EarhookRight", "TempleRight", "EarhookLeft",    "TempleLeft",
+                                   "Nosepads",     "Frames",      "LensesInterior", "LensesExterior"};
   EXPECT_EQ(m.part_names, want);
   for (const auto& mat : m.materials) {
     if (mat.name == "lens_exterior") {
@@ -107,7 +107,8 @@ TEST(Loader, BadFilesGiveClearErrors) {
   expect_error((dir / "missing.glb").string(), "does not exist");
   std::ofstream((dir / "empty.glb").string()).close();
   expect_error((dir / "empty.glb").string(), "empty");
-  std::ofstream((dir / "corrupt.glb").string(), std::ios::binary) << "glTF\x02\0\0\0garbage that is not a glb";
+  std::ofstream((dir / "corrupt.glb").string(), std::ios::binary)
+      << "glTF\x02\0\0\0garbage that is not a glb";
   expect_error((dir / "corrupt.glb").string(), "cannot load mesh");
   std::ofstream((dir / "points.ply").string())
       << "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
@@ -121,8 +122,9 @@ TEST(Loader, ObjWithMtlAndPlyLoad) {
   fs::path dir = fs::path(LORGNETTE_TEST_TMP) / "mesh_loader";
   fs::create_directories(dir);
   std::ofstream((dir / "quad.mtl").string()) << "newmtl red\nKd 1 0 0\nd 1\n";
-  std::ofstream((dir / "quad.obj").string()) << "mtllib quad.mtl\nusemtl red\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n"
-                                                  "f 1 2 3 4\n";
+  std::ofstream((dir / "quad.obj").string())
+      << "mtllib quad.mtl\nusemtl red\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n"
+         "f 1 2 3 4\n";
   LoadReport report;
   TriMesh obj = load_mesh((dir / "quad.obj").string(), {}, &report);
   EXPECT_EQ(obj.triangle_count(), 2u);  // the quad is triangulated
@@ -190,7 +192,8 @@ TEST(Loader, MalformedPlyIsRefusedNotHungOrAborted) {
   auto ply = [](const std::string& vertices, const std::string& data) {
     return "ply\nformat ascii 1.0\nelement vertex " + vertices +
            "\nproperty float x\nproperty float y\nproperty float z\nelement face 1\n"
-           "property list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n" + data;
+           "property list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n" +
+           data;
   };
   for (const std::string& bad :
        {ply("3", "2160668374 0 1 2\n"), ply("3", "4 0 1 2\n"), ply("2160668374", "3 0 1 2\n")}) {

@@ -5,11 +5,11 @@
 // exactly.
 #include "mesh/parametric.h"
 
+#include <gtest/gtest.h>
+
 #include <cstdio>
 #include <filesystem>
 #include <map>
-
-#include <gtest/gtest.h>
 
 #include "mesh/frame_metrics.h"
 #include "mesh/glasses.h"
@@ -112,8 +112,8 @@ TEST_P(ParametricShapes, GlbRoundTripAndDetectorAgreeWithExactPoints) {
   EXPECT_EQ(gs.ref.source, "sidecar");
   EXPECT_LT((gs.ref.g_l - f.ref.g_l).norm(), 1e-3f);
   EXPECT_LT((gs.ref.g_r - f.ref.g_r).norm(), 1e-3f);
-  if (std::getenv("LORGNETTE_MESH_PREVIEWS")) write_image(tmp(std::string("preview_") + GetParam() + ".png"),
-                                                          render_glasses_preview(g));
+  if (std::getenv("LORGNETTE_MESH_PREVIEWS"))
+    write_image(tmp(std::string("preview_") + GetParam() + ".png"), render_glasses_preview(g));
 }
 
 INSTANTIATE_TEST_SUITE_P(Shapes, ParametricShapes, ::testing::Values("round", "rect", "aviator", "cateye"));

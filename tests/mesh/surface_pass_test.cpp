@@ -5,9 +5,9 @@
 // depend on the thread count.
 #include "mesh/surface_pass.h"
 
-#include <cmath>
-
 #include <gtest/gtest.h>
+
+#include <cmath>
 
 #include "mesh/disney_brdf.h"
 #include "mesh/parametric.h"

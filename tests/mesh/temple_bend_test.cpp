@@ -6,12 +6,12 @@
 // and a spread frame's surface pass differs from the rigid one only behind the hinges.
 #include "mesh/temple_bend.h"
 
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
 #include <cmath>
 #include <fstream>
 #include <random>
-
-#include <Eigen/Geometry>
-#include <gtest/gtest.h>
 
 #include "mesh/parametric.h"
 #include "mesh/placed_glasses.h"
@@ -43,7 +43,8 @@ TEST(TempleBend, AheadOfTheHingeAndNosePadsStayPut) {
     EXPECT_EQ(bend_point(b, p), p);
   }
   // Behind the front but near the symmetry plane (nose pads): rigid.
-  for (double px : {-30.0, -8.0, 8.0, 33.9}) EXPECT_EQ(bend_point(b, Eigen::Vector3d(px, 0, -12)), Eigen::Vector3d(px, 0, -12));
+  for (double px : {-30.0, -8.0, 8.0, 33.9})
+    EXPECT_EQ(bend_point(b, Eigen::Vector3d(px, 0, -12)), Eigen::Vector3d(px, 0, -12));
   EXPECT_FALSE(TempleBend{}.active());
 }
 
@@ -62,7 +63,9 @@ TEST(TempleBend, FarBehindTurnsByExactlyTheSpreadOutwards) {
         // By exactly the spread; outwards = away from the symmetry plane (left: -angle about +y).
         EXPECT_NEAR(angle_about_y(r0, r1), -side * t.spread_deg, 1e-9);
       }
-      EXPECT_GT(side * (bend_point(b, Eigen::Vector3d(t.hinge + Eigen::Vector3d(0, 0, -depth))).x() - t.hinge.x()), 0.0);
+      EXPECT_GT(
+          side * (bend_point(b, Eigen::Vector3d(t.hinge + Eigen::Vector3d(0, 0, -depth))).x() - t.hinge.x()),
+          0.0);
     }
   }
 }
@@ -96,11 +99,14 @@ TEST(TempleBend, NormalsMatchTheDeformedSurface) {
   for (int i = 0; i < 200; ++i) {
     int side = i % 2 ? 1 : -1;
     Eigen::Vector3d p(side * (68 + 4 * u(rng)), 10 * u(rng), -2.0 - 3.0 * (u(rng) + 1.0));  // inside the ramp
-    if (i % 4 >= 2) p.z() -= 20.0;                                                           // or behind it
+    if (i % 4 >= 2) p.z() -= 20.0;                                                          // or behind it
     Eigen::Vector3d t1 = Eigen::Vector3d(u(rng), u(rng), u(rng)).normalized();
     Eigen::Vector3d t2 = t1.unitOrthogonal();
     const double e = 1e-5;
-    auto d = [&](const Eigen::Vector3d& t) -> Eigen::Vector3d { return (bend_point(b, Eigen::Vector3d(p + e * t)) - bend_point(b, Eigen::Vector3d(p - e * t))) / (2 * e); };
+    auto d = [&](const Eigen::Vector3d& t) -> Eigen::Vector3d {
+      return (bend_point(b, Eigen::Vector3d(p + e * t)) - bend_point(b, Eigen::Vector3d(p - e * t))) /
+             (2 * e);
+    };
     Eigen::Vector3d expect = d(t1).cross(d(t2)).normalized();
     Eigen::Vector3d got = bend_normal(b, p, t1.cross(t2));
     EXPECT_NEAR((got - expect).norm(), 0.0, 1e-6) << p.transpose();
@@ -175,9 +181,9 @@ TEST(TempleBend, SurfacePassDiffersOnlyBehindTheHinges) {
       ASSERT_TRUE(std::isfinite(t));
       LgnVec3 o = camera_origin(&cam), d = camera_ray_dir(&cam, x + 0.5f, y + 0.5f);
       Eigen::Vector3f hit = Eigen::Vector3f(o.x, o.y, o.z) + t * Eigen::Vector3f(d.x, d.y, d.z);
-      EXPECT_LT(hit.z(), hinges->left.z() + 2.5f) << x << "," << y << ": depth " << a.depth[i] << " vs "
-                                                  << c.depth[i] << ", alpha " << a.color_alpha[4 * i + 3] << " vs "
-                                                  << c.color_alpha[4 * i + 3];  // + a pixel (~2.2 mm)
+      EXPECT_LT(hit.z(), hinges->left.z() + 2.5f)
+          << x << "," << y << ": depth " << a.depth[i] << " vs " << c.depth[i] << ", alpha "
+          << a.color_alpha[4 * i + 3] << " vs " << c.color_alpha[4 * i + 3];  // + a pixel (~2.2 mm)
     }
   EXPECT_GT(changed, 40);
 }

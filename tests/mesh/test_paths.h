@@ -14,9 +14,12 @@ struct SharedGlasses {
 
 inline const std::vector<SharedGlasses>& shared_glasses() {
   static const std::vector<SharedGlasses> all = {
-      {"glasses-01", "glasses/glasses-01/scene.gltf"}, {"glasses-03", "glasses/glasses-03/scene.gltf"},
-      {"glasses-04", "glasses/glasses-04/scene.gltf"}, {"glasses-05", "glasses/glasses-05/scene.gltf"},
-      {"glasses-06", "glasses/glasses-06/scene.gltf"}, {"glasses-07", "glasses/glasses-07/scene.gltf"},
+      {"glasses-01", "glasses/glasses-01/scene.gltf"},
+      {"glasses-03", "glasses/glasses-03/scene.gltf"},
+      {"glasses-04", "glasses/glasses-04/scene.gltf"},
+      {"glasses-05", "glasses/glasses-05/scene.gltf"},
+      {"glasses-06", "glasses/glasses-06/scene.gltf"},
+      {"glasses-07", "glasses/glasses-07/scene.gltf"},
       {"khronos", "glasses/khronos-sunglasses/SunglassesKhronos.glb"}};
   return all;
 }

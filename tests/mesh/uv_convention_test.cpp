@@ -4,14 +4,14 @@
 // (Embree hit uv + mesh::sample_texture). A file from a generator known to store OpenGL-convention
 // UVs is flipped by the loader (FlipV::kAuto), and FlipV::kNo / kYes override that. The Lee
 // Perry-Smith scan (such a file) gets its scalp at the top of its colour map.
+#include <gtest/gtest.h>
+
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
-
-#include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
 
 #include "host/util/image_io.h"
 #include "mesh/embree_scene.h"

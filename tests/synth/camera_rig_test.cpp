@@ -1,10 +1,10 @@
 // Tests of the sphere-cap camera rig: cameras look at the target from the requested distance and
 // angles, the rig covers the (yaw, pitch) box deterministically, and bad ranges are refused.
+#include "synth/camera_rig.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
-
-#include "synth/camera_rig.h"
 
 namespace lorgnette::synth {
 namespace {

@@ -3,11 +3,11 @@
 // one sample per pixel to keep the rendering to a few seconds. ctest runs each test in its own
 // process, two at a time: the folder is per process so that they never write over each other.
 #pragma once
+#include <unistd.h>
+
 #include <cstdint>
 #include <filesystem>
 #include <string>
-
-#include <unistd.h>
 
 #include "synth/synthesize.h"
 #include "tests/synth/test_head.h"
@@ -15,8 +15,10 @@
 namespace lorgnette::synth::test {
 
 // Renders `views` views (camera seed `seed`) into LORGNETTE_TEST_TMP/<area>/<name>_<pid>; returns it.
-inline std::string render_face_dataset(const std::string& area, const std::string& name, int views, uint64_t seed) {
-  std::filesystem::path d = std::filesystem::path(LORGNETTE_TEST_TMP) / area / (name + "_" + std::to_string(::getpid()));
+inline std::string render_face_dataset(const std::string& area, const std::string& name, int views,
+                                       uint64_t seed) {
+  std::filesystem::path d =
+      std::filesystem::path(LORGNETTE_TEST_TMP) / area / (name + "_" + std::to_string(::getpid()));
   std::filesystem::remove_all(d);
   std::filesystem::create_directories(d.parent_path());
   SynthOptions o;

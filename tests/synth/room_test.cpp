@@ -2,19 +2,19 @@
 // written matte is the subject's coverage as the renderer computes it for the subject alone, the
 // room fills the background, the images carry no alpha and the loader sees an opaque dataset with
 // eval_matte_path on every frame, the two layouts differ, and the team's scan renders in a room.
+#include "synth/room.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-
 #include <nlohmann/json.hpp>
 
 #include "host/dataset/dataset.h"
 #include "mesh/embree_scene.h"
 #include "synth/body.h"
 #include "synth/matte.h"
-#include "synth/room.h"
 #include "synth/synthesize.h"
 
 namespace lorgnette::synth {
@@ -39,7 +39,9 @@ SynthOptions room_options(int room) {
   return o;
 }
 
-Camera first_camera(const Subject& s, const SynthOptions& o) { return make_camera_rig(rig_for(s, o))[1].camera; }
+Camera first_camera(const Subject& s, const SynthOptions& o) {
+  return make_camera_rig(rig_for(s, o))[1].camera;
+}
 
 RenderedView render_in_room(const Subject& s, int room, const Camera& cam) {
   RoomScene rs = subject_in_room(s, room);
@@ -68,7 +70,8 @@ TEST(Room, MatteEqualsTheSubjectsOwnCoverage) {
       EXPECT_EQ(v.rgba.at(x, y, 3), 1.0f);  // opaque everywhere
     }
   EXPECT_LE(differ, int(0.001 * cam.width * cam.height) + 1);
-  EXPECT_GT(covered, int(0.15 * cam.width * cam.height)) << "the subject should fill a good part of a phone view";
+  EXPECT_GT(covered, int(0.15 * cam.width * cam.height))
+      << "the subject should fill a good part of a phone view";
 }
 
 // Behind the subject the room is seen: at least 85 % of the non-subject pixels are not the sky
@@ -91,7 +94,8 @@ TEST(Room, RoomIsSeenBehindTheSubject) {
     ASSERT_GT(bg, 0);
     EXPECT_GT(room_px, int(0.85 * bg)) << "room " << room;
     double mean = sum / bg;
-    EXPECT_GT(std::sqrt(std::max(0.0, sum2 / bg - mean * mean)), 0.03) << "room " << room << " looks untextured";
+    EXPECT_GT(std::sqrt(std::max(0.0, sum2 / bg - mean * mean)), 0.03)
+        << "room " << room << " looks untextured";
   }
 }
 
@@ -149,10 +153,13 @@ TEST(Room, MatteFileRoundTrips) {
   fs::create_directories(p.parent_path());
   write_matte(p.string(), m);
   Image r = read_matte(p.string());
-  for (int i = 0; i < 5; ++i) EXPECT_NEAR(r.pixels[i], m.pixels[i], 0.5f / 255.0f + 1e-5f);  // half a step + float rounding
+  for (int i = 0; i < 5; ++i)
+    EXPECT_NEAR(r.pixels[i], m.pixels[i], 0.5f / 255.0f + 1e-5f);  // half a step + float rounding
 }
 
-TEST(Room, UnknownLayoutIsRefused) { EXPECT_THROW(make_room(RoomPlacement{kRoomLayouts + 1}), std::runtime_error); }
+TEST(Room, UnknownLayoutIsRefused) {
+  EXPECT_THROW(make_room(RoomPlacement{kRoomLayouts + 1}), std::runtime_error);
+}
 
 TEST(Room, ScanRendersInARoom) {
   std::string path = std::string(LORGNETTE_DATA_DIR) + "/heads/lee-perry-smith/LeePerrySmith.glb";

@@ -8,7 +8,6 @@
 
 #include <filesystem>
 #include <fstream>
-
 #include <nlohmann/json.hpp>
 
 #include "host/dataset/dataset.h"
@@ -70,7 +69,8 @@ TEST(RoomTraining, SubjectSeparatesFromTheRoom) {
   nlohmann::json tj = nlohmann::json::parse(std::ifstream(dir / "transforms.json"));
   std::vector<Eigen::Vector3f> face;
   nlohmann::json gt = nlohmann::json::parse(std::ifstream(dir / "ground_truth.json"));
-  for (const auto& p : gt["ibug68"]) face.emplace_back(p[0].get<float>(), p[1].get<float>(), p[2].get<float>());
+  for (const auto& p : gt["ibug68"])
+    face.emplace_back(p[0].get<float>(), p[1].get<float>(), p[2].get<float>());
   render::Renderer renderer(rt);
   std::vector<render::MatteScore> scores;
   for (const dataset::Frame* f : ds.split(dataset::Split::Holdout)) {
@@ -78,7 +78,8 @@ TEST(RoomTraining, SubjectSeparatesFromTheRoom) {
     Image matte = synth::read_matte((dir / "mattes" / (stem + ".png")).string());
     Image depth = read_image((dir / "depth" / (stem + ".exr")).string());
     Image pred = renderer.render(tr.model, f->camera, nullptr, render::RenderOptions{}).rgba;
-    scores.push_back(render::score_matte({f->camera, &pred, &f->image, &matte, &depth, face}, tr.model.aabb()));
+    scores.push_back(
+        render::score_matte({f->camera, &pred, &f->image, &matte, &depth, face}, tr.model.aabb()));
   }
   ASSERT_GE(scores.size(), 3u);
   render::MatteScore m = render::mean_score(scores);

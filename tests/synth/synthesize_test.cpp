@@ -2,18 +2,18 @@
 // EXR and the cameras (a pixel's depth reprojects onto the mesh point its ray hits, sub-pixel), the
 // ground truth matches the subject, the output appears atomically (non-empty directories refused,
 // nothing left behind on errors or Ctrl-C), and the team's real head meshes load and render.
+#include "synth/synthesize.h"
+
 #include <gtest/gtest.h>
 
 #include <csignal>
 #include <filesystem>
 #include <fstream>
-
 #include <nlohmann/json.hpp>
 
 #include "host/dataset/dataset.h"
 #include "host/util/interrupt.h"
 #include "mesh/embree_scene.h"
-#include "synth/synthesize.h"
 #include "test_head.h"
 
 namespace lorgnette::synth {
@@ -119,7 +119,8 @@ TEST(Synthesize, RefusesNonEmptyOutputUnlessForced) {
 TEST(Synthesize, UnwritableOutputFailsCleanly) {
   SynthOptions o = small_options();
   o.views = 1;
-  EXPECT_THROW(synthesize_dataset(test::default_head(), "/proc/lorgnette-no-such/out", o), std::runtime_error);
+  EXPECT_THROW(synthesize_dataset(test::default_head(), "/proc/lorgnette-no-such/out", o),
+               std::runtime_error);
 }
 
 TEST(Synthesize, CtrlCLeavesNothingBehind) {
@@ -160,7 +161,9 @@ void render_real_mesh(const std::string& rel) {
   EXPECT_GT(lum / cover, 0.02) << rel << " renders black (texture or lighting missing)";
 }
 
-TEST(Synthesize, LeePerrySmithLoadsAndRenders) { render_real_mesh("heads/lee-perry-smith/LeePerrySmith.glb"); }
+TEST(Synthesize, LeePerrySmithLoadsAndRenders) {
+  render_real_mesh("heads/lee-perry-smith/LeePerrySmith.glb");
+}
 TEST(Synthesize, NefertitiLoadsAndRenders) { render_real_mesh("meshes/Nefertiti.glb"); }
 
 }  // namespace

@@ -21,8 +21,8 @@ struct CliResult {
 
 // A fresh, empty directory for one test.
 fs::path test_dir() {
-  fs::path d = fs::path(LORGNETTE_TEST_TMP) / "cli" /
-               ::testing::UnitTest::GetInstance()->current_test_info()->name();
+  fs::path d =
+      fs::path(LORGNETTE_TEST_TMP) / "cli" / ::testing::UnitTest::GetInstance()->current_test_info()->name();
   fs::remove_all(d);
   fs::create_directories(d);
   return d;
@@ -38,8 +38,8 @@ std::string read_file(const fs::path& p) {
 // Runs `lorgnette <args>` in `dir` (stdout is dropped, stderr kept).
 CliResult lorgnette(const fs::path& dir, const std::string& args) {
   const fs::path err = dir / "stderr.txt";
-  std::string cmd = "cd '" + dir.string() + "' && '" LGN_CLI_PATH "' " + args + " > /dev/null 2> '" +
-                    err.string() + "'";
+  std::string cmd =
+      "cd '" + dir.string() + "' && '" LGN_CLI_PATH "' " + args + " > /dev/null 2> '" + err.string() + "'";
   int raw = std::system(cmd.c_str());
   CliResult r;
   r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
@@ -49,8 +49,7 @@ CliResult lorgnette(const fs::path& dir, const std::string& args) {
 
 void write_file(const fs::path& p, const std::string& text) { std::ofstream(p, std::ios::binary) << text; }
 
-#define EXPECT_CONTAINS(text, part) \
-  EXPECT_NE((text).find(part), std::string::npos) << "stderr: " << (text)
+#define EXPECT_CONTAINS(text, part) EXPECT_NE((text).find(part), std::string::npos) << "stderr: " << (text)
 
 const std::string kKeep = "a file the user wants to keep\n";
 

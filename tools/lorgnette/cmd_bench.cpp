@@ -2,13 +2,13 @@
 // (frame times at 480p/720p/1080p, head alone and head + glasses, samples per ray) on every OpenCL
 // device found. Without --model an analytic head stands in (and the rows say so). Logic lives in
 // host/render/frame_bench.
-#include <iostream>
-#include <memory>
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
 
 #include <Eigen/Core>
-#include <fmt/format.h>
+#include <iostream>
+#include <memory>
 #include <nlohmann/json.hpp>
-#include <spdlog/spdlog.h>
 
 #include "fit/placement_json.h"
 #include "host/cl/device.h"
@@ -89,13 +89,16 @@ nlohmann::json bench_device(const BenchArgs& a, const cl::DeviceInfo& dev, Globa
 
 void add_frames(CLI::App& bench, GlobalOptions& global) {
   auto a = std::make_shared<BenchArgs>();
-  auto* cmd = bench.add_subcommand("frames", "Table 1: frame times per resolution, head alone and with glasses");
+  auto* cmd =
+      bench.add_subcommand("frames", "Table 1: frame times per resolution, head alone and with glasses");
   cmd->add_option("--model", a->model, "trained model (.lnerf); default: an analytic head")
       ->check(CLI::ExistingFile);
-  cmd->add_option("--glasses", a->glasses, "glasses frame for the head + glasses rows")->check(CLI::ExistingFile);
+  cmd->add_option("--glasses", a->glasses, "glasses frame for the head + glasses rows")
+      ->check(CLI::ExistingFile);
   cmd->add_option("--placement", a->placement, "placement.json (default: a rough automatic placement)")
       ->check(CLI::ExistingFile);
-  cmd->add_option("--repeats", a->repeats, "timed frames per row, after one warm-up")->capture_default_str()
+  cmd->add_option("--repeats", a->repeats, "timed frames per row, after one warm-up")
+      ->capture_default_str()
       ->check(CLI::Range(1, 100));
   cmd->add_option("--sizes", a->sizes, "comma-separated WxH list (default 854x480,1280x720,1920x1080)");
   cmd->add_option("--surface-spp", a->surface_spp, "glasses samples per pixel")->capture_default_str();
@@ -114,10 +117,10 @@ void add_frames(CLI::App& bench, GlobalOptions& global) {
     std::cout << fmt::format("{:<28} {:>10} {:>8} {:>10} {:>10} {:>12}\n", "device", "resolution", "glasses",
                              "median_ms", "march_ms", "samples/ray");
     for (const auto& r : rows)
-      std::cout << fmt::format("{:<28} {:>10} {:>8} {:>10.1f} {:>10.1f} {:>12.2f}\n",
-                               r["device"].get<std::string>().substr(0, 28), r["resolution"].get<std::string>(),
-                               r["glasses"].get<bool>() ? "yes" : "no", r["median_ms"].get<double>(),
-                               r["march_ms"].get<double>(), r["samples_per_ray"].get<double>());
+      std::cout << fmt::format(
+          "{:<28} {:>10} {:>8} {:>10.1f} {:>10.1f} {:>12.2f}\n", r["device"].get<std::string>().substr(0, 28),
+          r["resolution"].get<std::string>(), r["glasses"].get<bool>() ? "yes" : "no",
+          r["median_ms"].get<double>(), r["march_ms"].get<double>(), r["samples_per_ray"].get<double>());
   });
 }
 

@@ -1,9 +1,9 @@
 // `lorgnette demo [-o DIR] [--glasses FRAME] [--quick]`: the whole try-on on a procedural head
 // (demo/pipeline.h does the work).
+#include <spdlog/spdlog.h>
+
 #include <iostream>
 #include <memory>
-
-#include <spdlog/spdlog.h>
 
 #include "demo/pipeline.h"
 #include "tools/lorgnette/command.h"
@@ -24,7 +24,8 @@ void add_demo(CLI::App& app, GlobalOptions& global) {
   cmd->add_option("--image-size", o->image_size, "dataset image size in pixels (default 192, quick 128)");
   auto* steps = cmd->add_option("--train-steps", o->train_steps,
                                 "training steps (default: from the model's size, about 2000; quick 1200)");
-  cmd->add_option("--train-seconds", o->train_seconds, "train for this wall-clock time instead of a step count")
+  cmd->add_option("--train-seconds", o->train_seconds,
+                  "train for this wall-clock time instead of a step count")
       ->excludes(steps);
   cmd->add_option("--orbit-frames", o->orbit_frames, "orbit frames (default 36, quick 8)");
   cmd->add_option("--orbit-size", o->orbit_size, "orbit image size (default 320, quick 192)");
@@ -34,9 +35,10 @@ void add_demo(CLI::App& app, GlobalOptions& global) {
     demo::DemoReport r = demo::run_demo(*o, global.runtime());
     std::cerr << (r.ok ? "demo finished: " : "demo finished with problems: ") << o->out_dir
               << "/report.html (held-out PSNR " << r.psnr << " dB)\n";
-    if (r.ok) std::cerr << "try it on in the browser: lorgnette view " << o->out_dir << "/head.lnerf --glasses "
-                        << (o->glasses.empty() ? o->out_dir + "/frame.glb" : o->glasses) << " --placement " << o->out_dir
-                        << "/placement.json\n";
+    if (r.ok)
+      std::cerr << "try it on in the browser: lorgnette view " << o->out_dir << "/head.lnerf --glasses "
+                << (o->glasses.empty() ? o->out_dir + "/frame.glb" : o->glasses) << " --placement "
+                << o->out_dir << "/placement.json\n";
     if (!r.ok) throw std::runtime_error(r.message);
   });
 }

@@ -1,6 +1,5 @@
 // `lorgnette devices [--json]`: every OpenCL device found, with the index `--device` accepts.
 #include <iostream>
-
 #include <nlohmann/json.hpp>
 
 #include "host/cl/device.h"
@@ -19,15 +18,20 @@ void add_devices(CLI::App& app, GlobalOptions& global) {
     if (*json) {
       nlohmann::json out = nlohmann::json::array();
       for (const auto& d : devices)
-        out.push_back({{"index", d.index}, {"name", d.name}, {"platform", d.platform_name},
-                       {"vendor", d.vendor}, {"type", d.type_name()}, {"version", d.version},
-                       {"driver", d.driver_version}, {"compute_units", d.compute_units},
-                       {"global_mem_bytes", d.global_mem_bytes}, {"selected", d.index == chosen.index}});
+        out.push_back({{"index", d.index},
+                       {"name", d.name},
+                       {"platform", d.platform_name},
+                       {"vendor", d.vendor},
+                       {"type", d.type_name()},
+                       {"version", d.version},
+                       {"driver", d.driver_version},
+                       {"compute_units", d.compute_units},
+                       {"global_mem_bytes", d.global_mem_bytes},
+                       {"selected", d.index == chosen.index}});
       std::cout << out.dump(2) << "\n";
       return;
     }
-    for (const auto& d : devices)
-      std::cout << (d.index == chosen.index ? "* " : "  ") << d.summary() << "\n";
+    for (const auto& d : devices) std::cout << (d.index == chosen.index ? "* " : "  ") << d.summary() << "\n";
   });
 }
 

@@ -1,14 +1,14 @@
 // `lorgnette eval MODEL DATA`: PSNR and SSIM of a trained model over held-out views (test split for
 // NeRF-synthetic, every 8th frame of a transforms.json), optional prediction|truth|error images,
 // and `--json` for scripts.
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
 #include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <map>
-
-#include <fmt/format.h>
 #include <nlohmann/json.hpp>
-#include <spdlog/spdlog.h>
 
 #include "host/dataset/dataset.h"
 #include "host/render/evaluate.h"
@@ -35,8 +35,10 @@ void check_output_dir(const EvalArgs& a) {
   for (const auto& e : std::filesystem::directory_iterator(a.output, ec)) {
     const std::string name = e.path().filename().string();
     if (name.size() > suffix.size() && name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0)
-      throw std::runtime_error(fmt::format("'{}' already holds evaluation images ({} ...): pass --force to "
-                                           "overwrite them or choose another -o", a.output, name));
+      throw std::runtime_error(
+          fmt::format("'{}' already holds evaluation images ({} ...): pass --force to "
+                      "overwrite them or choose another -o",
+                      a.output, name));
   }
 }
 
@@ -54,14 +56,16 @@ nlohmann::json matte_scores(nerf::NerfModel& model, const dataset::Dataset& ds,
   std::map<std::string, std::pair<std::string, std::string>> by_stem;  // image stem -> (matte, depth)
   for (const auto& f : tj["frames"])
     if (f.contains("eval_matte_path"))
-      by_stem[fs::path(f.value("file_path", "")).stem().string()] = {f["eval_matte_path"], f.value("depth_path", "")};
+      by_stem[fs::path(f.value("file_path", "")).stem().string()] = {f["eval_matte_path"],
+                                                                     f.value("depth_path", "")};
   if (by_stem.empty()) return nullptr;
   std::vector<Eigen::Vector3f> face;
   std::ifstream gf(root / "ground_truth.json");
   if (gf) {
     nlohmann::json gt = nlohmann::json::parse(gf, nullptr, false);
     if (!gt.is_discarded() && gt.contains("ibug68"))
-      for (const auto& p : gt["ibug68"]) face.emplace_back(p[0].get<float>(), p[1].get<float>(), p[2].get<float>());
+      for (const auto& p : gt["ibug68"])
+        face.emplace_back(p[0].get<float>(), p[1].get<float>(), p[2].get<float>());
   }
   render::Renderer renderer(model.runtime());
   render::RenderOptions ro;
@@ -71,7 +75,8 @@ nlohmann::json matte_scores(nerf::NerfModel& model, const dataset::Dataset& ds,
     if (it == by_stem.end()) continue;
     Image matte = synth::read_matte((root / it->second.first).string());
     Image depth;
-    if (!it->second.second.empty() && fs::exists(root / it->second.second)) depth = read_image((root / it->second.second).string());
+    if (!it->second.second.empty() && fs::exists(root / it->second.second))
+      depth = read_image((root / it->second.second).string());
     if (matte.width != int(f->camera.width) || matte.height != int(f->camera.height)) continue;  // downscaled
     Image pred = renderer.render(model, f->camera, nullptr, ro).rgba;
     render::MatteView v{f->camera, &pred, &f->image, &matte, depth.empty() ? nullptr : &depth, face};
@@ -81,7 +86,10 @@ nlohmann::json matte_scores(nerf::NerfModel& model, const dataset::Dataset& ds,
   render::MatteScore m = render::mean_score(scores);
   nlohmann::json per = nlohmann::json::array();
   for (const auto& s : scores) per.push_back({{"iou", s.iou}, {"leak", s.leak}, {"face_psnr", s.face_psnr}});
-  return {{"iou", m.iou}, {"leak", m.leak}, {"face_psnr", m.face_psnr}, {"views", scores.size()},
+  return {{"iou", m.iou},
+          {"leak", m.leak},
+          {"face_psnr", m.face_psnr},
+          {"views", scores.size()},
           {"region", "subject inside the model's box (head to neck); opacity >= 0.5 vs matte >= 0.5"},
           {"per_view", per}};
 }
@@ -112,21 +120,28 @@ void run_eval(const EvalArgs& a, GlobalOptions& global) {
   render::EvalResult r = render::evaluate(model, views, eo);
   nlohmann::json mattes = matte_scores(model, ds, ds.require_split(split));
   if (a.json) {
-    nlohmann::json out = {{"psnr", r.psnr}, {"ssim", r.ssim}, {"views", r.views},
-                          {"split", dataset::to_string(split)}, {"train_seconds", model.metadata.train_seconds},
-                          {"steps", model.metadata.steps}, {"eval_seconds", r.seconds},
-                          {"view_psnr", r.view_psnr}, {"view_ssim", r.view_ssim}, {"model", a.model}};
+    nlohmann::json out = {{"psnr", r.psnr},
+                          {"ssim", r.ssim},
+                          {"views", r.views},
+                          {"split", dataset::to_string(split)},
+                          {"train_seconds", model.metadata.train_seconds},
+                          {"steps", model.metadata.steps},
+                          {"eval_seconds", r.seconds},
+                          {"view_psnr", r.view_psnr},
+                          {"view_ssim", r.view_ssim},
+                          {"model", a.model}};
     if (!mattes.is_null()) out["mattes"] = mattes;
     std::cout << out.dump() << "\n";
   } else {
-    std::cout << fmt::format("{} views ({}): PSNR {:.2f} dB, SSIM {:.4f} (model: {} steps, {:.0f} s training)\n",
-                             r.views, dataset::to_string(split), r.psnr, r.ssim, model.metadata.steps,
-                             model.metadata.train_seconds);
+    std::cout << fmt::format(
+        "{} views ({}): PSNR {:.2f} dB, SSIM {:.4f} (model: {} steps, {:.0f} s training)\n", r.views,
+        dataset::to_string(split), r.psnr, r.ssim, model.metadata.steps, model.metadata.train_seconds);
     if (!mattes.is_null())
-      std::cout << fmt::format("true mattes ({} views, head to neck inside the model's box): IoU {:.4f}, leak {:.2f} % "
-                               "of the subject's area, face PSNR {:.2f} dB\n",
-                               mattes["views"].get<int>(), mattes["iou"].get<double>(),
-                               100.0 * mattes["leak"].get<double>(), mattes["face_psnr"].get<double>());
+      std::cout << fmt::format(
+          "true mattes ({} views, head to neck inside the model's box): IoU {:.4f}, leak {:.2f} % "
+          "of the subject's area, face PSNR {:.2f} dB\n",
+          mattes["views"].get<int>(), mattes["iou"].get<double>(), 100.0 * mattes["leak"].get<double>(),
+          mattes["face_psnr"].get<double>());
   }
   if (!a.output.empty()) spdlog::info("prediction | truth | error images in '{}'", a.output);
 }
@@ -136,7 +151,8 @@ void add_eval(CLI::App& app, GlobalOptions& global) {
   auto a = std::make_shared<EvalArgs>();
   cmd->add_option("MODEL", a->model, "model file (.lnerf)")->required();
   cmd->add_option("DATA", a->data, "dataset directory or json file")->required();
-  cmd->add_option("--split", a->split, "test | val | holdout (default: test, or holdout for transforms.json)");
+  cmd->add_option("--split", a->split,
+                  "test | val | holdout (default: test, or holdout for transforms.json)");
   cmd->add_option("-o,--output", a->output, "directory for prediction|truth|error images");
   cmd->add_option("--max-views", a->max_views, "evaluate at most this many views, evenly spaced");
   cmd->add_option("--downscale", a->downscale, "integer image downscale factor (as in training)");

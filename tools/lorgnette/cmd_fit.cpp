@@ -1,14 +1,13 @@
 // `lorgnette fit MODEL --glasses FRAME -o placement.json [--views K] [--debug DIR]`: places the
 // frame on the NeRF head (paper Sec. 3.1 + contact refinement) and writes placement.json.
-#include <iostream>
-#include <memory>
-
-#include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
 
-#include "tools/lorgnette/command.h"
+#include <iostream>
+#include <memory>
+#include <nlohmann/json.hpp>
 
 #include "fit/fit_job.h"
+#include "tools/lorgnette/command.h"
 
 namespace lorgnette::cli {
 namespace {
@@ -44,17 +43,29 @@ void run_fit(const FitArgs& a, GlobalOptions& global) {
 
 void add_fit(CLI::App& app, GlobalOptions& global) {
   auto a = std::make_shared<FitArgs>();
-  auto* cmd = app.add_subcommand("fit", "place a glasses frame on a trained NeRF head (writes placement.json)");
+  auto* cmd =
+      app.add_subcommand("fit", "place a glasses frame on a trained NeRF head (writes placement.json)");
   cmd->add_option("model", a->model, "trained model (.lnerf)")->required()->check(CLI::ExistingFile);
-  cmd->add_option("--glasses", a->glasses, "glasses file (glTF/OBJ/PLY)")->required()->check(CLI::ExistingFile);
+  cmd->add_option("--glasses", a->glasses, "glasses file (glTF/OBJ/PLY)")
+      ->required()
+      ->check(CLI::ExistingFile);
   cmd->add_option("-o,--output", a->output, "placement.json to write")->capture_default_str();
-  cmd->add_option("--views", a->settings.views, "number of rendered views K")->capture_default_str()->check(CLI::Range(2, 200));
-  cmd->add_option("--yaw-range", a->settings.yaw_range_deg, "views span +-this yaw (deg; dlib works to ~45)")->capture_default_str();
-  cmd->add_option("--pitch-range", a->settings.pitch_range_deg, "views span +-this pitch (deg)")->capture_default_str();
-  cmd->add_option("--resolution", a->settings.resolution, "view size in pixels")->capture_default_str()->check(CLI::Range(64, 4096));
-  cmd->add_option("--upsample", a->settings.upsample, "detector up-sampling steps for small faces")->check(CLI::Range(0, 3));
-  cmd->add_option("--scale-policy", a->settings.policy, "stretch (paper) or true-size")->capture_default_str();
-  cmd->add_option("--dataset", a->dataset, "transforms.json of the capture (prior front/up; default: the model's)");
+  cmd->add_option("--views", a->settings.views, "number of rendered views K")
+      ->capture_default_str()
+      ->check(CLI::Range(2, 200));
+  cmd->add_option("--yaw-range", a->settings.yaw_range_deg, "views span +-this yaw (deg; dlib works to ~45)")
+      ->capture_default_str();
+  cmd->add_option("--pitch-range", a->settings.pitch_range_deg, "views span +-this pitch (deg)")
+      ->capture_default_str();
+  cmd->add_option("--resolution", a->settings.resolution, "view size in pixels")
+      ->capture_default_str()
+      ->check(CLI::Range(64, 4096));
+  cmd->add_option("--upsample", a->settings.upsample, "detector up-sampling steps for small faces")
+      ->check(CLI::Range(0, 3));
+  cmd->add_option("--scale-policy", a->settings.policy, "stretch (paper) or true-size")
+      ->capture_default_str();
+  cmd->add_option("--dataset", a->dataset,
+                  "transforms.json of the capture (prior front/up; default: the model's)");
   cmd->add_option("--mean-face", a->settings.mean_face, "68-point mean face (204 numbers)");
   cmd->add_option("--landmark-model", a->settings.landmark_model, "dlib 68-point shape predictor (.dat)");
   cmd->add_option("--debug", a->settings.debug_dir, "write annotated views to this directory");

@@ -1,13 +1,13 @@
 // `lorgnette glasses inspect FILE [--json] [-o preview.png]`: canonical size, reference points,
 // lens parts and a preview sheet of a glasses file; `lorgnette glasses make ...`: a parametric
 // frame written as .glb with its reference-point sidecar. Logic lives in mesh/.
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
 #include <algorithm>
 #include <iostream>
 #include <memory>
-
-#include <fmt/format.h>
 #include <nlohmann/json.hpp>
-#include <spdlog/spdlog.h>
 
 #include "mesh/glasses.h"
 #include "mesh/gltf_writer.h"
@@ -27,12 +27,19 @@ nlohmann::json glasses_json(const mesh::Glasses& g) {
   return {{"path", g.path},
           {"units", g.canonical.units},
           {"mm_per_unit", g.canonical.mm_per_unit},
-          {"size_mm", {{"total_width", m.total_width_mm}, {"total_height", m.total_height_mm},
-                       {"total_depth", m.total_depth_mm}, {"lens_width", m.lens_width_mm},
-                       {"lens_height", m.lens_height_mm}, {"bridge", m.bridge_mm},
-                       {"temple_length", m.temple_length_mm}}},
-          {"reference_points_mm", {{"g_c", vec_json(g.ref.g_c)}, {"g_l", vec_json(g.ref.g_l)},
-                                   {"g_r", vec_json(g.ref.g_r)}, {"source", g.ref.source}}},
+          {"size_mm",
+           {{"total_width", m.total_width_mm},
+            {"total_height", m.total_height_mm},
+            {"total_depth", m.total_depth_mm},
+            {"lens_width", m.lens_width_mm},
+            {"lens_height", m.lens_height_mm},
+            {"bridge", m.bridge_mm},
+            {"temple_length", m.temple_length_mm}}},
+          {"reference_points_mm",
+           {{"g_c", vec_json(g.ref.g_c)},
+            {"g_l", vec_json(g.ref.g_l)},
+            {"g_r", vec_json(g.ref.g_r)},
+            {"source", g.ref.source}}},
           {"parts", g.mesh.part_names},
           {"lens_parts", lenses},
           {"triangles", g.mesh.triangle_count()},
@@ -41,15 +48,20 @@ nlohmann::json glasses_json(const mesh::Glasses& g) {
 
 void print_text(const mesh::Glasses& g) {
   const auto& m = g.metrics;
-  auto v = [](const Eigen::Vector3f& p) { return fmt::format("({:7.2f}, {:7.2f}, {:7.2f})", p.x(), p.y(), p.z()); };
+  auto v = [](const Eigen::Vector3f& p) {
+    return fmt::format("({:7.2f}, {:7.2f}, {:7.2f})", p.x(), p.y(), p.z());
+  };
   std::cout << fmt::format("{}\n  units: {}\n", g.path, g.canonical.units);
-  std::cout << fmt::format("  size: total width {:.1f} mm, lens {:.1f} x {:.1f} mm, bridge {:.1f} mm, temple {:.1f} mm\n",
-                           m.total_width_mm, m.lens_width_mm, m.lens_height_mm, m.bridge_mm, m.temple_length_mm);
-  std::cout << fmt::format("  reference points ({}, canonical mm: x wearer's left, y up, z forward):\n", g.ref.source);
+  std::cout << fmt::format(
+      "  size: total width {:.1f} mm, lens {:.1f} x {:.1f} mm, bridge {:.1f} mm, temple {:.1f} mm\n",
+      m.total_width_mm, m.lens_width_mm, m.lens_height_mm, m.bridge_mm, m.temple_length_mm);
+  std::cout << fmt::format("  reference points ({}, canonical mm: x wearer's left, y up, z forward):\n",
+                           g.ref.source);
   std::cout << fmt::format("    g_c {}\n    g_l {}\n    g_r {}\n", v(g.ref.g_c), v(g.ref.g_l), v(g.ref.g_r));
   std::cout << "  parts:";
   for (size_t i = 0; i < g.mesh.part_names.size(); ++i) {
-    bool lens = std::find(m.lens_parts.begin(), m.lens_parts.end(), static_cast<int>(i)) != m.lens_parts.end();
+    bool lens =
+        std::find(m.lens_parts.begin(), m.lens_parts.end(), static_cast<int>(i)) != m.lens_parts.end();
     std::cout << " " << g.mesh.part_names[i] << (lens ? " [lens]" : "");
   }
   std::cout << "\n";
@@ -63,7 +75,8 @@ void add_inspect(CLI::App& parent) {
     double mm_per_unit = 0.0;
   };
   auto o = std::make_shared<Opts>();
-  auto* cmd = parent.add_subcommand("inspect", "canonical size, reference points, lenses and a preview of a frame");
+  auto* cmd =
+      parent.add_subcommand("inspect", "canonical size, reference points, lenses and a preview of a frame");
   cmd->add_option("file", o->file, "glasses mesh (.gltf/.glb/.obj/.ply)")->required();
   cmd->add_flag("--json", o->json, "print one JSON object on stdout");
   cmd->add_option("-o,--output", o->preview, "write a preview sheet (PNG) with the points marked");
@@ -93,13 +106,16 @@ void add_make(CLI::App& parent) {
   };
   auto o = std::make_shared<Opts>();
   auto* cmd = parent.add_subcommand("make", "make a parametric frame (.glb + .refpoints.json sidecar)");
-  cmd->add_option("--lens", o->p.lens_width, "lens width in mm (the first number on the temple)")->capture_default_str();
+  cmd->add_option("--lens", o->p.lens_width, "lens width in mm (the first number on the temple)")
+      ->capture_default_str();
   cmd->add_option("--bridge", o->p.bridge, "bridge in mm (the second number)")->capture_default_str();
-  cmd->add_option("--temple", o->p.temple_length, "temple length in mm (the third number)")->capture_default_str();
+  cmd->add_option("--temple", o->p.temple_length, "temple length in mm (the third number)")
+      ->capture_default_str();
   cmd->add_option("--shape", o->shape, "round, rect, aviator or cateye")->capture_default_str();
   cmd->add_option("--rim", o->p.rim, "rim width in mm")->capture_default_str();
   cmd->add_option("--lens-height", o->p.lens_height, "lens height in mm (default: from the shape)");
-  cmd->add_option("--color", o->color, "frame colour: #rrggbb, r,g,b (linear 0..1) or a name")->capture_default_str();
+  cmd->add_option("--color", o->color, "frame colour: #rrggbb, r,g,b (linear 0..1) or a name")
+      ->capture_default_str();
   cmd->add_option("--lens-tint", o->tint, "lens tint: #rrggbb, r,g,b or a name (clear, grey, green, brown)")
       ->capture_default_str();
   cmd->add_option("--metallic", o->p.metallic, "frame metallic 0..1")->capture_default_str();

@@ -1,13 +1,13 @@
 // `lorgnette render MODEL [--glasses FRAME --placement P.json | --transform 4x4 | --translate x y z
 // --rotate rx ry rz --scale s] (--orbit N | --pose JSON) --size WxH [--spp N] [--alpha] -o DIR`:
 // try-on renders of a trained head with a glasses frame (host/render/render_job.h does the work).
-#include <iostream>
-#include <memory>
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
 
 #include <Eigen/Core>
-#include <fmt/format.h>
+#include <iostream>
+#include <memory>
 #include <nlohmann/json.hpp>
-#include <spdlog/spdlog.h>
 
 #include "fit/placement_json.h"
 #include "host/dataset/dataset.h"
@@ -31,7 +31,6 @@ struct RenderArgs {
 render::Vec3 vec3(const std::vector<float>& v, render::Vec3 fallback) {
   return v.empty() ? fallback : render::Vec3{v[0], v[1], v[2]};
 }
-
 
 // The placement transform (canonical mm -> scene), and the temple spread when it comes from a
 // placement.json (read by the placement module, fit/placement_json.h).
@@ -92,15 +91,18 @@ void run(const RenderArgs& a, GlobalOptions& global) {
   }
 
   render::Renderer renderer(rt);
-  nlohmann::json summary = render::run_render_job(job, [&](const Camera& cam, const lorgnette::SurfaceBuffers* s) {
-    return renderer.render(model, cam, s, job.options);
-  });
+  nlohmann::json summary =
+      render::run_render_job(job, [&](const Camera& cam, const lorgnette::SurfaceBuffers* s) {
+        return renderer.render(model, cam, s, job.options);
+      });
   summary["model"] = a.model;
   if (!glasses_path.empty()) summary["glasses_path"] = glasses_path;
   summary["device"] = rt.device().name;
-  if (a.json) std::cout << summary.dump(2) << "\n";
-  else spdlog::info("wrote {} view(s) to {} (median {:.0f} ms/frame, {:.1f} samples/ray)", job.cameras.size(),
-                    a.out, summary["median_march_ms"].get<double>(), summary["samples_per_ray"].get<double>());
+  if (a.json)
+    std::cout << summary.dump(2) << "\n";
+  else
+    spdlog::info("wrote {} view(s) to {} (median {:.0f} ms/frame, {:.1f} samples/ray)", job.cameras.size(),
+                 a.out, summary["median_march_ms"].get<double>(), summary["samples_per_ray"].get<double>());
 }
 
 void add_render(CLI::App& app, GlobalOptions& global) {
@@ -108,7 +110,8 @@ void add_render(CLI::App& app, GlobalOptions& global) {
   auto* cmd = app.add_subcommand("render", "render a trained head (.lnerf) with or without glasses");
   cmd->add_option("model", a->model, "trained model snapshot (.lnerf)")->required()->check(CLI::ExistingFile);
   cmd->add_option("--glasses", a->glasses, "glasses frame (glTF/GLB/OBJ/PLY)")->check(CLI::ExistingFile);
-  cmd->add_option("--placement", a->placement, "placement.json from `lorgnette fit`")->check(CLI::ExistingFile);
+  cmd->add_option("--placement", a->placement, "placement.json from `lorgnette fit`")
+      ->check(CLI::ExistingFile);
   cmd->add_option("--transform", a->transform, "canonical mm -> scene, 16 numbers row-major");
   cmd->add_option("--translate", a->translate, "glasses translation (scene units)")->expected(3);
   cmd->add_option("--rotate", a->rotate, "glasses rotation about x, y, z (degrees, applied x then y then z)")
@@ -119,13 +122,20 @@ void add_render(CLI::App& app, GlobalOptions& global) {
       ->check(CLI::ExistingFile);
   cmd->add_option("--size", a->size, "image size WIDTHxHEIGHT")->capture_default_str();
   cmd->add_option("--spp", a->spp, "NeRF rays per pixel")->capture_default_str()->check(CLI::Range(1, 64));
-  cmd->add_option("--surface-spp", a->surface_spp, "glasses samples per pixel (anti-aliasing)")->capture_default_str()
+  cmd->add_option("--surface-spp", a->surface_spp, "glasses samples per pixel (anti-aliasing)")
+      ->capture_default_str()
       ->check(CLI::Range(1, 256));
-  cmd->add_option("--step-scale", a->step_scale, "marching step multiplier (>1 faster, coarser)")->capture_default_str()
+  cmd->add_option("--step-scale", a->step_scale, "marching step multiplier (>1 faster, coarser)")
+      ->capture_default_str()
       ->check(CLI::Range(0.25f, 8.0f));
-  cmd->add_option("--fov", a->fov, "vertical field of view, degrees")->capture_default_str()->check(CLI::Range(5.0f, 120.0f));
-  cmd->add_option("--elevation", a->elevation, "orbit elevation, degrees")->capture_default_str()->check(CLI::Range(-80.0f, 80.0f));
-  cmd->add_option("--front", a->front, "orbit start direction (default: the capture's mean camera)")->expected(3);
+  cmd->add_option("--fov", a->fov, "vertical field of view, degrees")
+      ->capture_default_str()
+      ->check(CLI::Range(5.0f, 120.0f));
+  cmd->add_option("--elevation", a->elevation, "orbit elevation, degrees")
+      ->capture_default_str()
+      ->check(CLI::Range(-80.0f, 80.0f));
+  cmd->add_option("--front", a->front, "orbit start direction (default: the capture's mean camera)")
+      ->expected(3);
   cmd->add_option("--background", a->background, "linear RGB background (default white)")->expected(3);
   cmd->add_flag("--alpha", a->alpha, "transparent background (RGBA PNGs)");
   cmd->add_flag("--no-video", a->no_video, "skip the MP4");

@@ -1,12 +1,12 @@
 // `lorgnette synth (--mesh FILE | --procedural) -o DATASET [...]`: renders a synthetic training
 // dataset with exact ground truth (transforms.json, RGBA images, depth EXRs, ground_truth.json).
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
 #include <iostream>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <sstream>
-
-#include <fmt/format.h>
-#include <nlohmann/json.hpp>
-#include <spdlog/spdlog.h>
 
 #include "host/util/image_io.h"
 #include "host/util/progress.h"
@@ -44,17 +44,20 @@ std::optional<Eigen::Vector3f> parse_background(const std::string& s) {
   char comma1 = 0, comma2 = 0;
   std::istringstream in(s);
   if (!(in >> c[0] >> comma1 >> c[1] >> comma2 >> c[2]) || comma1 != ',' || comma2 != ',' || !in.eof())
-    throw std::runtime_error(fmt::format("--background '{}' is not 'transparent' or r,g,b (0-255 sRGB, e.g. 255,255,255)", s));
+    throw std::runtime_error(
+        fmt::format("--background '{}' is not 'transparent' or r,g,b (0-255 sRGB, e.g. 255,255,255)", s));
   Eigen::Vector3f lin;
   for (int k = 0; k < 3; ++k) {
-    if (c[k] < 0 || c[k] > 255) throw std::runtime_error(fmt::format("--background component {} is outside 0..255", c[k]));
+    if (c[k] < 0 || c[k] > 255)
+      throw std::runtime_error(fmt::format("--background component {} is outside 0..255", c[k]));
     lin[k] = srgb_to_linear(c[k] / 255.0f);
   }
   return lin;
 }
 
 void run_synth(const SynthArgs& a) {
-  if (a.procedural == !a.mesh.empty()) throw std::runtime_error("synth: give exactly one of --mesh FILE or --procedural");
+  if (a.procedural == !a.mesh.empty())
+    throw std::runtime_error("synth: give exactly one of --mesh FILE or --procedural");
   synth::SynthOptions o;
   std::tie(o.width, o.height) = parse_size(a.size);
   o.views = a.views;
@@ -67,9 +70,10 @@ void run_synth(const SynthArgs& a) {
   o.room = a.room;
   o.fov_y_deg = a.fov;
   o.phone_distance_mm = a.phone_mm;
-  synth::Subject subject = a.procedural
-      ? synth::procedural_subject(synth::random_head_params(a.seed), {}, a.room > 0)
-      : synth::mesh_subject(a.mesh, a.mesh_mm > 0 ? std::optional<double>(a.mesh_mm) : std::nullopt);
+  synth::Subject subject =
+      a.procedural
+          ? synth::procedural_subject(synth::random_head_params(a.seed), {}, a.room > 0)
+          : synth::mesh_subject(a.mesh, a.mesh_mm > 0 ? std::optional<double>(a.mesh_mm) : std::nullopt);
   if (!a.look_at.empty()) subject.look_at = Eigen::Vector3f(a.look_at[0], a.look_at[1], a.look_at[2]);
   if (a.frame_radius > 0.0f) subject.frame_radius = a.frame_radius;
   Progress progress("synth", o.views, "views");
@@ -77,22 +81,28 @@ void run_synth(const SynthArgs& a) {
   synth::SynthReport r = synth::synthesize_dataset(subject, a.out, o);
   progress.finish();
   if (a.json) {
-    nlohmann::json j = {{"directory", r.directory}, {"views", r.views}, {"seconds", r.seconds},
-                        {"render_seconds", r.render_seconds}, {"source", subject.source},
-                        {"mm_per_unit", subject.mm_per_unit ? nlohmann::json(*subject.mm_per_unit) : nlohmann::json()}};
+    nlohmann::json j = {
+        {"directory", r.directory},
+        {"views", r.views},
+        {"seconds", r.seconds},
+        {"render_seconds", r.render_seconds},
+        {"source", subject.source},
+        {"mm_per_unit", subject.mm_per_unit ? nlohmann::json(*subject.mm_per_unit) : nlohmann::json()}};
     std::cout << j.dump(2) << "\n";
   } else {
-    std::cout << fmt::format("wrote {} views to {} in {:.1f} s ({:.2f} s per view)\n", r.views, r.directory, r.seconds,
-                             r.seconds / std::max(1, r.views));
+    std::cout << fmt::format("wrote {} views to {} in {:.1f} s ({:.2f} s per view)\n", r.views, r.directory,
+                             r.seconds, r.seconds / std::max(1, r.views));
   }
 }
 
 void add_synth(CLI::App& app, GlobalOptions&) {
-  auto* cmd = app.add_subcommand("synth", "render a synthetic dataset with exact ground truth (mesh file or procedural head)");
+  auto* cmd = app.add_subcommand(
+      "synth", "render a synthetic dataset with exact ground truth (mesh file or procedural head)");
   auto a = std::make_shared<SynthArgs>();
   cmd->add_option("--mesh", a->mesh, "textured mesh (glTF/GLB/OBJ/PLY), +y up, facing +z");
   cmd->add_flag("--procedural", a->procedural, "use the procedural head (seeded by --seed)");
-  cmd->add_option("-o,--output", a->out, "output dataset directory (must be empty unless --force)")->required();
+  cmd->add_option("-o,--output", a->out, "output dataset directory (must be empty unless --force)")
+      ->required();
   cmd->add_option("--views", a->views, "number of views")->check(CLI::Range(1, 100000));
   cmd->add_option("--size", a->size, "image size WxH");
   cmd->add_option("--yaw-range", a->yaw, "yaw range in degrees (a b)")->expected(2);
@@ -100,19 +110,24 @@ void add_synth(CLI::App& app, GlobalOptions&) {
   cmd->add_option("--seed", a->seed, "seed for the cameras and the procedural head (0 = the default head)");
   cmd->add_option("--background", a->background, "transparent, or r,g,b in 0-255 sRGB");
   cmd->add_option("--samples", a->samples, "anti-aliasing samples per pixel axis")->check(CLI::Range(1, 16));
-  cmd->add_option("--mesh-mm-per-unit", a->mesh_mm, "millimetres per mesh unit, when known (ground truth scale)");
-  cmd->add_option("--look-at", a->look_at, "point the cameras aim at, dataset units (x y z; default: the subject's)")
+  cmd->add_option("--mesh-mm-per-unit", a->mesh_mm,
+                  "millimetres per mesh unit, when known (ground truth scale)");
+  cmd->add_option("--look-at", a->look_at,
+                  "point the cameras aim at, dataset units (x y z; default: the subject's)")
       ->expected(3);
   cmd->add_option("--frame-radius", a->frame_radius, "dataset units around --look-at each view must contain")
       ->check(CLI::PositiveNumber);
-  cmd->add_option("--room", a->room,
-                  fmt::format("place the subject in room layout 1..{} (RGB images without alpha, true mattes in "
-                              "mattes/, hand-held phone cameras sweeping --yaw-range; the procedural head gets "
-                              "a neck and shoulders)", synth::kRoomLayouts))
+  cmd->add_option(
+         "--room", a->room,
+         fmt::format("place the subject in room layout 1..{} (RGB images without alpha, true mattes in "
+                     "mattes/, hand-held phone cameras sweeping --yaw-range; the procedural head gets "
+                     "a neck and shoulders)",
+                     synth::kRoomLayouts))
       ->check(CLI::Range(0, synth::kRoomLayouts));
   cmd->add_option("--fov", a->fov, "with --room: the phone's vertical field of view in degrees (default 60)")
       ->check(CLI::Range(10.0, 120.0));
-  cmd->add_option("--phone-distance", a->phone_mm, "with --room: camera distance in millimetres (default 480)")
+  cmd->add_option("--phone-distance", a->phone_mm,
+                  "with --room: camera distance in millimetres (default 480)")
       ->check(CLI::Range(150.0, 3000.0));
   cmd->add_flag("--force", a->force, "replace a non-empty output directory");
   cmd->add_flag("--json", a->json, "print one JSON object on stdout");

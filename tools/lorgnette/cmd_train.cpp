@@ -3,11 +3,11 @@
 // capture/subject_box.h), sizes the model from the data (every value overridable), trains with a
 // progress bar and saves the .lnerf snapshot (also on Ctrl-C; a diverging run keeps its last good
 // snapshot and exits non-zero).
-#include <filesystem>
-#include <sstream>
-
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
+
+#include <filesystem>
+#include <sstream>
 
 #include "capture/subject_box.h"
 #include "host/dataset/dataset.h"
@@ -45,7 +45,8 @@ std::optional<nerf::Aabb> parse_aabb(const std::string& text) {
 }
 
 void run_train(const TrainArgs& a, GlobalOptions& global) {
-  if (a.seconds < 0.0) throw std::runtime_error("--seconds must be positive (or leave it out for the default budget)");
+  if (a.seconds < 0.0)
+    throw std::runtime_error("--seconds must be positive (or leave it out for the default budget)");
   if (std::filesystem::exists(a.output) && !a.force)
     throw std::runtime_error("'" + a.output + "' exists: pass --force to overwrite it or choose another -o");
   if (a.batch_log2 < 10 || a.batch_log2 > 22) throw std::runtime_error("--batch-log2 must be within 10..22");
@@ -98,7 +99,8 @@ void add_train(CLI::App& app, GlobalOptions& global) {
   cmd->add_option("-o,--output", a->output, "model file to write (.lnerf)")->required();
   auto* steps = cmd->add_option("--steps", a->steps,
                                 "training steps (default: from the model's size, the same on every device)");
-  cmd->add_option("--seconds", a->seconds, "train for this wall-clock time instead of a step count")->excludes(steps);
+  cmd->add_option("--seconds", a->seconds, "train for this wall-clock time instead of a step count")
+      ->excludes(steps);
   cmd->add_option("--seed", a->seed, "random seed");
   cmd->add_flag("--deterministic", a->deterministic, "bitwise reproducible (same seed, same device)");
   cmd->add_flag("--force", a->force, "overwrite an existing model file");
@@ -114,7 +116,8 @@ void add_train(CLI::App& app, GlobalOptions& global) {
                   "room model behind the subject, then keep the subject's connected region: auto (mask-less "
                   "datasets with a subject box), on or off")
       ->check(CLI::IsMember({"auto", "on", "off"}));
-  cmd->add_option("--aabb-scale", a->aabb_scale, "box size factor for datasets without alpha (default: dataset)");
+  cmd->add_option("--aabb-scale", a->aabb_scale,
+                  "box size factor for datasets without alpha (default: dataset)");
   // The ranges the field and the occupancy grid accept (FieldConfig::validate, occupancy.h), checked
   // here so the message names the flag.
   cmd->add_option("--finest-res", a->finest, "finest hash-grid resolution (16..1048576)")
@@ -122,8 +125,7 @@ void add_train(CLI::App& app, GlobalOptions& global) {
   cmd->add_option("--log2-table", a->log2_table, "log2 of the hash-table size per level (8..24)")
       ->check(CLI::Range(8u, 24u));
   cmd->add_option("--levels", a->levels, "hash-grid levels (1..32)")->check(CLI::Range(1u, 32u));
-  cmd->add_option("--occ-res", a->occ_res, "occupancy grid resolution (8..512)")
-      ->check(CLI::Range(8u, 512u));
+  cmd->add_option("--occ-res", a->occ_res, "occupancy grid resolution (8..512)")->check(CLI::Range(8u, 512u));
   cmd->add_option("--step", a->step, "marching step in scene units");
   cmd->add_option("--downscale", a->downscale, "integer image downscale factor");
   cmd->add_option("--max-side", a->max_side, "shrink images so the longer side is at most this");

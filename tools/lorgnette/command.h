@@ -1,13 +1,12 @@
 // Subcommand registry of the `lorgnette` CLI. Each cmd_*.cpp registers itself with
 // LGN_REGISTER_COMMAND; commands stay thin wrappers over the libraries.
 #pragma once
+#include <CLI/CLI.hpp>
 #include <filesystem>
 #include <functional>
 #include <stdexcept>
 #include <string>
 #include <vector>
-
-#include <CLI/CLI.hpp>
 
 #include "host/cl/runtime.h"
 
@@ -15,8 +14,8 @@ namespace lorgnette::cli {
 
 // Options every command accepts (parsed before the subcommand runs).
 struct GlobalOptions {
-  std::string device;       // --device: index or name substring (see `lorgnette devices`)
-  std::string kernel_cache; // --kernel-cache DIR ("off" disables the disk cache)
+  std::string device;        // --device: index or name substring (see `lorgnette devices`)
+  std::string kernel_cache;  // --kernel-cache DIR ("off" disables the disk cache)
   bool verbose = false;
   bool quiet = false;
 

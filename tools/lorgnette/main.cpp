@@ -1,16 +1,16 @@
 // Entry point of the `lorgnette` CLI: global options, the registered subcommands, and one place
 // where failures become a clear message and a non-zero exit status.
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
+
 #include <algorithm>
 #include <cstdio>
 #include <exception>
 #include <string>
 
-#include <spdlog/sinks/stdout_color_sinks.h>
-#include <spdlog/spdlog.h>
-
-#include "tools/lorgnette/command.h"
 #include "host/util/interrupt.h"
 #include "host/util/version.h"
+#include "tools/lorgnette/command.h"
 
 namespace lorgnette::cli {
 std::vector<CommandRegistration>& command_registry() {
@@ -27,9 +27,11 @@ int main(int argc, char** argv) {
 
   CLI::App app{"Lorgnette: view-consistent virtual try-on of glasses (NeRF head + ray-traced frame)"};
   app.require_subcommand(1);
-  app.set_version_flag("--version", std::string("lorgnette ") + version_string() + " (commit " + git_commit() + ")");
+  app.set_version_flag("--version",
+                       std::string("lorgnette ") + version_string() + " (commit " + git_commit() + ")");
   cli::GlobalOptions global;
-  app.add_option("--device", global.device, "OpenCL device: index or name substring (see `lorgnette devices`)")
+  app.add_option("--device", global.device,
+                 "OpenCL device: index or name substring (see `lorgnette devices`)")
       ->envname("LORGNETTE_DEVICE");
   app.add_option("--kernel-cache", global.kernel_cache, "directory for compiled kernels ('off' disables)")
       ->envname("LORGNETTE_KERNEL_CACHE");
@@ -44,7 +46,8 @@ int main(int argc, char** argv) {
 
   app.parse_complete_callback([&] {
     spdlog::set_level(global.verbose ? spdlog::level::debug
-                                     : global.quiet ? spdlog::level::warn : spdlog::level::info);
+                      : global.quiet ? spdlog::level::warn
+                                     : spdlog::level::info);
   });
   install_interrupt_handler();
   try {

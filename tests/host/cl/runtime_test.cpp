@@ -1,16 +1,17 @@
 // The OpenCL runtime layer on PoCL: device selection, build + disk cache, argument and launch
 // checks, and compile errors that name the file and line.
+#include "host/cl/runtime.h"
+
+#include <gtest/gtest.h>
+
 #include <filesystem>
 #include <sstream>
 #include <string>
 #include <vector>
 
-#include <gtest/gtest.h>
-
 #include "host/cl/device.h"
 #include "host/cl/kernel.h"
 #include "host/cl/kernel_sources.h"
-#include "host/cl/runtime.h"
 #include "kernels/common/selftest_types.h"
 
 using namespace lorgnette;

@@ -180,8 +180,9 @@ TEST(DatasetValidation, MissingImagesAreCountedNamedAndTheMessageSaysWhatToDo) {
     fs::remove(fs::path(dir) / ("images/f_" + std::to_string(i) + ".png"));
   std::string msg = load_error(dir);
   EXPECT_HAS(msg, "7 of 12 frames");
-  EXPECT_HAS(msg, "'images/f_101.png', 'images/f_103.png', 'images/f_104.png', 'images/f_105.png', "
-                  "'images/f_106.png' and 2 more");
+  EXPECT_HAS(msg,
+             "'images/f_101.png', 'images/f_103.png', 'images/f_104.png', 'images/f_105.png', "
+             "'images/f_106.png' and 2 more");
   EXPECT_HAS(msg, "restore those images");
   EXPECT_HAS(msg, "remove their frames from transforms.json");
   EXPECT_HAS(msg, "lorgnette capture");
@@ -383,7 +384,9 @@ TEST(DatasetLoader, NerfSyntheticTripleWithAlphaAndHints) {
 }
 
 TEST(DatasetLoader, SubjectBoxIsReadAndValidated) {
-  std::string dir = make_dataset("aabb", 9, [](json& d) { d["aabb"] = {{-1.0, -2.0, -0.5}, {1.0, 0.5, 0.75}}; });
+  std::string dir = make_dataset("aabb", 9, [](json& d) {
+    d["aabb"] = {{-1.0, -2.0, -0.5}, {1.0, 0.5, 0.75}};
+  });
   Dataset ds = load_dataset(dir);
   ASSERT_TRUE(ds.aabb.has_value());
   EXPECT_FLOAT_EQ((*ds.aabb)[0][1], -2.0f);

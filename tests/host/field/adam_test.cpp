@@ -1,8 +1,9 @@
 // Adam kernel vs a textbook bias-corrected Adam computed in double on the host, over three steps
 // with weight decay applying only to the MLP part.
+#include "host/field/adam.h"
+
 #include "field_test_util.h"
 #include "host/cl/buffer.h"
-#include "host/field/adam.h"
 
 using namespace lorgnette;
 using namespace lorgnette::field;
@@ -28,7 +29,8 @@ TEST(Adam, ThreeStepsMatchHostReference) {
       double gi = g[i] + (i >= mlp_offset ? cfg.mlp_weight_decay * p[i] : 0.0);
       mr[i] = cfg.beta1 * mr[i] + (1 - cfg.beta1) * gi;
       vr[i] = cfg.beta2 * vr[i] + (1 - cfg.beta2) * gi * gi;
-      double mh = mr[i] / (1 - std::pow(double(cfg.beta1), t)), vh = vr[i] / (1 - std::pow(double(cfg.beta2), t));
+      double mh = mr[i] / (1 - std::pow(double(cfg.beta1), t)),
+             vh = vr[i] / (1 - std::pow(double(cfg.beta2), t));
       p[i] -= cfg.lr * mh / (std::sqrt(vh) + cfg.eps);
     }
   }

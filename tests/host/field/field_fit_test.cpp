@@ -33,7 +33,8 @@ TEST(FieldFit, AdamReducesTheLossOfAnAnalyticFieldTenfold) {
   const uint32_t n = 4096;
   Field field(rt, cfg, n, 1, true);
   const size_t S = field.max_batch();
-  cl::Buffer<float> pos(rt, 3 * S), dir(rt, 3 * S), sigma(rt, S), rgb(rt, 3 * S), dsig(rt, S), drgb(rt, 3 * S);
+  cl::Buffer<float> pos(rt, 3 * S), dir(rt, 3 * S), sigma(rt, S), rgb(rt, 3 * S), dsig(rt, S),
+      drgb(rt, 3 * S);
   AdamConfig adam;
   std::vector<double> losses;
   for (int step = 0; step < 200; ++step) {

@@ -39,7 +39,8 @@ Rows layer_backward_input(const LayerShape& L, const std::vector<float>& params,
   return dx;
 }
 
-void layer_weight_grad(const LayerShape& L, const Rows& x, const Rows& dz, uint32_t n, std::vector<double>& g) {
+void layer_weight_grad(const LayerShape& L, const Rows& x, const Rows& dz, uint32_t n,
+                       std::vector<double>& g) {
   for (uint32_t j = 0; j < L.out_pad; ++j)
     for (uint32_t k = 0; k < L.in_pad; ++k) {
       double sum = 0;
@@ -55,12 +56,14 @@ void relu_mask(Rows& d, const Rows& x) {
 
 }  // namespace
 
-Rows encode(const ParamLayout& lay, const FieldConfig& cfg, const std::vector<float>& params, const Samples& s) {
+Rows encode(const ParamLayout& lay, const FieldConfig& cfg, const std::vector<float>& params,
+            const Samples& s) {
   const uint32_t F = cfg.features_per_level;
   Rows enc(size_t(lay.enc_pad) * s.n, 0.0);
   for_corners(lay, s, [&](uint32_t l, uint32_t i, uint32_t e, double w) {
     const HashLevel& h = lay.levels[l];
-    for (uint32_t f = 0; f < F; ++f) enc[size_t(l * F + f) * s.n + i] += w * params[h.offset + f * h.size + e];
+    for (uint32_t f = 0; f < F; ++f)
+      enc[size_t(l * F + f) * s.n + i] += w * params[h.offset + f * h.size + e];
   });
   return enc;
 }
@@ -76,7 +79,8 @@ std::vector<double> encode_backward(const ParamLayout& lay, const FieldConfig& c
   return g;
 }
 
-Rows layer_forward(const LayerShape& L, const std::vector<float>& params, const Rows& x, uint32_t n, uint32_t act) {
+Rows layer_forward(const LayerShape& L, const std::vector<float>& params, const Rows& x, uint32_t n,
+                   uint32_t act) {
   Rows y(size_t(L.out_pad) * n, 0.0);
   for (uint32_t j = 0; j < L.out_pad; ++j) {
     for (uint32_t k = 0; k < L.in_pad; ++k) {
@@ -88,7 +92,8 @@ Rows layer_forward(const LayerShape& L, const std::vector<float>& params, const 
   return y;
 }
 
-Forward forward(const ParamLayout& lay, const FieldConfig& cfg, const std::vector<float>& params, const Samples& s) {
+Forward forward(const ParamLayout& lay, const FieldConfig& cfg, const std::vector<float>& params,
+                const Samples& s) {
   const uint32_t n = s.n, sh_pad = pad4(lay.sh_count);
   Forward f;
   f.enc = encode(lay, cfg, params, s);

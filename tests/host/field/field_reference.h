@@ -18,14 +18,16 @@ struct Samples {
   uint32_t n = 0, stride = 0;
 };
 
-Rows encode(const ParamLayout& lay, const FieldConfig& cfg, const std::vector<float>& params, const Samples& s);
+Rows encode(const ParamLayout& lay, const FieldConfig& cfg, const std::vector<float>& params,
+            const Samples& s);
 // d loss / d table for a given d loss / d enc ([enc_width][n]); returns the full-size gradient
 // vector with only the hash part filled.
 std::vector<double> encode_backward(const ParamLayout& lay, const FieldConfig& cfg, const Samples& s,
                                     const Rows& d_enc);
 
 // y = act(W x) over all padded rows; act as in mlp_types.h.
-Rows layer_forward(const LayerShape& L, const std::vector<float>& params, const Rows& x, uint32_t n, uint32_t act);
+Rows layer_forward(const LayerShape& L, const std::vector<float>& params, const Rows& x, uint32_t n,
+                   uint32_t act);
 
 struct Forward {
   Rows enc, dens_hidden, color_in;  // color_in: [SH (padded) | geo (padded)]
@@ -33,7 +35,8 @@ struct Forward {
   std::vector<double> sigma;        // n
   Rows rgb;                         // 3 x n
 };
-Forward forward(const ParamLayout& lay, const FieldConfig& cfg, const std::vector<float>& params, const Samples& s);
+Forward forward(const ParamLayout& lay, const FieldConfig& cfg, const std::vector<float>& params,
+                const Samples& s);
 
 // Gradient of L = sum_i dsigma_i sigma_i + sum_{c,i} drgb_{c,i} rgb_{c,i} w.r.t. every parameter.
 std::vector<double> backward(const ParamLayout& lay, const FieldConfig& cfg, const std::vector<float>& params,

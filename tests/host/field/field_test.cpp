@@ -1,9 +1,10 @@
 // The whole Field: forward and backward vs the double host reference (default-like and padded
 // shapes), the backward vs finite differences of the device forward, inference vs training paths,
 // determinism, and bad-input errors.
+#include "host/field/field.h"
+
 #include "field_test_util.h"
 #include "host/cl/buffer.h"
-#include "host/field/field.h"
 
 using namespace lorgnette;
 using namespace lorgnette::field;
@@ -15,7 +16,8 @@ constexpr uint32_t kN = 300;
 // A Field whose hash tables are random in [-0.5, 0.5] (the 1e-4 init would hide the encoding).
 struct FieldSetup {
   explicit FieldSetup(const FieldConfig& cfg, KernelVariant variant = KernelVariant::Auto)
-      : field(test::runtime(), cfg, kN, 42, true, variant), s(test::random_samples(kN, field.max_batch(), 9)) {
+      : field(test::runtime(), cfg, kN, 42, true, variant),
+        s(test::random_samples(kN, field.max_batch(), 9)) {
     auto& rt = test::runtime();
     params = field.download_params();
     auto h = test::random_vector(field.layout().hash_count, 0.5f, 77);
@@ -142,7 +144,8 @@ TEST(Field, SameSeedGivesBitwiseIdenticalTraining) {
   for (uint64_t seed : {5, 5, 6}) {
     Field field(rt, test::small_config(), 1000, seed, true);
     ref::Samples s = test::random_samples(1000, field.max_batch(), 3);
-    cl::Buffer<float> pos(rt, s.pos), dir(rt, s.dir), sigma(rt, field.max_batch()), rgb(rt, 3 * field.max_batch());
+    cl::Buffer<float> pos(rt, s.pos), dir(rt, s.dir), sigma(rt, field.max_batch()),
+        rgb(rt, 3 * field.max_batch());
     cl::Buffer<float> da(rt, test::random_vector(field.max_batch(), 1.0f, 1));
     cl::Buffer<float> db(rt, test::random_vector(3 * field.max_batch(), 1.0f, 2));
     for (int step = 0; step < 3; ++step) {
@@ -180,7 +183,8 @@ TEST(Field, UploadResetsTheOptimiser) {
     const std::vector<float> p0 = field.download_params();
     ref::Samples s = test::random_samples(256, field.max_batch(), 4);
     cl::Buffer<float> pos(rt, s.pos), dir(rt, s.dir), sigma(rt, 256), rgb(rt, 3 * 256);
-    cl::Buffer<float> da(rt, test::random_vector(256, 1.0f, 1)), db(rt, test::random_vector(3 * 256, 1.0f, 2));
+    cl::Buffer<float> da(rt, test::random_vector(256, 1.0f, 1)),
+        db(rt, test::random_vector(3 * 256, 1.0f, 2));
     auto step = [&] {
       field.forward(pos, dir, 256, sigma, rgb, true);
       field.backward(da, db, 256);

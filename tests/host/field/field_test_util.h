@@ -1,13 +1,13 @@
 // Shared helpers of the field tests: one OpenCL runtime per process, seeded random samples, the
 // small configurations the tests use, and a closeness check that reports the worst element.
 #pragma once
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <cstdint>
 #include <random>
 #include <string>
 #include <vector>
-
-#include <gtest/gtest.h>
 
 #include "field_reference.h"
 #include "host/cl/runtime.h"
@@ -80,7 +80,8 @@ void expect_close(const A& got, const B& want, double rtol, double atol, const s
   double worst = 0;
   size_t at = 0;
   for (size_t e = 0; e < got.size(); ++e) {
-    const double err = std::fabs(double(got[e]) - double(want[e])) / (atol + rtol * std::fabs(double(want[e])));
+    const double err =
+        std::fabs(double(got[e]) - double(want[e])) / (atol + rtol * std::fabs(double(want[e])));
     if (!(err <= worst)) {
       worst = err;
       at = e;

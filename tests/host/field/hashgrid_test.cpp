@@ -1,8 +1,9 @@
 // Hash encoding kernels vs the host reference (forward and backward) and the backward vs finite
 // differences of the forward kernel. Tables are random in [-1, 1] so every term matters.
+#include "host/field/hashgrid.h"
+
 #include "field_test_util.h"
 #include "host/cl/buffer.h"
-#include "host/field/hashgrid.h"
 
 using namespace lorgnette;
 using namespace lorgnette::field;
@@ -20,7 +21,9 @@ struct HashSetup {
 }  // namespace
 
 namespace lorgnette::field {
-void PrintTo(KernelVariant v, std::ostream* os) { *os << (v == KernelVariant::Gpu ? "gpu variant" : "cpu variant"); }
+void PrintTo(KernelVariant v, std::ostream* os) {
+  *os << (v == KernelVariant::Gpu ? "gpu variant" : "cpu variant");
+}
 }  // namespace lorgnette::field
 
 class HashGridVariants : public ::testing::TestWithParam<KernelVariant> {};
@@ -40,7 +43,8 @@ TEST_P(HashGridVariants, EncodeMatchesHostReference) {
   ref::Rows want = ref::encode(h.lay, h.cfg, h.params, h.s);
   std::vector<float> got_rows;
   for (uint32_t r = 0; r < h.lay.enc_width; ++r)
-    got_rows.insert(got_rows.end(), got.begin() + size_t(r) * h.stride, got.begin() + size_t(r) * h.stride + h.n);
+    got_rows.insert(got_rows.end(), got.begin() + size_t(r) * h.stride,
+                    got.begin() + size_t(r) * h.stride + h.n);
   want.resize(size_t(h.lay.enc_width) * h.n);
   // 8 float products of magnitude <= 1 summed: float rounding ~1e-6; 1e-5 leaves margin.
   test::expect_close(got_rows, want, 1e-5, 1e-5, "encoding");
@@ -74,7 +78,8 @@ TEST_P(HashGridVariants, BackwardMatchesReferenceAndFiniteDifferences) {
     auto e = enc.read(rt);
     double L = 0;
     for (uint32_t r = 0; r < h.lay.enc_width; ++r)
-      for (uint32_t i = 0; i < h.n; ++i) L += double(e[size_t(r) * h.stride + i]) * d_enc_host[size_t(r) * h.stride + i];
+      for (uint32_t i = 0; i < h.n; ++i)
+        L += double(e[size_t(r) * h.stride + i]) * d_enc_host[size_t(r) * h.stride + i];
     return L;
   };
   std::vector<size_t> probes;
@@ -107,5 +112,6 @@ TEST(HashGrid, AtomicBackwardOfTheGpuVariantMatchesReference) {
   auto want = ref::encode_backward(h.lay, h.cfg, h.s, d_rows);
   want.resize(h.lay.hash_count);
   // Same sums as the deterministic path in another order.
-  test::expect_close(grads.read(rt, h.lay.hash_count), want, 1e-4, 1e-5 * test::max_abs(want), "atomic hash gradient");
+  test::expect_close(grads.read(rt, h.lay.hash_count), want, 1e-4, 1e-5 * test::max_abs(want),
+                     "atomic hash gradient");
 }

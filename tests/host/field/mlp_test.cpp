@@ -1,8 +1,9 @@
 // MLP kernels on a two-layer network (32 -> 64 ReLU -> 16): forward vs a double host reference,
 // weight and input gradients vs central finite differences of the double reference forward.
+#include "host/field/mlp.h"
+
 #include "field_test_util.h"
 #include "host/cl/buffer.h"
-#include "host/field/mlp.h"
 
 using namespace lorgnette;
 using namespace lorgnette::field;

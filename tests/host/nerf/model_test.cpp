@@ -1,16 +1,17 @@
 // NerfModel snapshots: a save/load round trip restores everything bitwise; truncated, corrupted,
 // foreign and newer files are refused with a clear message; an existing file is replaced atomically.
 // The format alone (no device): NaN losses round-trip, out-of-range header numbers are refused.
-#include <cmath>
-#include <cstring>
-#include <functional>
-#include <filesystem>
-#include <fstream>
+#include "host/nerf/model.h"
 
 #include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <functional>
 #include <nlohmann/json.hpp>
 
-#include "host/nerf/model.h"
 #include "kernels/train/occupancy.h"
 
 namespace {
@@ -31,9 +32,7 @@ std::string slurp(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
-void spit(const std::string& path, const std::string& data) {
-  std::ofstream(path, std::ios::binary) << data;
-}
+void spit(const std::string& path, const std::string& data) { std::ofstream(path, std::ios::binary) << data; }
 
 NerfModel make_model(cl::Runtime& rt) {
   nerf::Aabb box{{-1.0f, -0.5f, -2.0f}, {1.0f, 0.75f, 0.5f}};

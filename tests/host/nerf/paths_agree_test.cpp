@@ -5,12 +5,12 @@
 // with no jitter (t_start + (k + 1/2) step), which are the marcher's segment midpoints, and both
 // skip empty cells to the same lattice, so the paths see the same samples and must composite them
 // to the same colour and opacity.
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
-
-#include <gtest/gtest.h>
 
 #include "host/nerf/ray_batch.h"
 #include "host/nerf/sizing.h"
@@ -46,10 +46,12 @@ ViewColours training_forward(NerfModel& model, const Camera& cam, const std::arr
     const uint32_t end = batch.fit(begin, model.field().max_batch());
     const uint32_t samples = batch.write(p, views, begin, end);
     if (samples > 0)
-      model.field().forward(batch.positions(), batch.directions(), samples, batch.sigma(), batch.rgb(), false);
+      model.field().forward(batch.positions(), batch.directions(), samples, batch.sigma(), batch.rgb(),
+                            false);
     batch.render(LOSS_L2_SRGB, true);
     std::vector<float> c = batch.colors();
-    for (uint32_t r = 0; r < end - begin; ++r) out.rays.push_back({c[4 * r], c[4 * r + 1], c[4 * r + 2], c[4 * r + 3]});
+    for (uint32_t r = 0; r < end - begin; ++r)
+      out.rays.push_back({c[4 * r], c[4 * r + 1], c[4 * r + 2], c[4 * r + 3]});
     begin = end;
   }
   return out;
@@ -96,10 +98,11 @@ TEST(ForwardPaths, InferenceMarcherMatchesTrainingForward) {
     max_alpha = std::max(max_alpha, double(std::fabs(a.rays[i][3] - b.rays[i][3])));
     hit += b.rays[i][3] > 0.5f;
   }
-  std::printf("%zu rays (%u opaque): max |d rgb| %.3g (ray %u: %.4f %.4f %.4f vs %.4f %.4f %.4f), mean %.3g, "
-              "max |d alpha| %.3g\n",
-              a.rays.size(), hit, max_rgb, worst, a.rays[worst][0], a.rays[worst][1], a.rays[worst][2],
-              b.rays[worst][0], b.rays[worst][1], b.rays[worst][2], sum_rgb / a.rays.size(), max_alpha);
+  std::printf(
+      "%zu rays (%u opaque): max |d rgb| %.3g (ray %u: %.4f %.4f %.4f vs %.4f %.4f %.4f), mean %.3g, "
+      "max |d alpha| %.3g\n",
+      a.rays.size(), hit, max_rgb, worst, a.rays[worst][0], a.rays[worst][1], a.rays[worst][2],
+      b.rays[worst][0], b.rays[worst][1], b.rays[worst][2], sum_rgb / a.rays.size(), max_alpha);
   EXPECT_GT(hit, a.rays.size() / 8) << "the view must show the sphere";
   // Tolerance (absolute, linear colour and opacity in [0, 1]): the paths evaluate the same field at
   // the same lattice points and composite by the same step (common/composite.h), so only float32

@@ -1,14 +1,15 @@
 // Volume rendering and loss (kernels/train/render.h, loss.cl): the constant-density slab against
 // its closed form, the gradients against central finite differences, and the kernel against the
 // host build of the same header.
-#include <cmath>
-#include <random>
+#include "kernels/train/render.h"
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <random>
+
 #include "host/cl/kernel.h"
 #include "host/cl/runtime.h"
-#include "kernels/train/render.h"
 
 namespace {
 
@@ -80,7 +81,8 @@ TEST(Render, ConstantSlabMatchesClosedForm) {
 double host_loss(const Rays& r, uint32_t ray, float step, uint32_t kind) {
   float color[4], dC[3];
   const float* info = &r.info[RAY_INFO_FLOATS * ray];
-  render_ray_forward(r.sigma.data(), r.rgb.data(), r.stride, r.offsets[ray], r.counts[ray], step, 1e-4f, info + 3, color);
+  render_ray_forward(r.sigma.data(), r.rgb.data(), r.stride, r.offsets[ray], r.counts[ray], step, 1e-4f,
+                     info + 3, color);
   return render_ray_loss(color, info, kind, 1.0f, dC);
 }
 
@@ -93,10 +95,11 @@ TEST(Render, GradientsMatchFiniteDifferences) {
       const float* info = &r.info[RAY_INFO_FLOATS * ray];
       float color[4], dC[3];
       std::vector<float> dsigma(r.stride), drgb(3 * r.stride);
-      uint32_t used = render_ray_forward(r.sigma.data(), r.rgb.data(), r.stride, first, count, step, 1e-4f, info + 3, color);
+      uint32_t used = render_ray_forward(r.sigma.data(), r.rgb.data(), r.stride, first, count, step, 1e-4f,
+                                         info + 3, color);
       render_ray_loss(color, info, kind, 1.0f, dC);
-      render_ray_backward(r.sigma.data(), r.rgb.data(), r.stride, first, count, used, step, color, dC, dsigma.data(),
-                          drgb.data());
+      render_ray_backward(r.sigma.data(), r.rgb.data(), r.stride, first, count, used, step, color, dC,
+                          dsigma.data(), drgb.data());
       for (uint32_t k = 0; k < count; ++k) {
         uint32_t i = first + k;
         // Central differences in float32: eps 1e-2 on sigma (values up to 30) and 1e-3 on colours keeps
@@ -131,11 +134,11 @@ TEST(Render, KernelMatchesHostReference) {
   for (uint32_t ray = 0; ray < 200; ++ray) {
     const float* info = &r.info[RAY_INFO_FLOATS * ray];
     float color[4], dC[3];
-    uint32_t used = render_ray_forward(r.sigma.data(), r.rgb.data(), r.stride, r.offsets[ray], r.counts[ray], step,
-                                       1e-4f, info + 3, color);
+    uint32_t used = render_ray_forward(r.sigma.data(), r.rgb.data(), r.stride, r.offsets[ray], r.counts[ray],
+                                       step, 1e-4f, info + 3, color);
     float loss = render_ray_loss(color, info, LOSS_L2_SRGB, 1.0f / 600.0f, dC);
-    render_ray_backward(r.sigma.data(), r.rgb.data(), r.stride, r.offsets[ray], r.counts[ray], used, step, color, dC,
-                        dsigma.data(), drgb.data());
+    render_ray_backward(r.sigma.data(), r.rgb.data(), r.stride, r.offsets[ray], r.counts[ray], used, step,
+                        color, dC, dsigma.data(), drgb.data());
     // Same float32 formulas on both sides; the device may contract to FMA or use a different exp/pow
     // (OpenCL allows a few ulp): 1e-5 relative + 1e-7 absolute.
     for (int c = 0; c < 4; ++c) EXPECT_NEAR(o.color[4 * ray + c], color[c], 1e-5) << ray;
@@ -144,7 +147,8 @@ TEST(Render, KernelMatchesHostReference) {
   for (uint32_t i = 0; i < r.stride - 5; ++i) {
     EXPECT_NEAR(o.dsigma[i], dsigma[i], 1e-4 * std::fabs(dsigma[i]) + 1e-8) << i;
     for (int c = 0; c < 3; ++c)
-      EXPECT_NEAR(o.drgb[c * r.stride + i], drgb[c * r.stride + i], 1e-4 * std::fabs(drgb[c * r.stride + i]) + 1e-8);
+      EXPECT_NEAR(o.drgb[c * r.stride + i], drgb[c * r.stride + i],
+                  1e-4 * std::fabs(drgb[c * r.stride + i]) + 1e-8);
   }
 }
 

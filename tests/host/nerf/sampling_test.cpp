@@ -2,11 +2,11 @@
 // reference on a hand-made occupancy grid: the reference walks every step of the sample lattice and
 // keeps the positions in occupied cells, so it checks that skipping empty cells never drops or
 // adds a sample. Also: training-mode rays are reproducible and their targets composite the alpha.
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <cstring>
 #include <random>
-
-#include <gtest/gtest.h>
 
 #include "host/nerf/ray_batch.h"
 #include "kernels/train/occupancy.h"
@@ -26,7 +26,8 @@ field::FieldConfig tiny_config() {
 
 struct Fixture {
   cl::Runtime rt{cl::RuntimeOptions{"", "", false}};
-  NerfModel model{rt, tiny_config(), Aabb{{-1.0f, -0.8f, -1.2f}, {1.0f, 0.9f, 1.1f}}, 8, 0.02f, 1u << 14, 1, true};
+  NerfModel model{rt, tiny_config(), Aabb{{-1.0f, -0.8f, -1.2f}, {1.0f, 0.9f, 1.1f}}, 8, 0.02f, 1u << 14,
+                  1,  true};
   Fixture() {
     OccupancyGrid g = full_occupancy(8);
     std::mt19937 gen(5);

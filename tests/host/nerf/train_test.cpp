@@ -1,14 +1,14 @@
 // End-to-end training on an analytic scene (a coloured sphere rendered into 64x64 RGBA views):
 // held-out PSNR above a stated bound, bitwise determinism, divergence (NaN) handling that keeps the
 // last good snapshot, and clear errors for empty input.
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <filesystem>
 
-#include <gtest/gtest.h>
-
-#include "host/render/evaluate.h"
 #include "host/nerf/sizing.h"
 #include "host/nerf/trainer.h"
+#include "host/render/evaluate.h"
 #include "synthetic_scene.h"
 
 namespace {
@@ -23,7 +23,8 @@ struct SceneSetup {
   ModelSizing sizing = choose_model_size(train.views, SizingOverrides{});
 
   NerfModel make_model(uint32_t batch, uint32_t seed) {
-    return NerfModel(rt, sizing.field, sizing.aabb, sizing.occupancy_resolution, sizing.step, batch, seed, true);
+    return NerfModel(rt, sizing.field, sizing.aabb, sizing.occupancy_resolution, sizing.step, batch, seed,
+                     true);
   }
 };
 

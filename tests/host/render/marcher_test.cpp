@@ -7,14 +7,15 @@
 // the telescoping sum c(1 - prod e_i) accumulates ~1 ulp (6e-8) per segment, i.e. ~1e-5 worst case.
 // The exact-depth test shows that misplacing the surface by even a quarter step changes the answer
 // by more than 50x this tolerance, so the tolerance cannot hide a misplaced surface.
+#include "host/render/marcher.h"
+
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <cstring>
 #include <limits>
 
-#include <gtest/gtest.h>
-
 #include "host/render/analytic_field.h"
-#include "host/render/marcher.h"
 #include "host/render/orbit.h"
 #include "kernels/march/march_math.h"
 
@@ -41,7 +42,8 @@ struct SlabScene {
   Camera cam = look_at({0.3f, 0.2f, 3.0f}, {0, 0, 0}, {0, 1, 0}, 32, 24, 30.0f);
   RenderOptions opts;
   explicit SlabScene(float sigma = kSigma)
-      : field(runtime(), {-1, -1, -1}, {1, 1, 1}, {analytic_box({-2, -2, -2}, {2, 2, 2}, sigma, kSlabRgb)}, 1024) {
+      : field(runtime(), {-1, -1, -1}, {1, 1, 1}, {analytic_box({-2, -2, -2}, {2, 2, 2}, sigma, kSlabRgb)},
+              1024) {
     scene.aabb_min = {-1, -1, -1};
     scene.aabb_max = {1, 1, 1};
     scene.step = 0.0137f;  // not commensurate with anything in the scene
@@ -108,7 +110,8 @@ TEST(Marcher, OpaquePlaneInsideSlabMatchesClosedForm) {
       double tn, tf, ts = surf.depth[size_t(y) * 32 + x];
       s.clip(x, y, &tn, &tf);
       for (int c = 0; c < 3; ++c)
-        EXPECT_NEAR(r.rgba.at(x, y, c), slab_with_surface(tn, tf, ts, 1, plane[c], kSlabRgb[c], kBg[c]), kTol);
+        EXPECT_NEAR(r.rgba.at(x, y, c), slab_with_surface(tn, tf, ts, 1, plane[c], kSlabRgb[c], kBg[c]),
+                    kTol);
       EXPECT_NEAR(r.rgba.at(x, y, 3), 1.0f, kTol);
     }
 }
@@ -134,8 +137,10 @@ TEST(Marcher, HalfCoverageMatchesClosedFormWithBackgroundAndAlpha) {
       s.clip(x, y, &tn, &tf);
       double e1 = std::exp(-kSigma * (ts - tn)), e2 = std::exp(-kSigma * (tf - ts));
       for (int c = 0; c < 3; ++c) {
-        EXPECT_NEAR(bg.rgba.at(x, y, c), slab_with_surface(tn, tf, ts, 0.5, plane[c], kSlabRgb[c], kBg[c]), kTol);
-        EXPECT_NEAR(transparent.rgba.at(x, y, c), slab_with_surface(tn, tf, ts, 0.5, plane[c], kSlabRgb[c], 0), kTol);
+        EXPECT_NEAR(bg.rgba.at(x, y, c), slab_with_surface(tn, tf, ts, 0.5, plane[c], kSlabRgb[c], kBg[c]),
+                    kTol);
+        EXPECT_NEAR(transparent.rgba.at(x, y, c),
+                    slab_with_surface(tn, tf, ts, 0.5, plane[c], kSlabRgb[c], 0), kTol);
       }
       EXPECT_NEAR(transparent.rgba.at(x, y, 3), 1 - e1 * 0.5 * e2, kTol);
     }
@@ -200,8 +205,11 @@ TEST(Marcher, SurfaceBetweenTwoSamplesIsInsertedAtItsExactDepth) {
 namespace {
 // A dense box (the "NeRF surface": T falls below 1e-4 within a step) in front half of the crop box.
 struct DenseScene {
-  AnalyticField field{runtime(), {-1, -1, -1}, {1, 1, 1},
-                      {analytic_box({-2, -2, 0.2f}, {2, 2, 2}, 2000.0f, {0.9f, 0.6f, 0.3f})}, 4096};
+  AnalyticField field{runtime(),
+                      {-1, -1, -1},
+                      {1, 1, 1},
+                      {analytic_box({-2, -2, 0.2f}, {2, 2, 2}, 2000.0f, {0.9f, 0.6f, 0.3f})},
+                      4096};
   VolumeScene scene;
   Camera cam = look_at({0.0f, 0.1f, 3.0f}, {0, 0, 0}, {0, 1, 0}, 20, 16, 30.0f);
   RenderOptions opts;
@@ -337,7 +345,8 @@ TEST(Marcher, OccupancyGridSkipsEmptySpaceWithoutChangingTheImage) {
   scene.occupancy = {LGN_MARCH_OCC_LINEAR, 32, &bits};
   RenderResult skipping = m.render(scene, cam, nullptr, {});
   for (size_t i = 0; i < dense.rgba.pixels.size(); ++i)
-    EXPECT_NEAR(skipping.rgba.pixels[i], dense.rgba.pixels[i], 1e-4f) << "same sample grid, t summed differently";
+    EXPECT_NEAR(skipping.rgba.pixels[i], dense.rgba.pixels[i], 1e-4f)
+        << "same sample grid, t summed differently";
   EXPECT_LT(skipping.samples_evaluated, dense.samples_evaluated / 2);
   EXPECT_GT(dense.rgba.at(12, 12, 2), 0.5f);
 }
@@ -351,7 +360,8 @@ TEST(Marcher, SeveralSamplesPerPixelAverageAndBadInputsAreRefused) {
   double tn, tf;
   s.clip(16, 12, &tn, &tf);
   double T = std::exp(-kSigma * (tf - tn));
-  EXPECT_NEAR(r.rgba.at(16, 12, 0), kSlabRgb[0] * (1 - T) + T * kBg[0], 2e-3) << "sub-pixel rays differ slightly";
+  EXPECT_NEAR(r.rgba.at(16, 12, 0), kSlabRgb[0] * (1 - T) + T * kBg[0], 2e-3)
+      << "sub-pixel rays differ slightly";
   lorgnette::SurfaceBuffers wrong(16, 16);
   EXPECT_THROW(m.render(s.scene, s.cam, &wrong, s.opts), std::invalid_argument);
   s.opts.spp = 0;

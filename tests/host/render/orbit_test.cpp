@@ -1,10 +1,10 @@
 // Orbit and look-at cameras: the target projects to the image centre, every box corner is in view
 // at the framing distance, and view 0 sits on the front direction.
-#include <cmath>
+#include "host/render/orbit.h"
 
 #include <gtest/gtest.h>
 
-#include "host/render/orbit.h"
+#include <cmath>
 
 using namespace lorgnette::render;
 

@@ -1,13 +1,14 @@
 // The render job's inputs and outputs: transforms (translate/rotate/scale and 4x4 text), sizes,
 // placement and pose files, the refusal to overwrite files, and the straight-alpha conversion.
+#include "host/render/render_job.h"
+
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 
-#include <gtest/gtest.h>
-
 #include "host/render/analytic_field.h"
-#include "host/render/render_job.h"
 
 using namespace lorgnette;
 using namespace lorgnette::render;
@@ -27,7 +28,8 @@ TEST(RenderJob, TrsTransformRotatesScalesThenTranslates) {
   Mat4 m = trs_transform({1, 2, 3}, {0, 0, 90}, 2.0f);
   // (1, 0, 0) -> scaled (2, 0, 0) -> rotated 90 deg about z (0, 2, 0) -> translated (1, 4, 3).
   float p[3] = {1, 0, 0}, q[3];
-  for (int i = 0; i < 3; ++i) q[i] = m[4 * i] * p[0] + m[4 * i + 1] * p[1] + m[4 * i + 2] * p[2] + m[4 * i + 3];
+  for (int i = 0; i < 3; ++i)
+    q[i] = m[4 * i] * p[0] + m[4 * i + 1] * p[1] + m[4 * i + 2] * p[2] + m[4 * i + 3];
   EXPECT_NEAR(q[0], 1.0f, 1e-6f);
   EXPECT_NEAR(q[1], 4.0f, 1e-6f);
   EXPECT_NEAR(q[2], 3.0f, 1e-6f);
@@ -105,10 +107,13 @@ TEST(RenderJob, OrbitWritesFramesDepthVideoSheetAndSummary) {
   RenderJob job;
   job.cameras = orbit_cameras(spec);
   job.out_dir = tmp_dir("orbit");
-  auto render = [&](const Camera& c, const lorgnette::SurfaceBuffers* s) { return marcher.render(scene, c, s, job.options); };
+  auto render = [&](const Camera& c, const lorgnette::SurfaceBuffers* s) {
+    return marcher.render(scene, c, s, job.options);
+  };
   nlohmann::json out = run_render_job(job, render);
   EXPECT_EQ(out["views"], 3);
-  for (const auto& name : render_job_outputs(job)) EXPECT_TRUE(fs::exists(fs::path(job.out_dir) / name)) << name;
+  for (const auto& name : render_job_outputs(job))
+    EXPECT_TRUE(fs::exists(fs::path(job.out_dir) / name)) << name;
   Image depth = read_image(job.out_dir + "/depth_0001.exr");
   EXPECT_EQ(depth.width, 48);
   Image frame = read_image(job.out_dir + "/frame_0000.png");

@@ -1,15 +1,16 @@
 // The shared camera model on the host: look-at framing, projection and ray directions agree, and
 // distortion round-trips through the iterative undistortion.
-#include <cmath>
+#include "kernels/common/camera_types.h"
 
 #include <gtest/gtest.h>
 
-#include "kernels/common/camera_types.h"
+#include <cmath>
 
 namespace {
 
 TEST(CameraTypes, LookAtPutsTheTargetAtTheImageCentreWithAnOrthonormalFrame) {
-  Camera c = camera_look_at(lgn_vec3(1.0f, 2.0f, 3.0f), lgn_vec3(0.2f, 0.1f, -0.5f), lgn_vec3(0, 1, 0), 40.0f, 320, 240);
+  Camera c = camera_look_at(lgn_vec3(1.0f, 2.0f, 3.0f), lgn_vec3(0.2f, 0.1f, -0.5f), lgn_vec3(0, 1, 0), 40.0f,
+                            320, 240);
   float u, v;
   float depth = camera_project(&c, lgn_vec3(0.2f, 0.1f, -0.5f), &u, &v);
   EXPECT_NEAR(u, 160.0f, 1e-3f);
