@@ -17,7 +17,7 @@ PACKAGES=(
   libcli11-dev nlohmann-json3-dev libspdlog-dev libfmt-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   # the browser viewer (`lorgnette view`): Beast/Asio headers, JPEG frames; Chromium + node/npm for its e2e test
-  libboost-dev libturbojpeg0-dev chromium nodejs npm
+  libboost-dev libturbojpeg0-dev chromium nodejs
   # the Python bindings (python/) and their tests
   pybind11-dev python3-dev python3-numpy python3-pytest
   # the .deb (dpkg-shlibdeps), the parser fuzzers (clang's libFuzzer) and the format check
@@ -25,3 +25,6 @@ PACKAGES=(
 )
 if [ -z "${LORGNETTE_SKIP_APT_UPDATE:-}" ]; then $SUDO apt-get update -q; fi
 $SUDO apt-get install -y -q --no-install-recommends "${PACKAGES[@]}"
+# npm: Debian's package, unless the installed nodejs already brings its own (NodeSource's nodejs
+# includes npm and conflicts with Debian's npm package).
+if ! command -v npm > /dev/null; then $SUDO apt-get install -y -q --no-install-recommends npm; fi
