@@ -77,15 +77,11 @@ TrainJobResult train_on_dataset(cl::Runtime& rt, const dataset::Dataset& ds, Tra
       if (!rep.found)
         spdlog::warn(
             "the subject could not be separated from the room: nothing was reconstructed in the middle of "
-            "the "
-            "subject box. Film the face filling a third of the frame, in focus, sweeping slowly from one "
-            "side "
-            "to the other");
+            "the subject box. Film the face filling a third of the frame, in focus, sweeping slowly from "
+            "one side to the other");
     }
-    TrainJobResult out{std::move(model), std::move(sizing), std::move(result), std::move(budget_text)};
-    out.background = background;
-    out.region = region;
-    return out;
+    return {std::move(model),       std::move(sizing), std::move(result),
+            std::move(budget_text), background,        region};
   }
 }
 
