@@ -5,7 +5,7 @@
 # Environment: FUZZ_REPORT (default docs/bench/fuzz.md) is where the results go;
 # FUZZ_SLOW_IS_FATAL=0 reports inputs that time out or run out of memory without failing (the test
 # command's short run, on a machine whose load makes timeouts a matter of chance); likewise
-# FUZZ_THIRD_PARTY_IS_FATAL=0 for a crash whose sanitizer summary lies inside a Debian library
+# FUZZ_THIRD_PARTY_IS_FATAL=0 for a crash whose sanitizer summary lies inside Debian's libassimp
 # (Assimp's importers: ours to work around, not to fix, and found only by chance in a short run).
 # Any other crash always fails.
 #
@@ -66,7 +66,7 @@ for t in "${targets[@]}"; do
     what=$(grep -m1 -E 'ERROR: libFuzzer: (timeout|out-of-memory)' "$log")
     found="slow input (not fatal here): ${what} — input \`${artifact:-none written}\`"
     echo "fuzz: $t: slow input, reported and not fatal in this run: $what (${artifact:-none written})"
-  elif [ "$third_party_is_fatal" = 0 ] && grep -qE '^SUMMARY: [A-Za-z]+Sanitizer: .*\(/(usr/)?lib/x86_64-linux-gnu/' "$log"; then
+  elif [ "$third_party_is_fatal" = 0 ] && grep -qE '^SUMMARY: [A-Za-z]+Sanitizer: .*\(/(usr/)?lib/x86_64-linux-gnu/libassimp' "$log"; then
     artifact=$(sed -n 's/.*Test unit written to \(.*\)$/\1/p' "$log" | tail -1)
     what=$(grep -m1 -E '^SUMMARY: ' "$log")
     found="crash inside a Debian library (not fatal here): ${what} — input \`${artifact:-none written}\`"
