@@ -24,7 +24,7 @@
 #include <set>
 #include <stdexcept>
 
-#include "mesh/ply_check.h"
+#include "mesh/file_checks.h"
 #include "mesh/texture.h"
 
 namespace lorgnette::mesh {
@@ -229,7 +229,7 @@ const aiScene* post_process(Assimp::Importer& importer, const aiScene* scene, un
 
 // Leaves Assimp only the importers for extension `ext` (glTF 1 and 2 for gltf and glb). Otherwise a
 // file its own importer refuses goes to whichever of Assimp's ~40 importers claims its first bytes:
-// a PLY named .gltf reached the PLY reader past check_ply and hung it
+// a PLY named .gltf reached the PLY reader past check_file and hung it
 // (fuzz/regressions/glasses/ply-named-gltf-hang). Other extensions keep every importer.
 void keep_importers_for(Assimp::Importer& importer, const std::string& ext) {
   if (ext != "gltf" && ext != "glb" && ext != "obj" && ext != "ply") return;
@@ -245,6 +245,13 @@ void keep_importers_for(Assimp::Importer& importer, const std::string& ext) {
   }
 }
 
+// What Assimp must not see (file_checks.h): a malformed PLY, a GLB whose lengths do not fit the
+// file, glTF primitive modes it crashes on.
+void check_file(std::string_view bytes, const std::string& ext, const std::string& name) {
+  if (ext == "ply") check_ply(bytes, name);
+  if (ext == "glb" || ext == "gltf") check_gltf(bytes, name);
+}
+
 const aiScene* read_scene(Assimp::Importer& importer, const std::string& path, const LoadOptions& options) {
   if (!fs::exists(path))
     throw std::runtime_error(fmt::format("mesh file '{}' does not exist (check the path)", path));
@@ -253,12 +260,13 @@ const aiScene* read_scene(Assimp::Importer& importer, const std::string& path, c
         fmt::format("'{}' is a directory; give the .gltf/.glb/.obj/.ply file inside it", path));
   if (fs::file_size(path) == 0)
     throw std::runtime_error(fmt::format("mesh file '{}' is empty (0 bytes)", path));
-  if (lower(fs::path(path).extension().string()) == ".ply") {  // Assimp must not see a malformed PLY
-    std::ifstream in(path, std::ios::binary);
-    check_ply(std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()), path);
-  }
   std::string ext = lower(fs::path(path).extension().string());
-  keep_importers_for(importer, ext.empty() ? ext : ext.substr(1));
+  ext = ext.empty() ? ext : ext.substr(1);
+  if (ext == "ply" || ext == "glb" || ext == "gltf") {
+    std::ifstream in(path, std::ios::binary);
+    check_file(std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()), ext, path);
+  }
+  keep_importers_for(importer, ext);
   unsigned flags = import_flags(importer, options);
   return post_process(importer, importer.ReadFile(path, aiProcess_ValidateDataStructure), flags, path);
 }
@@ -348,7 +356,7 @@ TriMesh load_mesh_from_memory(const void* data, size_t bytes, const std::string&
     throw std::runtime_error(fmt::format("mesh format '{}' is not one of gltf, glb, obj, ply", format));
   std::string name = fmt::format("<{} bytes of {}>", bytes, ext);
   if (bytes == 0) throw std::runtime_error(fmt::format("mesh '{}' is empty (0 bytes)", name));
-  if (ext == "ply") check_ply(std::string_view(static_cast<const char*>(data), bytes), name);
+  check_file(std::string_view(static_cast<const char*>(data), bytes), ext, name);
   Assimp::Importer importer;
   importer.SetIOHandler(new NoFiles);  // the importer owns it
   keep_importers_for(importer, ext);

@@ -12,6 +12,7 @@
 #include <fstream>
 #include <iterator>
 
+#include "mesh/gltf_writer.h"
 #include "tests/mesh/test_paths.h"
 
 namespace lorgnette::mesh {
@@ -162,9 +163,46 @@ TEST(Loader, FromMemoryMatchesTheFile) {
   EXPECT_THROW(load_mesh_from_memory(bytes.data(), bytes.size(), "fbx"), std::runtime_error);
 }
 
+// Found by fuzzing (fuzz/regressions/glasses/): Assimp 5.2 trusts a GLB chunk length (21 bytes
+// asked for 4 GB) and dereferences a null face for an indexed LINE_LOOP with an index out of range.
+TEST(Loader, GlbLengthsMustFitAndLineLoopsAreRefused) {
+  const std::string huge(
+      "glTF\x02\0\0\0\x60\x45\0\0\x54\x11\xff\xff"
+      "JSON",
+      20);
+  try {
+    load_mesh_from_memory(huge.data(), huge.size(), "glb");
+    ADD_FAILURE() << "a GLB chunk longer than the file was accepted";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("bytes"), std::string::npos) << e.what();
+  }
+  namespace fs = std::filesystem;
+  fs::path dir = fs::path(LORGNETTE_TEST_TMP) / "mesh_loader";
+  fs::create_directories(dir);
+  TriMesh tri;
+  tri.positions = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  tri.triangles = {{0, 1, 2}};
+  tri.triangle_material = {0};
+  tri.triangle_part = {0};
+  tri.part_names = {"part"};
+  tri.materials = {Material{"m"}};
+  write_glb((dir / "tri.glb").string(), tri);
+  std::string glb = slurp((dir / "tri.glb").string());
+  EXPECT_EQ(load_mesh_from_memory(glb.data(), glb.size(), "glb").triangle_count(), 1u);
+  size_t mode = glb.find("\"mode\":4");
+  ASSERT_NE(mode, std::string::npos);
+  glb[mode + 7] = '2';  // LINE_LOOP, same length
+  try {
+    load_mesh_from_memory(glb.data(), glb.size(), "glb");
+    ADD_FAILURE() << "an indexed LINE_LOOP was accepted";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("LINE_LOOP"), std::string::npos) << e.what();
+  }
+}
+
 // Found by fuzzing (fuzz/regressions/glasses/): Assimp 5.2 loops forever on a PLY header without
 // end_header or with a stray control character before it, allocates whatever a count says, and
-// aborts the process on faces without vertices; the loader refuses all of them (mesh/ply_check.h).
+// aborts the process on faces without vertices; the loader refuses all of them (mesh/file_checks.h).
 // CRLF line ends stay fine.
 TEST(Loader, MalformedPlyIsRefusedNotHungOrAborted) {
   namespace fs = std::filesystem;
@@ -201,7 +239,7 @@ TEST(Loader, MalformedPlyIsRefusedNotHungOrAborted) {
       load_mesh_from_memory(bad.data(), bad.size(), "ply");
       ADD_FAILURE() << "accepted: " << bad;
     } catch (const std::runtime_error& e) {
-      EXPECT_NE(std::string(e.what()).find("corrupt or not a PLY file"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("not a valid PLY file"), std::string::npos) << e.what();
     }
   }
   const std::string good = ply("3", "3 0 1 2\n");

@@ -1,11 +1,13 @@
-// PLY structure check (see ply_check.h). ASCII data is checked one record per line, as every writer
-// puts it and as Assimp reads it, so both agree on which number is a list count.
-#include "mesh/ply_check.h"
+// Structural checks of PLY and GLB files (see file_checks.h). PLY ASCII data is checked one record per
+// line, as every writer puts it and as Assimp reads it, so both agree on which number is a list count.
+#include "mesh/file_checks.h"
 
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <cstdint>
+#include <functional>
+#include <nlohmann/json.hpp>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -82,7 +84,7 @@ class Checker {
 
  private:
   [[noreturn]] void fail(const std::string& what) const {
-    throw std::runtime_error(fmt::format("PLY file '{}' is corrupt or not a PLY file: {}", name_, what));
+    throw std::runtime_error(fmt::format("cannot load mesh '{}': not a valid PLY file: {}", name_, what));
   }
 
   // The next line without its line end (LF or CRLF), rejecting control characters; false at the end.
@@ -219,5 +221,56 @@ class Checker {
 }  // namespace
 
 void check_ply(std::string_view bytes, const std::string& name) { Checker(bytes, name).run(); }
+
+namespace {
+
+// The JSON of a GLB (its first chunk) after checking the container; fail() throws.
+std::string_view glb_json(std::string_view bytes, const std::function<void(const std::string&)>& fail) {
+  auto u32 = [&](size_t at) {  // little-endian, as GLB stores it
+    uint32_t v = 0;
+    for (int i = 3; i >= 0; --i) v = (v << 8) | static_cast<unsigned char>(bytes[at + i]);
+    return v;
+  };
+  const uint32_t version = u32(4), length = u32(8);
+  if (length > bytes.size() || length < (version == 1 ? 20u : 12u))
+    fail(fmt::format("the header says {} bytes, the file has {}", length, bytes.size()));
+  if (version == 1) {  // glTF 1.0 binary: one JSON content block after a 20-byte header
+    if (u32(12) > length - 20) fail(fmt::format("the JSON content of {} bytes runs past the end", u32(12)));
+    return bytes.substr(20, u32(12));
+  }
+  if (version != 2) fail(fmt::format("version {} (this reads 1 and 2)", version));
+  size_t at = 12;
+  for (int chunk = 0; at < length; ++chunk) {  // every chunk advances by at least its 8-byte header
+    if (length - at < 8) fail(fmt::format("chunk {} is cut off in its header", chunk));
+    const uint32_t size = u32(at), type = u32(at + 4);
+    if (size > length - at - 8) fail(fmt::format("chunk {} of {} bytes runs past the end", chunk, size));
+    if (chunk == 0 && type != 0x4E4F534Au) fail("the first chunk is not JSON");
+    at += 8 + size;
+  }
+  if (at == 12) fail("there is no JSON chunk");
+  return bytes.substr(20, u32(12));
+}
+
+}  // namespace
+
+void check_gltf(std::string_view bytes, const std::string& name) {
+  auto fail = [&](const std::string& what) {
+    throw std::runtime_error(
+        fmt::format("cannot load mesh '{}': not a valid or supported glTF file: {}", name, what));
+  };
+  std::string_view text = bytes.substr(0, 4) == "glTF" ? glb_json(bytes, fail) : bytes;
+  nlohmann::json doc = nlohmann::json::parse(text.begin(), text.end(), nullptr, false);
+  if (!doc.is_object() || !doc.contains("meshes") || !doc["meshes"].is_array()) return;
+  for (const auto& mesh : doc["meshes"]) {
+    if (!mesh.is_object() || !mesh.contains("primitives") || !mesh["primitives"].is_array()) continue;
+    for (const auto& prim : mesh["primitives"]) {
+      if (!prim.is_object() || !prim.contains("indices") || !prim.contains("mode")) continue;
+      const auto& mode = prim["mode"];
+      if (mode.is_number_integer() && (mode.get<int64_t>() == 2 || mode.get<int64_t>() == 6))
+        fail(fmt::format("a primitive in {} mode with indices (re-export it as triangles)",
+                         mode.get<int64_t>() == 2 ? "LINE_LOOP" : "TRIANGLE_FAN"));
+    }
+  }
+}
 
 }  // namespace lorgnette::mesh
