@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cstdint>
 #include <functional>
 #include <nlohmann/json.hpp>
@@ -251,6 +252,25 @@ std::string_view glb_json(std::string_view bytes, const std::function<void(const
   return bytes.substr(20, u32(12));
 }
 
+// Whether `"mode": 2` or `"mode": 6` occurs anywhere in the text.
+bool raw_mode_is_loop_or_fan(std::string_view text) {
+  for (size_t at = text.find("\"mode\""); at != std::string_view::npos; at = text.find("\"mode\"", at + 1)) {
+    size_t i = at + 6;
+    auto skip_space = [&] {
+      while (i < text.size() && (text[i] == ' ' || text[i] == '\t' || text[i] == '\n' || text[i] == '\r'))
+        ++i;
+    };
+    skip_space();
+    if (i >= text.size() || text[i] != ':') continue;
+    ++i;
+    skip_space();
+    if (i < text.size() && (text[i] == '2' || text[i] == '6') &&
+        (i + 1 == text.size() || !std::isdigit(static_cast<unsigned char>(text[i + 1]))))
+      return true;
+  }
+  return false;
+}
+
 }  // namespace
 
 void check_gltf(std::string_view bytes, const std::string& name) {
@@ -260,6 +280,13 @@ void check_gltf(std::string_view bytes, const std::string& name) {
   };
   std::string_view text = bytes.substr(0, 4) == "glTF" ? glb_json(bytes, fail) : bytes;
   nlohmann::json doc = nlohmann::json::parse(text.begin(), text.end(), nullptr, false);
+  if (doc.is_discarded()) {
+    // Assimp's JSON reader is more lenient (it takes invalid UTF-8, for one), so the raw text is
+    // searched instead (fuzz/regressions/glasses/gltf-bad-utf8-line-loop-segv).
+    if (raw_mode_is_loop_or_fan(text))
+      fail("a primitive in LINE_LOOP or TRIANGLE_FAN mode (re-export it as triangles)");
+    return;
+  }
   if (!doc.is_object() || !doc.contains("meshes") || !doc["meshes"].is_array()) return;
   for (const auto& mesh : doc["meshes"]) {
     if (!mesh.is_object() || !mesh.contains("primitives") || !mesh["primitives"].is_array()) continue;
