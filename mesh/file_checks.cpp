@@ -232,6 +232,7 @@ std::string_view glb_json(std::string_view bytes, const std::function<void(const
     for (int i = 3; i >= 0; --i) v = (v << 8) | static_cast<unsigned char>(bytes[at + i]);
     return v;
   };
+  if (bytes.size() < 12) fail(fmt::format("the 12-byte header is cut off at {} bytes", bytes.size()));
   const uint32_t version = u32(4), length = u32(8);
   if (length > bytes.size() || length < (version == 1 ? 20u : 12u))
     fail(fmt::format("the header says {} bytes, the file has {}", length, bytes.size()));

@@ -177,6 +177,8 @@ TEST(Loader, GlbLengthsMustFitAndLineLoopsAreRefused) {
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("bytes"), std::string::npos) << e.what();
   }
+  const std::string cut("glTF\x02\0\xffJSON", 11);  // shorter than the header (read past its end)
+  EXPECT_THROW(load_mesh_from_memory(cut.data(), cut.size(), "glb"), std::runtime_error);
   namespace fs = std::filesystem;
   fs::path dir = fs::path(LORGNETTE_TEST_TMP) / "mesh_loader";
   fs::create_directories(dir);
