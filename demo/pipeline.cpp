@@ -15,6 +15,7 @@
 #include "host/render/orbit.h"
 #include "host/render/render_job.h"
 #include "host/render/renderer.h"
+#include "host/render/view_plan.h"
 #include "host/util/chart.h"
 #include "host/util/interrupt.h"
 #include "host/util/version.h"
@@ -220,11 +221,14 @@ void stage_render(Context& c, cl::Runtime& rt, nerf::NerfModel& model, const std
   job.out_dir = c.path("orbit");
   std::vector<Camera> cams;
   for (const auto& f : ds.frames) cams.push_back(f.camera);
-  render::OrbitSpec spec = render::model_orbit(model, cams);
-  spec.views = static_cast<uint32_t>(c.opt.orbit_frames);
-  spec.elevation_deg = 10.0f;
-  spec.width = spec.height = static_cast<uint32_t>(c.opt.orbit_size);
-  job.cameras = render::orbit_cameras(spec);
+  render::OrbitSpec base = render::model_orbit(model, cams);
+  base.width = base.height = static_cast<uint32_t>(c.opt.orbit_size);
+  render::OrbitRequest req;  // within the directions the capture saw (view_plan.h)
+  req.views = static_cast<uint32_t>(c.opt.orbit_frames);
+  req.elevation_deg = 10.0f;
+  render::OrbitPlan plan = render::plan_orbit(base, render::model_view_range(model), req);
+  for (const auto& note : plan.notes) spdlog::info("orbit: {}", note);
+  job.cameras = render::orbit_cameras(plan.spec);
   // canonical mm -> scene, temples spread as the fit chose
   mesh::PlacedGlasses placed =
       mesh::load_placed_glasses(glasses_path, fitted.placement.transform.cast<float>(), fitted.temples.bend);

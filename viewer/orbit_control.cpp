@@ -39,18 +39,11 @@ OrbitFrame make_orbit_frame(const Vec3& center, const Vec3& front, const Vec3& u
   return f;
 }
 
-OrbitLimits limits_from_cameras(const OrbitFrame& frame, const std::vector<Camera>& cameras,
-                                double margin_deg, double min_span_deg) {
+OrbitLimits limits_from_range(const std::optional<nerf::ViewRange>& range, double margin_deg,
+                              double min_span_deg) {
   OrbitLimits l;
-  if (cameras.empty()) return l;
-  double ymin = 1e9, ymax = -1e9, pmin = 1e9, pmax = -1e9;
-  for (const Camera& c : cameras) {
-    Vec3 d = normalized(sub({c.c2w[3], c.c2w[7], c.c2w[11]}, frame.center), frame.front);
-    double yaw = std::atan2(dot(d, frame.right), dot(d, frame.front)) / kDeg;
-    double pitch = std::asin(std::clamp(dot(d, frame.up), -1.0, 1.0)) / kDeg;
-    ymin = std::min(ymin, yaw), ymax = std::max(ymax, yaw);
-    pmin = std::min(pmin, pitch), pmax = std::max(pmax, pitch);
-  }
+  if (!range) return l;
+  double ymin = range->yaw_min, ymax = range->yaw_max, pmin = range->pitch_min, pmax = range->pitch_max;
   auto widen = [&](double& lo, double& hi, double bound) {
     lo -= margin_deg, hi += margin_deg;
     if (hi - lo < min_span_deg) {
@@ -64,7 +57,7 @@ OrbitLimits limits_from_cameras(const OrbitFrame& frame, const std::vector<Camer
   // The start view (yaw 0, pitch 0) is the capture's mean direction: always inside.
   l.yaw_min = std::min(ymin, 0.0), l.yaw_max = std::max(ymax, 0.0);
   l.pitch_min = std::min(pmin, 0.0), l.pitch_max = std::max(pmax, 0.0);
-  l.source = "capture (" + std::to_string(cameras.size()) + " cameras)";
+  l.source = "capture (" + std::to_string(range->cameras) + " cameras)";
   return l;
 }
 

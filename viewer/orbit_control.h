@@ -5,9 +5,11 @@
 // default of ±60° yaw and ±30° pitch.
 #pragma once
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "host/nerf/view_range.h"
 #include "host/render/orbit.h"
 
 namespace lorgnette::viewer {
@@ -34,10 +36,11 @@ struct OrbitState {
 OrbitFrame make_orbit_frame(const render::Vec3& center, const render::Vec3& front, const render::Vec3& up,
                             float radius, float fov_y_deg);
 
-// Yaw/pitch ranges of the capture's camera positions around the frame's centre, widened by
-// `margin_deg` and at least `min_span_deg` wide; the default limits when there are no cameras.
-OrbitLimits limits_from_cameras(const OrbitFrame& frame, const std::vector<Camera>& cameras,
-                                double margin_deg = 5.0, double min_span_deg = 20.0);
+// The limits of a capture's view range (host/nerf/view_range.h, the rule render::plan_orbit follows
+// too): its yaw/pitch extremes widened by `margin_deg`, at least `min_span_deg` wide and holding the
+// start view (0, 0); the default limits when no range is known.
+OrbitLimits limits_from_range(const std::optional<nerf::ViewRange>& range,
+                              double margin_deg = nerf::kViewMarginDeg, double min_span_deg = 20.0);
 
 OrbitState clamp_orbit(const OrbitState& s, const OrbitLimits& limits);
 

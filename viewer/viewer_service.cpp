@@ -12,6 +12,7 @@
 #include "host/dataset/dataset.h"
 #include "host/nerf/model.h"
 #include "host/render/renderer.h"
+#include "host/render/view_plan.h"
 #include "host/util/version.h"
 
 namespace lorgnette::viewer {
@@ -63,16 +64,6 @@ struct ViewerService::Work {
 
 namespace {
 
-// The capture's cameras in the model's frame (positions normalised as the model was), when the
-// model names a dataset that can still be read.
-std::vector<Camera> capture_cameras(const nerf::NerfModel& model) {
-  std::vector<Camera> cams = render::capture_cameras(model);
-  const auto& n = model.normalisation;
-  for (Camera& c : cams)
-    for (int k = 0; k < 3; ++k) c.c2w[4 * k + 3] = c.c2w[4 * k + 3] * n.scale + n.offset[k];
-  return cams;
-}
-
 uint32_t rounded_div(uint32_t v, uint32_t d) { return std::max<uint32_t>(16, (v + d / 2) / d); }
 
 }  // namespace
@@ -82,13 +73,16 @@ ViewerService::ViewerService(ViewerConfig config) : config_(std::move(config)) {
     throw std::runtime_error("the viewer needs at least one frame (--glasses or --catalogue)");
   engine_ = std::make_unique<Engine>(config_.runtime, config_.model_path);
   device_name_ = engine_->rt.device().name;
-  std::vector<Camera> cams = capture_cameras(engine_->model);
-  render::OrbitSpec spec = render::model_orbit(engine_->model, cams);
+  // The orbit turns in the capture's view-range frame and is clamped to it, server-side
+  // (host/render/view_plan.h).
+  std::optional<nerf::ViewRange> range = render::model_view_range(engine_->model);
+  render::OrbitSpec spec = render::model_orbit(engine_->model, {});
+  if (range) spec.front = range->front, spec.up = range->up;
   float radius =
       std::sqrt(spec.half_extent[0] * spec.half_extent[0] + spec.half_extent[1] * spec.half_extent[1] +
                 spec.half_extent[2] * spec.half_extent[2]);
   orbit_ = make_orbit_frame(spec.center, spec.front, spec.up, radius, 30.0f);
-  limits_ = limits_from_cameras(orbit_, cams);
+  limits_ = limits_from_range(range);
   spdlog::info("view: orbit limits yaw [{:.0f}, {:.0f}] deg, pitch [{:.0f}, {:.0f}] deg from the {}",
                limits_.yaw_min, limits_.yaw_max, limits_.pitch_min, limits_.pitch_max, limits_.source);
   FitSettings fit = config_.fit;

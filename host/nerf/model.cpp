@@ -52,6 +52,7 @@ void NerfModel::save(const std::string& path) const {
   s.params = field_->download_params();
   s.normalisation = normalisation;
   s.metadata = metadata;
+  s.view_range = view_range;
   write_text_file_atomic(path, encode_snapshot(s));
 }
 
@@ -62,6 +63,7 @@ NerfModel NerfModel::load(cl::Runtime& rt, const std::string& path, uint32_t max
   m.set_occupancy(std::move(s.occ));
   m.normalisation = s.normalisation;
   m.metadata = std::move(s.metadata);
+  m.view_range = s.view_range;
   return m;
 }
 

@@ -14,6 +14,7 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -49,6 +50,9 @@ class NerfModel {
 
   SceneNormalisation normalisation;
   ModelMetadata metadata;
+  // Where the training cameras looked from (view_range.h); empty for models saved before it was
+  // recorded (render::model_view_range then measures it from the dataset when it can).
+  std::optional<ViewRange> view_range;
 
   // Parameter count and bytes of the field (the model's size in memory and on disk, roughly).
   uint64_t param_bytes() const;

@@ -108,6 +108,37 @@ SceneNormalisation normalisation_from_json(const json& j) {
   return n;
 }
 
+nlohmann::json view_range_json(const ViewRange& r) {
+  return {{"center", r.center},
+          {"front", r.front},
+          {"up", r.up},
+          {"yaw_deg", {r.yaw_min, r.yaw_max}},
+          {"pitch_deg", {r.pitch_min, r.pitch_max}},
+          {"cameras", r.cameras}};
+}
+
+std::array<double, 2> to_interval(const json& j, const std::string& what, double bound) {
+  if (!j.is_array() || j.size() != 2)
+    throw BadValue(fmt::format("'{}' must be [min, max], found {}", what, j.dump()));
+  std::array<double, 2> v{to_double(j[0], what, bound), to_double(j[1], what, bound)};
+  if (v[0] > v[1]) throw BadValue(fmt::format("'{}' has min > max: {}", what, j.dump()));
+  return v;
+}
+
+ViewRange view_range_from_json(const json& j) {
+  if (!j.is_object()) throw BadValue("'view_range' must be an object, found " + j.dump());
+  ViewRange r;
+  r.center = to_float3(j.at("center"), "view_range.center");
+  r.front = to_float3(j.at("front"), "view_range.front");
+  r.up = to_float3(j.at("up"), "view_range.up");
+  auto yaw = to_interval(j.at("yaw_deg"), "view_range.yaw_deg", 180.0);
+  auto pitch = to_interval(j.at("pitch_deg"), "view_range.pitch_deg", 90.0);
+  r.yaw_min = yaw[0], r.yaw_max = yaw[1], r.pitch_min = pitch[0], r.pitch_max = pitch[1];
+  r.cameras = static_cast<uint32_t>(to_uint(j.at("cameras"), "view_range.cameras", UINT32_MAX));
+  if (!r.valid()) throw BadValue("'view_range' axes must be unit length and orthogonal, found " + j.dump());
+  return r;
+}
+
 // The header's values, checked; the blob table is left to parse_blobs.
 void parse_header(const json& h, const std::string& path, Snapshot& s) {
   if (!h.is_object()) corrupt(path, "the header is not a JSON object");
@@ -126,6 +157,7 @@ void parse_header(const json& h, const std::string& path, Snapshot& s) {
   s.occ.res = static_cast<uint32_t>(to_uint(h.at("occupancy").at("res"), "occupancy.res", UINT32_MAX));
   if (auto* v = optional(h, "normalisation")) s.normalisation = normalisation_from_json(*v);
   if (auto* v = optional(h, "metadata")) s.metadata = metadata_from_json(*v);
+  if (auto* v = optional(h, "view_range")) s.view_range = view_range_from_json(*v);
 }
 
 // The blob `name` of `expected_bytes` checked against the file; nullptr when it is absent and
@@ -224,6 +256,7 @@ std::string encode_snapshot(const Snapshot& s) {
                  {"occupancy", {{"res", s.occ.res}, {"has_density", !s.occ.density.empty()}}},
                  {"normalisation", {{"scale", s.normalisation.scale}, {"offset", s.normalisation.offset}}},
                  {"metadata", metadata_json(s.metadata)}};
+  if (s.view_range) header["view_range"] = view_range_json(*s.view_range);
   uint64_t off = 0;
   for (const auto& b : blobs) {
     header["blobs"].push_back({{"name", b.name},

@@ -8,11 +8,13 @@
 #pragma once
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include "host/field/field_config.h"
+#include "host/nerf/view_range.h"
 
 namespace lorgnette::nerf {
 
@@ -66,6 +68,9 @@ struct Snapshot {
   std::vector<float> params;  // config.param_count() values
   SceneNormalisation normalisation;
   ModelMetadata metadata;
+  // The directions the training cameras looked from (model frame); absent in files written before
+  // it was recorded (version 1 files without "view_range" still load).
+  std::optional<ViewRange> view_range;
 };
 
 // The bytes of a snapshot file.

@@ -27,6 +27,18 @@ std::string dataset_fingerprint(const dataset::Dataset& ds) {
   return fmt::format("{:016x}", h);
 }
 
+ViewRange training_view_range(const std::vector<View>& views, const Aabb& box,
+                              const SceneNormalisation& normalisation) {
+  std::vector<Camera> cams;
+  for (const View& v : views) {
+    Camera c = v.camera;
+    for (int k = 0; k < 3; ++k)
+      c.c2w[4 * k + 3] = c.c2w[4 * k + 3] * normalisation.scale + normalisation.offset[k];
+    cams.push_back(c);
+  }
+  return view_range_from_cameras(cams, box.center());
+}
+
 TrainJobResult train_on_dataset(cl::Runtime& rt, const dataset::Dataset& ds, TrainJob job) {
   std::vector<View> views = training_views(ds);
   job.sizing.aabb_scale = job.aabb_scale > 0.0f ? job.aabb_scale : ds.aabb_scale;
@@ -44,6 +56,9 @@ TrainJobResult train_on_dataset(cl::Runtime& rt, const dataset::Dataset& ds, Tra
   model.metadata.dataset_path = std::filesystem::absolute(ds.root).string();
   model.metadata.dataset_hash = dataset_fingerprint(ds);
   model.metadata.device = rt.device().name;
+  model.view_range = training_view_range(views, sizing.aabb, model.normalisation);
+  spdlog::info("captured directions: {}", model.view_range->summary());
+  if (std::string advice = coverage_advice(*model.view_range); !advice.empty()) spdlog::warn("{}", advice);
   const bool defaulted = job.train.steps == 0 && !(job.train.seconds > 0.0);
   StepBudget budget;
   if (defaulted) {

@@ -41,6 +41,11 @@ std::vector<View> training_views(const dataset::Dataset& ds);
 // A short fingerprint of the dataset's frames (paths and poses) for the snapshot header.
 std::string dataset_fingerprint(const dataset::Dataset& ds);
 
+// The directions `views` looked from about the centre of `box` (model frame: the views' positions
+// mapped through `normalisation`), for the snapshot.
+ViewRange training_view_range(const std::vector<View>& views, const Aabb& box,
+                              const SceneNormalisation& normalisation = {});
+
 // Sizes, builds and trains a model on `ds`'s training split; logs the chosen size.
 TrainJobResult train_on_dataset(cl::Runtime& rt, const dataset::Dataset& ds, TrainJob job);
 

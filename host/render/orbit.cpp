@@ -46,8 +46,22 @@ float framing_distance(float radius, float fov_y_deg, uint32_t width, uint32_t h
   return margin * radius / std::sin(half);
 }
 
+float orbit_yaw_deg(const OrbitSpec& s, uint32_t i) {
+  float t = float(i) / float(std::max(s.views, 1u));
+  if (s.yaw_max_deg - s.yaw_min_deg >= 359.999f) return 360.0f * t;
+  // Front (0, clamped into the arc) -> max -> min -> front at constant angular speed.
+  float lo = s.yaw_min_deg, hi = s.yaw_max_deg, start = std::clamp(0.0f, lo, hi);
+  float d = t * 2.0f * (hi - lo);
+  if (d <= hi - start) return start + d;
+  d -= hi - start;
+  if (d <= hi - lo) return hi - d;
+  return lo + (d - (hi - lo));
+}
+
 std::vector<Camera> orbit_cameras(const OrbitSpec& s) {
   if (s.views == 0) throw std::invalid_argument("orbit: at least one view is needed");
+  if (!(s.yaw_min_deg <= s.yaw_max_deg) || s.yaw_min_deg < -180.0f || s.yaw_max_deg > 180.0f)
+    throw std::invalid_argument("orbit: the azimuth arc must satisfy -180 <= min <= max <= 180 degrees");
   Vec3 up = normalized(s.up, "orbit up vector");
   Vec3 front = normalized(s.front, "orbit front vector");
   // Elevation tilts the front towards `up` about the horizontal axis.
@@ -57,7 +71,7 @@ std::vector<Camera> orbit_cameras(const OrbitSpec& s) {
   float dist = framing_distance(radius, s.fov_y_deg, s.width, s.height, s.margin);
   std::vector<Camera> cams;
   for (uint32_t i = 0; i < s.views; ++i) {
-    Vec3 d = rotate(dir0, up, 2.0f * kPi * float(i) / float(s.views));
+    Vec3 d = rotate(dir0, up, orbit_yaw_deg(s, i) * kPi / 180.0f);
     Vec3 eye = {s.center[0] + dist * d[0], s.center[1] + dist * d[1], s.center[2] + dist * d[2]};
     cams.push_back(look_at(eye, s.center, up, s.width, s.height, s.fov_y_deg));
   }

@@ -23,6 +23,11 @@ struct OrbitSpec {
   Vec3 front{0, 0, 1};        // direction from the centre to the first camera (the face's front)
   Vec3 up{0, 1, 0};
   uint32_t views = 1;  // evenly spaced azimuths, starting at the front
+  // Azimuths (degrees about `up`, from `front` towards up x front) the orbit may take. The full
+  // circle goes round once; a narrower arc (the capture's, host/render/view_plan.h) is swept at even
+  // steps from the front to the max end, back to the min end and back to the front, so an orbit
+  // video still loops.
+  float yaw_min_deg = -180.0f, yaw_max_deg = 180.0f;
   float elevation_deg = 0.0f;
   float fov_y_deg = 30.0f;
   float margin = 1.05f;  // > 1 leaves a border around the framed sphere
@@ -33,6 +38,9 @@ struct OrbitSpec {
 float framing_distance(float radius, float fov_y_deg, uint32_t width, uint32_t height, float margin);
 
 std::vector<Camera> orbit_cameras(const OrbitSpec& spec);
+
+// The azimuth (degrees) of orbit view i (see OrbitSpec::yaw_min_deg).
+float orbit_yaw_deg(const OrbitSpec& spec, uint32_t i);
 
 // The capture's "front" and "up": the normalised mean of the cameras' backward (+z) and up (+y)
 // axes, i.e. where the cameras were as seen from the subject. {0,0,1} / {0,1,0} when degenerate.

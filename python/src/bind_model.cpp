@@ -12,6 +12,7 @@
 #include "host/dataset/dataset.h"
 #include "host/render/orbit.h"
 #include "host/render/render_job.h"
+#include "host/render/view_plan.h"
 #include "python/src/bindings.h"
 
 namespace lorgnette::py {
@@ -49,27 +50,20 @@ Camera make_camera(const pyb::array_t<double, pyb::array::c_style | pyb::array::
   return c;
 }
 
-// Yaw (about up, + towards the head's right = the orbit's +x) and pitch of the capture's camera
-// positions around the box centre, in the orbit's front/up frame.
+// The model's view range (host/render/view_plan.h): yaw (about up, + towards the head's right = the
+// orbit's +x) and pitch of the capture's camera positions around the box centre; an empty dict when
+// no range is known.
 pyb::dict captured_range(const nerf::NerfModel& model) {
-  std::vector<Camera> cams = render::capture_cameras(model);
-  render::OrbitSpec spec = render::model_orbit(model, cams);
-  Eigen::Vector3d f(spec.front[0], spec.front[1], spec.front[2]), u(spec.up[0], spec.up[1], spec.up[2]);
-  u = (u - u.dot(f) * f).normalized();
-  Eigen::Vector3d r = u.cross(f), c(spec.center[0], spec.center[1], spec.center[2]);
-  double ymin = 0, ymax = 0, pmin = 0, pmax = 0;
-  for (size_t i = 0; i < cams.size(); ++i) {
-    Eigen::Vector3d d = (Eigen::Vector3d(cams[i].c2w[3], cams[i].c2w[7], cams[i].c2w[11]) - c).normalized();
-    double yaw = std::atan2(d.dot(r), d.dot(f)) * 180.0 / M_PI;
-    double pitch = std::asin(std::clamp(d.dot(u), -1.0, 1.0)) * 180.0 / M_PI;
-    if (i == 0) ymin = ymax = yaw, pmin = pmax = pitch;
-    ymin = std::min(ymin, yaw), ymax = std::max(ymax, yaw), pmin = std::min(pmin, pitch),
-    pmax = std::max(pmax, pitch);
-  }
   pyb::dict out;
-  out["cameras"] = cams.size();
-  out["front"] = spec.front, out["up"] = spec.up, out["center"] = spec.center;
-  out["yaw_deg"] = std::make_pair(ymin, ymax), out["pitch_deg"] = std::make_pair(pmin, pmax);
+  std::string source;
+  std::optional<nerf::ViewRange> r = render::model_view_range(model, &source);
+  if (!r) return out;
+  out["cameras"] = r->cameras;
+  out["front"] = r->front, out["up"] = r->up, out["center"] = r->center;
+  out["yaw_deg"] = std::make_pair(r->yaw_min, r->yaw_max);
+  out["pitch_deg"] = std::make_pair(r->pitch_min, r->pitch_max);
+  out["margin_deg"] = nerf::kViewMarginDeg;
+  out["source"] = source;
   return out;
 }
 
@@ -247,24 +241,28 @@ void bind_model(pyb::module_& m) {
       .def(
           "orbit",
           [](Model& self, uint32_t views, Size size, float elevation, float fov,
-             std::optional<render::Vec3> front) {
+             std::optional<render::Vec3> front, bool beyond_capture) {
             if (views < 1) throw pyb::value_error("views must be >= 1");
-            render::OrbitSpec spec = render::model_orbit(*self.nerf, render::capture_cameras(*self.nerf));
-            if (front) spec.front = *front;
-            spec.views = views, spec.elevation_deg = elevation, spec.fov_y_deg = fov;
-            spec.width = size[0], spec.height = size[1];
-            return render::orbit_cameras(spec);
+            render::OrbitSpec base = render::model_orbit(*self.nerf, {});
+            base.fov_y_deg = fov, base.width = size[0], base.height = size[1];
+            render::OrbitRequest req;
+            req.views = views, req.elevation_deg = elevation, req.front = front;
+            req.beyond_capture = beyond_capture;
+            render::OrbitPlan plan = render::plan_orbit(base, render::model_view_range(*self.nerf), req);
+            return render::orbit_cameras(plan.spec);
           },
           pyb::arg("views"), pyb::arg("size") = Size{854, 480}, pyb::arg("elevation_deg") = 0.0f,
-          pyb::arg("fov_y_deg") = 30.0f, pyb::arg("front") = pyb::none(),
-          "The cameras of `lorgnette render --orbit N`: around the head's box from its front (the capture's "
-          "cameras).")
+          pyb::arg("fov_y_deg") = 30.0f, pyb::arg("front") = pyb::none(), pyb::arg("beyond_capture") = false,
+          "The cameras of `lorgnette render --orbit N`: around the head's box from its front, within the "
+          "directions the capture saw plus a margin (captured_range); beyond_capture=True: the full circle "
+          "(front is honoured only then).")
       .def(
           "capture_cameras", [](Model& self) { return render::capture_cameras(*self.nerf); },
           "The cameras of the dataset the model was trained on (empty when it is gone).")
       .def(
           "captured_range", [](Model& self) { return captured_range(*self.nerf); },
-          "The yaw and pitch range (degrees) of the capture's cameras around the head, in the orbit's frame.")
+          "The yaw and pitch range (degrees) of the capture's cameras around the head, in the orbit's frame "
+          "(orbits stay inside it plus margin_deg); {} when the model records none and its dataset is gone.")
       .def(
           "save",
           [](Model& self, const std::string& path, bool force) {

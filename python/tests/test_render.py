@@ -64,13 +64,25 @@ def test_render_releases_the_gil(model):
     assert counted >= max(3, 0.1 * seconds / 0.001), (counted, seconds)  # held GIL: ~0
 
 
+def yaw_of(camera, captured):
+    """Yaw (degrees) of a camera's position about the range's centre, in its front/up frame."""
+    d = np.asarray(camera.c2w)[:3, 3] - np.asarray(captured["center"])
+    f, u = np.asarray(captured["front"]), np.asarray(captured["up"])
+    return float(np.degrees(np.arctan2(d @ np.cross(u, f), d @ f)))
+
+
 def test_orbit_and_captured_range(model, dataset):
     cams = model.orbit(4, size=(80, 60))
     assert len(cams) == 4 and cams[0].size == [80, 60]
     captured = model.captured_range()
-    assert captured["cameras"] == 32
+    assert captured["cameras"] == 28  # the training frames (32 less every 8th, held out)
     lo, hi = captured["yaw_deg"]
     assert lo < 0 < hi  # the synthetic capture sweeps across the front
+    margin = captured["margin_deg"]
+    full = model.orbit(36, size=(80, 60), beyond_capture=True)
+    for cams_, inside in ((model.orbit(36, size=(80, 60)), True), (full, False)):
+        yaws = [yaw_of(c, captured) for c in cams_]
+        assert (min(yaws) >= lo - margin - 0.01 and max(yaws) <= hi + margin + 0.01) == inside
     frame = lorgnette.Camera.from_transforms(str(dataset / "transforms.json"), 0)
     assert frame.size == [128, 128]
     assert model.capture_cameras()[0].fx == pytest.approx(frame.fx)

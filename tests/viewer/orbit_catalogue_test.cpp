@@ -32,26 +32,27 @@ Camera camera_at(float yaw_deg, float pitch_deg, float dist) {
 }
 
 TEST(ViewerOrbit, LimitsFollowTheCaptureCamerasWithAMargin) {
-  OrbitFrame f = make_orbit_frame({0, 0, 0}, {0, 0, 1}, {0, 1, 0}, 1.0f, 30.0f);
+  // Each yaw filmed from +10 and -10 deg of pitch: the mean up is +y and the mean front +z exactly.
   std::vector<Camera> cams;
-  for (float yaw = -35; yaw <= 35; yaw += 5) cams.push_back(camera_at(yaw, yaw > 0 ? 10.0f : -5.0f, 3.0f));
-  OrbitLimits l = limits_from_cameras(f, cams, 5.0, 20.0);
+  for (float yaw = -35; yaw <= 35; yaw += 5)
+    for (float pitch : {-10.0f, 10.0f}) cams.push_back(camera_at(yaw, pitch, 3.0f));
+  OrbitLimits l = limits_from_range(nerf::view_range_from_cameras(cams, {0, 0, 0}), 5.0, 20.0);
   // Tolerance 0.01 deg: float camera positions.
   EXPECT_NEAR(l.yaw_min, -40.0, 0.01);
   EXPECT_NEAR(l.yaw_max, 40.0, 0.01);
-  EXPECT_NEAR(l.pitch_min, -10.0, 0.01);
+  EXPECT_NEAR(l.pitch_min, -15.0, 0.01);
   EXPECT_NEAR(l.pitch_max, 15.0, 0.01);
-  EXPECT_NE(l.source.find("15 cameras"), std::string::npos);
-  // No cameras: the default +-60 / +-30.
-  OrbitLimits d = limits_from_cameras(f, {});
+  EXPECT_NE(l.source.find("30 cameras"), std::string::npos);
+  // No range: the default +-60 / +-30.
+  OrbitLimits d = limits_from_range(std::nullopt);
   EXPECT_EQ(d.yaw_max, 60.0);
   EXPECT_EQ(d.pitch_min, -30.0);
   EXPECT_EQ(d.source, "default");
 }
 
 TEST(ViewerOrbit, NarrowCapturesStillGetAMinimumSpan) {
-  OrbitFrame f = make_orbit_frame({0, 0, 0}, {0, 0, 1}, {0, 1, 0}, 1.0f, 30.0f);
-  OrbitLimits l = limits_from_cameras(f, {camera_at(0, 0, 3)}, 2.0, 20.0);
+  OrbitLimits l =
+      limits_from_range(nerf::view_range_from_cameras({camera_at(0, 0, 3)}, {0, 0, 0}), 2.0, 20.0);
   EXPECT_NEAR(l.yaw_max - l.yaw_min, 20.0, 1e-6);
   EXPECT_NEAR(l.pitch_max - l.pitch_min, 20.0, 1e-6);
 }

@@ -16,6 +16,7 @@
 #include "host/render/analytic_field.h"
 #include "host/render/frame_bench.h"
 #include "host/render/renderer.h"
+#include "host/render/view_plan.h"
 #include "mesh/placed_glasses.h"
 #include "tools/lorgnette/command.h"
 
@@ -52,6 +53,10 @@ nlohmann::json bench_device(const BenchArgs& a, const cl::DeviceInfo& dev, Globa
     spec.sizes.clear();
     for (const auto& s : CLI::detail::split(a.sizes, ',')) spec.sizes.push_back(render::parse_size(s));
   }
+  // A trained head is timed from the capture's mean direction (inside what the capture saw,
+  // view_plan.h); the analytic head from +z.
+  std::optional<nerf::ViewRange> range;
+  if (model) range = render::model_view_range(*model);
   spec.camera = [&](uint32_t w, uint32_t h) {
     render::OrbitSpec o;
     for (int i = 0; i < 3; ++i) {
@@ -60,7 +65,7 @@ nlohmann::json bench_device(const BenchArgs& a, const cl::DeviceInfo& dev, Globa
     }
     o.width = w;
     o.height = h;
-    return render::orbit_cameras(o)[0];
+    return render::orbit_cameras(render::plan_orbit(o, range, {}).spec)[0];
   };
   std::unique_ptr<mesh::SurfacePass> pass;
   if (!a.glasses.empty()) {

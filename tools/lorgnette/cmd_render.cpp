@@ -14,6 +14,7 @@
 #include "host/nerf/model.h"
 #include "host/render/render_job.h"
 #include "host/render/renderer.h"
+#include "host/render/view_plan.h"
 #include "mesh/placed_glasses.h"
 #include "tools/lorgnette/command.h"
 
@@ -25,7 +26,7 @@ struct RenderArgs {
   std::vector<float> translate, rotate, background, front;
   float scale = 1.0f, fov = 30.0f, elevation = 0.0f, step_scale = 1.0f;
   uint32_t orbit = 0, spp = 1, surface_spp = 4;
-  bool alpha = false, force = false, json = false, no_video = false;
+  bool alpha = false, force = false, json = false, no_video = false, beyond_capture = false;
 };
 
 render::Vec3 vec3(const std::vector<float>& v, render::Vec3 fallback) {
@@ -64,17 +65,26 @@ void run(const RenderArgs& a, GlobalOptions& global) {
   job.options.alpha = a.alpha;
   job.options.step_scale = a.step_scale;
   if (!a.background.empty()) job.options.background = vec3(a.background, {1, 1, 1});
+  std::string range_source;
+  std::optional<nerf::ViewRange> range = render::model_view_range(model, &range_source);
+  if (range) spdlog::info("captured directions: {} from {}", range->summary(), range_source);
   if (a.orbit > 0) {
-    render::OrbitSpec spec = render::model_orbit(model, render::capture_cameras(model));
-    spec.front = vec3(a.front, spec.front);
-    spec.views = a.orbit;
-    spec.elevation_deg = a.elevation;
-    spec.fov_y_deg = a.fov;
-    spec.width = size[0];
-    spec.height = size[1];
-    job.cameras = render::orbit_cameras(spec);
+    render::OrbitSpec base = render::model_orbit(model, {});
+    base.fov_y_deg = a.fov;
+    base.width = size[0];
+    base.height = size[1];
+    render::OrbitRequest req;
+    req.views = a.orbit;
+    req.elevation_deg = a.elevation;
+    if (!a.front.empty()) req.front = vec3(a.front, base.front);
+    req.beyond_capture = a.beyond_capture;
+    render::OrbitPlan plan = render::plan_orbit(base, range, req);
+    for (const auto& note : plan.notes) spdlog::info("orbit: {}", note);
+    job.cameras = render::orbit_cameras(plan.spec);
   } else {
     job.cameras = {render::read_pose(a.pose, size[0], size[1], a.fov)};
+    if (std::string note = render::pose_outside_note(job.cameras[0], range); !note.empty())
+      spdlog::warn("{}", note);
   }
 
   std::string glasses_path = a.glasses;
@@ -117,7 +127,9 @@ void add_render(CLI::App& app, GlobalOptions& global) {
   cmd->add_option("--rotate", a->rotate, "glasses rotation about x, y, z (degrees, applied x then y then z)")
       ->expected(3);
   cmd->add_option("--scale", a->scale, "scene units per millimetre of the frame");
-  cmd->add_option("--orbit", a->orbit, "N views on a circle around the head, starting at its front");
+  cmd->add_option("--orbit", a->orbit,
+                  "N views around the head, starting at its front, within the directions the capture saw "
+                  "(plus a margin)");
   cmd->add_option("--pose", a->pose, "one camera: JSON with transform_matrix (+ fl_x, w, h or fov_y_deg)")
       ->check(CLI::ExistingFile);
   cmd->add_option("--size", a->size, "image size WIDTHxHEIGHT")->capture_default_str();
@@ -134,8 +146,11 @@ void add_render(CLI::App& app, GlobalOptions& global) {
   cmd->add_option("--elevation", a->elevation, "orbit elevation, degrees")
       ->capture_default_str()
       ->check(CLI::Range(-80.0f, 80.0f));
-  cmd->add_option("--front", a->front, "orbit start direction (default: the capture's mean camera)")
+  cmd->add_option("--front", a->front,
+                  "orbit start direction (default: the capture's mean camera; needs --beyond-capture)")
       ->expected(3);
+  cmd->add_flag("--beyond-capture", a->beyond_capture,
+                "orbit the full circle at the given elevation even where the capture never looked");
   cmd->add_option("--background", a->background, "linear RGB background (default white)")->expected(3);
   cmd->add_flag("--alpha", a->alpha, "transparent background (RGBA PNGs)");
   cmd->add_flag("--no-video", a->no_video, "skip the MP4");
