@@ -32,6 +32,7 @@ class AnalyticField : public RadianceSource {
   uint32_t max_batch() const override { return max_batch_; }
   void evaluate(const cl::Buffer<float>& pos, const cl::Buffer<float>& dir, uint32_t n,
                 cl::Buffer<float>& sigma, cl::Buffer<float>& rgb) override;
+  InKernelField in_kernel() override { return {&params_, nullptr}; }
   const AnalyticFieldParams& params() const { return params_; }
 
   // Host evaluation at a scene point (the same LGN_INLINE code as the kernel).

@@ -18,6 +18,7 @@ class NerfSource : public RadianceSource {
                 cl::Buffer<float>& sigma, cl::Buffer<float>& rgb) override {
     field_.forward(pos, dir, n, sigma, rgb, false);
   }
+  InKernelField in_kernel() override { return {nullptr, &field_}; }
 
  private:
   field::Field& field_;
