@@ -126,6 +126,11 @@ nerf::Snapshot tiny_snapshot(uint32_t occ_res, bool with_density) {
 void seed_snapshot(const fs::path& out) {
   spit(out / "density.lnerf", nerf::encode_snapshot(tiny_snapshot(2, true)));
   spit(out / "bits_only.lnerf", nerf::encode_snapshot(tiny_snapshot(1, false)));
+  nerf::Snapshot with_range = tiny_snapshot(1, false);  // the optional "view_range" header entry
+  std::vector<Camera> cams(3);
+  for (int i = 0; i < 3; ++i) dataset::set_camera_pose(cams[i], orbit_pose(0.4 * i - 0.4));
+  with_range.view_range = nerf::view_range_from_cameras(cams, {0.0f, 0.0f, 0.0f});
+  spit(out / "view_range.lnerf", nerf::encode_snapshot(with_range));
 }
 
 void seed_colmap(const fs::path& out, const fs::path& scratch) {

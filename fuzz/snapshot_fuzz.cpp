@@ -43,5 +43,11 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   LGN_FUZZ_CHECK(t.aabb.min == s.aabb.min && t.aabb.max == s.aabb.max && t.step == s.step, "box and step");
   LGN_FUZZ_CHECK(t.metadata.seed == s.metadata.seed && t.metadata.dataset_path == s.metadata.dataset_path,
                  "metadata");
+  LGN_FUZZ_CHECK(t.view_range.has_value() == s.view_range.has_value() &&
+                     (!s.view_range || (t.view_range->yaw_min == s.view_range->yaw_min &&
+                                        t.view_range->pitch_max == s.view_range->pitch_max &&
+                                        t.view_range->up == s.view_range->up &&
+                                        t.view_range->cameras == s.view_range->cameras)),
+                 "view range");
   return 0;
 }
