@@ -3,6 +3,8 @@
 
 #include <fmt/format.h>
 
+#include "host/cl/launch_log.h"
+
 namespace lorgnette::cl {
 
 Kernel::Kernel(cl_program program, const std::string& name) : name_(name) {
@@ -46,8 +48,9 @@ void Kernel::launch2d(Runtime& rt, std::array<size_t, 2> global, std::array<size
   std::array<size_t, 2> g = {round_up(global[0], local[0]), round_up(global[1], local[1])};
   if (g[0] == 0 || g[1] == 0) return;  // nothing to do
   cl_uint dims = (global[1] == 1 && local[1] == 1) ? 1 : 2;
+  cl_event* event = LaunchLog::active() ? LaunchLog::active()->add(name_, g, local) : nullptr;
   LGN_CL_CHECK(clEnqueueNDRangeKernel(rt.queue(), kernel_.get(), dims, nullptr, g.data(), local.data(), 0,
-                                      nullptr, nullptr));
+                                      nullptr, event));
 }
 
 }  // namespace lorgnette::cl

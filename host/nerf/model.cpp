@@ -13,9 +13,10 @@
 namespace lorgnette::nerf {
 
 NerfModel::NerfModel(cl::Runtime& rt, const field::FieldConfig& config, const Aabb& aabb, uint32_t occ_res,
-                     float step, uint32_t max_batch, uint64_t seed, bool deterministic)
+                     float step, uint32_t max_batch, uint64_t seed, bool deterministic,
+                     field::KernelVariant variant)
     : rt_(&rt),
-      field_(std::make_unique<field::Field>(rt, config, max_batch, seed, deterministic)),
+      field_(std::make_unique<field::Field>(rt, config, max_batch, seed, deterministic, variant)),
       aabb_(aabb),
       step_(step) {
   if (!aabb.valid())

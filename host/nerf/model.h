@@ -27,9 +27,11 @@ namespace lorgnette::nerf {
 
 class NerfModel {
  public:
-  // A fresh model: field initialised from `seed`, every occupancy cell occupied.
+  // A fresh model: field initialised from `seed`, every occupancy cell occupied. variant: the
+  // field's kernels for the device (Auto) or forced (tests and benchmarks run the GPU ones on PoCL).
   NerfModel(cl::Runtime& rt, const field::FieldConfig& config, const Aabb& aabb, uint32_t occ_res, float step,
-            uint32_t max_batch, uint64_t seed, bool deterministic);
+            uint32_t max_batch, uint64_t seed, bool deterministic,
+            field::KernelVariant variant = field::KernelVariant::Auto);
   NerfModel(NerfModel&&) = default;
   NerfModel& operator=(NerfModel&&) = default;
 
