@@ -154,6 +154,23 @@ void choose_capture_box(const ColmapModel& model, const CaptureOptions& opt, Con
   }
 }
 
+// The yaw/pitch the posed frames covered about the subject box's centre (nerf::ViewRange, as `train`
+// measures it), with a warning saying what to film differently when the ears were not seen.
+void report_coverage(const ColmapModel& model, const ConvertedScene& scene, CaptureReport& report) {
+  if (scene.frames.empty()) return;
+  std::vector<Camera> cams;
+  for (const auto& f : scene.frames) {
+    Camera cam = camera_from_colmap(model.cameras.at(f.colmap_camera_id));
+    dataset::set_camera_pose(cam, f.c2w);
+    cams.push_back(cam);
+  }
+  Eigen::Vector3d c = 0.5 * (scene.aabb_min + scene.aabb_max);
+  report.coverage = nerf::view_range_from_cameras(cams, {float(c.x()), float(c.y()), float(c.z())});
+  report.coverage_advice = nerf::coverage_advice(*report.coverage);
+  spdlog::info("capture: covered {}", report.coverage->summary());
+  if (!report.coverage_advice.empty()) report.warnings.push_back(report.coverage_advice);
+}
+
 void convert_and_write(const ColmapModel& model, const CaptureOptions& opt, CaptureReport& report) {
   ConvertedScene scene;
   {
@@ -167,6 +184,7 @@ void convert_and_write(const ColmapModel& model, const CaptureOptions& opt, Capt
   report.subject_points = scene.subject_points;
   report.aabb_min = scene.aabb_min;
   report.aabb_max = scene.aabb_max;
+  report_coverage(model, scene, report);
   report.transforms_path = (fs::path(opt.output) / "transforms.json").string();
 }
 
@@ -181,6 +199,16 @@ FrameSet read_frames(const CaptureInput& in, const CaptureOptions& opt, CaptureR
 }
 
 }  // namespace
+
+nlohmann::json CaptureReport::coverage_json() const {
+  if (!coverage) return nullptr;
+  return {{"yaw_deg", {coverage->yaw_min, coverage->yaw_max}},
+          {"pitch_deg", {coverage->pitch_min, coverage->pitch_max}},
+          {"cameras", coverage->cameras},
+          {"ear_to_ear", coverage_advice.empty()},
+          {"needed_yaw_each_side_deg", nerf::kEarToEarYawDeg},
+          {"advice", coverage_advice}};
+}
 
 nlohmann::json CaptureReport::to_json() const {
   nlohmann::json dropped_j = nlohmann::json::array(), seconds_j = nlohmann::json::object();
@@ -200,6 +228,7 @@ nlohmann::json CaptureReport::to_json() const {
           {"aabb", {{aabb_min.x(), aabb_min.y(), aabb_min.z()}, {aabb_max.x(), aabb_max.y(), aabb_max.z()}}},
           {"aabb_from", aabb_from},
           {"aabb_note", aabb_note},
+          {"coverage", coverage_json()},
           {"dropped", dropped_j},
           {"warnings", warnings},
           {"seconds", seconds_j},

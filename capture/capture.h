@@ -4,6 +4,7 @@
 #pragma once
 #include <Eigen/Core>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -12,6 +13,7 @@
 #include "capture/frame_filter.h"
 #include "capture/frame_source.h"
 #include "fit/head_box.h"
+#include "host/nerf/view_range.h"
 
 namespace lorgnette::capture {
 
@@ -50,12 +52,17 @@ struct CaptureReport {
   Eigen::Vector3d aabb_min = Eigen::Vector3d::Zero(), aabb_max = Eigen::Vector3d::Zero();
   std::string aabb_from;  // "landmarks" (head box) or "sparse points"
   std::string aabb_note;  // how the box was made, or why the head box was not used
+  // The directions the posed frames looked from about the subject box's centre (the range `train`
+  // stores in the model), and what to film differently when the arc misses the ears ("" when not).
+  std::optional<nerf::ViewRange> coverage;
+  std::string coverage_advice;
   std::vector<DroppedFrame> dropped;
   std::vector<std::string> warnings;
   std::vector<StageSeconds> seconds;  // per stage, in order
   std::string transforms_path, workspace;
 
   nlohmann::json to_json() const;
+  nlohmann::json coverage_json() const;  // null when no frame was posed
 };
 
 // Runs the whole capture. Throws std::runtime_error with what is wrong and what to do.

@@ -147,9 +147,9 @@ namespace {
 
 // A COLMAP model input (sparse/0 + images/) whose model names 9 images, of which only the first
 // `present` are in images/ (dummy bytes: without the head box nothing reads them).
-fs::path model_input_with_images(const std::string& name, int present) {
+fs::path model_input_with_images(const std::string& name, int present, double arc_rad = 1.2) {
   fs::path in = tmp_dir(name);
-  synthetic::SyntheticScene s = synthetic::make_synthetic_scene(9);
+  synthetic::SyntheticScene s = synthetic::make_synthetic_scene(9, 300, 60, arc_rad);
   fs::create_directories(in / "sparse" / "0");
   write_colmap_model(s.model, in / "sparse" / "0", false);
   fs::create_directories(in / "images");
@@ -192,4 +192,39 @@ TEST_F(CaptureErrors, ModelWithTooFewImagesInTheFolderIsRefused) {
   EXPECT_CONTAINS(e, "at least 3");
   EXPECT_CONTAINS(e, "put the photos the model was made from");
   EXPECT_FALSE(fs::exists(output_)) << "it should fail before writing anything";
+}
+
+TEST_F(CaptureErrors, TheReportSaysWhichYawAndPitchTheCaptureCovered) {
+  // 9 cameras over +-1.2 rad (68.75 deg) of yaw, all 0.05 above the head's centre at 0.6 away
+  // (pitch 4.76 deg). The box centre is the sparse points' box, within a few mm of the head's
+  // centre: 1.5 deg of tolerance.
+  opt_.input = model_input_with_images("coverage_wide_in", 9).string();
+  opt_.head_box = false;
+  CaptureReport r = run_capture(opt_);
+  ASSERT_TRUE(r.coverage.has_value());
+  EXPECT_NEAR(r.coverage->yaw_min, -68.75, 1.5);
+  EXPECT_NEAR(r.coverage->yaw_max, 68.75, 1.5);
+  EXPECT_NEAR(r.coverage->pitch_max, 4.76, 1.5);
+  EXPECT_EQ(r.coverage_advice, "");
+  std::ifstream f(output_ / "capture_report.json");
+  nlohmann::json j = nlohmann::json::parse(f);
+  EXPECT_EQ(j["coverage"]["ear_to_ear"], true);
+  EXPECT_NEAR(j["coverage"]["yaw_deg"][1].get<double>(), r.coverage->yaw_max, 1e-9);
+}
+
+TEST_F(CaptureErrors, ANarrowArcWarnsToFilmFromEarToEar) {
+  // +-0.35 rad = +-20 deg of yaw: the ears were never seen.
+  opt_.input = model_input_with_images("coverage_narrow_in", 9, 0.35).string();
+  opt_.head_box = false;
+  CaptureReport r = run_capture(opt_);
+  ASSERT_TRUE(r.coverage.has_value());
+  EXPECT_NEAR(r.coverage->yaw_max - r.coverage->yaw_min, 40.1, 3.0);
+  EXPECT_CONTAINS(r.coverage_advice, "Film from ear to ear");
+  std::string all;
+  for (const auto& w : r.warnings) all += w + "\n";
+  EXPECT_CONTAINS(all, "Film from ear to ear");
+  std::ifstream f(output_ / "capture_report.json");
+  nlohmann::json j = nlohmann::json::parse(f);
+  EXPECT_EQ(j["coverage"]["ear_to_ear"], false);
+  EXPECT_CONTAINS(j["coverage"]["advice"].get<std::string>(), "turn the head");
 }

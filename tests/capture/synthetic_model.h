@@ -43,7 +43,9 @@ inline Eigen::Matrix4d look_at(const Eigen::Vector3d& eye, const Eigen::Vector3d
   return m;
 }
 
-inline SyntheticScene make_synthetic_scene(int cameras = 9, int head_points = 300, int room_points = 60) {
+// arc_rad: the cameras spread over [-arc_rad, arc_rad] about the head (1.2: about 140 degrees).
+inline SyntheticScene make_synthetic_scene(int cameras = 9, int head_points = 300, int room_points = 60,
+                                           double arc_rad = 1.2) {
   SyntheticScene s;
   std::mt19937 rng(1234);
   std::normal_distribution<double> g(0.0, 1.0);
@@ -57,7 +59,7 @@ inline SyntheticScene make_synthetic_scene(int cameras = 9, int head_points = 30
   cam.params = {60.5, 61.25, 32.1, 23.9, 0.012, -0.0034, 0.0005, -0.0002};
   s.model.cameras[1] = cam;
   for (int i = 0; i < cameras; ++i) {
-    double ang = -1.2 + 2.4 * i / (cameras - 1);  // about 140 degrees of arc, like a head capture
+    double ang = -arc_rad + 2 * arc_rad * i / (cameras - 1);
     Eigen::Vector3d eye = s.head_centre + 0.6 * (std::cos(ang) * a + std::sin(ang) * b) + 0.05 * s.world_up;
     s.c2w.push_back(look_at(eye, s.head_centre, s.world_up));
     ColmapImage im;

@@ -18,6 +18,9 @@ void print_summary(const capture::CaptureReport& r) {
   for (const auto& d : r.dropped) std::cerr << fmt::format("  dropped {}: {}\n", d.name, d.reason);
   for (const auto& s : r.seconds) std::cerr << fmt::format("  {:<9} {:8.1f} s\n", s.stage, s.seconds);
   std::cerr << fmt::format("subject box from {}: {}\n", r.aabb_from, r.aabb_note);
+  if (r.coverage)
+    std::cerr << fmt::format("covered {}{}\n", r.coverage->summary(),
+                             r.coverage_advice.empty() ? " (ear to ear)" : "\n  " + r.coverage_advice);
   std::cerr << fmt::format("wrote {}\n", r.transforms_path);
 }
 
