@@ -16,6 +16,7 @@ constexpr uint32_t kMinWave = 4;      // segments per ray and wave when the tile
 constexpr uint32_t kMaxWave = 64;     // ... and when few rays are left
 constexpr uint32_t kScanBlock = 256;  // entries per work-item in the prefix sums
 constexpr size_t kLocal = 64;
+constexpr uint32_t kFusedTile = 1u << 21;  // rays per fused launch: a 1080p frame in one
 }  // namespace
 
 std::array<float, 2> subpixel_offset(uint32_t s) {
@@ -95,6 +96,28 @@ void Marcher::march_tile(const VolumeScene& scene, MarchParams p, RenderResult& 
   }
 }
 
+bool Marcher::pick_fused(const VolumeScene& scene, const RenderOptions& o) {
+  if (o.marcher == MarcherKind::Wavefront) return false;
+  if (o.marcher == MarcherKind::Auto && !(rt_.device().is_gpu && FusedMarcher::supports(*scene.field)))
+    return false;
+  if (!fused_) fused_ = std::make_unique<FusedMarcher>(rt_);
+  fused_->prepare(scene);  // throws when the field has no in-kernel form
+  return true;
+}
+
+void Marcher::march_tile_fused(MarchParams p, const VolumeScene& scene, RenderResult& result) {
+  FusedMarchBuffers b;
+  b.occupancy = scene.occupancy.bits ? scene.occupancy.bits : &occ_dummy_;
+  b.surf_ca = &surf_ca_;
+  b.surf_depth = &surf_depth_;
+  b.surf_filter = &surf_filter_;
+  b.out_rgba = &out_rgba_;
+  b.out_depth = &out_depth_;
+  b.out_samples = &out_samples_;
+  fused_->march(p, b);
+  ++result.waves;
+}
+
 namespace {
 void validate(const VolumeScene& scene, const Camera& cam, const lorgnette::SurfaceBuffers* surfaces,
               const RenderOptions& o) {
@@ -128,6 +151,7 @@ RenderResult Marcher::render(const VolumeScene& scene, const Camera& cam,
                              const lorgnette::SurfaceBuffers* surfaces, const RenderOptions& o) {
   validate(scene, cam, surfaces, o);
   auto start = std::chrono::steady_clock::now();
+  fused_on_ = pick_fused(scene, o);
   ensure_workspace(scene.field->max_batch());
   const uint32_t pixels = cam.width * cam.height;
   if (out_depth_.size() != pixels) {
@@ -178,10 +202,14 @@ RenderResult Marcher::render(const VolumeScene& scene, const Camera& cam,
     auto j = subpixel_offset(s);
     p.jitter_u = j[0];
     p.jitter_v = j[1];
-    for (uint32_t begin = 0; begin < pixels; begin += tile_rays_) {
+    const uint32_t tile = fused_on_ ? kFusedTile : tile_rays_;
+    for (uint32_t begin = 0; begin < pixels; begin += tile) {
       p.ray_begin = begin;
-      p.ray_count = std::min(tile_rays_, pixels - begin);
-      march_tile(scene, p, result);
+      p.ray_count = std::min(tile, pixels - begin);
+      if (fused_on_)
+        march_tile_fused(p, scene, result);
+      else
+        march_tile(scene, p, result);
     }
   }
   result.rays = uint64_t(pixels) * o.spp;
@@ -195,6 +223,7 @@ RenderResult Marcher::render(const VolumeScene& scene, const Camera& cam,
     result.samples.pixels[i] = float(counts[i]);
     result.samples_composited += counts[i];
   }
+  if (fused_on_) result.samples_evaluated = result.samples_composited;  // it evaluates what it composites
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
 }

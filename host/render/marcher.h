@@ -5,8 +5,10 @@
 #pragma once
 #include <array>
 #include <cstdint>
+#include <memory>
 
 #include "host/cl/kernel.h"
+#include "host/render/fused_marcher.h"
 #include "host/render/radiance_source.h"
 #include "host/util/image_io.h"
 #include "host/util/surface_buffers.h"
@@ -34,8 +36,9 @@ struct RenderOptions {
   float step_scale = 1.0f;           // multiplies the scene's step (>1 = faster, coarser)
   uint32_t max_samples_per_ray = 0;  // safety cap on segments per ray; 0: the box diagonal in steps + 8
   std::array<float, 3> background{1.0f, 1.0f, 1.0f};  // linear RGB behind the head
-  bool alpha = false;               // true: no background; rgb premultiplied by alpha = 1 - T
-  float min_transmittance = 1e-4f;  // early termination threshold
+  bool alpha = false;                       // true: no background; rgb premultiplied by alpha = 1 - T
+  float min_transmittance = 1e-4f;          // early termination threshold
+  MarcherKind marcher = MarcherKind::Auto;  // wavefront or fused kernels (fused_marcher.h)
 };
 
 struct RenderResult {
@@ -61,6 +64,8 @@ class Marcher {
  private:
   void ensure_workspace(uint32_t max_batch);
   void march_tile(const VolumeScene& scene, MarchParams p, RenderResult& result);
+  bool pick_fused(const VolumeScene& scene, const RenderOptions& o);
+  void march_tile_fused(MarchParams p, const VolumeScene& scene, RenderResult& result);
   uint32_t scan(uint32_t n, const cl::Buffer<uint32_t>& in, cl::Buffer<uint32_t>& out);
 
   cl::Runtime& rt_;
@@ -72,6 +77,8 @@ class Marcher {
   cl::Buffer<float> pos_, dir_, sigma_, rgb_;
   cl::Buffer<float> surf_ca_, surf_depth_, surf_filter_, out_rgba_, out_depth_;
   cl::Buffer<uint32_t> out_samples_;
+  std::unique_ptr<FusedMarcher> fused_;  // made on the first fused frame
+  bool fused_on_ = false;                // this frame marches with fused_
 };
 
 // Sub-pixel offset of pass s (s = 0 is the pixel centre; then an R2 low-discrepancy sequence).

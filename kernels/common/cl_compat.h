@@ -24,6 +24,7 @@ typedef int32_t lgn_int;
 using std::exp;
 using std::fabs;
 using std::floor;
+using std::fma;
 using std::fmax;
 using std::fmin;
 using std::sqrt;

@@ -121,15 +121,8 @@ __kernel void hashgrid_encode(const HashgridParams p, __global const float* rest
   float frac[3];
   hashgrid_cell(res, pos[i], pos[p.stride + i], pos[2 * p.stride + i], cell, frac);
   __global const float* table = params + p.offset[l];
-  for (uint f = 0; f < F; ++f) {
-    float acc = 0.0f;
-    for (uint c = 0; c < 8; ++c) {
-      float w;
-      uint e = hashgrid_corner(res, size, dense, cell, frac, c, &w);
-      acc += w * table[f * size + e];
-    }
-    enc[(l * F + f) * p.stride + i] = acc;
-  }
+  for (uint f = 0; f < F; ++f)
+    enc[(l * F + f) * p.stride + i] = hashgrid_interpolate(table + f * size, res, size, dense, cell, frac);
 }
 
 // Deterministic GPU backward: one work-item per (level, feature) scanning the samples in order.

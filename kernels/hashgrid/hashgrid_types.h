@@ -68,3 +68,18 @@ LGN_INLINE lgn_uint hashgrid_corner(lgn_uint res, lgn_uint size, lgn_uint dense,
   *weight = w;
   return hashgrid_index(res, size, dense, v[0], v[1], v[2]);
 }
+
+// One feature of one level at the point whose cell and fraction hashgrid_cell gave: the trilinear
+// blend of the feature's table entries at the 8 corners (table points at the feature's entry 0), in
+// corner order with fused multiply-adds as the CPU kernel's float16 lanes do. The GPU encoding and the
+// fused marcher (kernels/march/march_fused_field.h) both call it.
+LGN_INLINE float hashgrid_interpolate(LGN_GLOBAL const float* table, lgn_uint res, lgn_uint size,
+                                      lgn_uint dense, const lgn_uint* cell, const float* frac) {
+  float acc = 0.0f;
+  for (lgn_uint c = 0; c < 8u; ++c) {
+    float w;
+    const lgn_uint e = hashgrid_corner(res, size, dense, cell, frac, c, &w);
+    acc = fma(w, table[e], acc);
+  }
+  return acc;
+}

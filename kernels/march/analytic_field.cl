@@ -8,11 +8,9 @@ __kernel void analytic_field_eval(const AnalyticFieldParams p, __global const fl
   const uint j = get_global_id(0);
   if (j >= p.count) return;
   const uint S = p.stride;
-  float x = p.aabb_min[0] + pos[j] * (p.aabb_max[0] - p.aabb_min[0]);
-  float y = p.aabb_min[1] + pos[S + j] * (p.aabb_max[1] - p.aabb_min[1]);
-  float z = p.aabb_min[2] + pos[2 * S + j] * (p.aabb_max[2] - p.aabb_min[2]);
+  const float pos_j[3] = {pos[j], pos[S + j], pos[2 * S + j]};
   float s, c[3];
-  analytic_eval(&p, x, y, z, &s, c);
+  analytic_eval_normalised(&p, pos_j, &s, c);
   sigma[j] = s;
   rgb[j] = c[0];
   rgb[S + j] = c[1];

@@ -15,35 +15,7 @@ __kernel void march_init(const MarchParams p, __global MarchRay* rays, __global 
                          __global const float* surf_depth, __global uint* live) {
   const uint i = get_global_id(0);
   if (i >= p.ray_count) return;
-  const uint pixel = p.ray_begin + i;
-  const uint px = pixel % p.cam.width, py = pixel / p.cam.width;
-  LgnVec3 d = camera_ray_dir(&p.cam, (float)px + p.jitter_u, (float)py + p.jitter_v);
-  LgnVec3 o = camera_origin(&p.cam);
-  MarchRay r;
-  r.ox = o.x; r.oy = o.y; r.oz = o.z;
-  r.dx = d.x; r.dy = d.y; r.dz = d.z;
-  float t0, t1;
-  if (!march_clip_aabb(p.aabb_min, p.aabb_max, o.x, o.y, o.z, d.x, d.y, d.z, &t0, &t1)) t0 = t1 = 0.0f;
-  r.t = t0;
-  r.t_end = t1;
-  r.t_surface = INFINITY;
-  r.surface = LGN_SURF_NONE;
-  if (p.has_surface) {
-    float sa = surf_ca[4 * pixel + 3];
-    float ts = surf_depth[pixel];
-    if (sa > 0.0f && isfinite(ts) && ts > 0.0f) {
-      r.surface = LGN_SURF_PENDING;
-      r.t_surface = ts;
-      if (sa >= 1.0f) r.t_end = fmin(r.t_end, ts);  // nothing behind an opaque surface is visible
-    }
-  }
-  r.transmittance = 1.0f;
-  r.r = r.g = r.b = 0.0f;
-  r.depth_sum = 0.0f;
-  r.pixel = pixel;
-  r.samples = 0;
-  r.pad = 0;
-  rays[i] = r;
+  rays[i] = march_ray_start(&p, i, surf_ca, surf_depth);
   live[i] = i;
 }
 
@@ -140,15 +112,14 @@ __kernel void march_gather(const MarchParams p, __global const MarchRay* rays, _
   if (i >= p.live_count) return;
   const MarchRay r = rays[live[i]];
   const uint K = p.samples_per_wave, S = p.field_stride, n = counts[i], off = offsets[i];
-  const float ex = p.aabb_max[0] - p.aabb_min[0], ey = p.aabb_max[1] - p.aabb_min[1],
-              ez = p.aabb_max[2] - p.aabb_min[2];
   for (uint k = 0; k < n; ++k) {
     float2 s = seg[i * K + k];
-    float tm = 0.5f * (s.x + s.y);
+    float q[3];
+    march_sample_position(p.aabb_min, p.aabb_max, r.ox, r.oy, r.oz, r.dx, r.dy, r.dz, 0.5f * (s.x + s.y), q);
     uint j = off + k;
-    pos[j] = (r.ox + tm * r.dx - p.aabb_min[0]) / ex;
-    pos[S + j] = (r.oy + tm * r.dy - p.aabb_min[1]) / ey;
-    pos[2 * S + j] = (r.oz + tm * r.dz - p.aabb_min[2]) / ez;
+    pos[j] = q[0];
+    pos[S + j] = q[1];
+    pos[2 * S + j] = q[2];
     dir[j] = r.dx;
     dir[S + j] = r.dy;
     dir[2 * S + j] = r.dz;
@@ -157,21 +128,6 @@ __kernel void march_gather(const MarchParams p, __global const MarchRay* rays, _
 
 LGN_INLINE void march_add_pixel_surface(MarchAccum* acc, float ts, __global const float* ca) {
   march_add_surface(acc, ts, ca[0], ca[1], ca[2], ca[3]);
-}
-
-// Writes a finished ray into the outputs (each pass adds its sample_weight share); the background
-// is seen through the surface's colour filter f.
-LGN_INLINE void march_write_pixel(const MarchParams* p, const MarchAccum* acc, const float* f, uint pixel, uint samples,
-                                  __global float* out_rgba, __global float* out_depth,
-                                  __global uint* out_samples) {
-  const float w = p->sample_weight;
-  const float bg = p->alpha_mode ? 0.0f : 1.0f;
-  out_rgba[4 * pixel + 0] += w * (acc->r + bg * acc->T * f[0] * p->background[0]);
-  out_rgba[4 * pixel + 1] += w * (acc->g + bg * acc->T * f[1] * p->background[1]);
-  out_rgba[4 * pixel + 2] += w * (acc->b + bg * acc->T * f[2] * p->background[2]);
-  out_rgba[4 * pixel + 3] += w * (1.0f - acc->T);
-  out_depth[pixel] += w * march_expected_depth(acc);
-  out_samples[pixel] += samples;
 }
 
 // Accumulates each live ray's segments in order, inserting the surface before the first segment

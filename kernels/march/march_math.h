@@ -17,6 +17,7 @@
 
 #ifndef __OPENCL_C_VERSION__
 using std::ceil;
+using std::isfinite;
 #endif
 #define LGN_MARCH_INF INFINITY
 
@@ -62,6 +63,54 @@ LGN_INLINE float march_skip(const float* bmin, const float* bmax, lgn_uint res, 
   return step * fmax(ceil(s / step), 1.0f);
 }
 
+// The ray of pixel p->ray_begin + i (sub-pixel p->jitter_u/v): origin, unit direction, its span in
+// the crop box (empty when it misses), and the surface it meets (S_t, pending when S_α > 0; an opaque
+// surface ends the march at S_t). Nothing accumulated yet. Both marchers start their rays here.
+LGN_INLINE MarchRay march_ray_start(const MarchParams* p, lgn_uint i, LGN_GLOBAL const float* surf_ca,
+                                    LGN_GLOBAL const float* surf_depth) {
+  const lgn_uint pixel = p->ray_begin + i;
+  const lgn_uint px = pixel % p->cam.width, py = pixel / p->cam.width;
+  LgnVec3 d = camera_ray_dir(&p->cam, (float)px + p->jitter_u, (float)py + p->jitter_v);
+  LgnVec3 o = camera_origin(&p->cam);
+  MarchRay r;
+  r.ox = o.x;
+  r.oy = o.y;
+  r.oz = o.z;
+  r.dx = d.x;
+  r.dy = d.y;
+  r.dz = d.z;
+  float t0, t1;
+  if (!march_clip_aabb(p->aabb_min, p->aabb_max, o.x, o.y, o.z, d.x, d.y, d.z, &t0, &t1)) t0 = t1 = 0.0f;
+  r.t = t0;
+  r.t_end = t1;
+  r.t_surface = LGN_MARCH_INF;
+  r.surface = LGN_SURF_NONE;
+  if (p->has_surface) {
+    float sa = surf_ca[4 * pixel + 3];
+    float ts = surf_depth[pixel];
+    if (sa > 0.0f && isfinite(ts) && ts > 0.0f) {
+      r.surface = LGN_SURF_PENDING;
+      r.t_surface = ts;
+      if (sa >= 1.0f) r.t_end = fmin(r.t_end, ts);  // nothing behind an opaque surface is visible
+    }
+  }
+  r.transmittance = 1.0f;
+  r.r = r.g = r.b = 0.0f;
+  r.depth_sum = 0.0f;
+  r.pixel = pixel;
+  r.samples = 0;
+  r.pad = 0;
+  return r;
+}
+
+// The field's input for the segment midpoint tm of a ray: the point normalised to the crop box.
+LGN_INLINE void march_sample_position(const float* bmin, const float* bmax, float ox, float oy, float oz,
+                                      float dx, float dy, float dz, float tm, float* pos) {
+  pos[0] = (ox + tm * dx - bmin[0]) / (bmax[0] - bmin[0]);
+  pos[1] = (oy + tm * dy - bmin[1]) / (bmax[1] - bmin[1]);
+  pos[2] = (oz + tm * dz - bmin[2]) / (bmax[2] - bmin[2]);
+}
+
 // Front-to-back accumulation state of one ray.
 typedef struct MarchAccum {
   float T;
@@ -95,6 +144,21 @@ LGN_INLINE float march_expected_depth(const MarchAccum* acc) {
   return w > 1e-6f ? acc->depth_sum / w : 0.0f;
 }
 
+// Writes a finished ray into the outputs (each pass adds its sample_weight share); the background
+// is seen through the surface's colour filter f.
+LGN_INLINE void march_write_pixel(const MarchParams* p, const MarchAccum* acc, const float* f, lgn_uint pixel,
+                                  lgn_uint samples, LGN_GLOBAL float* out_rgba, LGN_GLOBAL float* out_depth,
+                                  LGN_GLOBAL lgn_uint* out_samples) {
+  const float w = p->sample_weight;
+  const float bg = p->alpha_mode ? 0.0f : 1.0f;
+  out_rgba[4 * pixel + 0] += w * (acc->r + bg * acc->T * f[0] * p->background[0]);
+  out_rgba[4 * pixel + 1] += w * (acc->g + bg * acc->T * f[1] * p->background[1]);
+  out_rgba[4 * pixel + 2] += w * (acc->b + bg * acc->T * f[2] * p->background[2]);
+  out_rgba[4 * pixel + 3] += w * (1.0f - acc->T);
+  out_depth[pixel] += w * march_expected_depth(acc);
+  out_samples[pixel] += samples;
+}
+
 // Analytic field at a scene-space point: density summed over the primitives containing it, colour
 // the density-weighted mean (0 where the density is 0).
 LGN_INLINE void analytic_eval(const AnalyticFieldParams* p, float x, float y, float z, float* sigma,
@@ -121,4 +185,13 @@ LGN_INLINE void analytic_eval(const AnalyticFieldParams* p, float x, float y, fl
   rgb[0] = r * inv;
   rgb[1] = g * inv;
   rgb[2] = b * inv;
+}
+
+// The analytic field at a position normalised to its box (the field's interface, as the marchers
+// pass it): mapped back to scene units, then analytic_eval.
+LGN_INLINE void analytic_eval_normalised(const AnalyticFieldParams* p, const float* pos, float* sigma,
+                                         float* rgb) {
+  analytic_eval(p, p->aabb_min[0] + pos[0] * (p->aabb_max[0] - p->aabb_min[0]),
+                p->aabb_min[1] + pos[1] * (p->aabb_max[1] - p->aabb_min[1]),
+                p->aabb_min[2] + pos[2] * (p->aabb_max[2] - p->aabb_min[2]), sigma, rgb);
 }

@@ -4,27 +4,10 @@
 // work-items of a group read and write consecutive addresses (coalesced), and every work-item
 // reads the same weight at the same time (a broadcast from cache). Four outputs per pass over the
 // inputs keep four independent FMA chains in flight.
-#include "mlp/mlp_types.h"
+#include "mlp/mlp_layer1.h"
 
 // y[j] = act(sum_k W[j][k] x[k]) for j < out (out is a multiple of 4); x, y point at sample i's row 0.
-inline void mlp_layer_forward1(__global const float* restrict W, uint in, uint out, uint act,
-                               __global const float* x, __global float* y, uint s) {
-  for (uint j = 0; j < out; j += 4) {
-    __global const float* w = W + j * in;
-    float a0 = 0.0f, a1 = 0.0f, a2 = 0.0f, a3 = 0.0f;
-    for (uint k = 0; k < in; ++k) {
-      const float xk = x[k * s];
-      a0 = fma(w[k], xk, a0);
-      a1 = fma(w[in + k], xk, a1);
-      a2 = fma(w[2 * in + k], xk, a2);
-      a3 = fma(w[3 * in + k], xk, a3);
-    }
-    y[j * s] = lgn_activate(a0, act);
-    y[(j + 1) * s] = lgn_activate(a1, act);
-    y[(j + 2) * s] = lgn_activate(a2, act);
-    y[(j + 3) * s] = lgn_activate(a3, act);
-  }
-}
+LGN_DEFINE_MLP_LAYER_FORWARD1(mlp_layer_forward1, __global, __global, __global)
 
 // dx[k] = (sum_j W[j][k] dy[j]) * (relu ? x[k] > 0 : 1) for k_begin <= k < in (both multiples of 4).
 inline void mlp_layer_backward1(__global const float* restrict W, uint in, uint out, uint k_begin, uint relu,
@@ -50,7 +33,7 @@ __kernel void mlp_chain_forward(const MlpChainParams p, __global const float* re
   if (i >= p.n16) return;
   const uint s = p.stride;
   for (uint l = 0; l < p.layers; ++l)
-    mlp_layer_forward1(W + p.w_offset[l], p.in[l], p.out[l], p.act[l], acts + p.x_row[l] * s + i,
+    mlp_layer_forward1(W + p.w_offset[l], p.in[l], p.out[l], p.act[l], acts + p.x_row[l] * s + i, s,
                        acts + p.y_row[l] * s + i, s);
 }
 
