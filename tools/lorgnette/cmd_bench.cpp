@@ -24,7 +24,7 @@ namespace lorgnette::cli {
 namespace {
 
 struct BenchArgs {
-  std::string model, glasses, placement, sizes;
+  std::string model, glasses, placement, sizes, marcher = "auto";
   uint32_t repeats = 3, surface_spp = 4;
   float step_scale = 1.0f;
   bool json = false;
@@ -85,11 +85,18 @@ nlohmann::json bench_device(const BenchArgs& a, const cl::DeviceInfo& dev, Globa
   }
   render::RenderOptions opts;
   opts.step_scale = a.step_scale;
+  opts.marcher = render::parse_marcher_kind(a.marcher);
   render::Renderer renderer(rt);
   render::Marcher marcher(rt);
-  return render::run_frame_bench(spec, [&](const Camera& cam, const lorgnette::SurfaceBuffers* s) {
-    return model ? renderer.render(*model, cam, s, opts) : marcher.render(scene, cam, s, opts);
-  });
+  nlohmann::json rows =
+      render::run_frame_bench(spec, [&](const Camera& cam, const lorgnette::SurfaceBuffers* s) {
+        return model ? renderer.render(*model, cam, s, opts) : marcher.render(scene, cam, s, opts);
+      });
+  // Auto takes the fused marcher on a GPU (both heads can be evaluated in its kernel).
+  const bool fused =
+      opts.marcher == render::MarcherKind::Fused || (opts.marcher == render::MarcherKind::Auto && dev.is_gpu);
+  for (auto& r : rows) r["marcher"] = fused ? "fused" : "wavefront";
+  return rows;
 }
 
 void add_frames(CLI::App& bench, GlobalOptions& global) {
@@ -108,6 +115,9 @@ void add_frames(CLI::App& bench, GlobalOptions& global) {
   cmd->add_option("--sizes", a->sizes, "comma-separated WxH list (default 854x480,1280x720,1920x1080)");
   cmd->add_option("--surface-spp", a->surface_spp, "glasses samples per pixel")->capture_default_str();
   cmd->add_option("--step-scale", a->step_scale, "marching step multiplier")->capture_default_str();
+  cmd->add_option("--marcher", a->marcher, "auto (fused on a GPU, wavefront on a CPU), wavefront or fused")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"auto", "wavefront", "fused"}));
   cmd->add_flag("--json", a->json, "print the rows as one JSON array on stdout");
   cmd->callback([a, &global] {
     nlohmann::json rows = nlohmann::json::array();

@@ -22,7 +22,7 @@ namespace lorgnette::cli {
 namespace {
 
 struct RenderArgs {
-  std::string model, glasses, placement, transform, pose, size = "854x480", out;
+  std::string model, glasses, placement, transform, pose, size = "854x480", out, marcher = "auto";
   std::vector<float> translate, rotate, background, front;
   float scale = 1.0f, fov = 30.0f, elevation = 0.0f, step_scale = 1.0f;
   uint32_t orbit = 0, spp = 1, surface_spp = 4;
@@ -64,6 +64,7 @@ void run(const RenderArgs& a, GlobalOptions& global) {
   job.options.spp = a.spp;
   job.options.alpha = a.alpha;
   job.options.step_scale = a.step_scale;
+  job.options.marcher = render::parse_marcher_kind(a.marcher);
   if (!a.background.empty()) job.options.background = vec3(a.background, {1, 1, 1});
   std::string range_source;
   std::optional<nerf::ViewRange> range = render::model_view_range(model, &range_source);
@@ -140,6 +141,9 @@ void add_render(CLI::App& app, GlobalOptions& global) {
   cmd->add_option("--step-scale", a->step_scale, "marching step multiplier (>1 faster, coarser)")
       ->capture_default_str()
       ->check(CLI::Range(0.25f, 8.0f));
+  cmd->add_option("--marcher", a->marcher, "auto (fused on a GPU, wavefront on a CPU), wavefront or fused")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"auto", "wavefront", "fused"}));
   cmd->add_option("--fov", a->fov, "vertical field of view, degrees")
       ->capture_default_str()
       ->check(CLI::Range(5.0f, 120.0f));
