@@ -59,7 +59,10 @@ Field::Field(cl::Runtime& rt, const FieldConfig& cfg, uint32_t max_batch, uint64
   for (auto* b : {&acts_, &deltas_, &pos_copy_, &grads_, &adam_m_, &adam_v_}) b->fill(rt, 0.0f);
 
   hash_ = std::make_unique<HashGrid>(rt, cfg_, layout_, max_batch_, variant);
-  mlp_ = std::make_unique<Mlp>(rt, max_batch_, variant);
+  uint32_t largest_padded = 0;  // in_pad * out_pad: the local-weights chain's scratch
+  for (const auto& L : layout_.density) largest_padded = std::max(largest_padded, L.in_pad * L.out_pad);
+  for (const auto& L : layout_.color) largest_padded = std::max(largest_padded, L.in_pad * L.out_pad);
+  mlp_ = std::make_unique<Mlp>(rt, max_batch_, variant, largest_padded);
   adam_ = std::make_unique<Adam>(rt);
 
   std::mt19937_64 rng(seed);

@@ -8,6 +8,9 @@ namespace lorgnette::field {
 namespace {
 constexpr size_t kLocal = 8;            // 32-sample work-items per work-group (2, 8 and 16 measured alike)
 constexpr size_t kLocalPerSample = 64;  // GPU chains: one sample per work-item, two warps per group
+// Local-weights GPU chains: 256 samples share one copy of each layer's weights (up to 64 x 64 = 16
+// loads per work-item per layer against 4096 multiply-adds).
+constexpr size_t kLocalWeights = 256;
 uint32_t round16(uint32_t n) { return (n + 15u) & ~15u; }
 }  // namespace
 
@@ -66,7 +69,7 @@ ChainPlan plan_chain(const ParamLayout& lay, uint32_t stride) {
   return plan;
 }
 
-Mlp::Mlp(cl::Runtime& rt, uint32_t stride, KernelVariant variant)
+Mlp::Mlp(cl::Runtime& rt, uint32_t stride, KernelVariant variant, uint32_t largest_layer)
     : rt_(rt), stride_(stride), gpu_(use_gpu_variant(rt, variant)) {
   cl_program prog = rt.program("mlp/mlp.cl");
   forward_ = cl::Kernel(prog, "mlp_forward");
@@ -75,9 +78,19 @@ Mlp::Mlp(cl::Runtime& rt, uint32_t stride, KernelVariant variant)
   grad_reduce_ = cl::Kernel(prog, "mlp_weight_grad_reduce");
   sh_ = cl::Kernel(prog, "mlp_sh_encode");
   sigma_ = cl::Kernel(prog, "mlp_sigma");
-  cl_program chain = rt.program(gpu_ ? "mlp/mlp_chain_per_sample.cl" : "mlp/mlp_chain.cl");
-  chain_fwd_ = cl::Kernel(chain, "mlp_chain_forward");
-  chain_bwd_ = cl::Kernel(chain, "mlp_chain_backward");
+  if (gpu_ && largest_layer > 0 && uint64_t(largest_layer) * sizeof(float) <= rt.device().local_mem_bytes) {
+    cl_program chain = rt.program("mlp/mlp_chain_local.cl");
+    chain_fwd_ = cl::Kernel(chain, "mlp_chain_forward_local");
+    chain_bwd_ = cl::Kernel(chain, "mlp_chain_backward_local");
+    if (chain_fwd_.max_work_group_size(rt) >= kLocalWeights &&
+        chain_bwd_.max_work_group_size(rt) >= kLocalWeights)
+      local_floats_ = largest_layer;
+  }
+  if (!local_floats_) {
+    cl_program chain = rt.program(gpu_ ? "mlp/mlp_chain_per_sample.cl" : "mlp/mlp_chain.cl");
+    chain_fwd_ = cl::Kernel(chain, "mlp_chain_forward");
+    chain_bwd_ = cl::Kernel(chain, "mlp_chain_backward");
+  }
 }
 
 MlpParams Mlp::base(uint32_t n) const {
@@ -134,7 +147,10 @@ void Mlp::chain_forward(MlpChainParams p, uint32_t n, const cl::Buffer<float>& p
                         cl::Buffer<float>& acts) {
   p.n = n;
   p.n16 = round16(n);
-  if (gpu_)
+  if (local_floats_)
+    chain_fwd_.args(p, params, acts, cl::LocalBytes{local_floats_ * sizeof(float)})
+        .launch(rt_, p.n16, kLocalWeights);
+  else if (gpu_)
     chain_fwd_.args(p, params, acts).launch(rt_, p.n16, kLocalPerSample);
   else
     chain_fwd_.args(p, params, acts).launch(rt_, (p.n16 + 31) / 32, kLocal);
@@ -145,7 +161,10 @@ void Mlp::chain_backward(MlpChainParams p, uint32_t n, const cl::Buffer<float>& 
                          const cl::Buffer<float>& d_sigma, const cl::Buffer<float>& d_rgb) {
   p.n = n;
   p.n16 = round16(n);
-  if (gpu_)
+  if (local_floats_)
+    chain_bwd_.args(p, params, acts, deltas, d_sigma, d_rgb, cl::LocalBytes{local_floats_ * sizeof(float)})
+        .launch(rt_, p.n16, kLocalWeights);
+  else if (gpu_)
     chain_bwd_.args(p, params, acts, deltas, d_sigma, d_rgb).launch(rt_, p.n16, kLocalPerSample);
   else
     chain_bwd_.args(p, params, acts, deltas, d_sigma, d_rgb).launch(rt_, (p.n16 + 31) / 32, kLocal);

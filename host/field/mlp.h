@@ -42,9 +42,13 @@ ChainPlan plan_chain(const ParamLayout& layout, uint32_t stride);
 
 class Mlp {
  public:
-  // The fused chains come in a CPU variant (mlp_chain.cl) and a GPU one (mlp_chain_per_sample.cl).
-  Mlp(cl::Runtime& rt, uint32_t stride, KernelVariant variant = KernelVariant::Auto);
+  // The fused chains come in a CPU variant (mlp_chain.cl) and a GPU one: the weights of each layer
+  // in local memory (mlp_chain_local.cl) when the largest layer (largest_layer floats, in * out
+  // padded) fits the device's local memory, else read from global memory (mlp_chain_per_sample.cl).
+  Mlp(cl::Runtime& rt, uint32_t stride, KernelVariant variant = KernelVariant::Auto,
+      uint32_t largest_layer = 0);
   bool gpu_chain() const { return gpu_; }
+  bool local_weights() const { return local_floats_ > 0; }
 
   // y = act(W x) for output rows [0, out_rows) (out_rows = 0: all of the layer's rows).
   void forward(const LayerShape& L, const cl::Buffer<float>& params, const LayerIo& io, uint32_t n,
@@ -73,6 +77,7 @@ class Mlp {
   cl::Runtime& rt_;
   uint32_t stride_;
   bool gpu_;
+  uint32_t local_floats_ = 0;  // local scratch of the local-weights chain (0: not used)
   cl::Kernel forward_, backward_input_, grad_partial_, grad_reduce_, sh_, sigma_, chain_fwd_, chain_bwd_;
 };
 

@@ -4,31 +4,18 @@
 // work-items of a group read and write consecutive addresses (coalesced), and every work-item
 // reads the same weight at the same time (a broadcast from cache). Four outputs per pass over the
 // inputs keep four independent FMA chains in flight.
+#include "mlp/mlp_backward1.h"
 #include "mlp/mlp_layer1.h"
 
 // y[j] = act(sum_k W[j][k] x[k]) for j < out (out is a multiple of 4); x, y point at sample i's row 0.
 LGN_DEFINE_MLP_LAYER_FORWARD1(mlp_layer_forward1, __global, __global, __global)
 
 // dx[k] = (sum_j W[j][k] dy[j]) * (relu ? x[k] > 0 : 1) for k_begin <= k < in (both multiples of 4).
-inline void mlp_layer_backward1(__global const float* restrict W, uint in, uint out, uint k_begin, uint relu,
-                                __global const float* dy, __global const float* x, __global float* dx, uint s) {
-  for (uint k = k_begin; k < in; k += 4) {
-    float a0 = 0.0f, a1 = 0.0f, a2 = 0.0f, a3 = 0.0f;
-    for (uint j = 0; j < out; ++j) {
-      const float d = dy[j * s];
-      __global const float* wj = W + j * in + k;
-      a0 = fma(wj[0], d, a0);
-      a1 = fma(wj[1], d, a1);
-      a2 = fma(wj[2], d, a2);
-      a3 = fma(wj[3], d, a3);
-    }
-    const float a[4] = {a0, a1, a2, a3};
-    for (uint q = 0; q < 4; ++q) dx[(k + q) * s] = (!relu || x[(k + q) * s] > 0.0f) ? a[q] : 0.0f;
-  }
-}
+LGN_DEFINE_MLP_LAYER_BACKWARD1(mlp_layer_backward1, __global, __global, __global)
 
 // Global size: n16 (padded samples carry zeros, as in the CPU variant).
-__kernel void mlp_chain_forward(const MlpChainParams p, __global const float* restrict W, __global float* acts) {
+__kernel void mlp_chain_forward(const MlpChainParams p, __global const float* restrict W,
+                                __global float* acts) {
   const uint i = get_global_id(0);
   if (i >= p.n16) return;
   const uint s = p.stride;
@@ -40,25 +27,17 @@ __kernel void mlp_chain_forward(const MlpChainParams p, __global const float* re
 // Global size as mlp_chain_forward. d_sigma: n values; d_rgb: 3 rows of stride.
 __kernel void mlp_chain_backward(const MlpChainParams p, __global const float* restrict W,
                                  __global const float* acts, __global float* deltas,
-                                 __global const float* restrict d_sigma, __global const float* restrict d_rgb) {
+                                 __global const float* restrict d_sigma,
+                                 __global const float* restrict d_rgb) {
   const uint i = get_global_id(0);
   if (i >= p.n16) return;
   const uint s = p.stride, last = p.layers - 1;
   const int valid = i < p.n;
-  for (uint c = 0; c < 4; ++c) {  // the sigmoid RGB output's delta (row 3 is padding)
-    float d = 0.0f;
-    if (c < 3 && valid) {
-      const float r = acts[(p.rgb_row + c) * s + i];
-      d = lgn_sigmoid_backward(d_rgb[c * s + i], r);
-    }
-    deltas[(p.dy_row[last] + c) * s + i] = d;
-  }
+  mlp_rgb_output_delta(&p, acts, deltas, d_rgb, i, valid);
   for (uint l = last + 1; l-- > 0;) {
-    mlp_layer_backward1(W + p.w_offset[l], p.in[l], p.out[l], p.k_begin[l], p.mask[l], deltas + p.dy_row[l] * s + i,
-                        acts + p.x_row[l] * s + i, deltas + p.dx_row[l] * s + i, s);
-    if (l != p.geo_layer || !valid) continue;
-    // The raw density's delta: the colour network's share plus dL/dsigma * dsigma/draw.
-    const float raw = acts[p.raw_row * s + i];
-    deltas[p.dy_row[l - 1] * s + i] += d_sigma[i] * lgn_sigma_grad(raw, lgn_sigma_from_raw(raw));
+    mlp_layer_backward1(W + p.w_offset[l], p.in[l], p.out[l], p.k_begin[l], p.mask[l],
+                        deltas + p.dy_row[l] * s + i, s, acts + p.x_row[l] * s + i, s,
+                        deltas + p.dx_row[l] * s + i, s);
+    if (l == p.geo_layer && valid) mlp_add_sigma_delta(&p, acts, deltas, d_sigma, l, i);
   }
 }
