@@ -98,6 +98,11 @@ void seed_transforms(const fs::path& out, const fs::path& scratch) {
                                    {"p2", 0.001},
                                    {"transform_matrix", pose_json(orbit_pose(-0.3 * i))}});
   spit(out / "per_frame_intrinsics.json", per_frame.dump());
+
+  json masked = json::parse(slurp(scratch / "transforms.json"));  // nerfstudio's per-frame mattes
+  for (size_t i = 0; i < masked["frames"].size(); ++i)
+    masked["frames"][i]["mask_path"] = fmt::format("mask_{}.png", i);
+  spit(out / "nerfstudio_masks.json", masked.dump(1));
 }
 
 // The smallest field configuration the validation accepts: 112 parameters.

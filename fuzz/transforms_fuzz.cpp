@@ -1,7 +1,8 @@
 // Fuzz target: transforms.json through the dataset loader (host/dataset/dataset.h, with cameras
 // only: image headers are read, pixels are not). The input becomes transforms.json in a private
-// directory that also holds three 8x6 images, img_0.png .. img_2.png, so frames can resolve their
-// files and the intrinsics are checked against real image sizes.
+// directory that also holds three 8x6 images, img_0.png .. img_2.png, and their masks mask_0.png ..
+// mask_2.png (plus a 4x3 mask_small.png), so frames can resolve their files and mask_path, and the
+// intrinsics and masks are checked against real image sizes.
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 #include <unistd.h>
@@ -24,8 +25,12 @@ struct Scratch {
   Scratch() {
     spdlog::set_level(spdlog::level::off);  // the loader's warnings would flood the fuzzer's output
     fs::create_directories(dir);
-    for (int i = 0; i < 3; ++i)
+    for (int i = 0; i < 3; ++i) {
       lorgnette::write_image((dir / fmt::format("img_{}.png", i)).string(), lorgnette::Image(8, 6, 3, 0.5f));
+      lorgnette::write_image((dir / fmt::format("mask_{}.png", i)).string(), lorgnette::Image(8, 6, 1, 1.0f));
+    }
+    // One mask of another size than the images, for mask_path's size check.
+    lorgnette::write_image((dir / "mask_small.png").string(), lorgnette::Image(4, 3, 1, 1.0f));
   }
   ~Scratch() {
     std::error_code ec;

@@ -151,6 +151,7 @@ std::vector<FrameSpec> collect_frames(const Source& src, Dataset& ds, const Load
     if (src.format == "nerf-synthetic" && !wanted(opt, split)) continue;
     json doc = detail::read_json_file(file);
     auto frames = detail::parse_frames(doc, file, split);
+    detail::check_masks_all_or_none(frames, file);
     if (src.format == "transforms") {
       std::stable_sort(frames.begin(), frames.end(),
                        [](const FrameSpec& a, const FrameSpec& b) { return a.file_path < b.file_path; });
@@ -217,6 +218,38 @@ std::vector<FrameSpec> limit_frames(std::vector<FrameSpec> frames, int max_frame
   return out;
 }
 
+// nerfstudio's per-frame mask (0 = background) as the image's alpha: alpha *= mask. Checked to
+// exist and to match the image's size; `image` null checks only (cameras-only loads).
+void apply_mask(const FrameSpec& spec, Image* image, int w, int h) {
+  if (spec.mask_path.empty())
+    throw std::runtime_error(
+        fmt::format("{}: its mask_path '{}' names a file that is not there: restore the mask, fix "
+                    "'mask_path', or remove 'mask_path' from every frame (train then separates the "
+                    "subject from the room itself)",
+                    spec.where, spec.mask_file_path));
+  int mw, mh;
+  Image mask;
+  try {
+    if (image) {
+      mask = detail::read_mask(spec.mask_path);
+      mw = mask.width, mh = mask.height;
+    } else {
+      auto hdr = detail::read_image_header(spec.mask_path);
+      mw = hdr.width, mh = hdr.height;
+    }
+  } catch (const std::runtime_error& e) {
+    throw std::runtime_error(
+        fmt::format("{}: {}; replace the mask or remove 'mask_path' from every frame", spec.where, e.what()));
+  }
+  if (mw != w || mh != h)
+    throw std::runtime_error(
+        fmt::format("{}: mask '{}' is {}x{} but its image '{}' is {}x{}: write each mask at its image's "
+                    "size (one value per pixel, 0 = background)",
+                    spec.where, spec.mask_path, mw, mh, spec.image_path, w, h));
+  if (!image) return;
+  for (size_t p = 0; p < mask.pixels.size(); ++p) image->pixels[p * 4 + 3] *= mask.pixels[p];
+}
+
 Frame load_frame(const FrameSpec& spec, const LoadOptions& opt, bool* has_alpha) {
   Frame f;
   f.name = fs::path(spec.image_path).stem().string();
@@ -241,6 +274,10 @@ Frame load_frame(const FrameSpec& spec, const LoadOptions& opt, bool* has_alpha)
         fmt::format("{}: {}; replace the file or remove the frame from the json", spec.where, e.what()));
   }
   f.camera = detail::make_camera(spec, w, h);
+  if (!spec.mask_file_path.empty()) {
+    apply_mask(spec, opt.load_images ? &f.image : nullptr, w, h);
+    *has_alpha = true;
+  }
   int nw, nh;
   detail::scaled_size(w, h, opt.downscale, opt.max_side, &nw, &nh);
   if (nw != w || nh != h) {

@@ -15,6 +15,10 @@
 // - `aabb_scale`, `scale`, `offset` (instant-ngp) are recorded as hints only; poses are not rescaled.
 // - Images are always returned with 4 channels, linear RGB + alpha (alpha = 1 where the file has none).
 //   RGBA images keep their alpha: the trainer composites onto a random background colour.
+// - Mattes: a frame's nerfstudio "mask_path" (on every frame or none; any image whose first channel
+//   is coverage, 0 = background, 8-bit v / 255, 0/1 masks as binary) multiplies its alpha, so the
+//   subject is separated by the mattes as with RGBA images (has_alpha is set; train then needs no
+//   room model). A missing mask or one of another size than its image is an error.
 // - Downscaling resizes images with area averaging and scales intrinsics by the exact per-axis size
 //   ratio (new_w / w, new_h / h), which keeps the pixel-centre convention of camera_types.h.
 #pragma once

@@ -109,6 +109,27 @@ Image read_rgba(const std::string& path, bool* had_alpha) {
   return out;
 }
 
+Image read_mask(const std::string& path) {
+  ImageHeader h = read_image_header(path);  // throws for a missing or unreadable file
+  auto in = OIIO::ImageInput::open(path);
+  if (!in) throw std::runtime_error(fmt::format("cannot read mask '{}': {}", path, OIIO::geterror()));
+  Image m(h.width, h.height, 1);
+  // Channel 0 only, as stored (no colour conversion: a mask is coverage, not a colour).
+  bool ok = in->read_image(0, 0, 0, 1, OIIO::TypeDesc::FLOAT, m.pixels.data());
+  if (!ok || in->has_error())
+    throw std::runtime_error(
+        fmt::format("mask '{}' is corrupt or truncated: {}", path, decode_error_text(in->geterror())));
+  float hi = 0.0f;
+  for (float& v : m.pixels) {
+    if (!std::isfinite(v)) v = 0.0f;
+    v = std::clamp(v, 0.0f, 1.0f);
+    hi = std::max(hi, v);
+  }
+  if (hi > 0.0f && hi <= 1.5f / 255.0f)  // a 0/1 mask stored in 8 bits
+    for (float& v : m.pixels) v = v > 0.0f ? 1.0f : 0.0f;
+  return m;
+}
+
 void scaled_size(int w, int h, int downscale, int max_side, int* out_w, int* out_h) {
   double s = 1.0 / std::max(1, downscale);
   if (max_side > 0 && std::max(w, h) * s > max_side) s = static_cast<double>(max_side) / std::max(w, h);

@@ -194,9 +194,28 @@ std::vector<FrameSpec> parse_frames(const json& doc, const std::string& json_pat
     s.intrinsics = parse_intrinsics(f, shared, s.where);
     s.split = split;
     s.image_path = resolve_image_path(dir, s.file_path);
+    if (auto m = f.find("mask_path"); m != f.end() && !m->is_null()) {
+      if (!m->is_string() || m->get<std::string>().empty())
+        throw std::runtime_error(fmt::format(
+            "{}: 'mask_path' must name a mask image (a non-empty string), found {}", s.where, m->dump()));
+      s.mask_file_path = m->get<std::string>();
+      s.mask_path = resolve_image_path(dir, s.mask_file_path);
+    }
     out.push_back(std::move(s));
   }
   return out;
+}
+
+void check_masks_all_or_none(const std::vector<FrameSpec>& frames, const std::string& json_path) {
+  size_t with = 0;
+  for (const auto& f : frames) with += !f.mask_file_path.empty();
+  if (with == 0 || with == frames.size()) return;
+  for (const auto& f : frames)
+    if (f.mask_file_path.empty())
+      throw std::runtime_error(
+          fmt::format("'{}': {} of {} frames have a 'mask_path' but {} has none: give every frame a mask "
+                      "(0 = background) or remove 'mask_path' from all of them",
+                      json_path, with, frames.size(), f.where));
 }
 
 void check_not_degenerate(const std::vector<FrameSpec>& frames) {

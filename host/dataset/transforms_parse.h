@@ -22,9 +22,11 @@ struct DeclaredIntrinsics {
 };
 
 struct FrameSpec {
-  std::string where;       // for messages: "frame 3 ('./train/r_3') of transforms_train.json"
-  std::string file_path;   // as written in the json
-  std::string image_path;  // resolved path ("" when the file is missing)
+  std::string where;           // for messages: "frame 3 ('./train/r_3') of transforms_train.json"
+  std::string file_path;       // as written in the json
+  std::string image_path;      // resolved path ("" when the file is missing)
+  std::string mask_file_path;  // nerfstudio "mask_path" as written ("" when the frame has none)
+  std::string mask_path;       // resolved path ("" when none is declared or the file is missing)
   Split split = Split::Train;
   Eigen::Matrix4d c2w = Eigen::Matrix4d::Identity();
   DeclaredIntrinsics intrinsics;
@@ -45,6 +47,10 @@ std::vector<FrameSpec> parse_frames(const nlohmann::json& doc, const std::string
 Eigen::Matrix4d parse_pose(const nlohmann::json& value, const std::string& where);
 // "aabb": [[min x, y, z], [max x, y, z]], finite, max > min on every axis; throws naming `where`.
 std::array<std::array<float, 3>, 2> parse_aabb(const nlohmann::json& value, const std::string& where);
+
+// nerfstudio's rule: "mask_path" on every frame of `frames` or on none; throws naming the first
+// frame without one otherwise.
+void check_masks_all_or_none(const std::vector<FrameSpec>& frames, const std::string& json_path);
 
 // Throws when all camera centres coincide (no parallax: nothing can be reconstructed).
 void check_not_degenerate(const std::vector<FrameSpec>& frames);
