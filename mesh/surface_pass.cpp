@@ -105,9 +105,7 @@ SampleResult trace_sample(const ShadeContext& c, Eigen::Vector3f origin, const E
   return s;
 }
 
-// Pixel rectangle [x0, x1) x [y0, y1) outside which no primary ray can hit the scene: the projected
-// bounding box (a 5x5x5 grid of points, so mild lens distortion is covered too) plus a 2-pixel
-// margin. The whole image when any point lies behind the camera.
+// See SurfacePass::screen_rect.
 std::array<int, 4> screen_bounds(const Camera& cam, const Eigen::AlignedBox3f& box) {
   const std::array<int, 4> all = {0, 0, static_cast<int>(cam.width), static_cast<int>(cam.height)};
   float u0 = 1e30f, v0 = 1e30f, u1 = -1e30f, v1 = -1e30f;
@@ -146,7 +144,10 @@ SurfaceBuffers SurfacePass::render(const Camera& cam, const SurfaceParams& param
   c.eps = 1e-4f * std::max(1e-6f, scene_->bounds().sizes().norm());
   const Eigen::Vector3f origin(cam.c2w[3], cam.c2w[7], cam.c2w[11]);
   const int n = params.samples_per_pixel;
-  const std::array<int, 4> rect = screen_bounds(cam, scene_->bounds());
+  const std::array<int, 4> rect =
+      params.clip_to_bounds
+          ? screen_rect(cam)
+          : std::array<int, 4>{0, 0, static_cast<int>(cam.width), static_cast<int>(cam.height)};
   parallel_rows(rect[3] - rect[1], params.threads, [&](int row) {
     const int y = rect[1] + row;
     std::vector<Eigen::Vector2f> offsets;
@@ -173,6 +174,10 @@ SurfaceBuffers SurfacePass::render(const Camera& cam, const SurfaceParams& param
     }
   });
   return out;
+}
+
+std::array<int, 4> SurfacePass::screen_rect(const Camera& camera) const {
+  return screen_bounds(camera, scene_->bounds());
 }
 
 Camera look_at_camera(const Eigen::Vector3f& eye, const Eigen::Vector3f& target, const Eigen::Vector3f& up,

@@ -13,9 +13,11 @@
 // Shading: the simplified Disney BRDF (disney_brdf.h) under Lighting (hemisphere + key light with a
 // soft shadow ray); lenses reflect with dielectric Fresnel and transmit tinted light, and rays go on
 // through up to `max_layers` transmissive surfaces. Rows run in parallel on `threads` threads;
-// pixels outside the frame's projected bounding box are skipped (they cannot be hit).
+// pixels outside the frame's projected bounding box (screen_rect) are skipped: no ray can hit there,
+// so their buffers keep S_α = 0, S_t = +inf, F = 1, as a traced miss would leave them.
 #pragma once
 #include <Eigen/Core>
+#include <array>
 #include <memory>
 
 #include "common/camera_types.h"
@@ -33,6 +35,7 @@ struct SurfaceParams {
   int max_layers = 6;
   Lighting lighting;
   float min_lens_tint = 0.15f;  // dark sunglass tints are floored so the eyes stay visible
+  bool clip_to_bounds = true;   // false: trace every pixel (the reference for the clipped pass)
 };
 
 class SurfacePass {
@@ -40,6 +43,10 @@ class SurfacePass {
   // `canonical_mesh` in millimetres (canonical frame); `placement` maps it into the scene.
   SurfacePass(const TriMesh& canonical_mesh, const Eigen::Matrix4f& placement);
   SurfaceBuffers render(const Camera& camera, const SurfaceParams& params) const;
+  // Pixel rectangle {x0, y0, x1, y1} (half-open) outside which no primary ray hits the frame: its
+  // placed bounding box projected (a 5x5x5 grid of points, so mild lens distortion is covered) plus
+  // a 2-pixel margin; the whole image when any of those points lies behind the camera.
+  std::array<int, 4> screen_rect(const Camera& camera) const;
   const EmbreeScene& scene() const { return *scene_; }
 
  private:

@@ -12,8 +12,6 @@
 
 namespace lorgnette::render {
 namespace {
-constexpr uint32_t kMinWave = 4;      // segments per ray and wave when the tile is full
-constexpr uint32_t kMaxWave = 64;     // ... and when few rays are left
 constexpr uint32_t kScanBlock = 256;  // entries per work-item in the prefix sums
 constexpr size_t kLocal = 64;
 constexpr uint32_t kFusedTile = 1u << 21;  // rays per fused launch: a 1080p frame in one
@@ -40,13 +38,15 @@ Marcher::Marcher(cl::Runtime& rt) : rt_(rt) {
   total_ = cl::Buffer<uint32_t>(rt, 1);
 }
 
-void Marcher::ensure_workspace(uint32_t max_batch) {
-  if (max_batch == batch_) return;
-  if (max_batch < 64 * kMinWave)
-    throw std::invalid_argument(fmt::format("field batch capacity {} is too small for the marcher (>= {})",
-                                            max_batch, 64 * kMinWave));
+void Marcher::ensure_workspace(uint32_t max_batch, uint32_t wave_min) {
+  if (max_batch == batch_ && wave_min == wave_min_) return;
+  if (max_batch < 64 * wave_min)
+    throw std::invalid_argument(
+        fmt::format("field batch capacity {} is too small for the marcher (>= 64 x wave_min = {})", max_batch,
+                    64 * wave_min));
   batch_ = max_batch;
-  tile_rays_ = max_batch / kMinWave;
+  wave_min_ = wave_min;
+  tile_rays_ = max_batch / wave_min;
   rays_ = cl::Buffer<MarchRay>(rt_, tile_rays_);
   for (auto* b : {&live_, &live_next_, &counts_, &offsets_, &flags_})
     *b = cl::Buffer<uint32_t>(rt_, tile_rays_);
@@ -68,13 +68,14 @@ uint32_t Marcher::scan(uint32_t n, const cl::Buffer<uint32_t>& in, cl::Buffer<ui
   return total;
 }
 
-void Marcher::march_tile(const VolumeScene& scene, MarchParams p, RenderResult& result) {
+void Marcher::march_tile(const VolumeScene& scene, MarchParams p, const RenderOptions& o,
+                         RenderResult& result) {
   const cl::Buffer<uint32_t>& occ = scene.occupancy.bits ? *scene.occupancy.bits : occ_dummy_;
   init_.args(p, rays_, surf_ca_, surf_depth_, live_).launch(rt_, p.ray_count, kLocal);
   uint32_t n_live = p.ray_count;
   while (n_live > 0) {
     p.live_count = n_live;
-    p.samples_per_wave = std::clamp(batch_ / n_live, kMinWave, kMaxWave);
+    p.samples_per_wave = std::clamp(batch_ / n_live, o.wave_min, o.wave_max);
     step_.args(p, rays_, live_, occ, counts_, seg_).launch(rt_, n_live, kLocal);
     uint32_t total = scan(n_live, counts_, offsets_);
     if (total > 0) {
@@ -93,6 +94,87 @@ void Marcher::march_tile(const VolumeScene& scene, MarchParams p, RenderResult& 
     result.samples_evaluated += total;
     ++result.waves;
     n_live = survivors;
+  }
+}
+
+namespace {
+void validate(const VolumeScene& scene, const Camera& cam, const RenderOptions& o) {
+  if (!scene.field) throw std::invalid_argument("render: the scene has no field to march");
+  if (cam.width == 0 || cam.height == 0 || uint64_t(cam.width) * cam.height > (1ull << 28))
+    throw std::invalid_argument(
+        fmt::format("render: image size {}x{} is outside 1..2^28 pixels", cam.width, cam.height));
+  for (int a = 0; a < 3; ++a)
+    if (!(scene.aabb_max[a] > scene.aabb_min[a]))
+      throw std::invalid_argument(fmt::format("render: the bounding box is empty along axis {}", a));
+  if (!(scene.step > 0.0f) || !(o.step_scale > 0.0f))
+    throw std::invalid_argument("render: the marching step and step scale must be positive");
+  if (o.spp == 0 || o.spp > 1024) throw std::invalid_argument("render: spp must be in 1..1024");
+  if (o.wave_min < 1 || o.wave_max < o.wave_min || o.wave_max > 256)
+    throw std::invalid_argument(
+        fmt::format("render: segments per wave must satisfy 1 <= wave_min <= wave_max <= 256 (got {} and {})",
+                    o.wave_min, o.wave_max));
+  if (scene.occupancy.layout != LGN_MARCH_OCC_NONE &&
+      (!scene.occupancy.bits || scene.occupancy.resolution == 0))
+    throw std::invalid_argument("render: an occupancy layout was given without its grid");
+}
+
+void validate_surfaces(const Camera& cam, const lorgnette::SurfaceBuffers* surfaces) {
+  if (surfaces) {
+    if (surfaces->width != int(cam.width) || surfaces->height != int(cam.height) ||
+        surfaces->color_alpha.size() != surfaces->pixel_count() * 4 ||
+        surfaces->depth.size() != surfaces->pixel_count() ||
+        (!surfaces->filter.empty() && surfaces->filter.size() != surfaces->pixel_count() * 3))
+      throw std::invalid_argument(
+          fmt::format("render: surface buffers are {}x{} but the camera is {}x{}: run the surface pass with "
+                      "the same camera",
+                      surfaces->width, surfaces->height, cam.width, cam.height));
+  }
+}
+}  // namespace
+
+RenderResult Marcher::render(const VolumeScene& scene, const Camera& cam,
+                             const lorgnette::SurfaceBuffers* surfaces, const RenderOptions& o) {
+  validate_surfaces(cam, surfaces);
+  PendingSurfaces pending;
+  if (surfaces) {
+    pending.row_begin = 0;
+    pending.row_end = cam.height;
+    pending.wait = [surfaces]() -> const lorgnette::SurfaceBuffers& { return *surfaces; };
+  }
+  return render(scene, cam, pending, o);
+}
+
+void Marcher::upload_surfaces(const lorgnette::SurfaceBuffers& s, uint32_t begin, uint32_t end) {
+  const size_t pixels = s.pixel_count();
+  if (surf_depth_.size() != pixels) {
+    surf_ca_ = cl::Buffer<float>(rt_, 4 * pixels);
+    surf_depth_ = cl::Buffer<float>(rt_, pixels);
+    surf_filter_ = cl::Buffer<float>(rt_, 3 * pixels);
+  }
+  // Only the band is read by the kernels (rows outside it are marched without a surface).
+  surf_ca_.write(rt_, s.color_alpha.data() + 4ull * begin, 4ull * (end - begin), 4ull * begin);
+  surf_depth_.write(rt_, s.depth.data() + begin, end - begin, begin);
+  if (s.filter.empty())
+    surf_filter_.fill(rt_, 1.0f, 3ull * begin, 3ull * (end - begin));
+  else
+    surf_filter_.write(rt_, s.filter.data() + 3ull * begin, 3ull * (end - begin), 3ull * begin);
+}
+
+void Marcher::march_pixels(const VolumeScene& scene, MarchParams p, uint32_t begin, uint32_t end,
+                           uint32_t spp, const RenderOptions& o, RenderResult& result) {
+  for (uint32_t s = 0; s < spp; ++s) {
+    auto j = subpixel_offset(s);
+    p.jitter_u = j[0];
+    p.jitter_v = j[1];
+    const uint32_t tile = fused_on_ ? kFusedTile : tile_rays_;
+    for (uint32_t first = begin; first < end; first += tile) {
+      p.ray_begin = first;
+      p.ray_count = std::min(tile, end - first);
+      if (fused_on_)
+        march_tile_fused(p, scene, result);
+      else
+        march_tile(scene, p, o, result);
+    }
   }
 }
 
@@ -119,40 +201,17 @@ void Marcher::march_tile_fused(MarchParams p, const VolumeScene& scene, RenderRe
 }
 
 namespace {
-void validate(const VolumeScene& scene, const Camera& cam, const lorgnette::SurfaceBuffers* surfaces,
-              const RenderOptions& o) {
-  if (!scene.field) throw std::invalid_argument("render: the scene has no field to march");
-  if (cam.width == 0 || cam.height == 0 || uint64_t(cam.width) * cam.height > (1ull << 28))
-    throw std::invalid_argument(
-        fmt::format("render: image size {}x{} is outside 1..2^28 pixels", cam.width, cam.height));
-  for (int a = 0; a < 3; ++a)
-    if (!(scene.aabb_max[a] > scene.aabb_min[a]))
-      throw std::invalid_argument(fmt::format("render: the bounding box is empty along axis {}", a));
-  if (!(scene.step > 0.0f) || !(o.step_scale > 0.0f))
-    throw std::invalid_argument("render: the marching step and step scale must be positive");
-  if (o.spp == 0 || o.spp > 1024) throw std::invalid_argument("render: spp must be in 1..1024");
-  if (scene.occupancy.layout != LGN_MARCH_OCC_NONE &&
-      (!scene.occupancy.bits || scene.occupancy.resolution == 0))
-    throw std::invalid_argument("render: an occupancy layout was given without its grid");
-  if (surfaces) {
-    if (surfaces->width != int(cam.width) || surfaces->height != int(cam.height) ||
-        surfaces->color_alpha.size() != surfaces->pixel_count() * 4 ||
-        surfaces->depth.size() != surfaces->pixel_count() ||
-        (!surfaces->filter.empty() && surfaces->filter.size() != surfaces->pixel_count() * 3))
-      throw std::invalid_argument(
-          fmt::format("render: surface buffers are {}x{} but the camera is {}x{}: run the surface pass with "
-                      "the same camera",
-                      surfaces->width, surfaces->height, cam.width, cam.height));
-  }
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 }  // namespace
 
-RenderResult Marcher::render(const VolumeScene& scene, const Camera& cam,
-                             const lorgnette::SurfaceBuffers* surfaces, const RenderOptions& o) {
-  validate(scene, cam, surfaces, o);
+RenderResult Marcher::render(const VolumeScene& scene, const Camera& cam, const PendingSurfaces& surfaces,
+                             const RenderOptions& o) {
+  validate(scene, cam, o);
   auto start = std::chrono::steady_clock::now();
   fused_on_ = pick_fused(scene, o);
-  ensure_workspace(scene.field->max_batch());
+  ensure_workspace(scene.field->max_batch(), o.wave_min);
   const uint32_t pixels = cam.width * cam.height;
   if (out_depth_.size() != pixels) {
     out_rgba_ = cl::Buffer<float>(rt_, 4ull * pixels);
@@ -162,12 +221,7 @@ RenderResult Marcher::render(const VolumeScene& scene, const Camera& cam,
   out_rgba_.fill(rt_, 0.0f);
   out_depth_.fill(rt_, 0.0f);
   out_samples_.fill(rt_, 0u);
-  if (surfaces) {
-    surf_ca_ = cl::Buffer<float>(rt_, surfaces->color_alpha);
-    surf_depth_ = cl::Buffer<float>(rt_, surfaces->depth);
-    surf_filter_ = surfaces->filter.empty() ? cl::Buffer<float>(rt_, std::vector<float>(3ull * pixels, 1.0f))
-                                            : cl::Buffer<float>(rt_, surfaces->filter);
-  } else if (surf_ca_.size() == 0) {
+  if (surf_ca_.size() == 0) {  // bound (and never read) while no surface is
     surf_ca_ = cl::Buffer<float>(rt_, 4);
     surf_depth_ = cl::Buffer<float>(rt_, 1);
     surf_filter_ = cl::Buffer<float>(rt_, 3);
@@ -184,7 +238,7 @@ RenderResult Marcher::render(const VolumeScene& scene, const Camera& cam,
   p.min_transmittance = o.min_transmittance;
   p.sample_weight = 1.0f / float(o.spp);
   p.alpha_mode = o.alpha ? 1u : 0u;
-  p.has_surface = surfaces ? 1u : 0u;
+  p.has_surface = 0u;
   p.occ_layout = scene.occupancy.layout;
   p.occ_res = scene.occupancy.resolution;
   if (o.max_samples_per_ray > 0) {
@@ -197,21 +251,26 @@ RenderResult Marcher::render(const VolumeScene& scene, const Camera& cam,
   }
   p.field_stride = batch_;
 
+  // The band of rows the surface may cover; each pixel still gets its passes in order s = 0, 1, ...,
+  // so the sums (and the image) do not depend on the order of the ranges.
+  const bool has_band = bool(surfaces.wait) && surfaces.row_begin < std::min(surfaces.row_end, cam.height);
+  const uint32_t band_begin = has_band ? surfaces.row_begin * cam.width : pixels;
+  const uint32_t band_end = has_band ? std::min(surfaces.row_end, cam.height) * cam.width : pixels;
   RenderResult result;
-  for (uint32_t s = 0; s < o.spp; ++s) {
-    auto j = subpixel_offset(s);
-    p.jitter_u = j[0];
-    p.jitter_v = j[1];
-    const uint32_t tile = fused_on_ ? kFusedTile : tile_rays_;
-    for (uint32_t begin = 0; begin < pixels; begin += tile) {
-      p.ray_begin = begin;
-      p.ray_count = std::min(tile, pixels - begin);
-      if (fused_on_)
-        march_tile_fused(p, scene, result);
-      else
-        march_tile(scene, p, result);
-    }
+  march_pixels(scene, p, 0, band_begin, o.spp, o, result);
+  march_pixels(scene, p, band_end, pixels, o.spp, o, result);
+  if (has_band) {
+    auto t_wait = std::chrono::steady_clock::now();
+    const lorgnette::SurfaceBuffers& s = surfaces.wait();
+    result.times.surface_wait = seconds_since(t_wait);
+    validate_surfaces(cam, &s);
+    auto t_up = std::chrono::steady_clock::now();
+    upload_surfaces(s, band_begin, band_end);
+    result.times.upload = seconds_since(t_up);
+    p.has_surface = 1u;
+    march_pixels(scene, p, band_begin, band_end, o.spp, o, result);
   }
+  auto t_read = std::chrono::steady_clock::now();
   result.rays = uint64_t(pixels) * o.spp;
   result.rgba = Image(int(cam.width), int(cam.height), 4);
   result.depth = Image(int(cam.width), int(cam.height), 1);
@@ -224,7 +283,10 @@ RenderResult Marcher::render(const VolumeScene& scene, const Camera& cam,
     result.samples_composited += counts[i];
   }
   if (fused_on_) result.samples_evaluated = result.samples_composited;  // it evaluates what it composites
-  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  result.times.readback = seconds_since(t_read);
+  result.seconds = seconds_since(start);
+  result.times.march =
+      result.seconds - result.times.surface_wait - result.times.upload - result.times.readback;
   return result;
 }
 

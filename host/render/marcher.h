@@ -5,6 +5,7 @@
 #pragma once
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <memory>
 
 #include "host/cl/kernel.h"
@@ -36,9 +37,24 @@ struct RenderOptions {
   float step_scale = 1.0f;           // multiplies the scene's step (>1 = faster, coarser)
   uint32_t max_samples_per_ray = 0;  // safety cap on segments per ray; 0: the box diagonal in steps + 8
   std::array<float, 3> background{1.0f, 1.0f, 1.0f};  // linear RGB behind the head
-  bool alpha = false;                       // true: no background; rgb premultiplied by alpha = 1 - T
-  float min_transmittance = 1e-4f;          // early termination threshold
+  bool alpha = false;               // true: no background; rgb premultiplied by alpha = 1 - T
+  float min_transmittance = 1e-4f;  // early termination threshold
+  // Segments each live ray emits per wave: wave_min while the tile is full, up to wave_max as rays
+  // finish. Small waves evaluate fewer samples past early termination; every wave costs its kernel
+  // launches and two read-backs (docs/bench/frames.md measures the trade). The image does not depend
+  // on them.
+  uint32_t wave_min = 2, wave_max = 8;
   MarcherKind marcher = MarcherKind::Auto;  // wavefront or fused kernels (fused_marcher.h)
+};
+
+// Where the frame's time went (seconds). The march's kernels run while the host waits on its
+// read-backs, so `march` is the device's marching time as the host sees it.
+struct FrameTimes {
+  double march = 0.0;         // marching the frame, less the lines below
+  double upload = 0.0;        // surface buffers to the device
+  double readback = 0.0;      // colour, depth and counts back to the host
+  double surface_wait = 0.0;  // the march idle, waiting for the surface pass to finish
+  double surface = 0.0;       // the surface pass itself (on its own thread when concurrent); 0 without
 };
 
 struct RenderResult {
@@ -49,8 +65,18 @@ struct RenderResult {
   uint64_t samples_composited = 0;  // sum of `samples`
   uint64_t rays = 0;
   uint32_t waves = 0;
-  double seconds = 0.0;
+  double seconds = 0.0;  // the whole frame as the caller waited for it
+  FrameTimes times;
   double samples_per_ray() const { return rays ? double(samples_composited) / double(rays) : 0.0; }
+};
+
+// Surface buffers still being computed (the surface pass on another thread) when the march starts.
+// Rows outside [row_begin, row_end) have no surface (S_α = 0 there): they are marched first. `wait`
+// blocks until the buffers are complete and returns them; it is called once, only when the band is
+// not empty. An empty `wait` means no surface at all.
+struct PendingSurfaces {
+  uint32_t row_begin = 0, row_end = 0;
+  std::function<const lorgnette::SurfaceBuffers&()> wait;
 };
 
 class Marcher {
@@ -60,17 +86,24 @@ class Marcher {
   // Throws std::invalid_argument on inconsistent inputs (names what and how to fix).
   RenderResult render(const VolumeScene& scene, const Camera& cam, const lorgnette::SurfaceBuffers* surfaces,
                       const RenderOptions& options);
+  // The same frame with the surface still to come: the rows without a surface are marched while it
+  // is computed, the band after `surfaces.wait()`. The image equals the one above bit for bit.
+  RenderResult render(const VolumeScene& scene, const Camera& cam, const PendingSurfaces& surfaces,
+                      const RenderOptions& options);
 
  private:
-  void ensure_workspace(uint32_t max_batch);
-  void march_tile(const VolumeScene& scene, MarchParams p, RenderResult& result);
+  void ensure_workspace(uint32_t max_batch, uint32_t wave_min);
+  void march_pixels(const VolumeScene& scene, MarchParams p, uint32_t begin, uint32_t end, uint32_t spp,
+                    const RenderOptions& o, RenderResult& result);
+  void march_tile(const VolumeScene& scene, MarchParams p, const RenderOptions& o, RenderResult& result);
   bool pick_fused(const VolumeScene& scene, const RenderOptions& o);
   void march_tile_fused(MarchParams p, const VolumeScene& scene, RenderResult& result);
+  void upload_surfaces(const lorgnette::SurfaceBuffers& s, uint32_t begin, uint32_t end);
   uint32_t scan(uint32_t n, const cl::Buffer<uint32_t>& in, cl::Buffer<uint32_t>& out);
 
   cl::Runtime& rt_;
   cl::Kernel init_, step_, scan_blocks_, scan_top_, scan_apply_, compact_, gather_, composite_;
-  uint32_t batch_ = 0, tile_rays_ = 0;
+  uint32_t batch_ = 0, wave_min_ = 0, tile_rays_ = 0;
   cl::Buffer<MarchRay> rays_;
   cl::Buffer<uint32_t> live_, live_next_, counts_, offsets_, flags_, block_sums_, total_, occ_dummy_;
   cl::Buffer<cl_float2> seg_;

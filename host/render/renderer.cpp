@@ -25,16 +25,26 @@ std::vector<Camera> capture_cameras(const nerf::NerfModel& model) {
   }
 }
 
-RenderResult Renderer::render(nerf::NerfModel& model, const Camera& cam,
-                              const lorgnette::SurfaceBuffers* surfaces, const RenderOptions& options) {
-  NerfSource source(model.field());
+VolumeScene model_scene(nerf::NerfModel& model, RadianceSource& source) {
   VolumeScene scene;
   scene.aabb_min = model.aabb().min;
   scene.aabb_max = model.aabb().max;
   scene.step = model.step();
   scene.occupancy = {LGN_MARCH_OCC_LINEAR, model.occupancy_resolution(), &model.occupancy_bits()};
   scene.field = &source;
-  return marcher_.render(scene, cam, surfaces, options);
+  return scene;
+}
+
+RenderResult Renderer::render(nerf::NerfModel& model, const Camera& cam,
+                              const lorgnette::SurfaceBuffers* surfaces, const RenderOptions& options) {
+  NerfSource source(model.field());
+  return marcher_.render(model_scene(model, source), cam, surfaces, options);
+}
+
+RenderResult Renderer::render_frame(nerf::NerfModel& model, const Camera& cam, const GlassesSurfaces* glasses,
+                                    const FrameOptions& options) {
+  NerfSource source(model.field());
+  return render_hybrid_frame(marcher_, model_scene(model, source), cam, glasses, options);
 }
 
 RenderResult render(nerf::NerfModel& model, const Camera& cam, const lorgnette::SurfaceBuffers* surfaces,

@@ -4,6 +4,7 @@
 // march.
 #pragma once
 #include "host/nerf/model.h"
+#include "host/render/hybrid_frame.h"
 #include "host/render/marcher.h"
 #include "host/render/orbit.h"
 
@@ -30,10 +31,17 @@ class Renderer {
   // surfaces: nullptr for the head alone. Throws std::invalid_argument on inconsistent inputs.
   RenderResult render(nerf::NerfModel& model, const Camera& cam, const lorgnette::SurfaceBuffers* surfaces,
                       const RenderOptions& options);
+  // The head with the glasses' surface pass run for the same camera, overlapped with the march
+  // (hybrid_frame.h); glasses: nullptr for the head alone.
+  RenderResult render_frame(nerf::NerfModel& model, const Camera& cam, const GlassesSurfaces* glasses,
+                            const FrameOptions& options);
 
  private:
   Marcher marcher_;
 };
+
+// The model as the marcher's scene: its box, step, occupancy grid, and `source` (its field).
+VolumeScene model_scene(nerf::NerfModel& model, RadianceSource& source);
 
 // One-shot convenience (builds the marcher; kernels come from the runtime's cache).
 RenderResult render(nerf::NerfModel& model, const Camera& cam, const lorgnette::SurfaceBuffers* surfaces,

@@ -2,12 +2,14 @@
 // a pixel centre converges to 0.5 with the stated error for N samples; an opaque plane gives full
 // coverage and exact depths; an empty view gives zero coverage and +inf depth; a clear lens at
 // normal incidence covers exactly its Fresnel reflectance; results are deterministic and do not
-// depend on the thread count.
+// depend on the thread count; tracing only inside the frame's projected screen bounds gives the
+// buffers of tracing every pixel, bit for bit.
 #include "mesh/surface_pass.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 
 #include "mesh/disney_brdf.h"
 #include "mesh/parametric.h"
@@ -169,6 +171,49 @@ TEST(SurfacePass, DeterministicAndThreadCountIndependent) {
   double coverage = 0;
   for (size_t i = 0; i < a.pixel_count(); ++i) coverage += a.color_alpha[4 * i + 3];
   EXPECT_GT(coverage, 10.0);  // the frame is in view
+}
+
+// Every pixel's samples are seeded by the pixel alone, so the clipped pass must equal the full one
+// bit for bit: where the full pass hits nothing (S_α = 0, S_t = +inf, F = 1, the buffers' initial
+// values) and where it hits (the same rays are traced). Cameras: the frame seen from the front and
+// from the side at two distances (the rectangle must skip most pixels), and from inside its box (a
+// grid point behind the camera: the whole image is traced).
+TEST(SurfacePass, ScreenBoundsPassEqualsFullPass) {
+  ParametricFrame f = make_parametric_frame({});
+  Eigen::Matrix4f place = Eigen::Matrix4f::Identity();
+  place.topLeftCorner<3, 3>() *= 0.001f;  // mm -> m
+  SurfacePass pass(f.mesh, place);
+  struct View {
+    Eigen::Vector3f eye;
+    bool expect_clip;
+  };
+  const View views[] = {{{0.02f, 0.01f, 0.5f}, true},
+                        {{0.45f, 0.05f, 0.25f}, true},
+                        {{0.01f, -0.03f, 1.2f}, true},
+                        {{0.0f, 0.0f, -0.01f}, false}};
+  for (const View& v : views) {
+    Camera cam = look_at_camera(v.eye, {0, 0, -0.03f}, {0, 1, 0}, 40.0f, 160, 90);
+    std::array<int, 4> r = pass.screen_rect(cam);
+    const int area = (r[2] - r[0]) * (r[3] - r[1]);
+    if (v.expect_clip)
+      EXPECT_LT(area, 160 * 90 / 2) << "the rectangle should skip most of the image";
+    else
+      EXPECT_EQ(area, 160 * 90) << "a grid point behind the camera must give the whole image";
+    SurfaceParams p;
+    p.samples_per_pixel = 2;
+    SurfaceBuffers clipped = pass.render(cam, p);
+    p.clip_to_bounds = false;
+    SurfaceBuffers full = pass.render(cam, p);
+    size_t hits = 0;
+    for (size_t i = 0; i < full.pixel_count(); ++i) hits += full.color_alpha[4 * i + 3] > 0.0f;
+    EXPECT_GT(hits, 20u) << "the frame should be in view";
+    // memcmp-equal: == on floats would also pass for -0 vs 0 and fail on NaN.
+    ASSERT_EQ(clipped.color_alpha.size(), full.color_alpha.size());
+    EXPECT_EQ(0,
+              std::memcmp(clipped.color_alpha.data(), full.color_alpha.data(), 4 * full.color_alpha.size()));
+    EXPECT_EQ(0, std::memcmp(clipped.depth.data(), full.depth.data(), 4 * full.depth.size()));
+    EXPECT_EQ(0, std::memcmp(clipped.filter.data(), full.filter.data(), 4 * full.filter.size()));
+  }
 }
 
 TEST(SurfacePass, BadParametersAreClearErrors) {
