@@ -74,9 +74,8 @@ std::vector<ViewRecord> detect_views(ViewSource& source, const LandmarkDetector&
   std::vector<ViewRecord> out(cameras.size());
   // The cap's views are framed on the face (front search): its expected width lets the detector
   // run its HOG stage on a smaller image (DetectorOptions::hog_face_px).
-  const double face_px = opt.front.face_fraction * opt.front.width;
   auto detect = [&](size_t i, Image img) {
-    out[i].detection = detector.detect(img, face_px);
+    out[i].detection = detector.detect(img, opt.front.face_fraction * cameras[i].width);
     if (!opt.debug_dir.empty()) out[i].image = std::move(img);
   };
   // One detection in flight at most (the detector is not thread-safe); the future's destructor

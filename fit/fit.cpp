@@ -47,8 +47,7 @@ std::string yaw_list(const std::vector<ViewRecord>& views, bool found) {
 std::vector<ViewRecord> plan_and_detect(ViewSource& src, const LandmarkDetector& det, const Orbit& orbit,
                                         const FitOptions& opt) {
   std::vector<Eigen::Vector2d> angles = cap_angles(opt.cap);
-  std::vector<Camera> cams;
-  for (const auto& a : angles) cams.push_back(orbit_camera(orbit, a.x(), a.y()));
+  std::vector<Camera> cams = cap_cameras(orbit, opt.cap);
   std::vector<ViewRecord> views = detect_views(src, det, cams, opt);
   for (size_t i = 0; i < views.size(); ++i)
     views[i].yaw_deg = angles[i].x(), views[i].pitch_deg = angles[i].y();
@@ -255,13 +254,39 @@ void rest_on_skin(FitRun& run, const HeadProbe& head) {
   run.r.contact = refine_contact(run.r.placement, head, run.r.head.d_fwd);
 }
 
-// Spreads the temples, then re-measures the frame.
+// The head as the temples meet it: hair removed (hair.h) when the source has colour and the nose
+// line gives the skin's tone; else `head` itself.
+HeadProbe temple_probe(FitRun& run, const HeadProbe& head) {
+  FitResult& r = run.r;
+  if (!run.opt.hair.enabled) return head;
+  std::vector<Eigen::Vector3d> nose_line;
+  for (int k = lm::kNoseBridgeTop; k <= lm::kNoseTip; ++k)
+    if (r.points[k].ok) nose_line.push_back(r.points[k].position);
+  ViewSource& source = run.source;
+  ColourFn colour = [&source](const std::vector<Eigen::Vector3f>& p, const std::vector<Eigen::Vector3f>& d) {
+    return source.colour(p, d);
+  };
+  r.skin = skin_tone(colour, nose_line, -r.head.d_fwd);
+  if (!r.skin) {
+    spdlog::info("fit: no skin colour from this head (a source without colour): hair counts as solid");
+    return head;
+  }
+  spdlog::info(
+      "fit: skin luminance {:.3f} from {} nose-line points; the temples ignore dense volume below {:.3f}",
+      r.skin->luminance, r.skin->samples, run.opt.hair.max_luminance_ratio * r.skin->luminance);
+  HeadProbe skin = head;
+  skin.density = density_without_hair(head, std::move(colour), *r.skin, run.opt.hair);
+  return skin;
+}
+
+// Spreads the temples against the head without its hair, then re-measures the frame on it.
 void spread_temples(FitRun& run, const HeadProbe& head) {
   StageTimer t{run.r, "temples"};
   FitResult& r = run.r;
+  const HeadProbe skin = temple_probe(run, head);
   TempleFitInputs ti{r.placement.transform, run.glasses.ref.hinge_l, run.glasses.ref.hinge_r};
-  r.temples = fit_temples(ti, head, run.opt.place.max_penetration_mm, run.opt.temples);
-  measure_contact(r.contact, r.placement, head, mesh::bend_points(r.temples.bend, head.frame_points));
+  r.temples = fit_temples(ti, skin, run.opt.place.max_penetration_mm, run.opt.temples);
+  measure_contact(r.contact, r.placement, skin, mesh::bend_points(r.temples.bend, skin.frame_points));
 }
 
 }  // namespace

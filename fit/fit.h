@@ -6,6 +6,7 @@
 // std::runtime_error saying what was seen and what to try.
 #pragma once
 #include <map>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -13,6 +14,7 @@
 #include "fit/ears.h"
 #include "fit/front_search.h"
 #include "fit/glasses_input.h"
+#include "fit/hair.h"
 #include "fit/head_frame.h"
 #include "fit/landmarks_dlib.h"
 #include "fit/place.h"
@@ -70,6 +72,7 @@ struct FitOptions {
   HeadOptions head;
   PlaceOptions place;
   TempleFitOptions temples;      // "temples": spread them where they clip (needs the glasses' hinges)
+  HairOptions hair;              // ... against the head without its hair (hair.h)
   float surface_density = 0.0f;  // skin for framing, surface casts and contact; 0: the source's own
   std::string debug_dir;         // non-empty: write annotated views there
 };
@@ -103,6 +106,7 @@ struct FitResult {
   int views_used = 0;                                   // views with a face
   std::vector<std::pair<std::string, double>> seconds;  // per stage, in order
   TempleFitResult temples;                              // the temple spread after the contact refinement
+  std::optional<SkinTone> skin;  // the skin's tone the hair test used (none: hair counted as solid)
   double total_seconds() const;
 };
 

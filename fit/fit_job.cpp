@@ -27,6 +27,7 @@ FitOptions fit_options(const FitSettings& s) {
   opt.cap.yaw_range_deg = s.yaw_range_deg;
   opt.cap.pitch_range_deg = s.pitch_range_deg;
   opt.front.width = opt.front.height = s.resolution;
+  opt.cap.size = s.cap_resolution;
   opt.detection.detector.upsample = s.upsample;
   if (!s.landmark_model.empty()) opt.detection.detector.model_path = s.landmark_model;
   if (!s.mean_face.empty()) opt.head.mean_face_path = s.mean_face;

@@ -7,6 +7,9 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <stdexcept>
+
+#include "kernels/train/occupancy.h"
 
 namespace lorgnette::fit {
 
@@ -24,31 +27,65 @@ Image NerfViewSource::render(const Camera& cam) {
   return out;
 }
 
-std::vector<float> NerfViewSource::density(const std::vector<Eigen::Vector3f>& points) {
+std::vector<bool> NerfViewSource::upload_positions(const std::vector<Eigen::Vector3f>& points, size_t start,
+                                                   uint32_t n) {
   field::Field& f = model_.field();
   cl::Runtime& rt = model_.runtime();
   const uint32_t batch = f.max_batch();
   if (pos_.size() != 3u * batch)
     pos_ = cl::Buffer<float>(rt, 3u * batch), sigma_ = cl::Buffer<float>(rt, batch);
   const nerf::Aabb& box = model_.aabb();
-  std::vector<float> out(points.size(), 0.0f), soa(3u * batch);
+  const nerf::OccupancyGrid& occ = model_.occupancy();
+  std::vector<float> soa(3u * batch);
+  std::vector<bool> inside(n);
+  for (uint32_t i = 0; i < n; ++i) {
+    const Eigen::Vector3f& p = points[start + i];
+    float q[3];
+    for (int a = 0; a < 3; ++a) {
+      q[a] = (p[a] - box.min[a]) / box.extent(a);
+      soa[a * batch + i] = std::clamp(q[a], 0.0f, 1.0f);
+    }
+    inside[i] = occ_test(occ.bits.data(), occ.res, q[0], q[1], q[2]) != 0;
+  }
+  pos_.write(rt, soa);
+  return inside;
+}
+
+std::vector<float> NerfViewSource::density(const std::vector<Eigen::Vector3f>& points) {
+  field::Field& f = model_.field();
+  cl::Runtime& rt = model_.runtime();
+  const uint32_t batch = f.max_batch();
+  std::vector<float> out(points.size(), 0.0f);
   for (size_t start = 0; start < points.size(); start += batch) {
     const uint32_t n = uint32_t(std::min<size_t>(batch, points.size() - start));
-    std::vector<bool> inside(n);
-    for (uint32_t i = 0; i < n; ++i) {
-      const Eigen::Vector3f& p = points[start + i];
-      bool in = true;
-      for (int a = 0; a < 3; ++a) {
-        float q = (p[a] - box.min[a]) / box.extent(a);
-        in = in && q >= 0.0f && q <= 1.0f;
-        soa[a * batch + i] = std::clamp(q, 0.0f, 1.0f);
-      }
-      inside[i] = in;
-    }
-    pos_.write(rt, soa);
+    std::vector<bool> inside = upload_positions(points, start, n);
     f.density(pos_, n, sigma_);
     std::vector<float> s = sigma_.read(rt, n);
     for (uint32_t i = 0; i < n; ++i) out[start + i] = inside[i] ? s[i] : 0.0f;
+  }
+  return out;
+}
+
+std::vector<Eigen::Vector3f> NerfViewSource::colour(const std::vector<Eigen::Vector3f>& points,
+                                                    const std::vector<Eigen::Vector3f>& dirs) {
+  if (dirs.size() != points.size())
+    throw std::invalid_argument("NerfViewSource::colour: one direction per point is needed");
+  field::Field& f = model_.field();
+  cl::Runtime& rt = model_.runtime();
+  const uint32_t batch = f.max_batch();
+  if (dir_.size() != 3u * batch)
+    dir_ = cl::Buffer<float>(rt, 3u * batch), rgb_ = cl::Buffer<float>(rt, 3u * batch);
+  std::vector<Eigen::Vector3f> out(points.size(), Eigen::Vector3f::Zero());
+  std::vector<float> soa(3u * batch);
+  for (size_t start = 0; start < points.size(); start += batch) {
+    const uint32_t n = uint32_t(std::min<size_t>(batch, points.size() - start));
+    upload_positions(points, start, n);
+    for (uint32_t i = 0; i < n; ++i)
+      for (int a = 0; a < 3; ++a) soa[a * batch + i] = dirs[start + i].normalized()[a];
+    dir_.write(rt, soa);
+    f.forward(pos_, dir_, n, sigma_, rgb_, false);
+    std::vector<float> c = rgb_.read(rt, 3u * batch);
+    for (uint32_t i = 0; i < n; ++i) out[start + i] = {c[i], c[batch + i], c[2 * batch + i]};
   }
   return out;
 }

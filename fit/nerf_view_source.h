@@ -1,7 +1,10 @@
 // The ViewSource over a trained NeRF (host/nerf NerfModel, rendered with host/render's marcher):
 // views composited over white, density = the field's sigma at AABB-normalised points (0 outside
-// the box), and a prior from the capture's cameras (mean up, mean direction towards the cameras)
-// read from the model's dataset when it is still there.
+// the box and in the occupancy grid's empty cells, where the marcher never samples: a room-model
+// training leaves only the subject's connected region occupied, so the fit probes the subject's
+// density, never the room's), colour = the field's RGB there, and a prior from the capture's
+// cameras (mean up, mean direction towards the cameras) read from the model's dataset when it is
+// still there.
 #pragma once
 #include <memory>
 #include <string>
@@ -20,6 +23,8 @@ class NerfViewSource : public ViewSource {
   NerfViewSource(nerf::NerfModel& model, ViewPrior prior, render::RenderOptions options = {});
   Image render(const Camera& cam) override;
   std::vector<float> density(const std::vector<Eigen::Vector3f>& points) override;
+  std::vector<Eigen::Vector3f> colour(const std::vector<Eigen::Vector3f>& points,
+                                      const std::vector<Eigen::Vector3f>& dirs) override;
   Bounds bounds() const override;
   ViewPrior prior() const override { return prior_; }
   // kSurfaceOpticalDepth per marching step: the models size their step to 1.1-1.3 mm whatever the scene
@@ -32,7 +37,11 @@ class NerfViewSource : public ViewSource {
   ViewPrior prior_;
   render::RenderOptions options_;
   render::Renderer renderer_;
-  cl::Buffer<float> pos_, sigma_;
+  // Normalised positions of `points` from `start` (at most a batch) into pos_ (SoA, clamped);
+  // returns which lie inside the box in an occupied cell.
+  std::vector<bool> upload_positions(const std::vector<Eigen::Vector3f>& points, size_t start, uint32_t n);
+
+  cl::Buffer<float> pos_, sigma_, dir_, rgb_;
 };
 
 // Mean camera up and the direction from the AABB centre to the mean camera position, from an

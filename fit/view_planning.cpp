@@ -39,8 +39,10 @@ std::vector<Eigen::Vector2d> cap_angles(const CapOptions& opt) {
 }
 
 std::vector<Camera> cap_cameras(const Orbit& orbit, const CapOptions& opt) {
+  Orbit cap = orbit;
+  if (opt.size > 0) cap.width = cap.height = opt.size;
   std::vector<Camera> cams;
-  for (const auto& a : cap_angles(opt)) cams.push_back(orbit_camera(orbit, a.x(), a.y()));
+  for (const auto& a : cap_angles(opt)) cams.push_back(orbit_camera(cap, a.x(), a.y()));
   return cams;
 }
 

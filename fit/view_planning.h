@@ -24,6 +24,12 @@ struct CapOptions {
   double yaw_range_deg =
       20.0;  // cameras span [-range, +range] in yaw (stability study: 20 best, fails from 45)
   double pitch_range_deg = 15.0;  // ... and [-range, +range] in pitch
+  // Pixels (square) of the cap's views; 0: the front search's size. The cap is framed on the face
+  // (FrontSearchOptions::face_fraction), the front search on the whole head, so the cap needs fewer:
+  // at 256 the face is 128 px wide, well above dlib's 80 px window, and the scan's fit errors stay
+  // within their targets (docs/bench/fit.md, resolution sweep). Rendering the views is most of a
+  // fit on a NeRF: 256 renders 2.25x fewer rays than 384 (docs/bench/real-captures.md).
+  int size = 256;
 };
 
 // The camera at (yaw, pitch) degrees on the orbit, looking at its target.

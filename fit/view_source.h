@@ -32,6 +32,13 @@ class ViewSource {
   virtual Image render(const Camera& cam) = 0;
   // Density at scene points (>= 0); for a mesh an inside indicator scaled to a large density.
   virtual std::vector<float> density(const std::vector<Eigen::Vector3f>& points) = 0;
+  // Linear RGB at scene points seen along unit `dirs` (same size), for telling hair from skin
+  // (hair.h); empty: this source has no colour there (the hair test is then off).
+  virtual std::vector<Eigen::Vector3f> colour(const std::vector<Eigen::Vector3f>& points,
+                                              const std::vector<Eigen::Vector3f>& dirs) {
+    (void)points, (void)dirs;
+    return {};
+  }
   virtual Bounds bounds() const = 0;
   virtual ViewPrior prior() const { return {}; }
   // Density above which a point counts as inside the head (skin, for the contact and the surface

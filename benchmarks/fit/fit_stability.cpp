@@ -132,7 +132,7 @@ int main(int argc, char** argv) {
       add("noise_px", n, [n](FitOptions& o) { o.detection.noise_px = n; });
   if (want("resolution"))
     for (double w : pick({128, 192, 256, 384, 512, 768}, {256}))
-      add("resolution", w, [w](FitOptions& o) { o.front.width = o.front.height = int(w); });
+      add("resolution", w, [w](FitOptions& o) { o.front.width = o.front.height = o.cap.size = int(w); });
   if (want("ablation")) {
     add("no_snap", 0, [](FitOptions& o) { o.landmarks.snap_to_skin = false; });
     add("no_snap_no_cast", 0,

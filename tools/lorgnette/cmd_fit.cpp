@@ -57,9 +57,13 @@ void add_fit(CLI::App& app, GlobalOptions& global) {
       ->capture_default_str();
   cmd->add_option("--pitch-range", a->settings.pitch_range_deg, "views span +-this pitch (deg)")
       ->capture_default_str();
-  cmd->add_option("--resolution", a->settings.resolution, "view size in pixels")
+  cmd->add_option("--resolution", a->settings.resolution, "front-search view size in pixels (whole head)")
       ->capture_default_str()
       ->check(CLI::Range(64, 4096));
+  cmd->add_option("--cap-resolution", a->settings.cap_resolution,
+                  "size in pixels of the K views framed on the face (0: --resolution)")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 4096));
   cmd->add_option("--upsample", a->settings.upsample, "detector up-sampling steps for small faces")
       ->check(CLI::Range(0, 3));
   cmd->add_option("--scale-policy", a->settings.policy, "stretch (paper) or true-size")
