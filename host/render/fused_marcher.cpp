@@ -64,7 +64,7 @@ void FusedMarcher::prepare(const VolumeScene& scene) {
     // The weights go to local memory when a work-group's share fits (about 38 KB for the default
     // field against 48 KB on NVIDIA GPUs); otherwise every work-item reads them from global memory.
     const uint64_t bytes = uint64_t(desc_.mlp_count) * sizeof(float);
-    const bool local = bytes + kLocalReserve <= rt_.device().local_mem_bytes;
+    const bool local = allow_local_ && bytes + kLocalReserve <= rt_.device().local_mem_bytes;
     options += fmt::format(" -DLGN_FUSED_LOCAL_WEIGHTS={}", local ? 1 : 0);
     if (local) local_bytes_ = bytes;
   } else if (k.analytic) {

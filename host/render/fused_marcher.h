@@ -36,7 +36,9 @@ struct FusedMarchBuffers {
 
 class FusedMarcher {
  public:
-  explicit FusedMarcher(cl::Runtime& rt) : rt_(rt) {}
+  // local_weights: stage the MLP weights in local memory when they fit the device (false: always
+  // read them from global memory, the path of fields too large for local memory; tests force it).
+  explicit FusedMarcher(cl::Runtime& rt, bool local_weights = true) : rt_(rt), allow_local_(local_weights) {}
   // Whether the source can be evaluated inside the kernel (an analytic field or the NeRF field).
   static bool supports(RadianceSource& source);
   // Builds (or takes from the cache) the program for the scene's field and uploads its description.
@@ -58,6 +60,7 @@ class FusedMarcher {
   cl::Buffer<float> no_params_;
   const cl::Buffer<float>* params_ = nullptr;
   size_t local_bytes_ = 0;
+  bool allow_local_ = true;
 };
 
 }  // namespace lorgnette::render
