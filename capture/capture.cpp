@@ -10,6 +10,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <stdexcept>
 
+#include "capture/subject_framing.h"
 #include "host/dataset/dataset.h"
 #include "host/util/image_io.h"
 #include "host/util/interrupt.h"
@@ -149,8 +150,16 @@ void choose_capture_box(const ColmapModel& model, const CaptureOptions& opt, Con
     report.aabb_from = "landmarks";
     report.aabb_note = box.summary();
     spdlog::info("capture: {}", box.summary());
+    std::vector<Camera> cams;
+    for (const auto& p : photos) cams.push_back(p.camera);
+    if (FramingReport framing = check_head_framing(box, cams); framing.every_frame())
+      report.warnings.push_back(framing.advice());
   } catch (const std::exception& e) {
-    report.warnings.push_back(fmt::format("no head box, the sparse-point box is used instead: {}", e.what()));
+    report.warnings.push_back(
+        fmt::format("no head box, the sparse-point box is used instead: {}. If this is a person, film the "
+                    "face itself, in focus, well lit and unobstructed, or `train` cannot separate them from "
+                    "the room",
+                    e.what()));
   }
 }
 

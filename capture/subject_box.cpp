@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "capture/subject_framing.h"
+
 namespace lorgnette::capture {
 namespace {
 
@@ -15,11 +17,16 @@ std::array<std::array<float, 3>, 2> to_array(const Eigen::Vector3d& lo, const Ei
 }
 
 SubjectBoxChoice head_choice(const dataset::Dataset& ds, const fit::HeadBoxOptions& opt) {
-  fit::HeadBox box = fit::estimate_head_box(posed_photos(ds), opt);
+  std::vector<fit::PosedPhoto> photos = posed_photos(ds);
+  fit::HeadBox box = fit::estimate_head_box(photos, opt);
   SubjectBoxChoice c;
   c.source = BoxSource::Head;
   c.aabb = to_array(box.min, box.max);
   c.why = box.summary();
+  std::vector<Camera> cams;
+  for (const auto& p : photos) cams.push_back(p.camera);
+  FramingReport framing = check_head_framing(box, cams);
+  if (framing.every_frame()) c.problem = "the subject cannot be separated from the room: " + framing.advice();
   return c;
 }
 
@@ -110,16 +117,24 @@ SubjectBoxChoice choose_subject_box(const dataset::Dataset& ds, BoxSource reques
     h.why += " (auto: no 'aabb', no alpha masks, faces found)";
     return h;
   } catch (const std::exception& e) {
-    return cameras_choice(
-        fmt::format("the box around the cameras' look-at point (auto: no 'aabb', no alpha "
-                    "masks, and no head box: {})",
-                    e.what()));
+    SubjectBoxChoice c =
+        cameras_choice(fmt::format("the box around the cameras' look-at point (auto: no 'aabb', no alpha "
+                                   "masks, and no head box: {})",
+                                   e.what()));
+    c.problem = fmt::format(
+        "the subject cannot be separated from the room: no face was found in the frames ({}). Film the face "
+        "itself: in focus, well lit, unobstructed (no hand, hair or mask over the eyes and nose), filling "
+        "about a third of the frame, from the front round to each ear",
+        e.what());
+    return c;
   }
 }
 
 void apply_subject_box(dataset::Dataset& ds, BoxSource requested, bool masks_allowed, nerf::TrainJob& job) {
   SubjectBoxChoice c = choose_subject_box(ds, requested, masks_allowed);
   spdlog::info("subject box: {}", c.why);
+  if (!c.problem.empty()) spdlog::warn("{}", c.problem);
+  job.subject_problem = c.problem;
   ds.aabb.reset();
   job.sizing.use_masks = c.use_masks;
   if (c.aabb) {

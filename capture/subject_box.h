@@ -27,6 +27,10 @@ struct SubjectBoxChoice {
   std::optional<std::array<std::array<float, 3>, 2>> aabb;
   bool use_masks = false;  // let the sizing carve the alpha-mask hull
   std::string why;         // one sentence for the log
+  // Why the subject cannot be separated from the room, with what to film differently ("" when it
+  // can): auto found no face in a mask-less dataset, or the head runs off every frame
+  // (subject_framing.h). Training goes on, but the model records it (ModelMetadata::subject_problem).
+  std::string problem;
 };
 
 // True when any training image has a transparent pixel (Image::has_transparency, the sizing's test).
@@ -39,7 +43,8 @@ SubjectBoxChoice choose_subject_box(const dataset::Dataset& ds, BoxSource reques
 
 // Chooses the box (choose_subject_box) and sets the training job up for it, as `lorgnette train
 // --box` and Python's train() do: an explicit box, or the dataset's aabb removed so the sizing
-// carves the mask hull or builds the camera box. Logs the choice; throws when the box is empty.
+// carves the mask hull or builds the camera box. Logs the choice (and the problem, as a warning, into
+// job.subject_problem); throws when the box is empty.
 void apply_subject_box(dataset::Dataset& ds, BoxSource requested, bool masks_allowed, nerf::TrainJob& job);
 
 // The dataset's training frames as posed photos for fit::estimate_head_box (pointers into `ds`).

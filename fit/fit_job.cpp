@@ -12,6 +12,11 @@ FitJobResult run_fit_job(nerf::NerfModel& model, const GlassesInput& glasses, co
   NerfViewSource source(model, prior_from_transforms(transforms, model), views.render);
   FitJobResult job;
   job.fit = fit_glasses(source, glasses, options);
+  if (!model.metadata.subject_problem.empty()) {  // a head in a room: never a good fit (#13)
+    job.fit.ok = false;
+    job.fit.warnings.push_back("the model was trained without separating the subject: " +
+                               model.metadata.subject_problem);
+  }
   job.placement = make_placement_file(job.fit, glasses.path, scale_policy_name(options.place.scale_policy));
   return job;
 }

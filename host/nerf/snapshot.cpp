@@ -80,7 +80,8 @@ json metadata_json(const ModelMetadata& m) {
           {"dataset_path", m.dataset_path},
           {"dataset_hash", m.dataset_hash},
           {"device", m.device},
-          {"created", m.created}};
+          {"created", m.created},
+          {"subject_problem", m.subject_problem}};
 }
 
 ModelMetadata metadata_from_json(const json& j) {
@@ -97,6 +98,10 @@ ModelMetadata metadata_from_json(const json& j) {
   m.dataset_hash = j.value("dataset_hash", "");
   m.device = j.value("device", "");
   m.created = j.value("created", "");
+  if (auto* v = optional(j, "subject_problem")) {
+    if (!v->is_string()) throw BadValue("'metadata.subject_problem' must be a string, found " + v->dump());
+    m.subject_problem = v->get<std::string>();
+  }
   return m;
 }
 

@@ -44,6 +44,9 @@ struct ModelMetadata {
   uint64_t seed = 0;
   float final_loss = 0.0f;  // NaN when training diverged (written as JSON null)
   std::string dataset_path, dataset_hash, device, created;
+  // Why the subject could not be separated from the room, with what to film differently ("" when it
+  // was): the fit then never passes this model as good.
+  std::string subject_problem;
 };
 
 // Occupancy grid state: per-cell density estimate (EMA; empty until training updates it) and the

@@ -56,6 +56,7 @@ TrainJobResult train_on_dataset(cl::Runtime& rt, const dataset::Dataset& ds, Tra
   model.metadata.dataset_path = std::filesystem::absolute(ds.root).string();
   model.metadata.dataset_hash = dataset_fingerprint(ds);
   model.metadata.device = rt.device().name;
+  model.metadata.subject_problem = job.subject_problem;
   model.view_range = training_view_range(views, sizing.aabb, model.normalisation);
   spdlog::info("captured directions: {}", model.view_range->summary());
   if (std::string advice = coverage_advice(*model.view_range); !advice.empty()) spdlog::warn("{}", advice);
@@ -89,11 +90,14 @@ TrainJobResult train_on_dataset(cl::Runtime& rt, const dataset::Dataset& ds, Tra
         if (!snapshot.empty()) model.save(snapshot);
       }
       spdlog::info("{}", region);
-      if (!rep.found)
-        spdlog::warn(
+      if (!rep.found) {
+        model.metadata.subject_problem =
             "the subject could not be separated from the room: nothing was reconstructed in the middle of "
             "the subject box. Film the face filling a third of the frame, in focus, sweeping slowly from "
-            "one side to the other");
+            "one side to the other";
+        spdlog::warn("{}", model.metadata.subject_problem);
+        if (!snapshot.empty()) model.save(snapshot);
+      }
     }
     return {std::move(model),       std::move(sizing), std::move(result),
             std::move(budget_text), background,        region};

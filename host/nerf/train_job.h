@@ -23,6 +23,9 @@ struct TrainJob {
   // training (subject_region.h): "auto" = on for mask-less datasets whose box is not the cameras'.
   std::string background = "auto";  // auto | on | off
   TrainOptions train;  // steps/seconds (both 0: the size-based default, train_budget.h), seed, ...
+  // Why the subject could not be separated (capture/subject_box.h), kept in the model's metadata;
+  // training adds its own reason when the room model finds no subject region.
+  std::string subject_problem;
 };
 
 struct TrainJobResult {

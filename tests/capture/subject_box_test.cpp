@@ -63,11 +63,18 @@ TEST(SubjectBox, AutoUsesMasksThenFallsBackToCamerasWithoutFaces) {
   EXPECT_EQ(c.source, BoxSource::Cameras);
   EXPECT_FALSE(c.use_masks);
   EXPECT_NE(c.why.find("face in 0 of the 4 photos"), std::string::npos) << c.why;
+  // No face in a mask-less dataset: the subject cannot be separated, and the user is told what to film.
+  EXPECT_NE(c.problem.find("no face was found"), std::string::npos) << c.problem;
+  EXPECT_NE(c.problem.find("Film the face"), std::string::npos) << c.problem;
+  // The masks separate the subject themselves; a box the user forces is their call.
+  EXPECT_EQ(choose_subject_box(masked, BoxSource::Auto).problem, "");
+  EXPECT_EQ(choose_subject_box(masked, BoxSource::Cameras, false).problem, "");
 }
 
 TEST(SubjectBox, AutoUsesTheHeadBoxWhenFacesAreFound) {
   SubjectBoxChoice c = choose_subject_box(face_dataset(), BoxSource::Auto);
   EXPECT_EQ(c.source, BoxSource::Head) << c.why;
+  EXPECT_EQ(c.problem, "") << "the rendered head is framed with room around it";
   ASSERT_TRUE(c.aabb.has_value());
   // The procedural head is ~0.75 units wide (200 mm per unit): the box is a head, not a room.
   for (int a = 0; a < 3; ++a) {
