@@ -18,6 +18,7 @@
 #include "host/dataset/metrics.h"
 #include "host/render/analytic_field.h"
 #include "host/render/frame_bench.h"
+#include "host/render/render_job.h"
 #include "host/render/renderer.h"
 #include "host/util/chart.h"
 #include "mesh/glasses.h"
@@ -196,10 +197,21 @@ int main(int argc, char** argv) {
       Eigen::Matrix4f m;
       for (int i = 0; i < 16; ++i) m(i / 4, i % 4) = p[i];
       mesh::SurfacePass pass(g.mesh, m);
-      spec.surfaces = [&](const Camera& c) { return pass.render(c, mesh::SurfaceParams{}); };
-      auto rows = run_frame_bench(spec, [&](const Camera& c, const lorgnette::SurfaceBuffers* s) {
-        return render(c, s, RenderOptions{});
-      });
+      GlassesSurfaces glasses;
+      glasses.screen_rect = [&](const Camera& c) {
+        std::array<int, 4> r = pass.screen_rect(c);
+        return std::array<uint32_t, 4>{uint32_t(r[0]), uint32_t(r[1]), uint32_t(r[2]), uint32_t(r[3])};
+      };
+      glasses.render = [&](const Camera& c, uint32_t) { return pass.render(c, mesh::SurfaceParams{}); };
+      spec.glasses = &glasses;
+      FrameOptions sequential;  // this table times the march and the surface pass one after the other
+      sequential.concurrent = false;
+      spec.variants = {{"sequential", sequential}};
+      auto rows =
+          run_frame_bench(spec, [&](const Camera& c, const GlassesSurfaces* g, const FrameOptions& o) {
+            return model ? renderer.render_frame(*model, c, g, o)
+                         : render_hybrid_frame(marcher, scene, c, g, o);
+          });
       write_table1(a, rows);
       // One try-on image of the 720p view for the record.
       Camera c = camera(1280, 720);

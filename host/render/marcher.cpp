@@ -260,6 +260,7 @@ RenderResult Marcher::render(const VolumeScene& scene, const Camera& cam, const 
   march_pixels(scene, p, 0, band_begin, o.spp, o, result);
   march_pixels(scene, p, band_end, pixels, o.spp, o, result);
   if (has_band) {
+    rt_.finish();  // so the wait below is time the device sits idle
     auto t_wait = std::chrono::steady_clock::now();
     const lorgnette::SurfaceBuffers& s = surfaces.wait();
     result.times.surface_wait = seconds_since(t_wait);
@@ -270,6 +271,7 @@ RenderResult Marcher::render(const VolumeScene& scene, const Camera& cam, const 
     p.has_surface = 1u;
     march_pixels(scene, p, band_begin, band_end, o.spp, o, result);
   }
+  rt_.finish();  // the march's last kernels belong to the march, not to the read-back
   auto t_read = std::chrono::steady_clock::now();
   result.rays = uint64_t(pixels) * o.spp;
   result.rgba = Image(int(cam.width), int(cam.height), 4);

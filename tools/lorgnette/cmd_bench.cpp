@@ -1,11 +1,15 @@
-// `lorgnette bench frames [--json] [--model M] [--glasses F [--placement P]]`: the paper's Table 1
-// (frame times at 480p/720p/1080p, head alone and head + glasses, samples per ray) on every OpenCL
-// device found. Without --model an analytic head stands in (and the rows say so). Logic lives in
-// host/render/frame_bench.
+// `lorgnette bench frames [--json] [--model M] [--glasses F [--placement P]] [--out DIR] [--compare]`:
+// the paper's Table 1 (frame times at 480p/720p/1080p, head alone and head + glasses, samples per ray
+// and per second, the frame's split between march, surface pass and transfers) on every OpenCL
+// device found, with a CSV and a chart per device under --out. --compare times the sequential frame
+// and the pre-#16 pipeline beside the default, frame by frame in turn. Without --model an analytic
+// head stands in (and the rows say so). Logic lives in host/render/frame_bench.
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
 #include <Eigen/Core>
+#include <cctype>
+#include <filesystem>
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -15,6 +19,7 @@
 #include "host/nerf/model.h"
 #include "host/render/analytic_field.h"
 #include "host/render/frame_bench.h"
+#include "host/render/render_job.h"
 #include "host/render/renderer.h"
 #include "host/render/view_plan.h"
 #include "mesh/placed_glasses.h"
@@ -24,11 +29,35 @@ namespace lorgnette::cli {
 namespace {
 
 struct BenchArgs {
-  std::string model, glasses, placement, sizes, marcher = "auto";
+  std::string model, glasses, placement, sizes, marcher = "auto", out;
   uint32_t repeats = 3, surface_spp = 4;
   float step_scale = 1.0f;
-  bool json = false;
+  bool json = false, compare = false, force = false;
 };
+
+// The frame settings timed: the defaults, and with --compare the same frame sequential (surface
+// pass, then march) and the pipeline before #16 (sequential, waves of 4..64 segments per ray).
+std::vector<render::FrameVariant> frame_variants(const BenchArgs& a) {
+  render::FrameOptions o;
+  o.march.step_scale = a.step_scale;
+  o.march.marcher = render::parse_marcher_kind(a.marcher);
+  o.surface_spp = a.surface_spp;
+  std::vector<render::FrameVariant> v{{"default", o}};
+  if (a.compare) {
+    o.concurrent = false;
+    v.push_back({"sequential", o});
+    o.march.wave_min = 4;
+    o.march.wave_max = 64;
+    v.push_back({"baseline", o});
+  }
+  return v;
+}
+
+std::string file_slug(const std::string& name) {
+  std::string s;
+  for (char c : name) s += std::isalnum(static_cast<unsigned char>(c)) ? char(std::tolower(c)) : '-';
+  return s.substr(0, 48);
+}
 
 nlohmann::json bench_device(const BenchArgs& a, const cl::DeviceInfo& dev, GlobalOptions& global) {
   cl::RuntimeOptions ro = global.runtime();
@@ -68,6 +97,7 @@ nlohmann::json bench_device(const BenchArgs& a, const cl::DeviceInfo& dev, Globa
     return render::orbit_cameras(render::plan_orbit(o, range, {}).spec)[0];
   };
   std::unique_ptr<mesh::SurfacePass> pass;
+  render::GlassesSurfaces glasses;
   if (!a.glasses.empty()) {
     mesh::Glasses g = mesh::load_glasses(a.glasses);
     Eigen::Matrix4f p = mesh::row_major_matrix(
@@ -79,23 +109,35 @@ nlohmann::json bench_device(const BenchArgs& a, const cl::DeviceInfo& dev, Globa
       temples = pf.temples.bend;
     }
     pass = mesh::place_glasses_mesh(std::move(g), p, temples).pass;
-    mesh::SurfaceParams sp;
-    sp.samples_per_pixel = int(a.surface_spp);
-    spec.surfaces = [&pass, sp](const Camera& cam) { return pass->render(cam, sp); };
+    glasses.screen_rect = [&pass](const Camera& cam) {
+      std::array<int, 4> r = pass->screen_rect(cam);
+      return std::array<uint32_t, 4>{uint32_t(r[0]), uint32_t(r[1]), uint32_t(r[2]), uint32_t(r[3])};
+    };
+    glasses.render = [&pass](const Camera& cam, uint32_t spp) {
+      mesh::SurfaceParams sp;
+      sp.samples_per_pixel = int(spp);
+      return pass->render(cam, sp);
+    };
+    spec.glasses = &glasses;
   }
-  render::RenderOptions opts;
-  opts.step_scale = a.step_scale;
-  opts.marcher = render::parse_marcher_kind(a.marcher);
+  spec.variants = frame_variants(a);
   render::Renderer renderer(rt);
   render::Marcher marcher(rt);
-  nlohmann::json rows =
-      render::run_frame_bench(spec, [&](const Camera& cam, const lorgnette::SurfaceBuffers* s) {
-        return model ? renderer.render(*model, cam, s, opts) : marcher.render(scene, cam, s, opts);
+  nlohmann::json rows = render::run_frame_bench(
+      spec, [&](const Camera& cam, const render::GlassesSurfaces* g, const render::FrameOptions& o) {
+        return model ? renderer.render_frame(*model, cam, g, o)
+                     : render::render_hybrid_frame(marcher, scene, cam, g, o);
       });
   // Auto takes the fused marcher on a GPU (both heads can be evaluated in its kernel).
-  const bool fused =
-      opts.marcher == render::MarcherKind::Fused || (opts.marcher == render::MarcherKind::Auto && dev.is_gpu);
+  const render::MarcherKind kind = spec.variants[0].options.march.marcher;
+  const bool fused = kind == render::MarcherKind::Fused || (kind == render::MarcherKind::Auto && dev.is_gpu);
   for (auto& r : rows) r["marcher"] = fused ? "fused" : "wavefront";
+  if (!a.out.empty()) {
+    const std::string base = a.out + "/frames-" + file_slug(dev.name);
+    render::write_frame_bench_csv(rows, base + ".csv");
+    render::write_frame_bench_chart(rows, "Table 1 frame times: " + dev.name, base + ".png");
+    spdlog::info("wrote {}.csv and {}.png", base, base);
+  }
   return rows;
 }
 
@@ -119,23 +161,40 @@ void add_frames(CLI::App& bench, GlobalOptions& global) {
       ->capture_default_str()
       ->check(CLI::IsMember({"auto", "wavefront", "fused"}));
   cmd->add_flag("--json", a->json, "print the rows as one JSON array on stdout");
+  cmd->add_option("--out", a->out, "directory for frames-<device>.csv and .png (one pair per device)");
+  cmd->add_flag("--compare", a->compare,
+                "also time the sequential frame and the pre-#16 pipeline (sequential, waves 4..64), in turn");
+  cmd->add_flag("--force", a->force, "overwrite the CSV and chart in --out");
   cmd->callback([a, &global] {
-    nlohmann::json rows = nlohmann::json::array();
-    for (const auto& dev : cl::list_devices()) {
-      if (!global.device.empty() && cl::select_device(global.device).index != dev.index) continue;
-      for (auto& r : bench_device(*a, dev, global)) rows.push_back(r);
+    std::vector<cl::DeviceInfo> devices;
+    for (const auto& dev : cl::list_devices())
+      if (global.device.empty() || cl::select_device(global.device).index == dev.index)
+        devices.push_back(dev);
+    if (!a->out.empty()) {
+      std::filesystem::create_directories(a->out);
+      std::vector<std::string> names;
+      for (const auto& dev : devices)
+        for (const char* ext : {".csv", ".png"}) names.push_back("frames-" + file_slug(dev.name) + ext);
+      render::check_outputs_free(a->out, names, a->force);
     }
+    nlohmann::json rows = nlohmann::json::array();
+    for (const auto& dev : devices)
+      for (auto& r : bench_device(*a, dev, global)) rows.push_back(r);
     if (a->json) {
       std::cout << rows.dump(2) << "\n";
       return;
     }
-    std::cout << fmt::format("{:<28} {:>10} {:>8} {:>10} {:>10} {:>12}\n", "device", "resolution", "glasses",
-                             "median_ms", "march_ms", "samples/ray");
+    std::cout << fmt::format("{:<28} {:>10} {:>7} {:>10} {:>9} {:>9} {:>9} {:>9} {:>9} {:>11} {:>9}\n",
+                             "device", "resolution", "glasses", "variant", "frame_ms", "march_ms", "surf_ms",
+                             "wait_ms", "xfer_ms", "samples/ray", "Msamp/s");
     for (const auto& r : rows)
       std::cout << fmt::format(
-          "{:<28} {:>10} {:>8} {:>10.1f} {:>10.1f} {:>12.2f}\n", r["device"].get<std::string>().substr(0, 28),
-          r["resolution"].get<std::string>(), r["glasses"].get<bool>() ? "yes" : "no",
-          r["median_ms"].get<double>(), r["march_ms"].get<double>(), r["samples_per_ray"].get<double>());
+          "{:<28} {:>10} {:>7} {:>10} {:>9.1f} {:>9.1f} {:>9.1f} {:>9.1f} {:>9.1f} {:>11.2f} {:>9.2f}\n",
+          r["device"].get<std::string>().substr(0, 28), r["resolution"].get<std::string>(),
+          r["glasses"].get<bool>() ? "yes" : "no", r["variant"].get<std::string>(),
+          r["median_ms"].get<double>(), r["march_ms"].get<double>(), r["surface_ms"].get<double>(),
+          r["surface_wait_ms"].get<double>(), r["transfer_ms"].get<double>(),
+          r["samples_per_ray"].get<double>(), r["samples_per_second"].get<double>() * 1e-6);
   });
 }
 
