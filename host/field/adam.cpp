@@ -29,8 +29,11 @@ AdamParams make_adam_params(const AdamConfig& cfg, uint64_t t, uint32_t count, u
 
 Adam::Adam(cl::Runtime& rt) : rt_(rt), step_(rt.program("adam/adam.cl"), "adam_step") {}
 
-void Adam::step(const AdamParams& p, cl::Buffer<float>& params, const cl::Buffer<float>& grads,
+void Adam::step(const AdamParams& p, cl::Buffer<float>& params, cl::Buffer<float>& grads,
                 cl::Buffer<float>& m, cl::Buffer<float>& v) {
+  if (p.clear_below > p.count)
+    throw std::invalid_argument("Adam::step: clear_below " + std::to_string(p.clear_below) + " exceeds the " +
+                                std::to_string(p.count) + " parameters");
   step_.args(p, params, grads, m, v).launch(rt_, p.count, 256);
 }
 

@@ -17,8 +17,9 @@ AdamParams make_adam_params(const AdamConfig& cfg, uint64_t t, uint32_t count, u
 class Adam {
  public:
   explicit Adam(cl::Runtime& rt);
-  void step(const AdamParams& p, cl::Buffer<float>& params, const cl::Buffer<float>& grads,
-            cl::Buffer<float>& m, cl::Buffer<float>& v);
+  // Clears grads [0, p.clear_below) after use.
+  void step(const AdamParams& p, cl::Buffer<float>& params, cl::Buffer<float>& grads, cl::Buffer<float>& m,
+            cl::Buffer<float>& v);
 
  private:
   cl::Runtime& rt_;

@@ -149,13 +149,17 @@ void Field::backward(const cl::Buffer<float>& dL_dsigma, const cl::Buffer<float>
   for (uint32_t l = 0; l < chain_.layers; ++l)
     mlp_->weight_grad(*shapes[l], {&acts_, chain_.x_row[l], &deltas_, chain_.dy_row[l]}, n, dw_partial_,
                       grads_);
-  hash_->backward(pos_copy_, deltas_, n, grads_, deterministic_);  // encoding deltas are rows 0..
+  // Encoding deltas are rows 0.. of deltas_.
+  hash_->backward(pos_copy_, deltas_, n, grads_, deterministic_, hash_grads_zero_);
+  hash_grads_zero_ = false;
 }
 
 void Field::adam_step(const AdamConfig& adam) {
   ++adam_t_;
   AdamParams p = make_adam_params(adam, adam_t_, uint32_t(layout_.total), uint32_t(layout_.mlp_offset));
+  p.clear_below = uint32_t(layout_.hash_count);  // the next hash backward accumulates into zeros
   adam_->step(p, params_, grads_, adam_m_, adam_v_);
+  hash_grads_zero_ = true;
 }
 
 std::vector<float> Field::download_params() const { return params_.read(rt_); }
@@ -167,6 +171,8 @@ void Field::upload_params(const std::vector<float>& params) {
                                 " parameters but this configuration has " + std::to_string(layout_.total) +
                                 " (was the snapshot written with another FieldConfig?)");
   params_.write(rt_, params);
+  grads_.fill(rt_, 0.0f);
+  hash_grads_zero_ = true;
   adam_m_.fill(rt_, 0.0f);
   adam_v_.fill(rt_, 0.0f);
   adam_t_ = 0;

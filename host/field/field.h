@@ -80,6 +80,7 @@ class Field {
   std::unique_ptr<Mlp> mlp_;
   std::unique_ptr<Adam> adam_;
   uint32_t pending_backward_n_ = 0;  // n of the last forward(..., true); 0 = none
+  bool hash_grads_zero_ = true;      // the hash part of grads_ is zero (construction, adam_step)
   uint64_t adam_t_ = 0;
 };
 

@@ -47,10 +47,10 @@ void HashGrid::encode(const cl::Buffer<float>& params, const cl::Buffer<float>& 
 }
 
 void HashGrid::backward(const cl::Buffer<float>& pos, const cl::Buffer<float>& d_enc, uint32_t n,
-                        cl::Buffer<float>& grads, bool deterministic) {
+                        cl::Buffer<float>& grads, bool deterministic, bool grads_zeroed) {
   HashgridParams p = base_;
   p.n = n;
-  grads.fill(rt_, 0.0f, 0, hash_count_);
+  if (!grads_zeroed) grads.fill(rt_, 0.0f, 0, hash_count_);
   if (n == 0) return;
   if (!deterministic && backward_atomic_.get()) {
     backward_atomic_.args(p, pos, d_enc, grads).launch2d(rt_, {cl::round_up(n, 64), p.levels}, {64, 1});

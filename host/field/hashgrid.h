@@ -24,8 +24,9 @@ class HashGrid {
               cl::Buffer<float>& enc);
   // Overwrites the hash part of grads with d loss / d table, given d loss / d enc.
   // deterministic=false on a GPU uses compare-and-swap float adds (faster, run-to-run order varies).
+  // grads_zeroed: the caller guarantees the hash part is zero already (no clearing pass).
   void backward(const cl::Buffer<float>& pos, const cl::Buffer<float>& d_enc, uint32_t n,
-                cl::Buffer<float>& grads, bool deterministic);
+                cl::Buffer<float>& grads, bool deterministic, bool grads_zeroed = false);
 
  private:
   cl::Runtime& rt_;

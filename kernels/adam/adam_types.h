@@ -9,7 +9,9 @@ typedef struct AdamParams {
   float lr, beta1, beta2, eps, weight_decay;
   float bias1;  // 1 - beta1^t
   float bias2;  // 1 - beta2^t
-  lgn_uint pad0;
+  // Gradients [0, clear_below) are set to zero once used: the hash-grid backward accumulates into
+  // zeros, and clearing them here saves a separate pass over the table (0: nothing cleared).
+  lgn_uint clear_below;
 } AdamParams;
 
 LGN_STATIC_ASSERT(sizeof(AdamParams) == 40, "AdamParams layout");

@@ -24,7 +24,12 @@ TEST(Adam, ThreeStepsMatchHostReference) {
   for (int t = 1; t <= 3; ++t) {
     std::vector<float> g = test::random_vector(count, 0.5f, 100 + t);
     grads.write(rt, g);
-    adam.step(make_adam_params(cfg, t, count, mlp_offset), params, grads, m, v);
+    AdamParams ap = make_adam_params(cfg, t, count, mlp_offset);
+    ap.clear_below = t == 3 ? 400 : 0;  // the last step clears the gradients it used below 400
+    adam.step(ap, params, grads, m, v);
+    const std::vector<float> after = grads.read(rt);
+    for (uint32_t i = 0; i < count; ++i)
+      ASSERT_EQ(after[i], i < ap.clear_below ? 0.0f : g[i]) << "gradient " << i << " after step " << t;
     for (uint32_t i = 0; i < count; ++i) {
       double gi = g[i] + (i >= mlp_offset ? cfg.mlp_weight_decay * p[i] : 0.0);
       mr[i] = cfg.beta1 * mr[i] + (1 - cfg.beta1) * gi;

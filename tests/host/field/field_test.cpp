@@ -15,8 +15,9 @@ constexpr uint32_t kN = 300;
 
 // A Field whose hash tables are random in [-0.5, 0.5] (the 1e-4 init would hide the encoding).
 struct FieldSetup {
-  explicit FieldSetup(const FieldConfig& cfg, KernelVariant variant = KernelVariant::Auto)
-      : field(test::runtime(), cfg, kN, 42, true, variant),
+  explicit FieldSetup(const FieldConfig& cfg, KernelVariant variant = KernelVariant::Auto,
+                      bool deterministic = true)
+      : field(test::runtime(), cfg, kN, 42, deterministic, variant),
         s(test::random_samples(kN, field.max_batch(), 9)) {
     auto& rt = test::runtime();
     params = field.download_params();
@@ -100,31 +101,58 @@ TEST(Field, GpuKernelsMatchReference) {
 }
 
 TEST(Field, BackwardMatchesFiniteDifferencesOfTheDeviceForward) {
-  FieldSetup t(test::small_config());
-  t.forward_backward();
-  auto g = t.field.download_gradients();
-  const auto& lay = t.field.layout();
-  // The largest gradient of each group: a hash entry, density layers, colour layers.
-  std::vector<std::pair<uint64_t, uint64_t>> groups = {{0, lay.hash_count}};
-  groups.push_back({lay.density[0].offset, lay.density[0].offset + lay.density[0].count()});
-  groups.push_back({lay.density[1].offset, lay.density[1].offset + lay.density[1].count()});
-  for (const auto& L : lay.color) groups.push_back({L.offset, L.offset + L.count()});
-  for (auto [begin, end] : groups) {
-    uint64_t best = begin;
-    for (uint64_t e = begin; e < end; ++e)
-      if (std::fabs(g[e]) > std::fabs(g[best])) best = e;
-    std::vector<float> p = t.params;
-    const float step = 1e-2f;
-    p[best] = t.params[best] + step;
-    t.field.upload_params(p);
-    const double Lp = t.loss();
-    p[best] = t.params[best] - step;
-    t.field.upload_params(p);
-    const double Lm = t.loss();
-    t.field.upload_params(t.params);
-    const double fd = (Lp - Lm) / (2.0 * step);
-    // Float forward noise (~1e-6 of L ~ 1e2) / 2e-2 and O(step^2) curvature: 3 % + 1e-2.
-    EXPECT_NEAR(g[best], fd, 1e-2 + 3e-2 * std::fabs(fd)) << "parameter " << best;
+  for (KernelVariant v : {KernelVariant::Cpu, KernelVariant::Gpu}) {
+    SCOPED_TRACE(v == KernelVariant::Gpu ? "gpu variant" : "cpu variant");
+    FieldSetup t(test::small_config(), v);
+    t.forward_backward();
+    auto g = t.field.download_gradients();
+    const auto& lay = t.field.layout();
+    // The largest gradient of each group: a hash entry, density layers, colour layers.
+    std::vector<std::pair<uint64_t, uint64_t>> groups = {{0, lay.hash_count}};
+    groups.push_back({lay.density[0].offset, lay.density[0].offset + lay.density[0].count()});
+    groups.push_back({lay.density[1].offset, lay.density[1].offset + lay.density[1].count()});
+    for (const auto& L : lay.color) groups.push_back({L.offset, L.offset + L.count()});
+    for (auto [begin, end] : groups) {
+      uint64_t best = begin;
+      for (uint64_t e = begin; e < end; ++e)
+        if (std::fabs(g[e]) > std::fabs(g[best])) best = e;
+      std::vector<float> p = t.params;
+      const float step = 1e-2f;
+      p[best] = t.params[best] + step;
+      t.field.upload_params(p);
+      const double Lp = t.loss();
+      p[best] = t.params[best] - step;
+      t.field.upload_params(p);
+      const double Lm = t.loss();
+      t.field.upload_params(t.params);
+      const double fd = (Lp - Lm) / (2.0 * step);
+      // Float forward noise (~1e-6 of L ~ 1e2) / 2e-2 and O(step^2) curvature: 3 % + 1e-2.
+      EXPECT_NEAR(g[best], fd, 1e-2 + 3e-2 * std::fabs(fd)) << "parameter " << best;
+    }
+  }
+}
+
+// The GPU training path against the CPU path on the same parameters and samples: the GPU kernels
+// (local-weights MLP chain, per-sample hash encoding) with the deterministic hash backward and with
+// the compare-and-swap atomic one (what a GPU runs without --deterministic).
+TEST(Field, GpuGradientsMatchTheCpuPath) {
+  FieldSetup cpu(test::small_config(), KernelVariant::Cpu);
+  cpu.forward_backward();
+  const std::vector<float> want = cpu.field.download_gradients();
+  const ParamLayout& lay = cpu.field.layout();
+  const std::vector<double> wh(want.begin(), want.begin() + lay.hash_count);
+  const std::vector<double> wm(want.begin() + lay.mlp_offset, want.end());
+  for (bool deterministic : {true, false}) {
+    SCOPED_TRACE(deterministic ? "deterministic" : "atomic hash backward");
+    FieldSetup gpu(test::small_config(), KernelVariant::Gpu, deterministic);
+    gpu.forward_backward();
+    const std::vector<float> got = gpu.field.download_gradients();
+    // Both float, different summation orders (float16 lanes vs per sample; atomics in any order):
+    // ~1e-6 relative per sum of 300 samples; 1e-4 relative + 1e-6 of the group's largest.
+    test::expect_close(std::vector<float>(got.begin(), got.begin() + lay.hash_count), wh, 1e-4,
+                       1e-6 * test::max_abs(wh), "hash gradients");
+    test::expect_close(std::vector<float>(got.begin() + lay.mlp_offset, got.end()), wm, 1e-4,
+                       1e-6 * test::max_abs(wm), "MLP gradients");
   }
 }
 
@@ -197,4 +225,22 @@ TEST(Field, UploadResetsTheOptimiser) {
     results.push_back(field.download_params());
   }
   EXPECT_TRUE(results[0] == results[1]) << "Adam moments must not survive upload_params";
+}
+
+// Adam clears the hash gradients it has used, so the next backward accumulates into zeros without
+// a clearing pass of its own: its gradients must equal those of a backward that starts from a
+// freshly cleared buffer (upload_params) at the same parameters, on both kernel variants.
+TEST(Field, BackwardAfterAnAdamStepEqualsAFreshBackward) {
+  for (KernelVariant v : {KernelVariant::Cpu, KernelVariant::Gpu}) {
+    FieldSetup t(test::small_config(), v);
+    t.forward_backward();
+    t.field.adam_step(AdamConfig{});
+    const std::vector<float> stepped = t.field.download_params();
+    t.forward_backward();
+    const std::vector<float> after_adam = t.field.download_gradients();
+    t.field.upload_params(stepped);
+    t.forward_backward();
+    EXPECT_TRUE(after_adam == t.field.download_gradients())
+        << (v == KernelVariant::Gpu ? "gpu" : "cpu") << " variant: stale gradients after adam_step";
+  }
 }
