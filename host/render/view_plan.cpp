@@ -48,9 +48,10 @@ OrbitPlan plan_orbit(const OrbitSpec& base, const std::optional<nerf::ViewRange>
   nerf::ViewRange allowed = range->widened();
   if (request.beyond_capture) {
     plan.notes.push_back(fmt::format(
-        "views beyond the capture (asked for): only yaw {:+.0f}..{:+.0f} and pitch {:+.0f}..{:+.0f} deg "
-        "were filmed (with a {:.0f} deg margin), the rest of the orbit shows the model's guesses",
-        allowed.yaw_min, allowed.yaw_max, allowed.pitch_min, allowed.pitch_max, nerf::kViewMarginDeg));
+        "views beyond the capture (asked for): the capture saw yaw {:+.0f}..{:+.0f} and pitch "
+        "{:+.0f}..{:+.0f} "
+        "deg; views more than {:.0f} deg beyond that show the model's guesses",
+        range->yaw_min, range->yaw_max, range->pitch_min, range->pitch_max, nerf::kViewMarginDeg));
     return plan;
   }
   s.front = range->front;
