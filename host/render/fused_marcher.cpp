@@ -92,6 +92,9 @@ void FusedMarcher::march(const MarchParams& p, const FusedMarchBuffers& b) {
       .args(p, desc_buffer_, *params_, *b.occupancy, *b.surf_ca, *b.surf_depth, *b.surf_filter, *b.out_rgba,
             *b.out_depth, *b.out_samples, cl::LocalBytes{local_bytes_ > 0 ? local_bytes_ : sizeof(float)})
       .launch(rt_, p.ray_count, kLocal);
+  // Wait here: the march is the launch, so the frame's time split (FrameTimes) counts it as marching
+  // rather than as the read-back that would otherwise be the first to wait for it.
+  rt_.finish();
 }
 
 }  // namespace lorgnette::render

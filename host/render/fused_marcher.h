@@ -45,7 +45,7 @@ class FusedMarcher {
   // Throws std::invalid_argument when the field cannot be evaluated in a kernel.
   void prepare(const VolumeScene& scene);
   // Marches rays p.ray_begin .. + p.ray_count of the prepared scene in one launch, adding each
-  // ray's share into the outputs.
+  // ray's share into the outputs; returns when the launch has finished.
   void march(const MarchParams& p, const FusedMarchBuffers& b);
   // The -D defines of the last prepare() (for logs and tests).
   const std::string& options() const { return options_; }
