@@ -145,6 +145,23 @@ TEST(FusedMarcher, SlabWithSurfacesMatchesWavefront) {
     EXPECT_EQ(fused.waves, 1u) << "one launch for the frame";
     EXPECT_GT(wave.waves, 1u);
   }
+  // The frame pipeline's band (hybrid_frame.h): rows outside [8, 16) are marched before the surface
+  // pass has finished, the band after it; one launch per range.
+  lorgnette::SurfaceBuffers band(32, 24);
+  for (size_t i = 8 * 32; i < 16 * 32; ++i) {
+    for (int c = 0; c < 4; ++c) band.color_alpha[4 * i + c] = surf.color_alpha[4 * i + c];
+    for (int c = 0; c < 3; ++c) band.filter[3 * i + c] = surf.filter[3 * i + c];
+    band.depth[i] = surf.depth[i];
+  }
+  PendingSurfaces pending;
+  pending.row_begin = 8;
+  pending.row_end = 16;
+  pending.wait = [&band]() -> const lorgnette::SurfaceBuffers& { return band; };
+  s.opts.alpha = false;
+  RenderResult wave = m.render(s.scene, s.cam, pending, forced(MarcherKind::Wavefront, s.opts));
+  RenderResult fused = m.render(s.scene, s.cam, pending, forced(MarcherKind::Fused, s.opts));
+  expect_same(wave, fused, "slab + surfaces in a band of rows");
+  EXPECT_EQ(fused.waves, 3u) << "rows above, rows below, then the band";
 }
 
 // Occupancy skipping and a dense volume that ends rays by T < 1e-4, several passes per pixel.
