@@ -14,6 +14,7 @@
     sendRaw: (text) => app.ws && app.ws.readyState === 1 && app.ws.send(text),
   });
   const orbit = { yaw: 0, pitch: 0, distance: 1, pan_x: 0, pan_y: 0 };
+  app.orbit = orbit;  // read-only use, for the test and the console
   let limits = { yaw: [-60, 60], pitch: [-30, 30], distance: [0.55, 2], pan: 0.5 };
   let seq = 0, dirty = false, interacting = false, sentAt = new Map(), glassesOn = true;
   let fpsCount = 0, fpsStart = performance.now(), fps = 0;
@@ -53,10 +54,12 @@
     const dx = e.clientX - p.x, dy = e.clientY - p.y, scale = 180 / canvas.clientWidth;
     p.x = e.clientX, p.y = e.clientY;
     if (pointers.size === 2 && pinch) {
+      // Zoom from the pinch's start, not step by step: the two fingers' moves arrive one at a
+      // time, and stepwise ratios would ratchet the distance against its limits while panning.
       const now = pinchState();
-      orbit.distance = clamp(orbit.distance * pinch.d / Math.max(now.d, 1), limits.distance);
+      orbit.distance = clamp(pinch.distance0 * pinch.d0 / Math.max(now.d, 1), limits.distance);
       pan(now.cx - pinch.cx, now.cy - pinch.cy);
-      pinch = now;
+      pinch.cx = now.cx, pinch.cy = now.cy;
     } else if (p.pan) {
       pan(dx, dy);
     } else {
@@ -88,7 +91,8 @@
   }
   function pinchState() {
     const [a, b] = [...pointers.values()];
-    return { d: Math.hypot(a.x - b.x, a.y - b.y), cx: (a.x + b.x) / 2, cy: (a.y + b.y) / 2 };
+    const d = Math.max(Math.hypot(a.x - b.x, a.y - b.y), 1);
+    return { d, d0: d, distance0: orbit.distance, cx: (a.x + b.x) / 2, cy: (a.y + b.y) / 2 };
   }
 
   // --- buttons ---

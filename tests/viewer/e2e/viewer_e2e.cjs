@@ -1,7 +1,9 @@
 // The viewer's page end to end in headless Chromium (playwright-core): the page loads, the first
 // frame appears, a drag changes the view, a catalogue switch changes the frame, a nudge moves the
 // glasses and saving writes a placement (a second save over an existing file asks first and keeps a
-// backup), a malformed message gets an error and the server keeps serving, a snapshot arrives.
+// backup), a malformed message gets an error and the server keeps serving, a snapshot arrives; on a
+// touch screen (a second client with touch input, real touch events through the DevTools protocol)
+// one finger orbits, two fingers pinch to zoom and move together to pan.
 // Usage: node viewer_e2e.cjs URL WORK CHROMIUM (WORK holds node_modules, catalogue/, screens/).
 "use strict";
 const fs = require("fs");
@@ -16,6 +18,50 @@ const check = (cond, name) => {
   if (cond) ok(name);
   else { failures++; console.log(`not ok - ${name}`); }
 };
+
+// A second client on a touch screen: the gestures go in as touch events (Input.dispatchTouchEvent),
+// which Chromium turns into the pointer events the page listens to.
+async function touchGestures(browser, url, check) {
+  const context = await browser.newContext({ viewport: { width: 1280, height: 860 }, hasTouch: true });
+  const page = await context.newPage();
+  const wait = (fn, arg, timeout = 60000) => page.waitForFunction(fn, arg, { timeout, polling: 50 });
+  const canvas = () => page.evaluate(() => document.getElementById("view").toDataURL("image/png"));
+  try {
+    await page.goto(url);
+    await wait(() => window.lgnViewer && window.lgnViewer.fullFrames >= 1);
+    const cdp = await context.newCDPSession(page);
+    const box = await page.locator("#view").boundingBox();
+    const cx = box.x + box.width / 2, cy = box.y + box.height / 2;
+    // fingers(t): the touch points at step t of 0..steps.
+    const gesture = async (fingers, steps = 8) => {
+      const at = (t) => fingers(t).map(([x, y], id) => ({ x, y, id }));
+      await cdp.send("Input.dispatchTouchEvent", { type: "touchStart", touchPoints: at(0) });
+      for (let t = 1; t <= steps; t++) {
+        await cdp.send("Input.dispatchTouchEvent", { type: "touchMove", touchPoints: at(t / steps) });
+        await page.waitForTimeout(20);
+      }
+      await cdp.send("Input.dispatchTouchEvent", { type: "touchEnd", touchPoints: [] });
+      await page.waitForTimeout(100);
+      await wait(() => { const v = window.lgnViewer, f = v.lastFrame; return f && f.kind === "full" && f.seq === v.lastSentSeq; });
+    };
+    const orbit = () => page.evaluate(() => ({ ...window.lgnViewer.orbit }));
+    const before = await canvas(), o0 = await orbit();
+    await gesture((t) => [[cx + 120 * t, cy + 10 * t]]);
+    const o1 = await orbit();
+    check(o1.yaw < o0.yaw && (await canvas()) !== before, "touch: one finger orbits the head");
+    await gesture((t) => [[cx - 40 - 60 * t, cy], [cx + 40 + 60 * t, cy]]);
+    const o2 = await orbit();
+    check(o2.distance < o1.distance, "touch: two fingers spreading zoom in");
+    await gesture((t) => [[cx - 50 + 80 * t, cy + 30 * t], [cx + 50 + 80 * t, cy + 30 * t]]);
+    const o3 = await orbit();
+    console.log(`# touch orbits: ${JSON.stringify([o0, o1, o2, o3])}`);
+    check(o3.pan_x !== o2.pan_x && o3.pan_y !== o2.pan_y && Math.abs(o3.distance / o2.distance - 1) < 1e-6,
+          "touch: two fingers moving together pan");
+    await page.screenshot({ path: path.join(screens, "07-touch.png") });
+  } finally {
+    await context.close();
+  }
+}
 
 (async () => {
   const browser = await chromium.launch({ executablePath: chromiumPath, headless: true, args: ["--no-sandbox"] });
@@ -107,6 +153,8 @@ const check = (cond, name) => {
     await wait(() => window.lgnViewer.snapshots >= 1);
     check(true, "a snapshot arrives as PNG");
     await shot("06-final.png");
+
+    await touchGestures(browser, url, check);
   } catch (e) {
     failures++;
     console.log(`not ok - ${e.message}`);
