@@ -371,6 +371,25 @@ void ViewerService::run_work(Work& w) {
     render_band(w);
 }
 
+namespace {
+// The glasses' surface pass as a hybrid frame runs it: traced inside their screen rectangle, at the
+// frame's samples per pixel, on a host thread while the march does the rest.
+render::GlassesSurfaces glasses_surfaces(const std::shared_ptr<const mesh::SurfacePass>& pass) {
+  render::GlassesSurfaces g;
+  if (!pass) return g;
+  g.screen_rect = [pass](const Camera& cam) {
+    std::array<int, 4> r = pass->screen_rect(cam);
+    return std::array<uint32_t, 4>{uint32_t(r[0]), uint32_t(r[1]), uint32_t(r[2]), uint32_t(r[3])};
+  };
+  g.render = [pass](const Camera& cam, uint32_t spp) {
+    mesh::SurfaceParams sp;
+    sp.samples_per_pixel = int(spp);
+    return pass->render(cam, sp);
+  };
+  return g;
+}
+}  // namespace
+
 std::shared_ptr<const mesh::SurfacePass> ViewerService::glasses_for(const Work& w) {
   return w.glasses_on ? assets_->pass(w.frame, w.nudge) : nullptr;
 }
@@ -381,15 +400,11 @@ void ViewerService::render_coarse(Work& w) {
   Camera cam = orbit_camera(orbit_, w.orbit, rounded_div(w.width, config_.coarse_divisor),
                             rounded_div(w.height, config_.coarse_divisor));
   auto p = glasses_for(w);
-  lorgnette::SurfaceBuffers surf;
-  if (p) {
-    mesh::SurfaceParams sp;
-    sp.samples_per_pixel = config_.coarse_surface_spp;
-    surf = p->render(cam, sp);
-  }
-  render::RenderOptions opt;
-  opt.step_scale = config_.coarse_step_scale;
-  render::RenderResult r = engine_->renderer.render(engine_->model, cam, p ? &surf : nullptr, opt);
+  render::GlassesSurfaces g = glasses_surfaces(p);
+  render::FrameOptions opt;
+  opt.march.step_scale = config_.coarse_step_scale;
+  opt.surface_spp = uint32_t(config_.coarse_surface_spp);  // 1 while the user moves
+  render::RenderResult r = engine_->renderer.render_frame(engine_->model, cam, p ? &g : nullptr, opt);
   Rgb8 rgb = to_srgb8(r.rgba);
   FrameHeader h{FrameKind::kCoarseJpeg, w.seq, uint16_t(rgb.width), uint16_t(rgb.height), 0, 0};
   std::vector<uint8_t> jpeg = engine_->jpeg.encode(rgb, config_.jpeg_quality_coarse);
@@ -420,15 +435,11 @@ void ViewerService::render_band(Work& w) {
   auto t0 = Clock::now();
   uint32_t rows = std::min(config_.band_rows, f.cam.height - f.next_row);
   Camera band = crop_rows(f.cam, f.next_row, rows);
-  lorgnette::SurfaceBuffers surf;
-  if (f.pass) {
-    mesh::SurfaceParams sp;
-    sp.samples_per_pixel = snapshot ? config_.snapshot_surface_spp : config_.full_surface_spp;
-    surf = f.pass->render(band, sp);
-  }
-  render::RenderOptions opt;
-  if (snapshot) opt.spp = config_.snapshot_spp;
-  render::RenderResult r = engine_->renderer.render(engine_->model, band, f.pass ? &surf : nullptr, opt);
+  render::GlassesSurfaces g = glasses_surfaces(f.pass);
+  render::FrameOptions opt;
+  opt.surface_spp = uint32_t(snapshot ? config_.snapshot_surface_spp : config_.full_surface_spp);
+  if (snapshot) opt.march.spp = config_.snapshot_spp;
+  render::RenderResult r = engine_->renderer.render_frame(engine_->model, band, f.pass ? &g : nullptr, opt);
   paste_rows(f.image, to_srgb8(r.rgba), int(f.next_row));
   f.next_row += rows;
   {
