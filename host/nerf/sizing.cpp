@@ -183,6 +183,8 @@ std::array<float, 3> cameras_look_at(const std::vector<Camera>& cameras) {
   return {float(p[0]), float(p[1]), float(p[2])};
 }
 
+uint32_t device_batch_log2(const cl::DeviceInfo& device) { return device.is_gpu ? 18u : 16u; }
+
 ModelSizing choose_model_size(const std::vector<View>& views, const SizingOverrides& ov) {
   if (views.empty()) throw std::runtime_error("cannot size a model without training views");
   std::vector<Camera> cams;

@@ -47,6 +47,11 @@ struct ModelSizing {
   std::string summary() const;  // one paragraph: each value and why
 };
 
+// Samples per training step for a device, as log2: 18 on a GPU (Instant-NGP's 2^18 per step; a
+// GPU needs that many samples in flight to fill its cores), 16 otherwise (on PoCL a 2^16 step
+// already gives every thread hundreds of work-groups, and smaller steps mean more steps per second).
+uint32_t device_batch_log2(const cl::DeviceInfo& device);
+
 // views: training views with images (alpha used when the images have any alpha < 1).
 ModelSizing choose_model_size(const std::vector<View>& views, const SizingOverrides& overrides);
 

@@ -51,6 +51,11 @@ TrainJobResult train_on_dataset(cl::Runtime& rt, const dataset::Dataset& ds, Tra
   }
   ModelSizing sizing = choose_model_size(views, job.sizing);
   spdlog::info("{}", sizing.summary());
+  if (job.batch_log2 == 0) {
+    job.batch_log2 = device_batch_log2(rt.device());
+    spdlog::info("batch: 2^{} samples per step (the default for a {})", job.batch_log2,
+                 rt.device().type_name());
+  }
   NerfModel model(rt, sizing.field, sizing.aabb, sizing.occupancy_resolution, sizing.step,
                   1u << job.batch_log2, job.train.seed, job.deterministic);
   model.metadata.dataset_path = std::filesystem::absolute(ds.root).string();

@@ -15,9 +15,9 @@
 namespace lorgnette::nerf {
 
 struct TrainJob {
-  SizingOverrides sizing;    // its aabb_scale is replaced by `aabb_scale` below
-  float aabb_scale = 0.0f;   // box size factor for mask-less datasets; 0 = the dataset's own hint
-  uint32_t batch_log2 = 16;  // samples per step = 2^batch_log2
+  SizingOverrides sizing;   // its aabb_scale is replaced by `aabb_scale` below
+  float aabb_scale = 0.0f;  // box size factor for mask-less datasets; 0 = the dataset's own hint
+  uint32_t batch_log2 = 0;  // samples per step = 2^batch_log2; 0: device_batch_log2 (sizing.h)
   bool deterministic = false;
   // Room model behind the subject (background_field.h) and the subject's connected region after
   // training (subject_region.h): "auto" = on for mask-less datasets whose box is not the cameras'.

@@ -21,7 +21,7 @@ struct TrainArgs {
   std::string data, output, box = "auto", background = "auto";
   uint64_t steps = 0;
   double seconds = 0.0;
-  uint32_t seed = 1337, batch_log2 = 16, max_side = 0, downscale = 1;
+  uint32_t seed = 1337, batch_log2 = 0, max_side = 0, downscale = 1;
   bool deterministic = false, force = false, show_progress = false;
   pyb::object progress;
   std::string device;
@@ -57,7 +57,8 @@ pyb::object run_train(const TrainArgs& a) {
   if (std::filesystem::exists(a.output) && !a.force)
     throw std::runtime_error("'" + a.output +
                              "' exists: pass force=True to overwrite it or choose another output");
-  if (a.batch_log2 < 10 || a.batch_log2 > 22) throw pyb::value_error("batch_log2 must be within 10..22");
+  if (a.batch_log2 != 0 && (a.batch_log2 < 10 || a.batch_log2 > 22))
+    throw pyb::value_error("batch_log2 must be 0 (by device: 18 on a GPU, 16 otherwise) or within 10..22");
   if (!std::filesystem::exists(a.data)) require_file(a.data, "dataset");
   auto model = std::make_shared<Model>();
   model->device = device_for(a.device);
@@ -129,7 +130,7 @@ void bind_train(pyb::module_& m) {
         return run_train(a);
       },
       pyb::arg("dataset"), pyb::arg("output"), pyb::arg("steps") = 0, pyb::arg("seconds") = 0.0,
-      pyb::arg("progress") = pyb::none(), pyb::arg("seed") = 1337, pyb::arg("batch_log2") = 16,
+      pyb::arg("progress") = pyb::none(), pyb::arg("seed") = 1337, pyb::arg("batch_log2") = 0,
       pyb::arg("box") = "auto", pyb::arg("background") = "auto", pyb::arg("deterministic") = false,
       pyb::arg("max_side") = 0, pyb::arg("downscale") = 1, pyb::arg("force") = false,
       pyb::arg("show_progress") = false, pyb::arg("device") = "",

@@ -22,7 +22,7 @@ struct TrainArgs {
   std::string data, output, aabb, box = "auto", background = "auto";
   uint64_t steps = 0;
   double seconds = 0.0;
-  uint32_t seed = 1337, batch_log2 = 16, finest = 0, log2_table = 0, levels = 0, occ_res = 0, downscale = 1;
+  uint32_t seed = 1337, batch_log2 = 0, finest = 0, log2_table = 0, levels = 0, occ_res = 0, downscale = 1;
   uint32_t max_side = 0;
   float step = 0.0f, lr = 1e-2f, aabb_scale = 0.0f;
   double snapshot_every = 120.0;
@@ -49,7 +49,8 @@ void run_train(const TrainArgs& a, GlobalOptions& global) {
     throw std::runtime_error("--seconds must be positive (or leave it out for the default budget)");
   if (std::filesystem::exists(a.output) && !a.force)
     throw std::runtime_error("'" + a.output + "' exists: pass --force to overwrite it or choose another -o");
-  if (a.batch_log2 < 10 || a.batch_log2 > 22) throw std::runtime_error("--batch-log2 must be within 10..22");
+  if (a.batch_log2 != 0 && (a.batch_log2 < 10 || a.batch_log2 > 22))
+    throw std::runtime_error("--batch-log2 must be within 10..22");
   dataset::LoadOptions lo;
   lo.downscale = int(a.downscale);
   lo.max_side = int(a.max_side);
@@ -104,7 +105,8 @@ void add_train(CLI::App& app, GlobalOptions& global) {
   cmd->add_option("--seed", a->seed, "random seed");
   cmd->add_flag("--deterministic", a->deterministic, "bitwise reproducible (same seed, same device)");
   cmd->add_flag("--force", a->force, "overwrite an existing model file");
-  cmd->add_option("--batch-log2", a->batch_log2, "log2 of the samples per step (default 16)")
+  cmd->add_option("--batch-log2", a->batch_log2,
+                  "log2 of the samples per step (default: 18 on a GPU, 16 otherwise)")
       ->check(CLI::Range(10u, 22u));
   cmd->add_option("--lr", a->lr, "base learning rate (default 1e-2)");
   cmd->add_option("--aabb", a->aabb, "bounding box minx,miny,minz,maxx,maxy,maxz (scene units)");
