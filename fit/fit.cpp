@@ -30,10 +30,14 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
+// Times a stage into FitResult::seconds and tells FitOptions::on_stage that it starts.
 struct StageTimer {
   FitResult& r;
   const char* name;
   Clock::time_point start = Clock::now();
+  StageTimer(FitResult& result, const char* stage, const FitOptions& o) : r(result), name(stage) {
+    if (o.on_stage) o.on_stage(stage);
+  }
   ~StageTimer() { r.seconds.emplace_back(name, std::chrono::duration<double>(Clock::now() - start).count()); }
 };
 
@@ -144,14 +148,14 @@ struct FitRun {
 };
 
 void load_detector(FitRun& run) {
-  StageTimer t{run.r, "load_detector"};
+  StageTimer t{run.r, "load_detector", run.opt};
   const DetectionOptions& o = run.opt.detection;
   run.detector = o.detect ? std::make_unique<LandmarkDetector>(o.detect)
                           : std::make_unique<LandmarkDetector>(o.detector);
 }
 
 void find_front(FitRun& run) {
-  StageTimer t{run.r, "front"};
+  StageTimer t{run.r, "front", run.opt};
   run.r.orbit = fit::find_front(run.source, *run.detector, run.opt.front, run.surface).orbit;
 }
 
@@ -190,11 +194,11 @@ void plan_detect_and_frame_head(FitRun& run) {
   FitResult& r = run.r;
   for (int pass = 0; pass < 2; ++pass) {
     {
-      StageTimer t{r, pass == 0 ? "render_detect" : "render_detect_recentred"};
+      StageTimer t{r, pass == 0 ? "render_detect" : "render_detect_recentred", run.opt};
       r.views = plan_and_detect(run.source, *run.detector, r.orbit, run.opt);
     }
     {
-      StageTimer t{r, pass == 0 ? "triangulate" : "triangulate_recentred"};
+      StageTimer t{r, pass == 0 ? "triangulate" : "triangulate_recentred", run.opt};
       triangulate_and_cast(run);
       estimate_head(run);
     }
@@ -210,7 +214,7 @@ void plan_detect_and_frame_head(FitRun& run) {
 
 // The nose point, the ears (Eq. 2-3) and the placement (Eq. 4-5).
 void place_on_face(FitRun& run) {
-  StageTimer t{run.r, "place"};
+  StageTimer t{run.r, "place", run.opt};
   FitResult& r = run.r;
   const HeadOptions& o = run.opt.head;
   const auto& P = r.points;
@@ -250,7 +254,7 @@ HeadProbe make_head_probe(const FitRun& run) {
 }
 
 void rest_on_skin(FitRun& run, const HeadProbe& head) {
-  StageTimer t{run.r, "contact"};
+  StageTimer t{run.r, "contact", run.opt};
   run.r.contact = refine_contact(run.r.placement, head, run.r.head.d_fwd);
 }
 
@@ -281,7 +285,7 @@ HeadProbe temple_probe(FitRun& run, const HeadProbe& head) {
 
 // Spreads the temples against the head without its hair, then re-measures the frame on it.
 void spread_temples(FitRun& run, const HeadProbe& head) {
-  StageTimer t{run.r, "temples"};
+  StageTimer t{run.r, "temples", run.opt};
   FitResult& r = run.r;
   const HeadProbe skin = temple_probe(run, head);
   TempleFitInputs ti{r.placement.transform, run.glasses.ref.hinge_l, run.glasses.ref.hinge_r};

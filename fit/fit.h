@@ -5,6 +5,7 @@
 // would clip (temple_fit.h). Fatal problems (no face, too few views, degenerate geometry) throw
 // std::runtime_error saying what was seen and what to try.
 #pragma once
+#include <functional>
 #include <map>
 #include <optional>
 #include <string>
@@ -75,6 +76,8 @@ struct FitOptions {
   HairOptions hair;              // ... against the head without its hair (hair.h)
   float surface_density = 0.0f;  // skin for framing, surface casts and contact; 0: the source's own
   std::string debug_dir;         // non-empty: write annotated views there
+  // Called as each stage starts, with its name (those of FitResult::seconds): progress for a UI.
+  std::function<void(const std::string& stage)> on_stage;
 };
 
 struct NamedLandmark {

@@ -100,7 +100,11 @@ TEST_F(LeePerrySmith, FitMatchesGroundTruth) {
   FitOptions opt;
   GlassesInput g = load_glasses_input(kGlasses, 2000);
   opt.debug_dir = std::string(LORGNETTE_TEST_TMP) + "/fit-debug";
+  std::vector<std::string> started;  // the progress hook: each stage announced as it starts
+  opt.on_stage = [&](const std::string& stage) { started.push_back(stage); };
   FitResult r = fit_glasses(*source_, g, opt);
+  ASSERT_EQ(started.size(), r.seconds.size());
+  for (size_t i = 0; i < started.size(); ++i) EXPECT_EQ(started[i], r.seconds[i].first);
   GroundTruth gt = mesh_ground_truth(*source_, r.orbit, {-20, -10, 0, 10, 20}, g.ref, opt);
   FitErrors e = compare_fit(r, gt);
   // The targets: nose <= 2 mm, ears <= 4 mm, rotation <= 2 deg, penetration <= 0.5 mm.
