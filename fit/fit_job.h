@@ -17,7 +17,16 @@ struct NerfViewOptions {
   // The capture's transforms.json (or its folder) for the prior front and up; empty: the dataset the
   // model was trained on (its metadata), when it is still there.
   std::string dataset;
-  render::RenderOptions render;  // the views' marcher (NerfViewSource)
+  // The views' marcher (NerfViewSource): NeRF step x1.5. The views only feed the detector; on the
+  // demo NeRF this kept nose, ears and rotation (0.91 mm, 7.8 / 2.4 mm, 0.90 deg against 0.93 mm,
+  // 9.7 / 2.6 mm, 1.08 deg at x1) for 29 % less time, and on the scan NeRFs the ears stayed within
+  // 4 mm (docs/bench/fit-accuracy.md, docs/bench/real-captures.md).
+  render::RenderOptions render = views_render_options();
+  static render::RenderOptions views_render_options() {
+    render::RenderOptions o;
+    o.step_scale = 1.5f;
+    return o;
+  }
 };
 
 // The settings a user chooses (the `lorgnette fit` flags, the Python fit() arguments), with the

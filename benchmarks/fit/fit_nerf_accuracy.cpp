@@ -84,6 +84,11 @@ const std::vector<Variant>& all_variants() {
       {"fast_k8", [](FitOptions& o) { fast(o), o.cap.views = 8; }},
       {"fast_step15", [](FitOptions& o) { fast(o); }, 1.5f},
       {"fast_t4e3", [](FitOptions& o) { fast(o); }, 1.0f, 1.0f / 255.0f},  // stop below one 8-bit level
+      // The cap's views at 384 px (the fit before CapOptions::size) and at 256 (its default since),
+      // and 256 with the NeRF step x1.5 (issue 13: the fit on real captures in <= 10 s).
+      {"cap384", [](FitOptions& o) { fast(o), o.cap.size = 384; }},
+      {"cap256", [](FitOptions& o) { fast(o), o.cap.size = 256; }},
+      {"cap256_step15", [](FitOptions& o) { fast(o), o.cap.size = 256; }, 1.5f},
       // The jaw contour cast from every view at its first density crossing (the fit before the
       // near-side views and the opacity depth), and each of the two changes alone.
       {"contour_all_first",
@@ -280,8 +285,8 @@ void profile(const Case& c, ViewSource& src, const std::vector<ViewRecord>& view
   DetectorOptions hinted_opt = opt.detection.detector;
   hinted_opt.hog_face_px = 100.0;
   LandmarkDetector hinted(hinted_opt);
-  const double face_px = opt.front.face_fraction * opt.front.width;
   for (size_t i = 0; i < views.size(); ++i) {
+    const double face_px = opt.front.face_fraction * views[i].camera.width;  // the cap's size
     auto t0 = Clock::now();
     Image img = src.render(views[i].camera);
     double tr = since(t0);
