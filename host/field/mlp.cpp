@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <stdexcept>
+#include <string>
 
 namespace lorgnette::field {
 namespace {
@@ -14,10 +15,10 @@ constexpr size_t kLocalWeights = 256;
 uint32_t round16(uint32_t n) { return (n + 15u) & ~15u; }
 }  // namespace
 
-GradChunks grad_chunks(uint32_t n) {
+GradChunks grad_chunks(uint32_t n, uint32_t chunk_target) {
   const uint32_t n16 = round16(n);
   GradChunks g;
-  g.chunks = std::clamp<uint32_t>((n16 + kGradChunk - 1) / kGradChunk, 1, kMaxGradChunks);
+  g.chunks = std::clamp<uint32_t>((n16 + chunk_target - 1) / chunk_target, 1, kMaxGradChunks);
   g.chunk = std::max<uint32_t>(16, round16((n16 + g.chunks - 1) / g.chunks));
   g.chunks = std::max<uint32_t>(1, (n16 + g.chunk - 1) / g.chunk);
   return g;
@@ -78,6 +79,7 @@ Mlp::Mlp(cl::Runtime& rt, uint32_t stride, KernelVariant variant, uint32_t large
   grad_reduce_ = cl::Kernel(prog, "mlp_weight_grad_reduce");
   sh_ = cl::Kernel(prog, "mlp_sh_encode");
   sigma_ = cl::Kernel(prog, "mlp_sigma");
+  if (gpu_) grad_tiled_ = cl::Kernel(prog, "mlp_weight_grad_partial_tiled");
   if (gpu_ && largest_layer > 0 && uint64_t(largest_layer) * sizeof(float) <= rt.device().local_mem_bytes) {
     cl_program chain = rt.program("mlp/mlp_chain_local.cl");
     chain_fwd_ = cl::Kernel(chain, "mlp_chain_forward_local");
@@ -135,11 +137,27 @@ void Mlp::weight_grad(const LayerShape& L, const LayerIo& io, uint32_t n, cl::Bu
   p.w_offset = uint32_t(L.offset);
   p.x_row = io.x_row;
   p.y_row = io.y_row;
-  GradChunks g = grad_chunks(n);
+  const size_t count = size_t(p.out) * p.in;
+  // The GPU kernel's group: count / LGN_MLP_GRAD_PER_ITEM work-items, whole warps of 64.
+  const size_t group =
+      cl::round_up(std::max<size_t>(64, (count + LGN_MLP_GRAD_PER_ITEM - 1) / LGN_MLP_GRAD_PER_ITEM), 64);
+  const size_t tile_bytes = size_t(p.in + p.out) * (LGN_MLP_GRAD_TILE + 1) * sizeof(float);
+  const bool tiled =
+      gpu_ && group <= grad_tiled_.max_work_group_size(rt_) && tile_bytes <= rt_.device().local_mem_bytes;
+  GradChunks g = grad_chunks(n, tiled ? kGradChunkGpu : kGradChunk);
   p.chunk = g.chunk;
   p.chunks = g.chunks;
-  const size_t blocks = size_t(p.out / 4) * (p.in / 4);
-  grad_partial_.args(p, *io.y, *io.x, partial).launch2d(rt_, {blocks, p.chunks}, {16, 1});
+  if (partial.size() < size_t(p.chunks) * count)
+    throw std::invalid_argument("Mlp::weight_grad: the partial buffer holds " +
+                                std::to_string(partial.size()) + " floats, needs " +
+                                std::to_string(size_t(p.chunks) * count));
+  if (tiled) {
+    grad_tiled_.args(p, *io.y, *io.x, partial, cl::LocalBytes{tile_bytes})
+        .launch(rt_, p.chunks * group, group);
+  } else {
+    const size_t blocks = size_t(p.out / 4) * (p.in / 4);
+    grad_partial_.args(p, *io.y, *io.x, partial).launch2d(rt_, {blocks, p.chunks}, {16, 1});
+  }
   grad_reduce_.args(p, partial, grads).launch(rt_, size_t(p.out) * p.in, 64);
 }
 

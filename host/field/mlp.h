@@ -25,12 +25,16 @@ struct LayerIo {
 struct GradChunks {
   uint32_t chunk = 16, chunks = 1;
 };
-GradChunks grad_chunks(uint32_t n);
+// chunk_target: samples per chunk aimed at (kGradChunk on CPUs, kGradChunkGpu on GPUs).
+GradChunks grad_chunks(uint32_t n, uint32_t chunk_target = 2048);
 // Samples per chunk: a chunk's input and delta rows (up to 128 rows x 2048 floats = 1 MiB) stay in
 // the L2 cache while the work-groups of its 4x4 weight blocks run one after another (measured:
 // 512 and 4096 were slower on the 2-core Xeon).
 constexpr uint32_t kGradChunk = 2048;
 constexpr uint32_t kMaxGradChunks = 128;
+// GPU variant: one work-group per chunk, so smaller chunks give a 2^16 batch 128 work-groups
+// (a 2^18 batch is capped at kMaxGradChunks chunks of 2048 either way).
+constexpr uint32_t kGradChunkGpu = 512;
 
 // The Field's network as one fused chain: density layers, then colour layers, with every
 // activation (and delta) at a row of one [rows][stride] buffer.
@@ -79,6 +83,7 @@ class Mlp {
   bool gpu_;
   uint32_t local_floats_ = 0;  // local scratch of the local-weights chain (0: not used)
   cl::Kernel forward_, backward_input_, grad_partial_, grad_reduce_, sh_, sigma_, chain_fwd_, chain_bwd_;
+  cl::Kernel grad_tiled_;  // GPU weight-gradient partials (mlp_weight_grad_partial_tiled)
 };
 
 }  // namespace lorgnette::field

@@ -13,7 +13,8 @@ __kernel void mlp_forward(const MlpParams p, __global const float* restrict W,
   const uint i0 = get_global_id(0) * 32;
   if (i0 >= p.n16) return;
   const uint s = p.stride;
-  mlp_layer_forward(W + p.w_offset, p.in, p.out, p.act, x + p.x_row * s + i0, y + p.y_row * s + i0, s, i0, p.n16);
+  mlp_layer_forward(W + p.w_offset, p.in, p.out, p.act, x + p.x_row * s + i0, y + p.y_row * s + i0, s, i0,
+                    p.n16);
 }
 
 // dx[dx_row + k] = (sum_j W[j][k] dz[y_row + j]) * (act == RELU ? x[x_row + k] > 0 : 1), for
@@ -29,9 +30,9 @@ __kernel void mlp_backward_input(const MlpParams p, __global const float* restri
 }
 
 #define MLP_OUTER(a, d, x0, x1, x2, x3) \
-  a##0 = fma(d, x0, a##0);               \
-  a##1 = fma(d, x1, a##1);               \
-  a##2 = fma(d, x2, a##2);               \
+  a##0 = fma(d, x0, a##0);              \
+  a##1 = fma(d, x1, a##1);              \
+  a##2 = fma(d, x2, a##2);              \
   a##3 = fma(d, x3, a##3)
 #define MLP_STORE4(o, a)   \
   (o)[0] = mlp_hsum(a##0); \
@@ -72,6 +73,48 @@ __kernel void mlp_weight_grad_partial(const MlpParams p, __global const float* r
   MLP_STORE4(out + p.in, b);
   MLP_STORE4(out + 2 * p.in, c);
   MLP_STORE4(out + 3 * p.in, e);
+}
+
+// GPU variant of the partials (the kernel above keeps 256 floats per work-item in float16
+// registers, which a GPU would spill): one work-group per chunk, each work-item owns the weights
+// e = lid + q * group size (q < LGN_MLP_GRAD_PER_ITEM) of the layer and sums dz[j] x[k] over the
+// chunk's samples in order, so the result is deterministic. The chunk's input and delta rows pass
+// through local memory in tiles of LGN_MLP_GRAD_TILE samples (loaded coalesced; rows padded by one
+// float so neighbouring weights read different banks). Global size: chunks * group size; local
+// scratch (in + out) * (LGN_MLP_GRAD_TILE + 1) floats.
+__kernel void mlp_weight_grad_partial_tiled(const MlpParams p, __global const float* restrict dz,
+                                            __global const float* restrict x,
+                                            __global float* restrict partial, __local float* tile) {
+  const uint c = get_group_id(0), lid = get_local_id(0), G = get_local_size(0);
+  const uint count = p.out * p.in, s = p.stride, ts = LGN_MLP_GRAD_TILE + 1;
+  const uint begin = c * p.chunk, end = min(begin + p.chunk, p.n16);
+  __local const float* xt = tile;              // [in][ts]
+  __local const float* dt = tile + p.in * ts;  // [out][ts]
+  float acc[LGN_MLP_GRAD_PER_ITEM];
+  for (uint q = 0; q < LGN_MLP_GRAD_PER_ITEM; ++q) acc[q] = 0.0f;
+  for (uint t0 = begin; t0 < end; t0 += LGN_MLP_GRAD_TILE) {
+    barrier(CLK_LOCAL_MEM_FENCE);  // the previous tile is used up
+    for (uint e = lid; e < (p.in + p.out) * LGN_MLP_GRAD_TILE; e += G) {
+      const uint row = e / LGN_MLP_GRAD_TILE, t = e % LGN_MLP_GRAD_TILE, i = t0 + t;
+      float v = 0.0f;
+      if (i < end) v = row < p.in ? x[(p.x_row + row) * s + i] : dz[(p.y_row + row - p.in) * s + i];
+      tile[row * ts + t] = v;
+    }
+    barrier(CLK_LOCAL_MEM_FENCE);
+    for (uint q = 0; q < LGN_MLP_GRAD_PER_ITEM; ++q) {
+      const uint e = lid + q * G;
+      if (e >= count) break;
+      __local const float* d = dt + (e / p.in) * ts;
+      __local const float* xk = xt + (e % p.in) * ts;
+      float a = acc[q];
+      for (uint t = 0; t < LGN_MLP_GRAD_TILE; ++t) a = fma(d[t], xk[t], a);
+      acc[q] = a;
+    }
+  }
+  for (uint q = 0; q < LGN_MLP_GRAD_PER_ITEM; ++q) {
+    const uint e = lid + q * G;
+    if (e < count) partial[c * count + e] = acc[q];
+  }
 }
 
 // grads[w_offset + e] = sum_c partial[c][e] in chunk order. Global size: out * in.

@@ -10,6 +10,10 @@
 #define LGN_ACT_RELU 1u
 #define LGN_ACT_SIGMOID 2u
 #define LGN_SIGMA_MAX_RAW 15.0f  // sigma = exp(min(raw, 15)): no overflow, gradient 0 beyond
+// GPU weight-gradient partials (mlp_weight_grad_partial_tiled): samples per local-memory tile and
+// weights per work-item (a layer of in * out weights needs in * out / 16 work-items per group).
+#define LGN_MLP_GRAD_TILE 32u
+#define LGN_MLP_GRAD_PER_ITEM 16u
 
 typedef struct MlpParams {
   lgn_uint n;         // valid samples

@@ -95,9 +95,11 @@ TEST(Mlp, ForwardAndBackwardMatchReferenceAndFiniteDifferences) {
 
 TEST(Mlp, GradientChunkingIsFixedPerBatchSize) {
   for (uint32_t n : {1u, 16u, 500u, 4096u, 65536u, 262144u, 1u << 20}) {
-    GradChunks g = grad_chunks(n);
-    EXPECT_GE(g.chunk * g.chunks, n) << n;
-    EXPECT_LE(g.chunks, kMaxGradChunks) << n;
-    EXPECT_EQ(g.chunk % 16, 0u) << n;
+    for (uint32_t target : {kGradChunk, kGradChunkGpu}) {
+      GradChunks g = grad_chunks(n, target);
+      EXPECT_GE(g.chunk * g.chunks, n) << n;
+      EXPECT_LE(g.chunks, kMaxGradChunks) << n;
+      EXPECT_EQ(g.chunk % 16, 0u) << n;
+    }
   }
 }
