@@ -96,7 +96,7 @@ uint32_t RayBatch::write(SampleParams p, const DeviceViews& views, uint32_t begi
   return written_samples_;
 }
 
-double RayBatch::render(uint32_t loss_kind, bool forward_only, float min_transmittance) {
+double RayBatch::render(uint32_t loss_kind, bool forward_only, float min_transmittance, float opacity_prior) {
   if (written_rays_ == 0) return 0.0;
   cl::Runtime& rt = model_.runtime();
   LossParams lp{};
@@ -107,6 +107,7 @@ double RayBatch::render(uint32_t loss_kind, bool forward_only, float min_transmi
   lp.step = model_.step();
   lp.grad_scale = 1.0f / (3.0f * float(written_rays_));
   lp.min_transmittance = min_transmittance;
+  lp.opacity_prior = opacity_prior;
   render_k_
       .args(lp, sub_offsets_, sub_counts_, ray_info_, sigma_, rgb_, dsigma_, drgb_, ray_loss_, ray_color_)
       .launch(rt, written_rays_, kLocal);

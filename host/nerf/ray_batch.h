@@ -31,7 +31,9 @@ class RayBatch {
   uint32_t write(SampleParams p, const DeviceViews& views, uint32_t begin, uint32_t end);
   // Composites the written rays (after the field filled sigma()/rgb()). Training: also the loss
   // gradient into dsigma()/drgb() with grad_scale = 1 / (3 * rays); returns the summed squared error.
-  double render(uint32_t loss_kind, bool forward_only, float min_transmittance = 1e-4f);
+  // opacity_prior > 0 adds the binary-opacity prior's gradient (kernels/train/render.h) of that weight.
+  double render(uint32_t loss_kind, bool forward_only, float min_transmittance = 1e-4f,
+                float opacity_prior = 0.0f);
   // Colour + opacity (4 floats per ray) of the last render().
   std::vector<float> colors() const;
 

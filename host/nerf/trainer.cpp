@@ -42,10 +42,22 @@ Trainer::Trainer(NerfModel& model, const std::vector<View>& views, const TrainOp
 
 Trainer::~Trainer() = default;
 
-float Trainer::learning_rate(double elapsed) const {
+double Trainer::run_fraction(double elapsed) const {
   double f = 0.0;
   if (options_.steps) f = double(step_) / double(options_.steps);
   if (options_.seconds > 0.0) f = std::max(f, elapsed / options_.seconds);
+  return f;
+}
+
+float Trainer::opacity_prior() const {
+  const BackgroundOptions& b = options_.background;
+  if (!background_ || !(b.opacity_prior > 0.0f)) return 0.0f;
+  const double ramp = std::max<double>(1.0, b.opacity_prior_ramp);
+  return float(b.opacity_prior * std::clamp((double(step_) - b.opacity_prior_start) / ramp, 0.0, 1.0));
+}
+
+float Trainer::learning_rate(double elapsed) const {
+  const double f = run_fraction(elapsed);
   double t = std::clamp((f - options_.decay_start) / std::max(1e-9, 1.0 - options_.decay_start), 0.0, 1.0);
   return float(options_.adam.lr * std::pow(options_.final_lr_fraction, t));
 }
@@ -70,7 +82,7 @@ double Trainer::step() {
   n_rays_ = static_cast<uint32_t>(std::clamp<uint64_t>(want, 64, batch_->max_rays()));
   if (n > 0)
     field.forward(batch_->positions(), batch_->directions(), n, batch_->sigma(), batch_->rgb(), true);
-  double loss_sum = batch_->render(options_.loss_kind, false);
+  double loss_sum = batch_->render(options_.loss_kind, false, 1e-4f, opacity_prior());
   field::AdamConfig adam = options_.adam;
   adam.lr = learning_rate(elapsed_);
   if (n > 0) {

@@ -73,7 +73,9 @@ class Trainer {
   void set_elapsed(double seconds) { elapsed_ = seconds; }
 
  private:
+  double run_fraction(double elapsed) const;  // of the steps or seconds, whichever is further
   float learning_rate(double elapsed) const;
+  float opacity_prior() const;  // the room model's binary-opacity prior weight now
   void keep_good_copy();
   [[noreturn]] void diverged(double loss);
   void save_snapshot(double elapsed);

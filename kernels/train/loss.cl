@@ -21,4 +21,6 @@ __kernel void render_loss(const LossParams p, __global const uint* ray_offsets, 
   float dC[3];
   ray_loss[ray] = render_ray_loss(color, target, p.loss_kind, p.grad_scale, dC);
   render_ray_backward(sigma, rgb, p.stride, first, count, used, p.step, color, dC, dsigma, drgb);
+  if (p.opacity_prior > 0.0f)
+    render_ray_opacity_prior(first, used, p.step, color, p.opacity_prior, 3.0f * p.grad_scale, dsigma);
 }

@@ -13,6 +13,13 @@
 //   dL/dc_i     = w_i * g
 //   dL/dsigma_i = step * g . (T_{i+1} c_i - (C - C_{<=i}))   where C_{<=i} = sum_{k<=i} w_k c_k
 // (C includes the background term).
+//
+// Binary-opacity prior (mask-less captures with a room model): weight * a * (1 - a) per ray, a = 1 - T_end
+// the ray's opacity, as a mean over rays (Neural Volumes' beta prior in a bounded form): a ray
+// through the subject is opaque and one past it is clear, so semi-transparent haze and soft fringes
+// that the room model could explain are pushed to 0 or 1. Its gradient, dL/dsigma_i = step * T_end *
+// dL/da for the samples used, is added to the colour loss's; the ray's reported loss stays the
+// colour loss (the PSNR the trainer prints).
 #pragma once
 #include "common/cl_compat.h"
 #include "common/composite.h"
@@ -107,4 +114,15 @@ LGN_INLINE void render_ray_backward(LGN_GLOBAL const float* sigma, LGN_GLOBAL co
           sb = T * cb - (color[2] - acc_b);
     dsigma[i] = step * (dC[0] * sr + dC[1] * sg + dC[2] * sb);
   }
+}
+
+// Adds the binary-opacity prior's gradient (weight * a * (1 - a) per ray, times `ray_scale`, the
+// batch mean's 1 / rays) to dsigma of the `used` samples from `first`; returns the prior's value
+// (unscaled). color[3] is the ray's opacity from render_ray_forward.
+LGN_INLINE float render_ray_opacity_prior(lgn_uint first, lgn_uint used, float step, const float* color,
+                                          float weight, float ray_scale, LGN_GLOBAL float* dsigma) {
+  const float a = color[3], T = 1.0f - a;
+  const float dLda = weight * ray_scale * (1.0f - 2.0f * a);
+  for (lgn_uint k = 0; k < used; ++k) dsigma[first + k] += step * T * dLda;
+  return weight * a * (1.0f - a);
 }

@@ -45,7 +45,7 @@ typedef struct LossParams {
   float step;               // sample spacing, scene units
   float grad_scale;         // 1 / (3 * rays in the batch): the loss is a mean
   float min_transmittance;  // stop accumulating below this (instant-ngp: 1e-4)
-  float pad;
+  float opacity_prior;      // weight of the binary-opacity prior (train/render.h); 0 = off
 } LossParams;
 LGN_STATIC_ASSERT(sizeof(LossParams) == 32, "LossParams layout is shared with OpenCL");
 

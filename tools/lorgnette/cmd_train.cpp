@@ -24,7 +24,7 @@ struct TrainArgs {
   double seconds = 0.0;
   uint32_t seed = 1337, batch_log2 = 0, finest = 0, log2_table = 0, levels = 0, occ_res = 0, downscale = 1;
   uint32_t max_side = 0;
-  float step = 0.0f, lr = 1e-2f, aabb_scale = 0.0f;
+  float step = 0.0f, lr = 1e-2f, aabb_scale = 0.0f, opacity_prior = -1.0f;  // < 0: the default
   double snapshot_every = 120.0;
   bool deterministic = false, force = false, no_masks = false, linear_loss = false;
 };
@@ -79,6 +79,7 @@ void run_train(const TrainArgs& a, GlobalOptions& global) {
   to.seconds = a.seconds;
   to.seed = a.seed;
   to.adam.lr = a.lr;
+  if (a.opacity_prior >= 0.0f) to.background.opacity_prior = a.opacity_prior;
   to.loss_kind = a.linear_loss ? LOSS_L2_LINEAR : LOSS_L2_SRGB;
   to.snapshot_path = a.output;
   to.snapshot_every_seconds = a.snapshot_every;
@@ -118,6 +119,10 @@ void add_train(CLI::App& app, GlobalOptions& global) {
                   "room model behind the subject, then keep the subject's connected region: auto (mask-less "
                   "datasets with a subject box), on or off")
       ->check(CLI::IsMember({"auto", "on", "off"}));
+  cmd->add_option("--opacity-prior", a->opacity_prior,
+                  "with the room model: weight of the prior that pushes each ray's opacity to 0 or 1 "
+                  "(default 0.01; 0 = off)")
+      ->check(CLI::Range(0.0f, 1.0f));
   cmd->add_option("--aabb-scale", a->aabb_scale,
                   "box size factor for datasets without alpha (default: dataset)");
   // The ranges the field and the occupancy grid accept (FieldConfig::validate, occupancy.h), checked
