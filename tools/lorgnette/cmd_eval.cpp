@@ -131,6 +131,7 @@ void run_eval(const EvalArgs& a, GlobalOptions& global) {
                           {"view_ssim", r.view_ssim},
                           {"model", a.model}};
     if (!mattes.is_null()) out["mattes"] = mattes;
+    if (!model.metadata.subject_problem.empty()) out["subject_problem"] = model.metadata.subject_problem;
     std::cout << out.dump() << "\n";
   } else {
     std::cout << fmt::format(
@@ -144,6 +145,9 @@ void run_eval(const EvalArgs& a, GlobalOptions& global) {
           mattes["face_psnr"].get<double>());
   }
   if (!a.output.empty()) spdlog::info("prediction | truth | error images in '{}'", a.output);
+  // The scores judge the pixels, not whether the subject was separated: say so when it was not.
+  if (!model.metadata.subject_problem.empty())
+    spdlog::warn("this model is not a separated subject: {}", model.metadata.subject_problem);
 }
 
 void add_eval(CLI::App& app, GlobalOptions& global) {
