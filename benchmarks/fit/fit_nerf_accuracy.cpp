@@ -8,7 +8,7 @@
 // Usage: bench_fit_nerf OUT_DIR --case NAME MODEL.lnerf DATASET_DIR [--case ...]
 //        [--variants baseline,overlap,hog,crop75,crop65,step15,fast,fast_k8,thr50,...]
 //        [--gt-shading studio|camera] [--gt-contour side|all] [--gt-yaws a,b,...]
-//        [--repeats N] [--glasses FILE] [--debug] [--mesh-only]
+//        [--repeats N] [--glasses FILE] [--debug] [--mesh-only] [--no-profile]
 //        bench_fit_nerf OUT_DIR --replot EARLIER/fit_nerf.csv   (the charts again, from a CSV)
 // Writes OUT_DIR/fit_nerf.csv (one row per fit), fit_nerf_profile.csv, fit_nerf_time.png,
 // fit_nerf_training.png (error against training time, for cases named NAME@N, N seconds or steps) and, with
@@ -326,7 +326,7 @@ int main(int argc, char** argv) {
   std::vector<Case> cases;
   std::string variants = "baseline,fast", glasses = kData + "/glasses/glasses-06/scene.gltf";
   int repeats = 2;
-  bool debug = false, studio = true, mesh_only = false, gt_all_views = false;
+  bool debug = false, studio = true, mesh_only = false, gt_all_views = false, no_profile = false;
   std::vector<double> gt_yaws = {-20, -10, 0, 10, 20};
   std::string replot;
   for (int i = 2; i < argc; ++i) {
@@ -344,6 +344,8 @@ int main(int argc, char** argv) {
       mesh_only = true;
     else if (std::strcmp(argv[i], "--debug") == 0)
       debug = true;
+    else if (std::strcmp(argv[i], "--no-profile") == 0)  // skip the per-view profile (one more fit)
+      no_profile = true;
     else if (std::strcmp(argv[i], "--gt-yaws") == 0 && i + 1 < argc) {
       gt_yaws.clear();
       for (char* tok = std::strtok(argv[++i], ","); tok; tok = std::strtok(nullptr, ","))
@@ -430,6 +432,7 @@ int main(int argc, char** argv) {
         rows.push_back(row);
         write_rows(out, rows);
       }
+    if (no_profile) continue;
     FitOptions po = base;
     try {
       FitResult pr = run_fit_job(model, g, po, nerf_views(1.0f)).fit;

@@ -1,0 +1,215 @@
+// How cleanly models trained on synthetic room captures (`lorgnette synth --room`) separate the
+// subject (issue 13): per case (a .lnerf and its dataset), the held-out views are rendered and scored
+// against their true mattes with the product's metric (host/render/matte_eval.h: IoU, leak, face
+// PSNR), and the leak is split by where it lies, so its cause can be read off:
+//   edge   opacity within 2 px of the true matte's outline (anti-aliasing, a soft silhouette);
+//   below  farther out, below the chin (the lowest of the 68 true landmarks): haze under the jaw;
+//   other  farther out elsewhere (floaters, room density left in the box).
+// --min-alpha a,b,...: also score the model with every occupancy cell whose density gives less than
+// that opacity over one marching step cleared (the subject region's threshold at extraction; 0 =
+// the model as saved), to see which threshold the metric supports.
+// Usage: bench_room_matte OUT_DIR --case NAME MODEL.lnerf DATASET [--case ...] [--min-alpha 0,0.1]
+//        [--sheet-views N]
+// Writes OUT_DIR/room_matte.csv (one row per case and threshold) and OUT_DIR/<case>_sheet.png
+// (per held-out view: prediction over white | photo | opacity error: red = opacity where the
+// matte is room, blue = subject the prediction misses).
+#include <fmt/format.h>
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "host/dataset/dataset.h"
+#include "host/render/matte_eval.h"
+#include "host/render/renderer.h"
+#include "host/util/chart.h"
+#include "synth/matte.h"
+
+using namespace lorgnette;
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Case {
+  std::string name, model, dataset;
+};
+
+struct HeldOut {
+  const dataset::Frame* frame = nullptr;
+  Image matte, depth;
+};
+
+struct LeakSplit {
+  double edge = 0, below = 0, other = 0;  // fractions of the subject's pixels, like MatteScore::leak
+  double floor = 0;  // the leak of a render whose opacity equals the matte (its anti-aliased outline)
+};
+
+// The leak of one view, split by where it lies (see the file comment). Same region rule as
+// score_matte: matte pixels whose subject point lies outside the model's box are not judged.
+LeakSplit split_leak(const Image& pred, const HeldOut& h, const nerf::Aabb& box,
+                     const std::vector<Eigen::Vector3f>& face, long subject_pixels) {
+  const Camera& cam = h.frame->camera;
+  const int w = h.matte.width, ht = h.matte.height;
+  cv::Mat inside(ht, w, CV_8U);
+  for (int y = 0; y < ht; ++y)
+    for (int x = 0; x < w; ++x) inside.at<uint8_t>(y, x) = h.matte.at(x, y, 0) >= 0.5f ? 255 : 0;
+  cv::Mat near;
+  cv::dilate(inside, near, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(5, 5)));
+  float chin_v = -1e30f;
+  for (const auto& p : face) {
+    float u, v;
+    if (camera_project(&cam, lgn_vec3(p.x(), p.y(), p.z()), &u, &v) > 0.0f) chin_v = std::max(chin_v, v);
+  }
+  LeakSplit s;
+  for (int y = 0; y < ht; ++y)
+    for (int x = 0; x < w; ++x) {
+      const double m = h.matte.at(x, y, 0), a = pred.at(x, y, 3);
+      const double leak = a * (1.0 - m);
+      s.floor += m * (1.0 - m);
+      if (leak <= 0.0) continue;
+      if (near.at<uint8_t>(y, x))
+        s.edge += leak;
+      else if (y + 0.5f > chin_v)
+        s.below += leak;
+      else
+        s.other += leak;
+    }
+  (void)box;
+  const double n = subject_pixels ? double(subject_pixels) : 1.0;
+  s.edge /= n, s.below /= n, s.other /= n, s.floor /= n;
+  return s;
+}
+
+// prediction over white | photo | opacity error, one row per view.
+cv::Mat sheet_row(const Image& pred, const Image& photo, const Image& matte) {
+  const int w = pred.width, h = pred.height;
+  cv::Mat row(h, 3 * w, CV_8UC3);
+  auto px = [](float linear) {
+    return uint8_t(std::lround(255.0f * std::clamp(linear_to_srgb(linear), 0.f, 1.f)));
+  };
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const float a = pred.at(x, y, 3), m = matte.at(x, y, 0);
+      cv::Vec3b p, t, e;
+      for (int c = 0; c < 3; ++c) {
+        p[2 - c] = px(pred.at(x, y, c) + (1.0f - a));  // premultiplied colour over white
+        t[2 - c] = px(photo.at(x, y, c));
+      }
+      const float extra = std::max(0.0f, a - m), missing = std::max(0.0f, m - a);
+      e = cv::Vec3b(uint8_t(255 * (1 - extra)), uint8_t(255 * (1 - extra - missing)),
+                    uint8_t(255 * (1 - missing)));
+      row.at<cv::Vec3b>(y, x) = p, row.at<cv::Vec3b>(y, x + w) = t, row.at<cv::Vec3b>(y, x + 2 * w) = e;
+    }
+  return row;
+}
+
+// Clears occupancy cells whose density gives less than `alpha` opacity over one step.
+void threshold_occupancy(nerf::NerfModel& model, const nerf::OccupancyGrid& saved, float alpha) {
+  nerf::OccupancyGrid g = saved;
+  if (alpha > 0.0f && !g.density.empty()) {
+    const float sigma = -std::log(1.0f - alpha) / model.step();
+    for (size_t c = 0; c < g.density.size(); ++c)
+      if (g.density[c] < sigma) g.bits[c >> 5] &= ~(1u << (c & 31u));
+  }
+  model.set_occupancy(std::move(g));
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 4) {
+    std::cerr << "usage: bench_room_matte OUT_DIR --case NAME MODEL DATASET [...] [--min-alpha 0,0.1] "
+                 "[--sheet-views N]\n";
+    return 2;
+  }
+  const std::string out = argv[1];
+  std::vector<Case> cases;
+  std::vector<float> alphas = {0.0f};
+  int sheet_views = 2;
+  for (int i = 2; i < argc; ++i) {
+    if (std::strcmp(argv[i], "--case") == 0 && i + 3 < argc)
+      cases.push_back({argv[i + 1], argv[i + 2], argv[i + 3]}), i += 3;
+    else if (std::strcmp(argv[i], "--min-alpha") == 0 && i + 1 < argc) {
+      alphas.clear();
+      for (char* tok = std::strtok(argv[++i], ","); tok; tok = std::strtok(nullptr, ","))
+        alphas.push_back(std::strtof(tok, nullptr));
+    } else if (std::strcmp(argv[i], "--sheet-views") == 0 && i + 1 < argc)
+      sheet_views = std::atoi(argv[++i]);
+    else
+      return std::cerr << "unknown argument " << argv[i] << "\n", 2;
+  }
+  fs::create_directories(out);
+  cl::Runtime rt;
+  render::Renderer renderer(rt);
+  std::vector<std::vector<std::string>> csv;
+  for (const Case& c : cases) {
+    nerf::NerfModel model = nerf::NerfModel::load(rt, c.model);
+    dataset::LoadOptions lo;
+    lo.splits = {dataset::Split::Holdout};
+    dataset::Dataset ds = dataset::load_dataset(c.dataset, lo);
+    nlohmann::json tj = nlohmann::json::parse(std::ifstream(c.dataset + "/transforms.json"));
+    nlohmann::json gt = nlohmann::json::parse(std::ifstream(c.dataset + "/ground_truth.json"));
+    std::map<std::string, std::pair<std::string, std::string>> by_stem;
+    for (const auto& f : tj.at("frames"))
+      if (f.contains("eval_matte_path"))
+        by_stem[fs::path(f.value("file_path", "")).stem().string()] = {f["eval_matte_path"], f["depth_path"]};
+    if (by_stem.empty())
+      throw std::runtime_error(c.dataset + " has no true mattes: make it with synth --room");
+    std::vector<Eigen::Vector3f> face;
+    for (const auto& p : gt.at("ibug68"))
+      face.emplace_back(p[0].get<float>(), p[1].get<float>(), p[2].get<float>());
+    std::vector<HeldOut> held;
+    for (const dataset::Frame* f : ds.require_split(dataset::Split::Holdout)) {
+      auto it = by_stem.at(fs::path(f->image_path).stem().string());
+      held.push_back(
+          {f, synth::read_matte(c.dataset + "/" + it.first), read_image(c.dataset + "/" + it.second)});
+    }
+    const nerf::OccupancyGrid saved = model.occupancy();
+    for (float alpha : alphas) {
+      threshold_occupancy(model, saved, alpha);
+      std::vector<render::MatteScore> scores;
+      LeakSplit leak;
+      std::vector<cv::Mat> rows;
+      for (const HeldOut& h : held) {
+        render::RenderOptions ro;
+        Image pred = renderer.render(model, h.frame->camera, nullptr, ro).rgba;
+        render::MatteView v{h.frame->camera, &pred, &h.frame->image, &h.matte, &h.depth, face};
+        scores.push_back(render::score_matte(v, model.aabb()));
+        LeakSplit s = split_leak(pred, h, model.aabb(), face, scores.back().subject_pixels);
+        leak.edge += s.edge / held.size(), leak.below += s.below / held.size(),
+            leak.other += s.other / held.size();
+        leak.floor += s.floor / held.size();
+        if (int(rows.size()) < sheet_views && alpha == alphas.front())
+          rows.push_back(sheet_row(pred, h.frame->image, h.matte));
+      }
+      render::MatteScore m = render::mean_score(scores);
+      const uint64_t occupied = model.occupancy().occupied_count();
+      std::cerr << fmt::format(
+          "{} min-alpha {:.3f}: IoU {:.4f}, leak {:.2f} % (edge {:.2f}, below chin {:.2f}, other {:.2f}; "
+          "the matte's own {:.2f}), face PSNR {:.2f} dB, {} views, {} occupied cells\n",
+          c.name, alpha, m.iou, 100 * m.leak, 100 * leak.edge, 100 * leak.below, 100 * leak.other,
+          100 * leak.floor, m.face_psnr, scores.size(), occupied);
+      csv.push_back(
+          {c.name, fmt::format("{:.3f}", alpha), fmt::format("{:.4f}", m.iou), fmt::format("{:.4f}", m.leak),
+           fmt::format("{:.4f}", leak.edge), fmt::format("{:.4f}", leak.below),
+           fmt::format("{:.4f}", leak.other), fmt::format("{:.4f}", leak.floor),
+           fmt::format("{:.3f}", m.face_psnr), std::to_string(scores.size()), std::to_string(occupied),
+           std::to_string(model.metadata.steps), fmt::format("{:.1f}", model.metadata.train_seconds)});
+      if (!rows.empty()) {
+        cv::Mat sheet;
+        cv::vconcat(rows, sheet);
+        cv::imwrite(out + "/" + c.name + "_sheet.png", sheet);
+      }
+    }
+  }
+  write_csv(out + "/room_matte.csv",
+            {"case", "min_alpha", "iou", "leak", "leak_edge", "leak_below_chin", "leak_other",
+             "leak_of_true_matte", "face_psnr_db", "views", "occupied_cells", "steps", "train_seconds"},
+            csv);
+  return 0;
+}
