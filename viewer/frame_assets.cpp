@@ -10,6 +10,7 @@
 #include <cmath>
 #include <filesystem>
 #include <future>
+#include <map>
 
 #include "fit/fit_job.h"
 #include "fit/glasses_input.h"
@@ -219,24 +220,70 @@ void FrameAssets::fit_loop() {
   }
 }
 
+std::string fit_stage_label(const std::string& stage) {
+  static const std::map<std::string, std::string> labels = {
+      {"load", "loading the head"},
+      {"load_detector", "loading the landmark detector"},
+      {"front", "finding the face's front"},
+      {"render_detect", "rendering views and finding landmarks"},
+      {"render_detect_recentred", "rendering re-centred views and finding landmarks"},
+      {"triangulate", "triangulating the landmarks"},
+      {"triangulate_recentred", "triangulating the re-centred landmarks"},
+      {"place", "placing the frame"},
+      {"contact", "seating the frame on the skin"},
+      {"temples", "fitting the temples"}};
+  auto it = labels.find(stage);
+  return it != labels.end() ? it->second : stage;
+}
+
 void FrameAssets::run_fit(uint32_t i) {
   const FrameEntry& e = entries_[i];
   auto t0 = std::chrono::steady_clock::now();
   listener_({{"type", "fit"}, {"state", "started"}, {"frame", i}, {"name", e.name}}, i);
   spdlog::info("view: fitting {} (no placement beside it)", e.name);
+  std::mutex stage_mutex;
+  std::vector<std::string> started;  // the fit's stages as they start (fit.h FitOptions::on_stage)
   auto work = std::async(std::launch::async, [&] {
     fit::GlassesInput glasses = fit::load_glasses_input(e.path);
     fit::FitOptions opt;
     opt.cap.views = fit_.views;
     opt.front.width = opt.front.height = fit_.resolution;
+    opt.on_stage = [&](const std::string& s) {
+      std::lock_guard<std::mutex> lock(stage_mutex);
+      started.push_back(s);
+    };
     cl::Runtime rt(fit_.runtime);
     nerf::NerfModel model = nerf::NerfModel::load(rt, fit_.model_path);
     return fit::run_fit_job(model, glasses, opt).placement;
   });
   auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
-  while (work.wait_for(std::chrono::seconds(1)) != std::future_status::ready)
-    listener_({{"type", "fit"}, {"state", "progress"}, {"frame", i}, {"elapsed_s", std::round(elapsed())}},
-              i);
+  // A progress message as each stage starts (even one shorter than the polling), and each second.
+  size_t said = 0;
+  auto last = std::chrono::steady_clock::now();
+  auto progress = [&](bool finished) {
+    std::vector<std::string> stages;
+    {
+      std::lock_guard<std::mutex> lock(stage_mutex);
+      stages = started;
+    }
+    bool heartbeat = !finished && std::chrono::steady_clock::now() - last >= std::chrono::seconds(1);
+    if (said == stages.size() && !heartbeat) return;
+    for (size_t k = std::min(said + 1, stages.size()); k <= stages.size(); ++k) {
+      const std::string stage = k ? stages[k - 1] : "load";
+      listener_({{"type", "fit"},
+                 {"state", "progress"},
+                 {"frame", i},
+                 {"elapsed_s", std::round(elapsed())},
+                 {"stage", stage},
+                 {"stage_label", fit_stage_label(stage)},
+                 {"stage_index", k}},
+                i);
+    }
+    said = stages.size();
+    last = std::chrono::steady_clock::now();
+  };
+  while (work.wait_for(std::chrono::milliseconds(100)) != std::future_status::ready) progress(false);
+  progress(true);
   nlohmann::json done = {{"type", "fit"}, {"frame", i}, {"seconds", elapsed()}};
   try {
     auto pf = std::make_shared<fit::PlacementFile>(work.get());

@@ -43,7 +43,12 @@ struct FitSettings {
   std::string model_path;
 };
 
-// Fit events for the clients: state "started", "progress" (elapsed seconds), "done", "failed".
+// The words for a fit stage's name (FitOptions::on_stage), as the page shows them; the name itself
+// when it has none.
+std::string fit_stage_label(const std::string& stage);
+
+// Fit events for the clients: state "started", "progress" (elapsed seconds, the stage's name, its
+// words and how many stages have started), "done", "failed".
 using FitListener = std::function<void(const nlohmann::json& event, uint32_t frame)>;
 
 class FrameAssets {

@@ -18,6 +18,8 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <set>
+#include <string>
 
 #include "viewer/viewer_service.h"
 
@@ -351,16 +353,23 @@ TEST_F(ViewerServer, AFrameWithoutPlacementIsFittedWithProgressAndCached) {
   ASSERT_TRUE(started);
   EXPECT_EQ((*started)["state"], "started");
   bool progress = false;
+  std::set<std::string> stages;  // the fit's stages, as the progress messages named them
   std::optional<json> end;
   auto t0 = std::chrono::steady_clock::now();
   while (!end && std::chrono::steady_clock::now() - t0 < 180s) {
     auto m = c.wait_text("fit", 180s);
     ASSERT_TRUE(m);
-    if ((*m)["state"] == "progress") progress = true;
+    if ((*m)["state"] == "progress") {
+      progress = true;
+      stages.insert((*m)["stage"].get<std::string>());
+      EXPECT_FALSE((*m)["stage_label"].get<std::string>().empty());
+    }
     if ((*m)["state"] == "done" || (*m)["state"] == "failed") end = m;
   }
   ASSERT_TRUE(end);
   EXPECT_TRUE(progress) << "no progress message during the fit";
+  // Every stage start sends a message, so the long ones cannot be missed.
+  for (const char* s : {"front", "render_detect", "triangulate", "place"}) EXPECT_TRUE(stages.count(s)) << s;
   EXPECT_EQ((*end)["state"], "done") << (*end).dump();
   EXPECT_TRUE(fs::exists(cat / "b-rect.glb.placement.json"));
   auto state = c.wait_text("state");

@@ -161,7 +161,8 @@
     const banner = $("fit-banner");
     if (m.state === "started" || m.state === "progress") {
       banner.hidden = false;
-      banner.textContent = `fitting frame ${m.frame}… ${m.elapsed_s ? m.elapsed_s + " s" : ""}`;
+      const stage = m.stage_label ? `: ${m.stage_label} (stage ${m.stage_index || 1})` : "";
+      banner.textContent = `fitting frame ${m.frame}${stage}… ${m.elapsed_s ? m.elapsed_s + " s" : ""}`;
     } else {
       banner.hidden = true;
       say(m.state === "done" ? `fit done in ${m.seconds.toFixed(0)} s` + (m.message ? ` (${m.message})` : "")
