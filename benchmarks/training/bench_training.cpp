@@ -4,8 +4,9 @@
 // the same steps as the step's wall time. The rest of the step (wall minus kernel time) is host
 // work, transfers, fills and synchronisation. With --threads 1,2,... it re-runs itself once per
 // PoCL thread count (POCL_MAX_PTHREAD_COUNT must be set before the OpenCL platform loads) and
-// charts the scaling. Writes <out>/training_kernels.csv (+ .png) and, with --threads,
-// <out>/training_scaling.csv and training_scaling.png.
+// charts the scaling. Writes <out>/training_kernels.csv and, with --threads, one such folder per
+// count (<out>/threads-N) and <out>/training_scaling.csv, training_scaling.png (M samples/s by
+// stage) and training_speedup.png (wall-clock speedup by stage against the ideal).
 #include <fmt/format.h>
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
@@ -44,6 +45,7 @@ std::string stage_of(const std::string& k) {
                                                             {"mlp_chain_backward", "MLP backward"},
                                                             {"mlp_chain_backward_local", "MLP backward"},
                                                             {"mlp_weight_grad_partial", "MLP backward"},
+                                                            {"mlp_weight_grad_partial_tiled", "MLP backward"},
                                                             {"mlp_weight_grad_reduce", "MLP backward"},
                                                             {"hashgrid_backward", "hash backward"},
                                                             {"hashgrid_backward_atomic", "hash backward"},
@@ -143,12 +145,7 @@ int run_once(const Options& o) {
                    fmt::format("{:.4f}", sec / step_wall), fmt::format("{:.0f}", n),
                    fmt::format("{:.0f}", sec > 0 ? n / sec : 0.0)});
   };
-  std::map<std::string, double> stage_seconds;
-  for (auto& [k, r] : rows) {
-    const double sec = median(r.seconds);
-    stage_seconds[r.stage] += sec;
-    add(k, r.stage, r.launches, r.groups, r.items, r.local, sec);
-  }
+  for (auto& [k, r] : rows) add(k, r.stage, r.launches, r.groups, r.items, r.local, median(r.seconds));
   const double kernels = median(kernel_total);
   add("(host+transfers+sync)", "host", 0, 0, 0, 0, std::max(0.0, step_wall - kernels));
   add("(step)", "step", 0, 0, 0, 0, step_wall);
@@ -172,20 +169,6 @@ int run_once(const Options& o) {
             {"kernel", "stage", "launches_per_step", "work_groups", "work_items", "local_size",
              "seconds_per_step", "share_of_step", "samples_per_step", "samples_per_second"},
             csv);
-  ChartSeries bars{"M samples/s", {}, {}, true};
-  std::vector<std::string> names;
-  for (const auto& [stage, sec] : stage_seconds) names.push_back(stage);
-  // A bar-less chart: one point per stage (x = stage index; the CSV names them).
-  for (size_t i = 0; i < names.size(); ++i) {
-    bars.x.push_back(double(i));
-    bars.y.push_back(n / stage_seconds[names[i]] / 1e6);
-  }
-  std::string legend;
-  for (size_t i = 0; i < names.size(); ++i) legend += fmt::format("{}{}={}", i ? ", " : "", i, names[i]);
-  write_chart(
-      o.out + "/training_kernels.png",
-      {"Stage throughput on " + rt.device().name + " (" + legend + ")", "stage", "M samples/s", false},
-      {bars});
   return 0;
 }
 
@@ -241,13 +224,35 @@ int run_scaling(const Options& o, const std::string& self, const std::vector<std
   }
   write_csv(o.out + "/training_scaling.csv",
             {"threads", "stage", "seconds_per_step", "samples_per_step", "samples_per_second"}, csv);
-  std::vector<ChartSeries> all;
-  for (auto& [k, s] : series) all.push_back(s);
+  // Samples/s of each stage (host time and kernels outside the stages left out), and the speedup
+  // over the first thread count against the ideal.
+  std::vector<ChartSeries> rates, speedups;
+  ChartSeries ideal{"ideal", {}, {}};
+  for (int t : counts) {
+    ideal.x.push_back(t);
+    ideal.y.push_back(double(t) / counts.front());
+  }
+  speedups.push_back(ideal);
+  for (auto& [k, cs] : series) {
+    if (k == "host" || k == "other kernels") continue;
+    ChartSeries r = cs;
+    if (k == "step_cpu") r.name = "step (CPU time / threads)";
+    rates.push_back(r);
+    if (k == "step_cpu") continue;  // CPU time per thread: its "speedup" is not a wall-clock one
+    ChartSeries sp{r.name, r.x, {}};
+    for (double y : r.y) sp.y.push_back(r.y.front() > 0 ? y / r.y.front() : 0.0);
+    speedups.push_back(sp);
+  }
   write_chart(o.out + "/training_scaling.png",
-              {"Training throughput over PoCL threads (" + o.variant + " kernels)", "POCL_MAX_PTHREAD_COUNT",
-               "M samples/s", false},
-              all);
-  std::printf("wrote %s/training_scaling.csv and training_scaling.png\n", o.out.c_str());
+              {"Training throughput by stage over PoCL threads (" + o.variant + " kernels)",
+               "POCL_MAX_PTHREAD_COUNT", "M samples/s", false},
+              rates);
+  write_chart(o.out + "/training_speedup.png",
+              {"Wall-clock speedup by stage over PoCL threads (" + o.variant + " kernels)",
+               "POCL_MAX_PTHREAD_COUNT", "speedup", false},
+              speedups);
+  std::printf("wrote %s/training_scaling.csv, training_scaling.png and training_speedup.png\n",
+              o.out.c_str());
   return 0;
 }
 
