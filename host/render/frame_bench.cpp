@@ -58,6 +58,7 @@ nlohmann::json make_row(const FrameBenchSpec& spec, const std::array<uint32_t, 2
       {"samples_per_ray", t.last.samples_per_ray()},
       {"samples_evaluated", t.last.samples_evaluated},
       {"samples_per_second", total > 0 ? double(t.last.samples_evaluated) / (total * 1e-3) : 0.0},
+      {"composited_per_second", total > 0 ? double(t.last.samples_composited) / (total * 1e-3) : 0.0},
       {"frames", spec.repeats}};
   row["transfer_ms"] = row["upload_ms"].get<double>() + row["readback_ms"].get<double>();
   spdlog::info(
@@ -104,11 +105,27 @@ nlohmann::json run_frame_bench(const FrameBenchSpec& spec, const FrameRenderer& 
 }
 
 namespace {
-const char* const kCsvFields[] = {"device",      "scene",           "resolution",        "pixels",
-                                  "glasses",     "variant",         "concurrent",        "surface_spp",
-                                  "wave_min",    "wave_max",        "median_ms",         "march_ms",
-                                  "surface_ms",  "surface_wait_ms", "upload_ms",         "readback_ms",
-                                  "transfer_ms", "samples_per_ray", "samples_evaluated", "samples_per_second",
+const char* const kCsvFields[] = {"device",
+                                  "scene",
+                                  "resolution",
+                                  "pixels",
+                                  "glasses",
+                                  "variant",
+                                  "concurrent",
+                                  "surface_spp",
+                                  "wave_min",
+                                  "wave_max",
+                                  "median_ms",
+                                  "march_ms",
+                                  "surface_ms",
+                                  "surface_wait_ms",
+                                  "upload_ms",
+                                  "readback_ms",
+                                  "transfer_ms",
+                                  "samples_per_ray",
+                                  "samples_evaluated",
+                                  "samples_per_second",
+                                  "composited_per_second",
                                   "frames"};
 
 std::string csv_value(const nlohmann::json& v) {

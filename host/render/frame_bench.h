@@ -39,7 +39,8 @@ using FrameRenderer = std::function<RenderResult(const Camera&, const GlassesSur
 // concurrent, surface_spp, wave_min, wave_max, median_ms (the whole frame), and the medians of its
 // parts march_ms, surface_ms (the surface pass's own time, overlapped when concurrent),
 // surface_wait_ms (the march idle for it), upload_ms, readback_ms, transfer_ms (their sum);
-// samples_per_ray, samples_evaluated, samples_per_second (evaluated / median frame time), frames.
+// samples_per_ray, samples_evaluated, samples_per_second (evaluated / median frame time),
+// composited_per_second (the samples the image used, per second), frames.
 nlohmann::json run_frame_bench(const FrameBenchSpec& spec, const FrameRenderer& render);
 
 // The rows as CSV (one line per row, the fields above) and a chart of frame time against pixels

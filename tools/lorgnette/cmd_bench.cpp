@@ -53,10 +53,19 @@ std::vector<render::FrameVariant> frame_variants(const BenchArgs& a) {
   return v;
 }
 
+// "pthread-skylake-avx512-Intel(R) Xeon(R) Processor" -> "pthread-skylake-avx512-intel-r-xeon-r".
 std::string file_slug(const std::string& name) {
   std::string s;
-  for (char c : name) s += std::isalnum(static_cast<unsigned char>(c)) ? char(std::tolower(c)) : '-';
-  return s.substr(0, 48);
+  for (char c : name) {
+    bool keep = std::isalnum(static_cast<unsigned char>(c));
+    if (keep)
+      s += char(std::tolower(static_cast<unsigned char>(c)));
+    else if (!s.empty() && s.back() != '-')
+      s += '-';
+  }
+  if (s.size() > 40) s.resize(s.rfind('-', 40) != std::string::npos ? s.rfind('-', 40) : 40);
+  while (!s.empty() && s.back() == '-') s.pop_back();
+  return s.empty() ? "device" : s;
 }
 
 nlohmann::json bench_device(const BenchArgs& a, const cl::DeviceInfo& dev, GlobalOptions& global) {
