@@ -2,9 +2,11 @@
 // frame on the NeRF head (paper Sec. 3.1 + contact refinement) and writes placement.json.
 #include <spdlog/spdlog.h>
 
+#include <cstdlib>
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <string>
 
 #include "fit/fit_job.h"
 #include "tools/lorgnette/command.h"
@@ -63,7 +65,10 @@ void add_fit(CLI::App& app, GlobalOptions& global) {
   cmd->add_option("--cap-resolution", a->settings.cap_resolution,
                   "size in pixels of the K views framed on the face (0: --resolution)")
       ->capture_default_str()
-      ->check(CLI::Range(0, 4096));
+      ->check([](const std::string& text) -> std::string {
+        const int v = std::atoi(text.c_str());
+        return v == 0 || (v >= 64 && v <= 4096) ? "" : "must be 0 (the --resolution) or within 64..4096";
+      });
   cmd->add_option("--upsample", a->settings.upsample, "detector up-sampling steps for small faces")
       ->check(CLI::Range(0, 3));
   cmd->add_option("--scale-policy", a->settings.policy, "stretch (paper) or true-size")
