@@ -7,8 +7,11 @@
 
 namespace lorgnette::nerf {
 namespace {
-constexpr size_t kLocal = 64;
-}
+// Rays per work-group of the sampling and loss kernels (one work-item per ray): whole warps on a
+// GPU; 16 on a CPU, so a 2^16 step's ~2,300 rays make ~150 groups instead of 36 for PoCL's threads
+// to balance (ray lengths differ widely with empty-space skipping).
+size_t ray_group(const cl::Runtime& rt) { return rt.device().is_gpu ? 64 : 16; }
+}  // namespace
 
 SampleParams sample_params_for(const NerfModel& model, const DeviceViews& views) {
   SampleParams p{};
@@ -56,7 +59,7 @@ const std::vector<uint32_t>& RayBatch::count(const SampleParams& p, const Device
   if (p.n_rays > 0) {
     count_k_
         .args(p, views.camera_buffer(), views.offsets(), views.pixels(), model_.occupancy_bits(), counts_dev_)
-        .launch(rt, p.n_rays, kLocal);
+        .launch(rt, p.n_rays, ray_group(rt));
   }
   counts_ = counts_dev_.read(rt, p.n_rays);
   return counts_;
@@ -92,7 +95,7 @@ uint32_t RayBatch::write(SampleParams p, const DeviceViews& views, uint32_t begi
   write_k_
       .args(p, views.camera_buffer(), views.offsets(), views.pixels(), model_.occupancy_bits(), sub_offsets_,
             pos_, dir_, ray_info_)
-      .launch(rt, n, kLocal);
+      .launch(rt, n, ray_group(rt));
   return written_samples_;
 }
 
@@ -110,7 +113,7 @@ double RayBatch::render(uint32_t loss_kind, bool forward_only, float min_transmi
   lp.opacity_prior = opacity_prior;
   render_k_
       .args(lp, sub_offsets_, sub_counts_, ray_info_, sigma_, rgb_, dsigma_, drgb_, ray_loss_, ray_color_)
-      .launch(rt, written_rays_, kLocal);
+      .launch(rt, written_rays_, ray_group(rt));
   if (forward_only) return 0.0;
   std::vector<float> losses = ray_loss_.read(rt, written_rays_);
   double sum = 0.0;  // fixed order: deterministic
