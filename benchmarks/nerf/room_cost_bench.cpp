@@ -120,9 +120,8 @@ int main(int argc, char** argv) {
   Arm arms[2];
   for (int k = 0; k < 2; ++k) {
     arms[k].name = k == 0 ? "on" : "off";
-    arms[k].model =
-        std::make_unique<nerf::NerfModel>(rt, sizing.field, sizing.aabb, sizing.occupancy_resolution,
-                                          sizing.step, 1u << 16, seed, false);
+    arms[k].model = std::make_unique<nerf::NerfModel>(
+        rt, sizing.field, sizing.aabb, sizing.occupancy_resolution, sizing.step, 1u << 16, seed, false);
     nerf::TrainOptions to;
     to.steps = steps;
     to.seed = seed;
@@ -152,7 +151,7 @@ int main(int argc, char** argv) {
                       fmt::format("{:.4f}", m.iou), fmt::format("{:.4f}", m.leak),
                       fmt::format("{:.4f}", arms[k].chunk_seconds.back()),
                       fmt::format("{:.1f}", arms[k].seconds)});
-      psnr[k].name = "face PSNR, room model " + arms[k].name;
+      psnr[k].name = "room model " + arms[k].name;
       psnr[k].x.push_back(double(at)), psnr[k].y.push_back(m.face_psnr);
     }
     write_csv(

@@ -51,8 +51,8 @@ struct LeakSplit {
 
 // The leak of one view, split by where it lies (see the file comment). Same region rule as
 // score_matte: matte pixels whose subject point lies outside the model's box are not judged.
-LeakSplit split_leak(const Image& pred, const HeldOut& h, const nerf::Aabb& box,
-                     const std::vector<Eigen::Vector3f>& face, long subject_pixels) {
+LeakSplit split_leak(const Image& pred, const HeldOut& h, const std::vector<Eigen::Vector3f>& face,
+                     long subject_pixels) {
   const Camera& cam = h.frame->camera;
   const int w = h.matte.width, ht = h.matte.height;
   cv::Mat inside(ht, w, CV_8U);
@@ -79,14 +79,27 @@ LeakSplit split_leak(const Image& pred, const HeldOut& h, const nerf::Aabb& box,
       else
         s.other += leak;
     }
-  (void)box;
   const double n = subject_pixels ? double(subject_pixels) : 1.0;
   s.edge /= n, s.below /= n, s.other /= n, s.floor /= n;
   return s;
 }
 
-// prediction over white | photo | opacity error, one row per view.
-cv::Mat sheet_row(const Image& pred, const Image& photo, const Image& matte) {
+// True where the matte's subject point lies outside the model's box (score_matte does not judge it).
+bool outside_box(const HeldOut& h, const nerf::Aabb& box, int x, int y) {
+  const float d = h.depth.at(x, y, 0);
+  if (!std::isfinite(d) || h.matte.at(x, y, 0) < 0.5f) return false;
+  const LgnVec3 o = camera_origin(&h.frame->camera),
+                dir = camera_ray_dir(&h.frame->camera, x + 0.5f, y + 0.5f);
+  const float p[3] = {o.x + d * dir.x, o.y + d * dir.y, o.z + d * dir.z};
+  for (int k = 0; k < 3; ++k)
+    if (p[k] < box.min[k] || p[k] > box.max[k]) return true;
+  return false;
+}
+
+// prediction over white | photo | opacity error (grey: not judged, the body below the box), one
+// row per view.
+cv::Mat sheet_row(const Image& pred, const HeldOut& view, const nerf::Aabb& box) {
+  const Image &photo = view.frame->image, &matte = view.matte;
   const int w = pred.width, h = pred.height;
   cv::Mat row(h, 3 * w, CV_8UC3);
   auto px = [](float linear) {
@@ -180,12 +193,12 @@ int main(int argc, char** argv) {
         Image pred = renderer.render(model, h.frame->camera, nullptr, ro).rgba;
         render::MatteView v{h.frame->camera, &pred, &h.frame->image, &h.matte, &h.depth, face};
         scores.push_back(render::score_matte(v, model.aabb()));
-        LeakSplit s = split_leak(pred, h, model.aabb(), face, scores.back().subject_pixels);
+        LeakSplit s = split_leak(pred, h, face, scores.back().subject_pixels);
         leak.edge += s.edge / held.size(), leak.below += s.below / held.size(),
             leak.other += s.other / held.size();
         leak.floor += s.floor / held.size();
         if (int(rows.size()) < sheet_views && alpha == alphas.front())
-          rows.push_back(sheet_row(pred, h.frame->image, h.matte));
+          rows.push_back(sheet_row(pred, h, model.aabb()));
       }
       render::MatteScore m = render::mean_score(scores);
       const uint64_t occupied = model.occupancy().occupied_count();
