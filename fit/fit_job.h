@@ -17,10 +17,10 @@ struct NerfViewOptions {
   // The capture's transforms.json (or its folder) for the prior front and up; empty: the dataset the
   // model was trained on (its metadata), when it is still there.
   std::string dataset;
-  // The views' marcher (NerfViewSource): NeRF step x1.5. The views only feed the detector; on the
-  // demo NeRF this kept nose, ears and rotation (0.91 mm, 7.8 / 2.4 mm, 0.90 deg against 0.93 mm,
-  // 9.7 / 2.6 mm, 1.08 deg at x1) for 29 % less time, and on the scan NeRFs the ears stayed within
-  // 4 mm (docs/bench/fit-accuracy.md, docs/bench/real-captures.md).
+  // The views' marcher (NerfViewSource): NeRF step x1.5. The views only feed the detector; with the
+  // 256 px cap, on a scan NeRF against its mesh: nose 0.35 mm, ears 2.37 / 3.00 mm, rotation
+  // 0.97 deg in 9.7 s, against 0.45 mm, 1.55 / 1.89 mm, 0.54 deg in 12.8 s at step x1 (targets 2 mm,
+  // 4 mm, 2 deg; docs/bench/real-captures.md).
   render::RenderOptions render = views_render_options();
   static render::RenderOptions views_render_options() {
     render::RenderOptions o;
