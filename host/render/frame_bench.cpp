@@ -59,6 +59,7 @@ nlohmann::json make_row(const FrameBenchSpec& spec, const std::array<uint32_t, 2
       {"samples_evaluated", t.last.samples_evaluated},
       {"samples_per_second", total > 0 ? double(t.last.samples_evaluated) / (total * 1e-3) : 0.0},
       {"composited_per_second", total > 0 ? double(t.last.samples_composited) / (total * 1e-3) : 0.0},
+      {"waves", t.last.waves},
       {"frames", spec.repeats}};
   row["transfer_ms"] = row["upload_ms"].get<double>() + row["readback_ms"].get<double>();
   spdlog::info(
@@ -126,6 +127,7 @@ const char* const kCsvFields[] = {"device",
                                   "samples_evaluated",
                                   "samples_per_second",
                                   "composited_per_second",
+                                  "waves",
                                   "frames"};
 
 std::string csv_value(const nlohmann::json& v) {

@@ -40,7 +40,8 @@ using FrameRenderer = std::function<RenderResult(const Camera&, const GlassesSur
 // parts march_ms, surface_ms (the surface pass's own time, overlapped when concurrent),
 // surface_wait_ms (the march idle for it), upload_ms, readback_ms, transfer_ms (their sum);
 // samples_per_ray, samples_evaluated, samples_per_second (evaluated / median frame time),
-// composited_per_second (the samples the image used, per second), frames.
+// composited_per_second (the samples the image used, per second), waves (of the wavefront march;
+// each costs kernel launches and two read-backs), frames.
 nlohmann::json run_frame_bench(const FrameBenchSpec& spec, const FrameRenderer& render);
 
 // The rows as CSV (one line per row, the fields above) and a chart of frame time against pixels

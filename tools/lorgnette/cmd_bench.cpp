@@ -31,6 +31,7 @@ namespace {
 struct BenchArgs {
   std::string model, glasses, placement, sizes, marcher = "auto", out;
   uint32_t repeats = 3, surface_spp = 4;
+  std::vector<uint32_t> waves;  // --waves MIN,MAX for the default variant
   float step_scale = 1.0f;
   bool json = false, compare = false, force = false;
 };
@@ -42,6 +43,7 @@ std::vector<render::FrameVariant> frame_variants(const BenchArgs& a) {
   o.march.step_scale = a.step_scale;
   o.march.marcher = render::parse_marcher_kind(a.marcher);
   o.surface_spp = a.surface_spp;
+  if (a.waves.size() == 2) o.march.wave_min = a.waves[0], o.march.wave_max = a.waves[1];
   std::vector<render::FrameVariant> v{{"default", o}};
   if (a.compare) {
     o.concurrent = false;
@@ -174,6 +176,11 @@ void add_frames(CLI::App& bench, GlobalOptions& global) {
   cmd->add_flag("--compare", a->compare,
                 "also time the sequential frame and the pre-#16 pipeline (sequential, waves 4..64), in turn");
   cmd->add_flag("--force", a->force, "overwrite the CSV and chart in --out");
+  cmd->add_option("--waves", a->waves,
+                  "MIN,MAX segments per ray and wave of the wavefront march (default 2,8; tuning)")
+      ->delimiter(',')
+      ->expected(2)
+      ->check(CLI::Range(1, 256));
   cmd->callback([a, &global] {
     std::vector<cl::DeviceInfo> devices;
     for (const auto& dev : cl::list_devices())
