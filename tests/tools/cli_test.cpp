@@ -4,11 +4,13 @@
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 namespace fs = std::filesystem;
 
@@ -137,4 +139,36 @@ TEST(Cli, EvalRefusesADirectoryWithEvaluationImages) {
   r = lorgnette(d, "eval model.lnerf data -o eval --force");
   EXPECT_EQ(r.status, 1);
   EXPECT_EQ(r.err.find("evaluation images"), std::string::npos) << r.err;
+}
+
+// `bench frames` on the analytic head with a made frame: one command, a CSV and a chart per device
+// (every row with the frame's split and both rates), and the files are not overwritten by a rerun.
+TEST(Cli, BenchFramesWritesCsvAndChartPerDeviceAndKeepsThem) {
+  fs::path d = test_dir();
+  ASSERT_EQ(lorgnette(d, "glasses make --temple 140 -o frame.glb").status, 0);
+  const std::string bench = "bench frames --glasses frame.glb --sizes 64x36 --repeats 1 --compare --out out";
+  CliResult r = lorgnette(d, bench);
+  ASSERT_EQ(r.status, 0) << r.err;
+  std::vector<fs::path> csvs;
+  for (const auto& e : fs::directory_iterator(d / "out"))
+    if (e.path().extension() == ".csv") csvs.push_back(e.path());
+  ASSERT_FALSE(csvs.empty());
+  for (const fs::path& csv : csvs) {
+    fs::path png = csv;
+    png.replace_extension(".png");
+    EXPECT_TRUE(fs::exists(png)) << png;
+    std::string text = read_file(csv);
+    for (const char* column : {"median_ms", "march_ms", "surface_ms", "surface_wait_ms", "transfer_ms",
+                               "samples_per_second", "composited_per_second", "variant"})
+      EXPECT_CONTAINS(text, column);
+    // Head alone: default and baseline (their waves differ); with glasses: default, sequential, baseline.
+    EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), 1 + 2 + 3) << text;
+  }
+  const std::string before = read_file(csvs[0]);
+  r = lorgnette(d, bench);
+  EXPECT_EQ(r.status, 1);
+  EXPECT_CONTAINS(r.err, "already holds");
+  EXPECT_CONTAINS(r.err, "--out");
+  EXPECT_CONTAINS(r.err, "--force");
+  EXPECT_EQ(read_file(csvs[0]), before);
 }

@@ -5,6 +5,7 @@
 // and the pre-#16 pipeline beside the default, frame by frame in turn. Without --model an analytic
 // head stands in (and the rows say so). Logic lives in host/render/frame_bench.
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <spdlog/spdlog.h>
 
 #include <Eigen/Core>
@@ -13,6 +14,7 @@
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <stdexcept>
 
 #include "fit/placement_json.h"
 #include "host/cl/device.h"
@@ -191,7 +193,13 @@ void add_frames(CLI::App& bench, GlobalOptions& global) {
       std::vector<std::string> names;
       for (const auto& dev : devices)
         for (const char* ext : {".csv", ".png"}) names.push_back("frames-" + file_slug(dev.name) + ext);
-      render::check_outputs_free(a->out, names, a->force);
+      std::vector<std::string> taken;
+      for (const auto& n : names)
+        if (std::filesystem::exists(std::filesystem::path(a->out) / n)) taken.push_back(n);
+      if (!taken.empty() && !a->force)
+        throw std::runtime_error(
+            fmt::format("'{}' already holds {}: choose another --out directory or pass --force to overwrite",
+                        a->out, fmt::join(taken, ", ")));
     }
     nlohmann::json rows = nlohmann::json::array();
     for (const auto& dev : devices)
