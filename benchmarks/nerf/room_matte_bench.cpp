@@ -119,6 +119,7 @@ cv::Mat sheet_row(const Image& pred, const HeldOut& view, const nerf::Aabb& box)
       const float extra = std::max(0.0f, a - m), missing = std::max(0.0f, m - a);
       e = cv::Vec3b(uint8_t(255 * (1 - extra)), uint8_t(255 * (1 - extra - missing)),
                     uint8_t(255 * (1 - missing)));
+      if (outside_box(view, box, x, y)) e = cv::Vec3b(200, 200, 200);
       row.at<cv::Vec3b>(y, x) = p, row.at<cv::Vec3b>(y, x + w) = t, row.at<cv::Vec3b>(y, x + 2 * w) = e;
     }
   return row;
@@ -243,7 +244,7 @@ int main(int argc, char** argv) {
       const uint64_t occupied = model.occupancy().occupied_count();
       std::cerr << fmt::format(
           "{} min-alpha {:.3f}: IoU {:.4f}, leak {:.2f} % (edge {:.2f}, below chin {:.2f}, other {:.2f}; "
-          "the matte's own {:.2f}), face PSNR {:.2f} dB, {} views, {} occupied cells\n",
+          "the matte's own {:.2f}), face PSNR {:.2f} dB ({}), {} views, {} occupied cells\n",
           c.name, alpha, m.iou, 100 * m.leak, 100 * leak.edge, 100 * leak.below, 100 * leak.other,
           100 * leak.floor, m.face_psnr, face_region, scores.size(), occupied);
       csv.push_back({c.name, fmt::format("{:.3f}", alpha), fmt::format("{:.4f}", m.iou),
