@@ -111,6 +111,11 @@ int main(int argc, char** argv) {
   std::vector<Eigen::Vector3f> face;
   for (const auto& p : gt.at("ibug68"))
     face.emplace_back(p[0].get<float>(), p[1].get<float>(), p[2].get<float>());
+  if (face.empty())
+    return std::cerr
+               << data
+               << " has no true landmarks (ibug68), hence no face region: use a procedural-head capture\n",
+           1;
   std::vector<HeldOut> held;
   for (const dataset::Frame* f : ds.require_split(dataset::Split::Holdout)) {
     auto it = by_stem.at(fs::path(f->image_path).stem().string());
