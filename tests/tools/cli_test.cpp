@@ -141,6 +141,28 @@ TEST(Cli, EvalRefusesADirectoryWithEvaluationImages) {
   EXPECT_EQ(r.err.find("evaluation images"), std::string::npos) << r.err;
 }
 
+TEST(Cli, RenderRefusesExistingFramesBeforeLoadingTheModel) {
+  fs::path d = test_dir();
+  write_file(d / "model.lnerf", "not a model");
+  fs::create_directories(d / "out");
+  write_file(d / "out" / "frame_0002.png", kKeep);
+  CliResult r = lorgnette(d, "render model.lnerf --orbit 4 -o out");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_CONTAINS(r.err, "frame_0002.png");
+  EXPECT_CONTAINS(r.err, "--force");
+  EXPECT_EQ(read_file(d / "out" / "frame_0002.png"), kKeep);
+  // A single --pose view writes frame_0000 only, so frame_0002 is no obstacle: the (dummy) model is.
+  write_file(d / "pose.json", R"({"transform_matrix": [[1,0,0,0],[0,1,0,0],[0,0,1,2],[0,0,0,1]]})");
+  r = lorgnette(d, "render model.lnerf --pose pose.json -o out");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_EQ(r.err.find("--force"), std::string::npos) << r.err;
+  // --force gets past the check to the (dummy) model.
+  r = lorgnette(d, "render model.lnerf --orbit 4 -o out --force");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_EQ(r.err.find("already holds"), std::string::npos) << r.err;
+  EXPECT_EQ(read_file(d / "out" / "frame_0002.png"), kKeep);
+}
+
 // `bench frames` on the analytic head with a made frame: one command, a CSV and a chart per device
 // (every row with the frame's split and both rates), and the files are not overwritten by a rerun.
 TEST(Cli, BenchFramesWritesCsvAndChartPerDeviceAndKeepsThem) {

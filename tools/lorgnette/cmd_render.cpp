@@ -54,6 +54,13 @@ Eigen::Matrix4f glasses_transform(const RenderArgs& a, std::string& glasses_path
 void run(const RenderArgs& a, GlobalOptions& global) {
   if ((a.orbit > 0) == !a.pose.empty()) throw std::runtime_error("give either --orbit N or --pose JSON");
   auto size = render::parse_size(a.size);
+  {
+    // Refuse outputs the user already has before any work (device, model, glasses).
+    render::RenderJob planned;
+    planned.video = !a.no_video;
+    planned.cameras.resize(a.orbit > 0 ? a.orbit : 1);
+    render::check_outputs_free(a.out, render::render_job_outputs(planned), a.force);
+  }
   cl::Runtime rt(global.runtime());
   nerf::NerfModel model = nerf::NerfModel::load(rt, a.model);
 
