@@ -78,6 +78,26 @@ TEST(Cli, FitRefusesAnExistingPlacementBeforeLoadingAnything) {
   EXPECT_EQ(read_file(d / "placement.json"), kKeep);
 }
 
+TEST(Cli, FitRefusesADebugDirectoryWithAnEarlierFitsViews) {
+  fs::path d = test_dir();
+  write_file(d / "model.lnerf", "not a model");
+  write_file(d / "frame.glb", "not a mesh");
+  fs::create_directories(d / "debug");
+  write_file(d / "debug" / "view_03.png", kKeep);
+  CliResult r = lorgnette(d, "fit model.lnerf --glasses frame.glb -o placement.json --debug debug");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_CONTAINS(r.err, "view_03.png");
+  EXPECT_CONTAINS(r.err, "--force");
+  EXPECT_EQ(read_file(d / "debug" / "view_03.png"), kKeep);
+  // Other files in the directory are no obstacle: the command goes on to the (dummy) frame.
+  fs::remove(d / "debug" / "view_03.png");
+  write_file(d / "debug" / "notes.txt", kKeep);
+  r = lorgnette(d, "fit model.lnerf --glasses frame.glb -o placement.json --debug debug");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_EQ(r.err.find("debug views"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(d / "placement.json"));
+}
+
 TEST(Cli, GlassesMakeRefusesExistingOutputsUnlessForced) {
   fs::path d = test_dir();
   write_file(d / "frame.glb", kKeep);

@@ -3,6 +3,7 @@
 #include <spdlog/spdlog.h>
 
 #include <cstdlib>
+#include <filesystem>
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -20,8 +21,21 @@ struct FitArgs {
   bool json = false, force = false;
 };
 
+// An earlier fit's annotated views (fit/debug_draw.h: view_NN.png and views.txt) are the user's too.
+void refuse_existing_debug_views(const std::string& dir, bool force) {
+  std::error_code ec;
+  if (force || dir.empty() || !std::filesystem::is_directory(dir, ec)) return;
+  for (const auto& e : std::filesystem::directory_iterator(dir, ec)) {
+    const std::string name = e.path().filename().string();
+    if (name == "views.txt" || (name.rfind("view_", 0) == 0 && e.path().extension() == ".png"))
+      throw std::runtime_error("'" + dir + "' already holds a fit's debug views (" + name +
+                               "): pass --force to overwrite them or choose another --debug directory");
+  }
+}
+
 void run_fit(const FitArgs& a, GlobalOptions& global) {
   refuse_existing_output(a.output, a.force);  // before minutes of fitting
+  refuse_existing_debug_views(a.settings.debug_dir, a.force);
   fit::FitOptions opt = fit::fit_options(a.settings);
   fit::GlassesInput glasses = fit::load_glasses_input(a.glasses);
   cl::Runtime rt(global.runtime());
