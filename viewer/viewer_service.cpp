@@ -14,6 +14,7 @@
 #include "host/render/renderer.h"
 #include "host/render/view_plan.h"
 #include "host/util/version.h"
+#include "mesh/frame_surfaces.h"
 
 namespace lorgnette::viewer {
 namespace fs = std::filesystem;
@@ -371,25 +372,6 @@ void ViewerService::run_work(Work& w) {
     render_band(w);
 }
 
-namespace {
-// The glasses' surface pass as a hybrid frame runs it: traced inside their screen rectangle, at the
-// frame's samples per pixel, on a host thread while the march does the rest.
-render::GlassesSurfaces glasses_surfaces(const std::shared_ptr<const mesh::SurfacePass>& pass) {
-  render::GlassesSurfaces g;
-  if (!pass) return g;
-  g.screen_rect = [pass](const Camera& cam) {
-    std::array<int, 4> r = pass->screen_rect(cam);
-    return std::array<uint32_t, 4>{uint32_t(r[0]), uint32_t(r[1]), uint32_t(r[2]), uint32_t(r[3])};
-  };
-  g.render = [pass](const Camera& cam, uint32_t spp) {
-    mesh::SurfaceParams sp;
-    sp.samples_per_pixel = int(spp);
-    return pass->render(cam, sp);
-  };
-  return g;
-}
-}  // namespace
-
 std::shared_ptr<const mesh::SurfacePass> ViewerService::glasses_for(const Work& w) {
   return w.glasses_on ? assets_->pass(w.frame, w.nudge) : nullptr;
 }
@@ -400,7 +382,7 @@ void ViewerService::render_coarse(Work& w) {
   Camera cam = orbit_camera(orbit_, w.orbit, rounded_div(w.width, config_.coarse_divisor),
                             rounded_div(w.height, config_.coarse_divisor));
   auto p = glasses_for(w);
-  render::GlassesSurfaces g = glasses_surfaces(p);
+  render::GlassesSurfaces g = p ? mesh::frame_surfaces(p) : render::GlassesSurfaces{};
   render::FrameOptions opt;
   opt.march.step_scale = config_.coarse_step_scale;
   opt.surface_spp = uint32_t(config_.coarse_surface_spp);  // 1 while the user moves
@@ -435,7 +417,7 @@ void ViewerService::render_band(Work& w) {
   auto t0 = Clock::now();
   uint32_t rows = std::min(config_.band_rows, f.cam.height - f.next_row);
   Camera band = crop_rows(f.cam, f.next_row, rows);
-  render::GlassesSurfaces g = glasses_surfaces(f.pass);
+  render::GlassesSurfaces g = f.pass ? mesh::frame_surfaces(f.pass) : render::GlassesSurfaces{};
   render::FrameOptions opt;
   opt.surface_spp = uint32_t(snapshot ? config_.snapshot_surface_spp : config_.full_surface_spp);
   if (snapshot) opt.march.spp = config_.snapshot_spp;

@@ -21,7 +21,9 @@
 #include "host/render/render_job.h"
 #include "host/render/renderer.h"
 #include "host/util/chart.h"
+#include "mesh/frame_surfaces.h"
 #include "mesh/glasses.h"
+#include "mesh/placed_glasses.h"
 #include "mesh/surface_pass.h"
 
 using namespace lorgnette;
@@ -194,15 +196,8 @@ int main(int argc, char** argv) {
       }
       mesh::Glasses g = mesh::load_glasses(a.glasses);
       Mat4 p = rough_glasses_placement(float(g.metrics.total_width_mm), scene.aabb_min, scene.aabb_max);
-      Eigen::Matrix4f m;
-      for (int i = 0; i < 16; ++i) m(i / 4, i % 4) = p[i];
-      mesh::SurfacePass pass(g.mesh, m);
-      GlassesSurfaces glasses;
-      glasses.screen_rect = [&](const Camera& c) {
-        std::array<int, 4> r = pass.screen_rect(c);
-        return std::array<uint32_t, 4>{uint32_t(r[0]), uint32_t(r[1]), uint32_t(r[2]), uint32_t(r[3])};
-      };
-      glasses.render = [&](const Camera& c, uint32_t) { return pass.render(c, mesh::SurfaceParams{}); };
+      auto pass = std::make_shared<const mesh::SurfacePass>(g.mesh, mesh::row_major_matrix(p));
+      GlassesSurfaces glasses = mesh::frame_surfaces(pass);
       spec.glasses = &glasses;
       FrameOptions sequential;  // this table times the march and the surface pass one after the other
       sequential.concurrent = false;
@@ -215,7 +210,7 @@ int main(int argc, char** argv) {
       write_table1(a, rows);
       // One try-on image of the 720p view for the record.
       Camera c = camera(1280, 720);
-      lorgnette::SurfaceBuffers sb = pass.render(c, mesh::SurfaceParams{});
+      lorgnette::SurfaceBuffers sb = pass->render(c, mesh::SurfaceParams{});
       write_image(a.out + "/tryon_720p.png", rgb_of(render(c, &sb, RenderOptions{})));
       std::cout << rows.dump(2) << "\n";
     }

@@ -6,23 +6,16 @@
 // must equal bit for bit. The surface pass comes in as callbacks, so this library does not depend
 // on the mesh module.
 #pragma once
-#include <array>
 #include <cstdint>
-#include <functional>
 
 #include "host/render/marcher.h"
+#include "host/util/glasses_surfaces.h"
 #include "host/util/surface_buffers.h"
 
 namespace lorgnette::render {
 
-// The glasses as one frame needs them.
-struct GlassesSurfaces {
-  // Pixel rectangle {x0, y0, x1, y1} (half-open) outside which no primary ray can hit the glasses;
-  // the whole image when that cannot be told (a corner of their box behind the camera).
-  std::function<std::array<uint32_t, 4>(const Camera&)> screen_rect;
-  // The surface pass at `spp` samples per pixel, tracing only inside screen_rect (S_α = 0 elsewhere).
-  std::function<lorgnette::SurfaceBuffers(const Camera&, uint32_t spp)> render;
-};
+// The glasses as one frame needs them (mesh/frame_surfaces.h makes them from a surface pass).
+using GlassesSurfaces = lorgnette::GlassesSurfaces;
 
 struct FrameOptions {
   RenderOptions march;

@@ -24,6 +24,7 @@
 #include "host/render/render_job.h"
 #include "host/render/renderer.h"
 #include "host/render/view_plan.h"
+#include "mesh/frame_surfaces.h"
 #include "mesh/placed_glasses.h"
 #include "tools/lorgnette/command.h"
 
@@ -109,8 +110,7 @@ nlohmann::json bench_device(const BenchArgs& a, const cl::DeviceInfo& dev, Globa
     o.height = h;
     return render::orbit_cameras(render::plan_orbit(o, range, {}).spec)[0];
   };
-  std::unique_ptr<mesh::SurfacePass> pass;
-  render::GlassesSurfaces glasses;
+  render::GlassesSurfaces glasses;  // the callbacks own the surface pass
   if (!a.glasses.empty()) {
     mesh::Glasses g = mesh::load_glasses(a.glasses);
     Eigen::Matrix4f p = mesh::row_major_matrix(
@@ -121,16 +121,7 @@ nlohmann::json bench_device(const BenchArgs& a, const cl::DeviceInfo& dev, Globa
       p = pf.transform.cast<float>();
       temples = pf.temples.bend;
     }
-    pass = mesh::place_glasses_mesh(std::move(g), p, temples).pass;
-    glasses.screen_rect = [&pass](const Camera& cam) {
-      std::array<int, 4> r = pass->screen_rect(cam);
-      return std::array<uint32_t, 4>{uint32_t(r[0]), uint32_t(r[1]), uint32_t(r[2]), uint32_t(r[3])};
-    };
-    glasses.render = [&pass](const Camera& cam, uint32_t spp) {
-      mesh::SurfaceParams sp;
-      sp.samples_per_pixel = int(spp);
-      return pass->render(cam, sp);
-    };
+    glasses = mesh::frame_surfaces(mesh::place_glasses_mesh(std::move(g), p, temples).pass);
     spec.glasses = &glasses;
   }
   spec.variants = frame_variants(a);
