@@ -62,8 +62,10 @@ BackgroundField::BackgroundField(cl::Runtime& rt, const NerfModel& subject, cons
   cfg.finest_resolution = options.finest_resolution;
   cfg.sh_degree = options.sh_degree;
   cfg.validate();
+  const uint32_t room_batch =
+      std::max<uint32_t>(64u, uint32_t(std::lround(double(max_batch) * options.batch_scale / 64.0)) * 64u);
   model_ = std::make_unique<NerfModel>(rt, cfg, box, options.occupancy_resolution,
-                                       box.diagonal() / float(options.steps_per_diagonal), max_batch,
+                                       box.diagonal() / float(options.steps_per_diagonal), room_batch,
                                        seed + 7919u, false);
   std::vector<uint32_t> mask =
       room_mask(box, subject.aabb(), options.cutout_margin, options.occupancy_resolution);
@@ -87,9 +89,9 @@ std::string BackgroundField::summary() const {
   const Aabb& b = model_->aabb();
   return fmt::format(
       "room model: box {:.2f} units wide around the subject (subject box cut out), {} levels up to {}, "
-      "2^{} table, {:.1f} MB (training only)",
+      "2^{} table, {:.1f} MB, up to {} samples per step (training only)",
       b.extent(0), options_.levels, options_.finest_resolution, options_.log2_table,
-      double(model_->param_bytes()) / (1024.0 * 1024.0));
+      double(model_->param_bytes()) / (1024.0 * 1024.0), model_->field().max_batch());
 }
 
 uint32_t BackgroundField::count(const SampleParams& subject_params, const DeviceViews& views) {
@@ -108,6 +110,7 @@ void BackgroundField::render_backgrounds(const SampleParams&, const DeviceViews&
   cl::Runtime& rt = model_->runtime();
   uint32_t n = batch_->write(params_, views, 0, end);
   written_ = end;
+  samples_ += n;
   if (n > 0)
     model_->field().forward(batch_->positions(), batch_->directions(), n, batch_->sigma(), batch_->rgb(),
                             true);

@@ -38,6 +38,10 @@ struct BackgroundOptions {
   // out of the room model, so it cannot paint the face on a surface just behind the head.
   float cutout_margin = 0.5f;
   float lr_scale = 1.0f;  // the room model's learning rate relative to the subject's
+  // The room model's sample capacity per step relative to the subject's batch. The step's rays are
+  // the leading rays that fit both batches, so a room batch no larger than the subject's cuts the
+  // subject's samples whenever the rays hold more room samples than subject samples.
+  float batch_scale = 1.0f;
   // Weight of the binary-opacity prior on the subject's rays (kernels/train/render.h): with a room
   // model behind it, a ray through the subject should be opaque and one past it clear, so the
   // semi-transparent fringe and haze the colour loss alone leaves (the matte's leak) is pushed to
@@ -59,6 +63,7 @@ class BackgroundField {
 
   NerfModel& model() { return *model_; }
   std::string summary() const;
+  uint64_t samples_done() const { return samples_; }  // room samples trained so far
 
   // Counts the room samples of the same rays the subject's sampler draws (p: the subject step's
   // SampleParams); returns how many leading rays fit the room model's batch.
@@ -79,6 +84,7 @@ class BackgroundField {
   SampleParams params_{};
   float near_t_ = 0.0f;  // room samples start this far from the camera: at the subject's depth
   uint32_t written_ = 0;
+  uint64_t samples_ = 0;
   std::vector<float> colors_;  // room colour + opacity per written ray
 };
 

@@ -92,6 +92,7 @@ double Trainer::step() {
   if (background_) background_->backward(*batch_, options_.loss_kind, adam, static_cast<uint32_t>(step_ + 1));
   ++step_;
   samples_ += n;
+  rays_ += end;
   occupancy_->maybe_update(static_cast<uint32_t>(step_));
   return end ? loss_sum / (3.0 * end) : 0.0;
 }

@@ -69,6 +69,9 @@ class Trainer {
   double step();
   uint64_t steps_done() const { return step_; }
   uint64_t samples_done() const { return samples_; }
+  uint64_t rays_done() const { return rays_; }
+  // The room model trained beside the subject (nullptr without one).
+  const BackgroundField* background() const { return background_.get(); }
   // For callers that drive step() themselves: the training time so far (learning-rate schedule).
   void set_elapsed(double seconds) { elapsed_ = seconds; }
 
@@ -88,7 +91,7 @@ class Trainer {
   std::unique_ptr<BackgroundField> background_;
   uint64_t step_ = 0;
   uint32_t n_rays_;
-  uint64_t samples_ = 0;
+  uint64_t samples_ = 0, rays_ = 0;
   double elapsed_ = 0.0;
   std::vector<float> good_params_;
   OccupancyGrid good_occupancy_;
