@@ -53,7 +53,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   }
   lorgnette::dataset::LoadOptions options;
   options.load_images = false;
-  options.skip_missing_images = true;
+  options.any_missing_images_ok = true;
   try {
     lorgnette::dataset::Dataset ds = lorgnette::dataset::load_dataset(dir.string(), options);
     ds.camera_bounds();

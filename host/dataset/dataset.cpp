@@ -191,13 +191,15 @@ std::vector<FrameSpec> collect_frames(const Source& src, Dataset& ds, const Load
   std::string names = first_names(missing, 5), frames;  // "frames", or "train frames" for chosen splits
   for (Split sp : opt.splits) frames += (frames.empty() ? "" : "/") + std::string(to_string(sp));
   frames += frames.empty() ? "frames" : " frames";
-  if (!opt.skip_missing_images)
+  const bool too_few = kept.size() < kMinFramesLeft || 2 * kept.size() < wanted_frames;
+  if (too_few && !opt.any_missing_images_ok)
     throw std::runtime_error(fmt::format(
-        "dataset '{}': {} of {} {} name an image file that is not there ({}): restore those images, "
-        "remove their frames from {}, or re-run `lorgnette capture` to make the dataset again",
-        src.root, missing.size(), wanted_frames, frames, names, json_files));
-  spdlog::warn("dataset '{}': skipping {} of {} {} whose image file is missing ({})", src.root,
-               missing.size(), wanted_frames, frames, names);
+        "dataset '{}': {} of {} {} name an image file that is not there ({}), so only {} would remain (at "
+        "least {} and at least half are needed): restore those images, remove their frames from {}, or "
+        "re-run `lorgnette capture` to make the dataset again",
+        src.root, missing.size(), wanted_frames, frames, names, kept.size(), kMinFramesLeft, json_files));
+  spdlog::warn("dataset '{}': skipping {} of {} {} whose image file is missing ({}); {} remain", src.root,
+               missing.size(), wanted_frames, frames, names, kept.size());
   return kept;
 }
 

@@ -40,6 +40,9 @@ enum class Split { Train, Val, Test, Holdout };
 const char* to_string(Split split);
 Split split_from_string(const std::string& name);
 
+// Frames that must remain after those with missing images are skipped (capture's own minimum).
+constexpr size_t kMinFramesLeft = 3;
+
 struct LoadOptions {
   int downscale = 1;        // integer factor >= 1 applied to every image (and its intrinsics)
   int max_side = 0;         // > 0: further shrink so that max(width, height) <= max_side
@@ -48,9 +51,12 @@ struct LoadOptions {
   // Splits to load (empty = all). NeRF-synthetic: only the needed json files are read. For a plain
   // transforms.json the train/holdout assignment is always made on the full list first.
   std::vector<Split> splits;
-  // Frames whose image file is missing: by default an error. true: skip them with a warning (the
-  // instant-ngp fox sample lists 67 frames for 50 photos).
-  bool skip_missing_images = false;
+  // Frames whose image file is missing are skipped with a warning that counts and names them, as
+  // `capture` drops them (the instant-ngp fox sample lists 67 frames for 50 photos). Too few left is an
+  // error that says what to do: fewer than kMinFramesLeft, or fewer than half of the frames wanted (a
+  // wrong or half-copied image folder rather than a few lost photos). true: skip however many are
+  // missing (users of the cameras alone, e.g. the renderer's capture arc).
+  bool any_missing_images_ok = false;
 };
 
 struct Frame {

@@ -13,7 +13,7 @@ std::vector<Camera> capture_cameras(const nerf::NerfModel& model) {
   try {
     dataset::LoadOptions lo;
     lo.load_images = false;
-    lo.skip_missing_images = true;
+    lo.any_missing_images_ok = true;
     auto ds = dataset::load_dataset(path, lo);
     std::vector<Camera> cams;
     for (const auto& f : ds.frames) cams.push_back(f.camera);

@@ -188,7 +188,7 @@ void bind_model(pyb::module_& m) {
             if (!std::filesystem::exists(path)) require_file(path, "transforms");
             dataset::LoadOptions lo;
             lo.load_images = false;
-            lo.skip_missing_images = true;
+            lo.any_missing_images_ok = true;
             auto ds = dataset::load_dataset(path, lo);
             if (index >= ds.frames.size())
               throw pyb::index_error(

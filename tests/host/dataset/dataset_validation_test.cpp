@@ -2,6 +2,8 @@
 // extension-less paths, ground_truth.json, holdout assignment, and every kind of bad input, each of
 // which must give an error that names the problem and the frame or file.
 #include <gtest/gtest.h>
+#include <spdlog/sinks/ringbuffer_sink.h>
+#include <spdlog/spdlog.h>
 
 #include <cmath>
 #include <cstring>
@@ -169,12 +171,55 @@ TEST(DatasetValidation, MalformedJsonAndNonFiniteLiterals) {
   EXPECT_HAS(load_error(dir), "NaN");
 }
 
+// The warnings the loader logs while `f` runs.
+std::vector<std::string> warnings_of(const std::function<void()>& f) {
+  auto sink = std::make_shared<spdlog::sinks::ringbuffer_sink_mt>(16);
+  sink->set_level(spdlog::level::warn);
+  auto previous = spdlog::default_logger();
+  spdlog::set_default_logger(std::make_shared<spdlog::logger>("test", sink));
+  try {
+    f();
+  } catch (...) {
+    spdlog::set_default_logger(previous);
+    throw;
+  }
+  spdlog::set_default_logger(previous);
+  return sink->last_formatted();
+}
+
+TEST(DatasetValidation, AFewMissingImagesAreSkippedWithAWarningThatCountsAndNamesThem) {
+  // Like capture: the frames whose photo is gone are left out, never silently. Up to half may go.
+  std::string dir = make_dataset("fewmissing", 12);
+  for (int i : {103, 104, 105, 106, 107, 110})
+    fs::remove(fs::path(dir) / ("images/f_" + std::to_string(i) + ".png"));
+  Dataset ds;
+  std::vector<std::string> logged = warnings_of([&] { ds = load_dataset(dir); });
+  ASSERT_EQ(ds.frames.size(), 6u);
+  for (const Frame& f : ds.frames) EXPECT_TRUE(fs::exists(f.image_path)) << f.image_path;
+  EXPECT_EQ(ds.frames[1].name, "f_101");
+  EXPECT_EQ(ds.frames[2].name, "f_102");
+  EXPECT_EQ(ds.frames[3].name, "f_108");  // the cameras stay with their images
+  EXPECT_FLOAT_EQ(ds.frames[3].camera.c2w[3], test_camera(8).c2w[3]);
+  ASSERT_EQ(logged.size(), 1u) << (logged.empty() ? "" : logged[0]);
+  EXPECT_HAS(logged[0], "skipping 6 of 12 frames");
+  EXPECT_HAS(logged[0],
+             "'images/f_103.png', 'images/f_104.png', 'images/f_105.png', 'images/f_106.png', "
+             "'images/f_107.png' and 1 more");
+  EXPECT_HAS(logged[0], "6 remain");
+  // Fewer than three left is too few, even when that is half.
+  std::string small = make_dataset("fewleft", 4);
+  fs::remove(fs::path(small) / "images/f_101.png");
+  EXPECT_EQ(load_dataset(small).frames.size(), 3u);
+  fs::remove(fs::path(small) / "images/f_102.png");
+  EXPECT_HAS(load_error(small), "only 2 would remain (at least 3");
+}
+
 TEST(DatasetValidation, EmptyFrameList) {
   std::string dir = make_dataset("emptyframes", 2, [](json& d) { d["frames"] = json::array(); });
   EXPECT_HAS(load_error(dir), "empty 'frames' list");
 }
 
-TEST(DatasetValidation, MissingImagesAreCountedNamedAndTheMessageSaysWhatToDo) {
+TEST(DatasetValidation, MostImagesMissingIsAnErrorThatCountsNamesAndSaysWhatToDo) {
   std::string dir = make_dataset("missingimg", 12);
   for (int i : {101, 103, 104, 105, 106, 107, 110})
     fs::remove(fs::path(dir) / ("images/f_" + std::to_string(i) + ".png"));
@@ -189,9 +234,10 @@ TEST(DatasetValidation, MissingImagesAreCountedNamedAndTheMessageSaysWhatToDo) {
   // What a user can do, not a C++ option they cannot pass.
   EXPECT_EQ(msg.find("LoadOptions"), std::string::npos) << msg;
   EXPECT_EQ(msg.find("skip_missing_images"), std::string::npos) << msg;
-  LoadOptions skip;
-  skip.skip_missing_images = true;
-  EXPECT_EQ(load_dataset(dir, skip).frames.size(), 5u);
+  EXPECT_HAS(msg, "only 5 would remain");
+  LoadOptions any;  // the cameras alone (the renderer's capture arc): however many are missing
+  any.any_missing_images_ok = true;
+  EXPECT_EQ(load_dataset(dir, any).frames.size(), 5u);
   // Training loads the train split only (holdout: sorted indices 0 and 8, f_100 and f_108).
   LoadOptions train;
   train.splits = {Split::Train};
