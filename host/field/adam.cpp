@@ -34,6 +34,9 @@ void Adam::step(const AdamParams& p, cl::Buffer<float>& params, cl::Buffer<float
   if (p.clear_below > p.count)
     throw std::invalid_argument("Adam::step: clear_below " + std::to_string(p.clear_below) + " exceeds the " +
                                 std::to_string(p.count) + " parameters");
+  if (p.skip_zero_below > p.count)
+    throw std::invalid_argument("Adam::step: skip_zero_below " + std::to_string(p.skip_zero_below) +
+                                " exceeds the " + std::to_string(p.count) + " parameters");
   step_.args(p, params, grads, m, v).launch(rt_, p.count, 256);
 }
 

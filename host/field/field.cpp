@@ -158,6 +158,7 @@ void Field::adam_step(const AdamConfig& adam) {
   ++adam_t_;
   AdamParams p = make_adam_params(adam, adam_t_, uint32_t(layout_.total), uint32_t(layout_.mlp_offset));
   p.clear_below = uint32_t(layout_.hash_count);  // the next hash backward accumulates into zeros
+  p.skip_zero_below = adam.sparse_hash ? uint32_t(layout_.hash_count) : 0u;
   adam_->step(p, params_, grads_, adam_m_, adam_v_);
   hash_grads_zero_ = true;
 }

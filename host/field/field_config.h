@@ -25,6 +25,11 @@ struct FieldConfig {
 
 struct AdamConfig {
   float lr = 1e-2f, beta1 = 0.9f, beta2 = 0.99f, eps = 1e-15f, mlp_weight_decay = 1e-6f;
+  // Hash-table entries whose gradient is exactly zero in a step keep their value and moments
+  // (Instant-NGP's sparse update; kernels/adam/adam_types.h says how it differs from tiny-cuda-nn's).
+  // Off by default: on the 2-core CPU it saved no measurable time (docs/bench/training-throughput.md),
+  // and the dense update is what the quality figures were measured with.
+  bool sparse_hash = false;
 };
 
 // Round up to a multiple of 4: every MLP width is padded so the kernels work on 4-row blocks.
