@@ -48,9 +48,9 @@ float framing_distance(float radius, float fov_y_deg, uint32_t width, uint32_t h
 
 float orbit_yaw_deg(const OrbitSpec& s, uint32_t i) {
   float t = float(i) / float(std::max(s.views, 1u));
-  if (s.yaw_max_deg - s.yaw_min_deg >= 359.999f) return 360.0f * t;
-  // Front (0, clamped into the arc) -> max -> min -> front at constant angular speed.
-  float lo = s.yaw_min_deg, hi = s.yaw_max_deg, start = std::clamp(0.0f, lo, hi);
+  if (s.yaw_max_deg - s.yaw_min_deg >= 359.999f) return s.yaw_start_deg + 360.0f * t;
+  // Start (clamped into the arc) -> max -> min -> start at constant angular speed.
+  float lo = s.yaw_min_deg, hi = s.yaw_max_deg, start = std::clamp(s.yaw_start_deg, lo, hi);
   float d = t * 2.0f * (hi - lo);
   if (d <= hi - start) return start + d;
   d -= hi - start;

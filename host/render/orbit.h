@@ -22,12 +22,13 @@ struct OrbitSpec {
   Vec3 half_extent{1, 1, 1};  // half the box size: the radius frames its bounding sphere
   Vec3 front{0, 0, 1};        // direction from the centre to the first camera (the face's front)
   Vec3 up{0, 1, 0};
-  uint32_t views = 1;  // evenly spaced azimuths, starting at the front
+  uint32_t views = 1;  // evenly spaced azimuths, starting at yaw_start_deg (the front by default)
   // Azimuths (degrees about `up`, from `front` towards up x front) the orbit may take. The full
-  // circle goes round once; a narrower arc (the capture's, host/render/view_plan.h) is swept at even
-  // steps from the front to the max end, back to the min end and back to the front, so an orbit
-  // video still loops.
+  // circle goes round once from yaw_start_deg; a narrower arc (the capture's, host/render/view_plan.h)
+  // is swept at even steps from yaw_start_deg (clamped into the arc) to the max end, back to the min
+  // end and back to the start, so an orbit video still loops.
   float yaw_min_deg = -180.0f, yaw_max_deg = 180.0f;
+  float yaw_start_deg = 0.0f;  // the first view's azimuth (0: the front itself)
   float elevation_deg = 0.0f;
   float fov_y_deg = 30.0f;
   float margin = 1.05f;  // > 1 leaves a border around the framed sphere

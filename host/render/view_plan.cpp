@@ -5,10 +5,18 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <array>
+#include <cmath>
+#include <stdexcept>
 
 #include "host/render/renderer.h"
 
 namespace lorgnette::render {
+namespace {
+std::array<float, 3> add(const std::array<float, 3>& a, const Vec3& b) {
+  return {a[0] + b[0], a[1] + b[1], a[2] + b[2]};
+}
+}  // namespace
 
 std::optional<nerf::ViewRange> model_view_range(const nerf::NerfModel& model, std::string* source) {
   auto say = [&](std::string s) {
@@ -33,6 +41,14 @@ std::optional<nerf::ViewRange> model_view_range(const nerf::NerfModel& model, st
   return nerf::view_range_from_cameras(cams, model.aabb().center());
 }
 
+void check_orbit_front(const Vec3& f) {
+  float n2 = f[0] * f[0] + f[1] * f[1] + f[2] * f[2];
+  if (!std::isfinite(n2) || n2 <= 0.0f)
+    throw std::invalid_argument(
+        fmt::format("--front {} {} {} is not a direction: give three numbers, not all zero (e.g. 0 0 1)",
+                    f[0], f[1], f[2]));
+}
+
 OrbitPlan plan_orbit(const OrbitSpec& base, const std::optional<nerf::ViewRange>& range,
                      const OrbitRequest& request) {
   OrbitPlan plan;
@@ -40,7 +56,10 @@ OrbitPlan plan_orbit(const OrbitSpec& base, const std::optional<nerf::ViewRange>
   OrbitSpec& s = plan.spec;
   s.views = request.views;
   s.elevation_deg = request.elevation_deg;
-  if (request.front) s.front = *request.front;
+  if (request.front) {
+    check_orbit_front(*request.front);
+    s.front = *request.front;
+  }
   if (!range) {
     plan.notes.push_back("no view range known: a full orbit, not limited to what the capture saw");
     return plan;
@@ -56,18 +75,29 @@ OrbitPlan plan_orbit(const OrbitSpec& base, const std::optional<nerf::ViewRange>
   }
   s.front = range->front;
   s.up = range->up;
-  if (request.front)
-    plan.notes.push_back(
-        "--front is ignored inside the captured arc (the orbit starts at the capture's mean direction); "
-        "add --beyond-capture to start elsewhere");
   s.yaw_min_deg = float(allowed.yaw_min);
   s.yaw_max_deg = float(allowed.yaw_max);
-  float clamped = std::clamp(request.elevation_deg, float(allowed.pitch_min), float(allowed.pitch_max));
-  if (clamped != request.elevation_deg)
+  float elevation = request.elevation_deg;
+  if (request.front) {
+    // The requested start in the range's frame: its yaw starts the sweep, its tilt adds to the
+    // elevation (as it does beyond the capture, where the orbit's front is the request itself).
+    std::array<double, 2> yp = nerf::yaw_pitch_of(*range, add(range->center, *request.front));
+    float yaw = std::clamp(float(yp[0]), s.yaw_min_deg, s.yaw_max_deg);
+    if (yaw != float(yp[0]))
+      plan.notes.push_back(fmt::format(
+          "--front is at yaw {:+.0f} deg, outside the captured arc {:+.0f}..{:+.0f} deg (with a {:.0f} deg "
+          "margin): starting at {:+.0f} deg (add --beyond-capture to keep it)",
+          yp[0], allowed.yaw_min, allowed.yaw_max, nerf::kViewMarginDeg, yaw));
+    s.yaw_start_deg = yaw;
+    elevation += float(yp[1]);
+  }
+  float clamped = std::clamp(elevation, float(allowed.pitch_min), float(allowed.pitch_max));
+  if (clamped != elevation)
     plan.notes.push_back(fmt::format(
-        "elevation {:.0f} deg is outside the captured pitch {:+.0f}..{:+.0f} deg (with a {:.0f} deg "
+        "elevation {:.0f} deg{} is outside the captured pitch {:+.0f}..{:+.0f} deg (with a {:.0f} deg "
         "margin): using {:.0f} deg (add --beyond-capture to keep it)",
-        request.elevation_deg, allowed.pitch_min, allowed.pitch_max, nerf::kViewMarginDeg, clamped));
+        elevation, request.front ? " (--elevation plus the tilt of --front)" : "", allowed.pitch_min,
+        allowed.pitch_max, nerf::kViewMarginDeg, clamped));
   s.elevation_deg = clamped;
   if (s.yaw_max_deg - s.yaw_min_deg < 359.999f)
     plan.notes.push_back(fmt::format(

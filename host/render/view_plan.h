@@ -23,7 +23,7 @@ std::optional<nerf::ViewRange> model_view_range(const nerf::NerfModel& model, st
 struct OrbitRequest {
   uint32_t views = 1;
   float elevation_deg = 0.0f;
-  std::optional<Vec3> front;    // the orbit's start direction (only honoured beyond the capture)
+  std::optional<Vec3> front;    // the first view's direction from the centre (its tilt adds to elevation_deg)
   bool beyond_capture = false;  // the full circle at the requested elevation, whatever was captured
 };
 
@@ -34,10 +34,15 @@ struct OrbitPlan {
 
 // The orbit around `base` (centre, extent, size and field of view taken from it) for `request`,
 // inside `range` widened by kViewMarginDeg: front and up from the range, azimuths swept over the
-// allowed arc (the full circle when the range covers it) and the elevation clamped into the allowed
-// pitch. Without a range, or with beyond_capture, the full circle as requested.
+// allowed arc (the full circle when the range covers it) starting at request.front's yaw, and the
+// elevation (plus request.front's tilt) clamped into the allowed pitch; a start or elevation outside
+// is clamped with a note. Without a range, or with beyond_capture, the full circle as requested,
+// starting at request.front. Throws std::invalid_argument for a zero or non-finite front.
 OrbitPlan plan_orbit(const OrbitSpec& base, const std::optional<nerf::ViewRange>& range,
                      const OrbitRequest& request);
+
+// Throws std::invalid_argument, naming --front, unless `front` is a finite non-zero direction.
+void check_orbit_front(const Vec3& front);
 
 // A note when `cam` looks from outside `range` widened by kViewMarginDeg ("" inside or without a
 // range): explicit poses are rendered as given, but the user is told the view is a guess.

@@ -183,6 +183,24 @@ TEST(Cli, RenderRefusesExistingFramesBeforeLoadingTheModel) {
   EXPECT_EQ(read_file(d / "out" / "frame_0002.png"), kKeep);
 }
 
+// --front is checked before the model is loaded: it needs --orbit and must be a direction.
+TEST(Cli, RenderFrontNeedsAnOrbitAndADirection) {
+  fs::path d = test_dir();
+  write_file(d / "model.lnerf", "not a model");
+  write_file(d / "pose.json", R"({"transform_matrix": [[1,0,0,0],[0,1,0,0],[0,0,1,2],[0,0,0,1]]})");
+  CliResult r = lorgnette(d, "render model.lnerf --pose pose.json --front 0 0 1 -o out");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_CONTAINS(r.err, "give --orbit N too");
+  r = lorgnette(d, "render model.lnerf --orbit 4 --front 0 0 0 -o out");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_CONTAINS(r.err, "--front 0 0 0 is not a direction");
+  // A good one gets as far as the (dummy) model.
+  r = lorgnette(d, "render model.lnerf --orbit 4 --front 0 0.2 1 -o out");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_EQ(r.err.find("--front"), std::string::npos) << r.err;
+  EXPECT_CONTAINS(r.err, "model.lnerf");
+}
+
 // `bench frames` on the analytic head with a made frame: one command, a CSV and a chart per device
 // (every row with the frame's split and both rates), and the files are not overwritten by a rerun.
 TEST(Cli, BenchFramesWritesCsvAndChartPerDeviceAndKeepsThem) {

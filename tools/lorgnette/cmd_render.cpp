@@ -53,6 +53,13 @@ Eigen::Matrix4f glasses_transform(const RenderArgs& a, std::string& glasses_path
 
 void run(const RenderArgs& a, GlobalOptions& global) {
   if ((a.orbit > 0) == !a.pose.empty()) throw std::runtime_error("give either --orbit N or --pose JSON");
+  if (!a.front.empty()) {
+    if (a.orbit == 0)
+      throw std::runtime_error(
+          "--front says where an --orbit starts: give --orbit N too (a --pose camera is placed by its own "
+          "transform_matrix)");
+    render::check_orbit_front(vec3(a.front, {}));
+  }
   auto size = render::parse_size(a.size);
   {
     // Refuse outputs the user already has before any work (device, model, glasses).
@@ -157,8 +164,10 @@ void add_render(CLI::App& app, GlobalOptions& global) {
   cmd->add_option("--elevation", a->elevation, "orbit elevation, degrees")
       ->capture_default_str()
       ->check(CLI::Range(-80.0f, 80.0f));
-  cmd->add_option("--front", a->front,
-                  "orbit start direction (default: the capture's mean camera; needs --beyond-capture)")
+  cmd->add_option(
+         "--front", a->front,
+         "the first view's direction from the head (default: the capture's mean camera); its tilt adds "
+         "to --elevation; clamped into the captured directions unless --beyond-capture")
       ->expected(3);
   cmd->add_flag("--beyond-capture", a->beyond_capture,
                 "orbit the full circle at the given elevation even where the capture never looked");

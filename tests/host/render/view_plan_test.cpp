@@ -195,6 +195,63 @@ TEST(ViewPlan, TheArcSweepLoopsFromTheFrontAtEvenSteps) {
   for (uint32_t i = 0; i < 12; ++i) EXPECT_NEAR(render::orbit_yaw_deg(s, i), expect[i], 1e-4) << i;
   s.yaw_min_deg = -180, s.yaw_max_deg = 180;
   EXPECT_NEAR(render::orbit_yaw_deg(s, 3), 90.0f, 1e-4);  // the full circle: once round
+  // From another start: start -> max -> min -> start, and the full circle from there.
+  s.yaw_min_deg = -20, s.yaw_max_deg = 40, s.yaw_start_deg = 20;
+  expect = {20, 30, 40, 30, 20, 10, 0, -10, -20, -10, 0, 10};
+  for (uint32_t i = 0; i < 12; ++i) EXPECT_NEAR(render::orbit_yaw_deg(s, i), expect[i], 1e-4) << i;
+  s.yaw_min_deg = -180, s.yaw_max_deg = 180, s.yaw_start_deg = 30;
+  EXPECT_NEAR(render::orbit_yaw_deg(s, 3), 120.0f, 1e-4);
+}
+
+std::array<double, 2> yaw_pitch(const nerf::ViewRange& r, const Camera& c) {
+  return nerf::yaw_pitch_of(r, {c.c2w[3], c.c2w[7], c.c2w[11]});
+}
+
+TEST(ViewPlan, AFrontInsideTheCapturedArcStartsTheOrbitThere) {
+  // `render --front` without --beyond-capture: the user's start is honoured inside the arc.
+  nerf::ViewRange r = nerf::view_range_from_cameras(arc(-30, 40, 6), {0, 0, 0});
+  render::OrbitRequest req;
+  req.views = 12;
+  req.elevation_deg = 3.0f;
+  req.front = nerf::direction_at(r, 20.0, 5.0);  // yaw 20, tilted up 5 deg
+  render::OrbitPlan plan = render::plan_orbit(base_orbit(), r, req);
+  ASSERT_EQ(plan.notes.size(), 1u);  // the arc, not the full circle; nothing about --front
+  EXPECT_EQ(plan.notes[0].find("--front"), std::string::npos) << plan.notes[0];
+  std::vector<Camera> cams = render::orbit_cameras(plan.spec);
+  EXPECT_NEAR(yaw_pitch(r, cams[0])[0], 20.0, 0.01);
+  EXPECT_NEAR(yaw_pitch(r, cams[0])[1], 8.0, 0.01);  // the front's tilt plus --elevation
+  double ymin = 1e9, ymax = -1e9;
+  for (const Camera& c : cams) {
+    ymin = std::min(ymin, yaw_pitch(r, c)[0]), ymax = std::max(ymax, yaw_pitch(r, c)[0]);
+    EXPECT_EQ(render::pose_outside_note(c, r), "");
+  }
+  EXPECT_LT(ymin, -45.0 + 15.1);  // still the whole widened arc -45..+45, to one step (15 deg)
+  EXPECT_GT(ymax, 45.0 - 15.1);
+}
+
+TEST(ViewPlan, AFrontOutsideTheCapturedArcIsClampedWithANote) {
+  nerf::ViewRange r = nerf::view_range_from_cameras(arc(-30, 40, 6), {0, 0, 0});
+  render::OrbitRequest req;
+  req.views = 4;
+  req.front = nerf::direction_at(r, 90.0, 30.0);  // beside the head and well above the capture
+  render::OrbitPlan plan = render::plan_orbit(base_orbit(), r, req);
+  ASSERT_EQ(plan.notes.size(), 3u);
+  EXPECT_NE(plan.notes[0].find("--front is at yaw +90"), std::string::npos) << plan.notes[0];
+  EXPECT_NE(plan.notes[0].find("starting at +45"), std::string::npos) << plan.notes[0];
+  EXPECT_NE(plan.notes[0].find("--beyond-capture"), std::string::npos) << plan.notes[0];
+  EXPECT_NE(plan.notes[1].find("tilt of --front"), std::string::npos) << plan.notes[1];
+  Camera first = render::orbit_cameras(plan.spec)[0];
+  EXPECT_NEAR(yaw_pitch(r, first)[0], 45.0, 0.01);
+  EXPECT_NEAR(yaw_pitch(r, first)[1], 16.0, 0.01);  // 6 + 10 margin
+  // Beyond the capture the front is the orbit's, as given.
+  req.beyond_capture = true;
+  Camera beyond = render::orbit_cameras(render::plan_orbit(base_orbit(), r, req).spec)[0];
+  EXPECT_NEAR(yaw_pitch(r, beyond)[0], 90.0, 0.01);
+  EXPECT_NEAR(yaw_pitch(r, beyond)[1], 30.0, 0.01);
+  // A front that is no direction is refused, with or without a range.
+  req.front = render::Vec3{0, 0, 0};
+  EXPECT_THROW(render::plan_orbit(base_orbit(), r, req), std::invalid_argument);
+  EXPECT_THROW(render::plan_orbit(base_orbit(), std::nullopt, req), std::invalid_argument);
 }
 
 }  // namespace
