@@ -9,6 +9,7 @@
 #include <string>
 
 #include "host/field/adam.h"
+#include "host/field/field_infer.h"
 #include "host/field/hashgrid.h"
 #include "host/field/mlp.h"
 
@@ -64,6 +65,8 @@ Field::Field(cl::Runtime& rt, const FieldConfig& cfg, uint32_t max_batch, uint64
   for (const auto& L : layout_.color) largest_padded = std::max(largest_padded, L.in_pad * L.out_pad);
   mlp_ = std::make_unique<Mlp>(rt, max_batch_, variant, largest_padded);
   adam_ = std::make_unique<Adam>(rt);
+  if (!use_gpu_variant(rt, variant) && FieldInfer::supports(layout_))
+    infer_ = std::make_unique<FieldInfer>(rt, cfg_, layout_, max_batch_);
 
   std::mt19937_64 rng(seed);
   std::vector<float> init(P, 0.0f);
@@ -124,6 +127,10 @@ void Field::forward(const cl::Buffer<float>& pos, const cl::Buffer<float>& dir, 
   check_size("rgb", rgb, 3 * S);
   pending_backward_n_ = 0;
   if (n == 0) return;
+  if (infer_ && !keep_for_backward) {
+    infer_->run(params_, pos, dir, n, sigma, rgb);
+    return;
+  }
   hash_->encode(params_, pos, n, acts_);
   mlp_->sh_encode(dir, n, layout_.sh_count, acts_, color_in_row_);
   mlp_->chain_forward(chain_, n, params_, acts_);

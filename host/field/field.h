@@ -26,6 +26,7 @@ namespace lorgnette::field {
 class HashGrid;
 class Mlp;
 class Adam;
+class FieldInfer;
 
 class Field {
  public:
@@ -40,6 +41,8 @@ class Field {
 
   // Inference: sigma = exp(min(raw density, 15)). Invalidates a pending backward().
   void density(const cl::Buffer<float>& pos, uint32_t n, cl::Buffer<float>& sigma);
+  // keep_for_backward = false on the CPU variant runs the fused inference kernel (field_infer.h):
+  // the same sigma and rgb bit for bit, without the per-sample activation buffers.
   void forward(const cl::Buffer<float>& pos, const cl::Buffer<float>& dir, uint32_t n,
                cl::Buffer<float>& sigma, cl::Buffer<float>& rgb, bool keep_for_backward);
   // After forward(..., true) with the same n: gradients of the loss w.r.t. sigma and rgb (same
@@ -79,8 +82,9 @@ class Field {
   std::unique_ptr<HashGrid> hash_;
   std::unique_ptr<Mlp> mlp_;
   std::unique_ptr<Adam> adam_;
-  uint32_t pending_backward_n_ = 0;  // n of the last forward(..., true); 0 = none
-  bool hash_grads_zero_ = true;      // the hash part of grads_ is zero (construction, adam_step)
+  std::unique_ptr<FieldInfer> infer_;  // CPU variant only (null on GPUs and for deep colour nets)
+  uint32_t pending_backward_n_ = 0;    // n of the last forward(..., true); 0 = none
+  bool hash_grads_zero_ = true;        // the hash part of grads_ is zero (construction, adam_step)
   uint64_t adam_t_ = 0;
 };
 

@@ -57,44 +57,10 @@ inline float16 mlp_mask(float16 d, __global const float* x, uint relu) {
   vstore16(mlp_mask(a##6, (xb) + 6 * (s), relu), 0, (o) + 6 * (s)); \
   vstore16(mlp_mask(a##7, (xb) + 7 * (s), relu), 0, (o) + 7 * (s))
 
+#include "mlp/mlp_forward16.h"
+
 // y[j] = act(sum_k W[j][k] x[k]) for j < out; W points at the layer's first weight.
-inline void mlp_layer_forward(__global const float* restrict W, uint in, uint out, uint act,
-                              __global const float* restrict xb, __global float* restrict yb, uint s, uint i0,
-                              uint n16) {
-  uint j = 0;
-  if (i0 + 16 < n16) {
-    for (; j + 8 <= out; j += 8) {
-      __global const float* w = W + j * in;
-      float16 a0 = 0.0f, a1 = 0.0f, a2 = 0.0f, a3 = 0.0f, a4 = 0.0f, a5 = 0.0f, a6 = 0.0f, a7 = 0.0f;
-      float16 b0 = 0.0f, b1 = 0.0f, b2 = 0.0f, b3 = 0.0f, b4 = 0.0f, b5 = 0.0f, b6 = 0.0f, b7 = 0.0f;
-      for (uint k = 0; k < in; ++k) {
-        const float16 xa = vload16(0, xb + k * s), xc = vload16(0, xb + k * s + 16);
-        MLP_FMA8(a, xa, w, in, k);
-        MLP_FMA8(b, xc, w, in, k);
-      }
-      MLP_STORE8(a, yb + j * s, s, act);
-      MLP_STORE8(b, yb + j * s + 16, s, act);
-    }
-  }
-  for (uint h16 = 0; h16 < 32 && i0 + h16 < n16; h16 += 16) {
-    for (uint jj = j; jj < out; jj += 4) {
-      __global const float* w = W + jj * in;
-      MLP_ZERO4;
-      for (uint k = 0; k < in; ++k) {
-        const float16 xv = vload16(0, xb + k * s + h16);
-        a0 = fma((float16)(w[k]), xv, a0);
-        a1 = fma((float16)(w[in + k]), xv, a1);
-        a2 = fma((float16)(w[2 * in + k]), xv, a2);
-        a3 = fma((float16)(w[3 * in + k]), xv, a3);
-      }
-      __global float* o = yb + jj * s + h16;
-      vstore16(lgn_activate16(a0, act), 0, o);
-      vstore16(lgn_activate16(a1, act), 0, o + s);
-      vstore16(lgn_activate16(a2, act), 0, o + 2 * s);
-      vstore16(lgn_activate16(a3, act), 0, o + 3 * s);
-    }
-  }
-}
+LGN_DEFINE_MLP_LAYER_FORWARD16(mlp_layer_forward, __global, __global)
 
 // dx[k] = (sum_j W[j][k] dz[j]) * (relu ? x[k] > 0 : 1) for k_begin <= k < in.
 inline void mlp_layer_backward(__global const float* restrict W, uint in, uint out, uint k_begin, uint relu,

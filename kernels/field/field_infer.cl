@@ -1,0 +1,72 @@
+// The field's fused inference on CPUs: one work-item takes 32 samples through the hash encoding,
+// the SH encoding of their directions, the density and colour MLPs and the density head, with the
+// activations in its work-group's local scratch (FieldInferParams.rows x 32 floats, hot in L1/L2
+// from one slab to the next) instead of [row][max_batch] global buffers. It calls the same helpers
+// as the layered kernels (hashgrid_block16.h, mlp_forward16.h, sh_basis, lgn_sigma_from_raw) in the
+// same order, so sigma and rgb equal the layered forward's bit for bit (tests/host/field).
+#include "field/field_infer_types.h"
+#include "hashgrid/hashgrid_block16.h"
+#include "mlp/mlp_block.h"
+
+LGN_DEFINE_MLP_LAYER_FORWARD16(field_layer_forward_local, __local, __local)
+
+// Encoding rows of the 16 samples from i into x (row stride LGN_INFER_SLAB); zeros past n.
+inline void field_encode16(const FieldInferParams* p, __global const float* restrict W,
+                           __global const float* restrict pos, uint i, __local float* x) {
+  const HashgridParams* q = &p->hash;
+  const uint F = q->features;
+  const int16 valid = (int16)(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15) + (int)i < (int)q->n;
+  for (uint l = 0; l < q->levels; ++l) {
+    const uint res = q->resolution[l], size = q->size[l], dense = q->dense[l];
+    const HashCell16 h = hashgrid_cell16(pos, q->stride, i, res);
+    __global const float* table = W + q->offset[l];
+    for (uint f0 = 0; f0 < F; f0 += 2) {
+      const uint two = f0 + 1 < F;
+      float16 a0 = 0.0f, a1 = 0.0f;
+      for (uint c = 0; c < 8; ++c) {
+        float16 w;
+        const uint16 e = hashgrid_corner16(&h, c, res, size, dense, &w);
+        a0 = fma(w, hashgrid_gather16(table + f0 * size, e), a0);
+        if (two) a1 = fma(w, hashgrid_gather16(table + (f0 + 1) * size, e), a1);
+      }
+      vstore16(select((float16)(0.0f), a0, valid), 0, x + (l * F + f0) * LGN_INFER_SLAB);
+      if (two) vstore16(select((float16)(0.0f), a1, valid), 0, x + (l * F + f0 + 1) * LGN_INFER_SLAB);
+    }
+  }
+  for (uint r = q->levels * F; r < p->enc_rows; ++r) vstore16((float16)(0.0f), 0, x + r * LGN_INFER_SLAB);
+}
+
+// SH rows of the samples i0.. (zeros past n and in the padding rows).
+inline void field_sh(const FieldInferParams* p, __global const float* restrict dir, uint i0,
+                     __local float* x) {
+  const uint S = p->hash.stride;
+  for (uint k = 0; k < LGN_INFER_SLAB && i0 + k < p->n16; ++k) {
+    const uint i = i0 + k;
+    float sh[16];
+    for (int c = 0; c < 16; ++c) sh[c] = 0.0f;
+    if (i < p->hash.n) sh_basis(dir[i], dir[S + i], dir[2 * S + i], p->sh_degree, sh);
+    for (uint c = 0; c < p->sh_pad; ++c)
+      x[(p->sh_row + c) * LGN_INFER_SLAB + k] = c < p->sh_count ? sh[c] : 0.0f;
+  }
+}
+
+// Global size: n16 / 32 rounded up, times the group size; local scratch: group size x rows x 32 floats.
+__kernel void field_infer(const FieldInferParams p, __global const float* restrict W,
+                          __global const float* restrict pos, __global const float* restrict dir,
+                          __global float* restrict sigma, __global float* restrict rgb,
+                          __local float* scratch) {
+  const uint i0 = get_global_id(0) * LGN_INFER_SLAB;
+  if (i0 >= p.n16) return;
+  __local float* x = scratch + get_local_id(0) * p.rows * LGN_INFER_SLAB;
+  for (uint h = 0; h < LGN_INFER_SLAB && i0 + h < p.n16; h += 16) field_encode16(&p, W, pos, i0 + h, x + h);
+  field_sh(&p, dir, i0, x);
+  for (uint l = 0; l < p.layers; ++l)
+    field_layer_forward_local(W + p.w_offset[l], p.in[l], p.out[l], p.act[l], x + p.x_row[l] * LGN_INFER_SLAB,
+                              x + p.y_row[l] * LGN_INFER_SLAB, LGN_INFER_SLAB, i0, p.n16);
+  const uint S = p.hash.stride;
+  for (uint k = 0; k < LGN_INFER_SLAB && i0 + k < p.hash.n; ++k) {
+    const uint i = i0 + k;
+    sigma[i] = lgn_sigma_from_raw(x[p.raw_row * LGN_INFER_SLAB + k]);
+    for (uint c = 0; c < 3; ++c) rgb[c * S + i] = x[(p.rgb_row + c) * LGN_INFER_SLAB + k];
+  }
+}
