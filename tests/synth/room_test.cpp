@@ -117,8 +117,8 @@ TEST(Room, TwoLayoutsDiffer) {
   EXPECT_GT(diff / n, 0.05);
 }
 
-// The written dataset: RGB images without alpha, a matte per frame referenced as eval_matte_path
-// (round trip through the 8-bit file within half a step), the loader sees no alpha.
+// The written dataset: RGB images without alpha, a matte per frame referenced as eval_matte_path and
+// never as mask_path (round trip through the 8-bit file within half a step), the loader sees no alpha.
 TEST(Room, DatasetHasNoAlphaAndAMattePerFrame) {
   fs::path dir = fs::path(LORGNETTE_TEST_TMP) / "synth" / "room_dataset";
   fs::remove_all(dir);
@@ -133,6 +133,9 @@ TEST(Room, DatasetHasNoAlphaAndAMattePerFrame) {
     EXPECT_EQ(img.channels, 3);
     Image m = read_matte((dir / f.at("eval_matte_path").get<std::string>()).string());
     EXPECT_EQ(m.width, img.width);
+    // The true mattes are for evaluation only: as a mask_path the loader would cut the subject out
+    // for training, and the room model would have nothing to learn.
+    EXPECT_FALSE(f.contains("mask_path")) << f.dump();
     double cover = 0;
     for (float v : m.pixels) cover += v;
     EXPECT_GT(cover, 0.1 * m.pixels.size());
