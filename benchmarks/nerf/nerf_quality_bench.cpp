@@ -70,7 +70,7 @@ int main(int argc, char** argv) {
       auto t0 = std::chrono::steady_clock::now();
       while (trained < next_eval) {
         trainer.set_elapsed(trained);
-        trainer.step();
+        trainer.advance();  // one host synchronisation per step, as `train` runs
         trained += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
         t0 = std::chrono::steady_clock::now();
       }

@@ -36,6 +36,8 @@ namespace {
 std::string stage_of(const std::string& k) {
   static const std::map<std::string, std::string> stages = {{"sample_count", "sampling"},
                                                             {"sample_write", "sampling"},
+                                                            {"sample_offsets", "sampling"},
+                                                            {"loss_sum", "loss"},
                                                             {"hashgrid_encode", "hash forward"},
                                                             {"mlp_sh_encode", "MLP forward"},
                                                             {"mlp_chain_forward", "MLP forward"},
@@ -98,7 +100,7 @@ int run_once(const Options& o) {
   to.steps = o.warmup + o.steps;
   to.progress = false;
   nerf::Trainer trainer(model, train, to, sizing.occupancy_mask);
-  for (uint32_t s = 0; s < o.warmup; ++s) trainer.step();
+  for (uint32_t s = 0; s < o.warmup; ++s) trainer.advance();
   rt.finish();
 
   std::map<std::string, KernelRow> rows;
@@ -108,7 +110,7 @@ int run_once(const Options& o) {
     cl::LaunchLog log;
     const double c0 = cpu_seconds();
     const auto t0 = std::chrono::steady_clock::now();
-    trainer.step();
+    trainer.advance();
     rt.finish();
     wall.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
     cpu.push_back(cpu_seconds() - c0);

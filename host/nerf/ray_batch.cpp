@@ -3,6 +3,7 @@
 
 #include <fmt/format.h>
 
+#include <cstring>
 #include <stdexcept>
 
 namespace lorgnette::nerf {
@@ -11,6 +12,9 @@ namespace {
 // GPU; 16 on a CPU, so a 2^16 step's ~2,300 rays make ~150 groups instead of 36 for PoCL's threads
 // to balance (ray lengths differ widely with empty-space skipping).
 size_t ray_group(const cl::Runtime& rt) { return rt.device().is_gpu ? 64 : 16; }
+// The single work-group of sample_offsets and loss_sum: a GPU scans with 256 work-items, a CPU with
+// one (a few thousand additions; one work-item avoids PoCL's barrier loops).
+size_t scan_group(const cl::Runtime& rt) { return rt.device().is_gpu ? BATCH_SCAN_MAX_GROUP : 1; }
 }  // namespace
 
 SampleParams sample_params_for(const NerfModel& model, const DeviceViews& views) {
@@ -35,8 +39,13 @@ RayBatch::RayBatch(NerfModel& model, uint32_t max_rays)
   cl::Runtime& rt = model.runtime();
   cl_program sampling = rt.program("train/sampling.cl");
   count_k_ = cl::Kernel(sampling, "sample_count");
+  offsets_k_ = cl::Kernel(sampling, "sample_offsets");
   write_k_ = cl::Kernel(sampling, "sample_write");
-  render_k_ = cl::Kernel(rt.program("train/loss.cl"), "render_loss");
+  cl_program loss = rt.program("train/loss.cl");
+  render_k_ = cl::Kernel(loss, "render_loss");
+  loss_sum_k_ = cl::Kernel(loss, "loss_sum");
+  batch_info_ = cl::Buffer<uint32_t>(rt, BATCH_INFO_UINTS);
+  batch_info_.fill(rt, 0u);
   counts_dev_ = cl::Buffer<uint32_t>(rt, max_rays);
   sub_offsets_ = cl::Buffer<uint32_t>(rt, max_rays);
   sub_counts_ = cl::Buffer<uint32_t>(rt, max_rays);
@@ -87,21 +96,81 @@ uint32_t RayBatch::write(SampleParams p, const DeviceViews& views, uint32_t begi
     throw std::out_of_range(fmt::format("RayBatch::write: {} samples exceed the batch {}", total, stride_));
   written_rays_ = n;
   written_samples_ = static_cast<uint32_t>(total);
+  on_device_ = false;
   if (n == 0) return 0;
   sub_offsets_.write(rt, offsets);
   sub_counts_.write(rt, counts);
   p.ray_begin = begin;
   p.ray_end = end;
+  p.end_on_device = 0;
   write_k_
       .args(p, views.camera_buffer(), views.offsets(), views.pixels(), model_.occupancy_bits(), sub_offsets_,
-            pos_, dir_, ray_info_)
+            batch_info_, pos_, dir_, ray_info_)
       .launch(rt, n, ray_group(rt));
   return written_samples_;
 }
 
-double RayBatch::render(uint32_t loss_kind, bool forward_only, float min_transmittance, float opacity_prior) {
-  if (written_rays_ == 0) return 0.0;
+RayBatch::DeviceBatch RayBatch::sample_on_device(SampleParams p, const DeviceViews& views) {
+  if (p.n_rays > max_rays_)
+    throw std::invalid_argument(
+        fmt::format("RayBatch::sample_on_device: {} rays exceed the capacity {}", p.n_rays, max_rays_));
+  if (p.max_samples > stride_)
+    throw std::invalid_argument(fmt::format(
+        "RayBatch::sample_on_device: {} samples per ray exceed the batch {}", p.max_samples, stride_));
   cl::Runtime& rt = model_.runtime();
+  p.stride = stride_;  // the budget of sample_offsets' fit
+  p.ray_begin = 0;
+  p.ray_end = p.n_rays;
+  p.end_on_device = 1;
+  if (p.n_rays > 0) {
+    count_k_
+        .args(p, views.camera_buffer(), views.offsets(), views.pixels(), model_.occupancy_bits(), counts_dev_)
+        .launch(rt, p.n_rays, ray_group(rt));
+    const size_t group = scan_group(rt);
+    offsets_k_.args(p, counts_dev_, sub_offsets_, batch_info_).launch(rt, group, group);
+    write_k_
+        .args(p, views.camera_buffer(), views.offsets(), views.pixels(), model_.occupancy_bits(),
+              sub_offsets_, batch_info_, pos_, dir_, ray_info_)
+        .launch(rt, p.n_rays, ray_group(rt));
+  }
+  uint32_t info[BATCH_INFO_UINTS];
+  batch_info_.read(rt, info, BATCH_INFO_UINTS);
+  DeviceBatch b;
+  if (p.n_rays > 0) {
+    b.rays = info[BATCH_INFO_RAYS];
+    b.samples = info[BATCH_INFO_SAMPLES];
+    b.counted = info[BATCH_INFO_COUNTED];
+  }
+  std::memcpy(&b.previous_loss_sum, &info[BATCH_INFO_LOSS], sizeof(float));
+  written_rays_ = b.rays;
+  written_samples_ = b.samples;
+  on_device_ = true;
+  counts_.clear();  // the host way's counts no longer describe the written rays
+  return b;
+}
+
+void RayBatch::render_on_device(uint32_t loss_kind, float min_transmittance, float opacity_prior) {
+  if (!on_device_) throw std::logic_error("RayBatch::render_on_device must follow sample_on_device");
+  if (written_rays_ == 0) return;
+  cl::Runtime& rt = model_.runtime();
+  LossParams lp = loss_params(loss_kind, false, min_transmittance, opacity_prior);
+  render_k_
+      .args(lp, sub_offsets_, counts_dev_, ray_info_, sigma_, rgb_, dsigma_, drgb_, ray_loss_, ray_color_)
+      .launch(rt, written_rays_, ray_group(rt));
+  const size_t group = scan_group(rt);
+  loss_sum_k_.args(lp, ray_loss_, batch_info_).launch(rt, group, group);
+}
+
+float RayBatch::loss_sum() const {
+  uint32_t bits = 0;
+  batch_info_.read(model_.runtime(), &bits, 1, BATCH_INFO_LOSS);
+  float sum;
+  std::memcpy(&sum, &bits, sizeof(float));
+  return sum;
+}
+
+LossParams RayBatch::loss_params(uint32_t loss_kind, bool forward_only, float min_transmittance,
+                                 float opacity_prior) const {
   LossParams lp{};
   lp.n_rays = written_rays_;
   lp.stride = stride_;
@@ -111,8 +180,16 @@ double RayBatch::render(uint32_t loss_kind, bool forward_only, float min_transmi
   lp.grad_scale = 1.0f / (3.0f * float(written_rays_));
   lp.min_transmittance = min_transmittance;
   lp.opacity_prior = opacity_prior;
+  return lp;
+}
+
+double RayBatch::render(uint32_t loss_kind, bool forward_only, float min_transmittance, float opacity_prior) {
+  if (written_rays_ == 0) return 0.0;
+  cl::Runtime& rt = model_.runtime();
+  const LossParams lp = loss_params(loss_kind, forward_only, min_transmittance, opacity_prior);
   render_k_
-      .args(lp, sub_offsets_, sub_counts_, ray_info_, sigma_, rgb_, dsigma_, drgb_, ray_loss_, ray_color_)
+      .args(lp, sub_offsets_, on_device_ ? counts_dev_ : sub_counts_, ray_info_, sigma_, rgb_, dsigma_, drgb_,
+            ray_loss_, ray_color_)
       .launch(rt, written_rays_, ray_group(rt));
   if (forward_only) return 0.0;
   std::vector<float> losses = ray_loss_.read(rt, written_rays_);

@@ -1,7 +1,10 @@
 // The sampling and volume-rendering stages of one batch of rays around the field: count samples
-// per ray (kernel), turn counts into offsets on the host (prefix sum, deterministic), write the
-// compacted samples of a prefix of rays that fits the field's batch (kernel), then composite them
-// into colours and, for training, the loss and its gradient per sample (kernel).
+// per ray (kernel), turn counts into offsets (prefix sum, deterministic), write the compacted
+// samples of a prefix of rays that fits the field's batch (kernel), then composite them into
+// colours and, for training, the loss and its gradient per sample (kernel). Two ways through: the
+// host way (count / fit / write / render: counts and losses come back to the host, for tests, the
+// room model and evaluation) and the device way (sample_on_device / render_on_device: offsets, fit
+// and loss sum stay on the device, and the only transfer is one read of a 16-byte batch record).
 #pragma once
 #include <cstdint>
 #include <vector>
@@ -37,6 +40,23 @@ class RayBatch {
   // Colour + opacity (4 floats per ray) of the last render().
   std::vector<float> colors() const;
 
+  // The device way. Counts rays [0, p.n_rays), scans the counts into offsets and fits the leading
+  // rays into `budget` = the field's batch (kernel sample_offsets), writes their samples, then reads
+  // the batch record back: the step's only blocking transfer. It also brings the summed loss of the
+  // previous render_on_device() (the queue is in order), so the caller can read that loss without
+  // a transfer of its own.
+  struct DeviceBatch {
+    uint32_t rays = 0, samples = 0;  // the rays written and their samples
+    uint64_t counted = 0;            // samples of all p.n_rays rays
+    float previous_loss_sum = 0.0f;  // BATCH_INFO_LOSS at the time of the read
+  };
+  DeviceBatch sample_on_device(SampleParams p, const DeviceViews& views);
+  // render() for the rays of the last sample_on_device(), with the loss summed on the device into
+  // the batch record (no transfer). The sum arrives with the next sample_on_device() or loss_sum().
+  void render_on_device(uint32_t loss_kind, float min_transmittance = 1e-4f, float opacity_prior = 0.0f);
+  // Blocking read of the summed loss of the last render_on_device().
+  float loss_sum() const;
+
   cl::Buffer<float>& positions() { return pos_; }
   cl::Buffer<float>& directions() { return dir_; }
   cl::Buffer<float>& sigma() { return sigma_; }
@@ -51,14 +71,18 @@ class RayBatch {
   uint32_t written_samples() const { return written_samples_; }
 
  private:
+  LossParams loss_params(uint32_t loss_kind, bool forward_only, float min_transmittance,
+                         float opacity_prior) const;
+
   NerfModel& model_;
   uint32_t max_rays_, stride_;
-  cl::Kernel count_k_, write_k_, render_k_;
+  cl::Kernel count_k_, offsets_k_, write_k_, render_k_, loss_sum_k_;
   std::vector<uint32_t> counts_;
-  cl::Buffer<uint32_t> counts_dev_, sub_offsets_, sub_counts_;
+  cl::Buffer<uint32_t> counts_dev_, sub_offsets_, sub_counts_, batch_info_;
   cl::Buffer<float> ray_info_, ray_loss_, ray_color_;
   cl::Buffer<float> pos_, dir_, sigma_, rgb_, dsigma_, drgb_;
   uint32_t written_rays_ = 0, written_samples_ = 0;
+  bool on_device_ = false;  // the last write was sample_on_device (counts in counts_dev_)
 };
 
 }  // namespace lorgnette::nerf

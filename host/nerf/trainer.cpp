@@ -62,7 +62,7 @@ float Trainer::learning_rate(double elapsed) const {
   return float(options_.adam.lr * std::pow(options_.final_lr_fraction, t));
 }
 
-double Trainer::step() {
+std::optional<double> Trainer::advance() {
   field::Field& field = model_.field();
   const uint32_t batch = field.max_batch();
   SampleParams p = sample_params_for(model_, *views_);
@@ -70,19 +70,40 @@ double Trainer::step() {
   p.n_rays = n_rays_;
   p.seed = options_.seed;
   p.iteration = static_cast<uint32_t>(step_);
-  const std::vector<uint32_t>& counts = batch_->count(p, *views_);
+  std::optional<double> previous;
   uint64_t counted = 0;
-  for (uint32_t c : counts) counted += c;
-  uint32_t end = batch_->fit(0, batch);
-  if (background_) end = std::min(end, background_->count(p, *views_));
-  uint32_t n = batch_->write(p, *views_, 0, end);
-  if (background_) background_->render_backgrounds(p, *views_, end, *batch_);
+  uint32_t end = 0, n = 0;
+  if (background_) {  // the host way: the room model needs the subject's counts on the host
+    previous = last_loss();
+    const std::vector<uint32_t>& counts = batch_->count(p, *views_);
+    for (uint32_t c : counts) counted += c;
+    end = std::min(batch_->fit(0, batch), background_->count(p, *views_));
+    n = batch_->write(p, *views_, 0, end);
+    background_->render_backgrounds(p, *views_, end, *batch_);
+  } else {
+    const RayBatch::DeviceBatch b = batch_->sample_on_device(p, *views_);
+    if (pending_ == PendingLoss::OnDevice)
+      previous = pending_rays_ ? double(b.previous_loss_sum) / (3.0 * pending_rays_) : 0.0;
+    else if (pending_ == PendingLoss::Known)
+      previous = pending_value_;
+    end = b.rays;
+    n = b.samples;
+    counted = b.counted;
+  }
   // Next step's ray count aims at a full batch (integer arithmetic: deterministic).
   uint64_t want = counted ? uint64_t(batch) * n_rays_ / counted : uint64_t(n_rays_) * 2;
   n_rays_ = static_cast<uint32_t>(std::clamp<uint64_t>(want, 64, batch_->max_rays()));
   if (n > 0)
     field.forward(batch_->positions(), batch_->directions(), n, batch_->sigma(), batch_->rgb(), true);
-  double loss_sum = batch_->render(options_.loss_kind, false, 1e-4f, opacity_prior());
+  if (background_) {
+    const double loss_sum = batch_->render(options_.loss_kind, false, 1e-4f, opacity_prior());
+    pending_value_ = end ? loss_sum / (3.0 * end) : 0.0;
+    pending_ = PendingLoss::Known;
+  } else {
+    batch_->render_on_device(options_.loss_kind, 1e-4f, opacity_prior());
+    pending_rays_ = end;
+    pending_ = PendingLoss::OnDevice;
+  }
   field::AdamConfig adam = options_.adam;
   adam.lr = learning_rate(elapsed_);
   if (n > 0) {
@@ -94,7 +115,22 @@ double Trainer::step() {
   samples_ += n;
   rays_ += end;
   occupancy_->maybe_update(static_cast<uint32_t>(step_));
-  return end ? loss_sum / (3.0 * end) : 0.0;
+  return previous;
+}
+
+std::optional<double> Trainer::last_loss() {
+  std::optional<double> loss;
+  if (pending_ == PendingLoss::OnDevice)
+    loss = pending_rays_ ? double(batch_->loss_sum()) / (3.0 * pending_rays_) : 0.0;
+  else if (pending_ == PendingLoss::Known)
+    loss = pending_value_;
+  pending_ = PendingLoss::None;
+  return loss;
+}
+
+double Trainer::step() {
+  advance();
+  return last_loss().value_or(0.0);
 }
 
 void Trainer::save_snapshot(double elapsed) {
@@ -106,7 +142,7 @@ void Trainer::save_snapshot(double elapsed) {
   model_.save(options_.snapshot_path);
 }
 
-void Trainer::diverged(double loss) {
+void Trainer::diverged(double loss, uint64_t at_step) {
   std::string where = "not saved (no snapshot path)";
   if (!good_params_.empty()) {
     model_.field().upload_params(good_params_);
@@ -122,7 +158,7 @@ void Trainer::diverged(double loss) {
   throw TrainingDiverged(fmt::format(
       "training diverged: the loss became {} at step {}; kept the last good parameters (step {}), {}. "
       "Lower the learning rate (--lr, now {}) and train again",
-      loss, step_, good_step_, where, options_.adam.lr));
+      loss, at_step, good_step_, where, options_.adam.lr));
 }
 
 TrainResult Trainer::run() {
@@ -134,6 +170,31 @@ TrainResult Trainer::run() {
   TrainResult result;
   double mse_ema = -1.0;
   uint64_t samples_at_start = samples_;
+  // The parameters before step `candidate_step` become the good copy once that step's loss is known
+  // to be finite (one step later: advance() returns the previous step's loss).
+  std::vector<float> candidate;
+  OccupancyGrid candidate_occ;
+  uint64_t candidate_step = 0;
+  // The loss of step `done - 1` (done steps finished): divergence check, curve, callback, progress.
+  auto take_loss = [&](double loss, uint64_t done) {
+    if (!std::isfinite(loss)) diverged(loss, done);
+    if (!candidate.empty() && candidate_step + 1 == done) {
+      good_params_ = std::move(candidate);
+      good_occupancy_ = std::move(candidate_occ);
+      good_step_ = candidate_step;
+      candidate.clear();
+    }
+    result.loss_curve.push_back(loss);
+    mse_ema = mse_ema < 0.0 ? loss : 0.95 * mse_ema + 0.05 * loss;
+    double now = std::chrono::duration<double>(clock::now() - start).count();
+    if (options_.on_step) options_.on_step(done, now, loss);
+    if (options_.progress)
+      bar.update(by_steps ? double(done) : now,
+                 fmt::format("step {}  {:.0f}k samples/s  loss {:.5f}  PSNR {:.2f} dB  {:.1f}% occupied",
+                             done, double(samples_ - samples_at_start) / std::max(now, 1e-9) / 1e3, loss,
+                             -10.0 * std::log10(std::max(mse_ema, 1e-12)),
+                             100.0 * model_.occupancy().occupied_fraction()));
+  };
   while (true) {
     elapsed_ = std::chrono::duration<double>(clock::now() - start).count();
     if (by_steps && step_ >= options_.steps) break;
@@ -142,34 +203,27 @@ TrainResult Trainer::run() {
       result.interrupted = true;
       break;
     }
-    std::vector<float> candidate;
-    if (step_ % options_.good_copy_every == 0) candidate = model_.field().download_params();
-    OccupancyGrid candidate_occ = candidate.empty() ? OccupancyGrid{} : model_.occupancy();
-    uint64_t candidate_step = step_;
-    double loss = step();
-    if (!std::isfinite(loss)) diverged(loss);
-    if (!candidate.empty()) {
-      good_params_ = std::move(candidate);
-      good_occupancy_ = std::move(candidate_occ);
-      good_step_ = candidate_step;
+    std::vector<float> fresh;  // parameters before this step (a candidate once advance() is done)
+    OccupancyGrid fresh_occ;
+    const uint64_t fresh_step = step_;
+    if (step_ % options_.good_copy_every == 0) {
+      fresh = model_.field().download_params();
+      fresh_occ = model_.occupancy();
     }
-    result.loss_curve.push_back(loss);
-    mse_ema = mse_ema < 0.0 ? loss : 0.95 * mse_ema + 0.05 * loss;
-    double now = std::chrono::duration<double>(clock::now() - start).count();
-    if (options_.on_step) options_.on_step(step_, now, loss);
-    if (options_.progress)
-      bar.update(by_steps ? double(step_) : now,
-                 fmt::format("step {}  {:.0f}k samples/s  loss {:.5f}  PSNR {:.2f} dB  {:.1f}% occupied",
-                             step_, double(samples_ - samples_at_start) / std::max(now, 1e-9) / 1e3, loss,
-                             -10.0 * std::log10(std::max(mse_ema, 1e-12)),
-                             100.0 * model_.occupancy().occupied_fraction()));
+    if (std::optional<double> previous = advance()) take_loss(*previous, step_ - 1);
+    if (!fresh.empty()) {
+      candidate = std::move(fresh);
+      candidate_occ = std::move(fresh_occ);
+      candidate_step = fresh_step;
+    }
     if (options_.snapshot_every_seconds > 0.0 &&
         std::chrono::duration<double>(clock::now() - last_snapshot).count() >
             options_.snapshot_every_seconds) {
-      save_snapshot(now);
+      save_snapshot(std::chrono::duration<double>(clock::now() - start).count());
       last_snapshot = clock::now();
     }
   }
+  if (std::optional<double> loss = last_loss()) take_loss(*loss, step_);
   result.seconds = std::chrono::duration<double>(clock::now() - start).count();
   if (options_.progress) bar.finish(fmt::format("{} steps in {:.1f} s", step_, result.seconds));
   result.steps = step_;

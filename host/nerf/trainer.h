@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -65,7 +66,18 @@ class Trainer {
   ~Trainer();
   TrainResult run();
 
-  // One step; returns the batch loss (mean over rays and channels). For tests.
+  // One step with at most one blocking host transfer (without a room model): samples are counted,
+  // scanned, fitted and written on the device, the loss is summed there, and the one read per step
+  // (the batch's ray and sample counts, which the field's launches need) also brings the previous
+  // step's loss. Returns that previous step's batch loss (mean over rays and channels), or nothing
+  // when no step is pending (the first step, or after last_loss()). With a room model the step
+  // takes the host way (BackgroundField reads the rays back) and its loss is known at once.
+  std::optional<double> advance();
+  // The loss of the last step, read back now if advance() left it on the device (one blocking read);
+  // nothing when it was already returned. Afterwards no step is pending.
+  std::optional<double> last_loss();
+  // advance() then last_loss(): one step, returning its own batch loss (a second synchronisation).
+  // For tests and callers that need each loss at once.
   double step();
   uint64_t steps_done() const { return step_; }
   uint64_t samples_done() const { return samples_; }
@@ -79,8 +91,7 @@ class Trainer {
   double run_fraction(double elapsed) const;  // of the steps or seconds, whichever is further
   float learning_rate(double elapsed) const;
   float opacity_prior() const;  // the room model's binary-opacity prior weight now
-  void keep_good_copy();
-  [[noreturn]] void diverged(double loss);
+  [[noreturn]] void diverged(double loss, uint64_t at_step);
   void save_snapshot(double elapsed);
 
   NerfModel& model_;
@@ -96,6 +107,11 @@ class Trainer {
   std::vector<float> good_params_;
   OccupancyGrid good_occupancy_;
   uint64_t good_step_ = 0;
+  // The loss of the last step: not pending, summed on the device (rays of that step in
+  // pending_rays_), or known on the host (pending_value_).
+  enum class PendingLoss { None, OnDevice, Known } pending_ = PendingLoss::None;
+  uint32_t pending_rays_ = 0;
+  double pending_value_ = 0.0;
 };
 
 }  // namespace lorgnette::nerf

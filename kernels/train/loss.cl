@@ -1,6 +1,7 @@
 // Volume rendering of each ray's compacted samples with the loss and its gradient w.r.t. every
 // sample's density and colour (one work-item per ray: the standard reverse accumulation of
-// train/render.h), or colour only (forward_only) for evaluation renders.
+// train/render.h), or colour only (forward_only) for evaluation renders; and the batch's summed
+// loss on the device (loss_sum), so the training step need not read the per-ray losses back.
 #include "train/render.h"
 #include "train/train_types.h"
 
@@ -23,4 +24,23 @@ __kernel void render_loss(const LossParams p, __global const uint* ray_offsets, 
   render_ray_backward(sigma, rgb, p.stride, first, count, used, p.step, color, dC, dsigma, drgb);
   if (p.opacity_prior > 0.0f)
     render_ray_opacity_prior(first, used, p.step, color, p.opacity_prior, 3.0f * p.grad_scale, dsigma);
+}
+
+// Sum of ray_loss[0, p.n_rays) into batch_info[BATCH_INFO_LOSS] (float bits). One work-group (local
+// size <= BATCH_SCAN_MAX_GROUP): each work-item sums a contiguous chunk in order, then work-item 0
+// sums the chunks in order, so for a given group size the result is the same bits on every run.
+__kernel void loss_sum(const LossParams p, __global const float* ray_loss, __global uint* batch_info) {
+  __local float partial[BATCH_SCAN_MAX_GROUP];
+  const uint lid = get_local_id(0), groups = get_local_size(0);
+  const uint chunk = (p.n_rays + groups - 1u) / groups;
+  const uint begin = min(lid * chunk, p.n_rays), end = min(begin + chunk, p.n_rays);
+  float sum = 0.0f;
+  for (uint i = begin; i < end; ++i) sum += ray_loss[i];
+  partial[lid] = sum;
+  barrier(CLK_LOCAL_MEM_FENCE);
+  if (lid == 0) {
+    float total = 0.0f;
+    for (uint g = 0; g < groups; ++g) total += partial[g];
+    batch_info[BATCH_INFO_LOSS] = as_uint(total);
+  }
 }

@@ -1,7 +1,8 @@
 // Ray sampling with empty-space skipping, in two deterministic passes: sample_count marches every
-// ray and stores how many samples it takes; the host turns the counts into offsets (prefix sum);
-// sample_write marches the same rays again and writes each sample at its ray's offset. No atomics,
-// so the compacted order is the ray order whatever the scheduling.
+// ray and stores how many samples it takes; the counts become offsets (prefix sum: sample_offsets on
+// the device, which also finds the leading rays that fit the batch, or the host); sample_write
+// marches the same rays again and writes each sample at its ray's offset. No atomics, so the
+// compacted order is the ray order whatever the scheduling.
 //
 // Rays: SAMPLE_MODE_TRAIN picks pixels uniformly over all training images (counter-based RNG on
 // seed, iteration, ray), jitters them inside the pixel and composites the RGBA target onto a
@@ -123,14 +124,63 @@ __kernel void sample_count(const SampleParams p, __global const Camera* cams, __
   counts[ray] = setup_ray(&p, cams, offsets, pixels, ray, &r) ? march_ray(&p, occ, &r, 0, 0u, 0, 0) : 0u;
 }
 
-// Rays [ray_begin, ray_end): sample offsets come relative to ray_begin; ray_info gets
-// RAY_INFO_FLOATS floats per ray (target rgb, background rgb, pixel, image).
+// Exclusive prefix sum of counts[0, n_rays) into ray_offsets, and the batch record (train_types.h):
+// the leading rays whose samples total at most `budget` (= p.stride, the field's batch), their
+// samples and the total of all counts. One work-group (local size <= BATCH_SCAN_MAX_GROUP): each
+// work-item scans a contiguous chunk; integer sums, so the result is exact whatever the group size.
+__kernel void sample_offsets(const SampleParams p, __global const uint* counts, __global uint* ray_offsets,
+                             __global uint* batch_info) {
+  __local uint base[BATCH_SCAN_MAX_GROUP];
+  __local uint fits[BATCH_SCAN_MAX_GROUP];
+  const uint lid = get_local_id(0), groups = get_local_size(0);
+  const uint chunk = (p.n_rays + groups - 1u) / groups;
+  const uint begin = min(lid * chunk, p.n_rays), end = min(begin + chunk, p.n_rays);
+  uint sum = 0;
+  for (uint i = begin; i < end; ++i) sum += counts[i];
+  base[lid] = sum;
+  barrier(CLK_LOCAL_MEM_FENCE);
+  if (lid == 0) {
+    uint run = 0;
+    for (uint g = 0; g < groups; ++g) {
+      const uint s = base[g];
+      base[g] = run;
+      run += s;
+    }
+    batch_info[BATCH_INFO_COUNTED] = run;
+  }
+  barrier(CLK_LOCAL_MEM_FENCE);
+  uint run = base[lid], n_fit = 0, fit_samples = 0;
+  for (uint i = begin; i < end; ++i) {
+    ray_offsets[i] = run;
+    run += counts[i];
+    if (run <= p.stride) {  // inclusive sums only grow: the rays that fit are a prefix
+      ++n_fit;
+      fit_samples = run;
+    }
+  }
+  fits[lid] = n_fit;
+  base[lid] = fit_samples;
+  barrier(CLK_LOCAL_MEM_FENCE);
+  if (lid == 0) {
+    uint rays = 0, samples = 0;
+    for (uint g = 0; g < groups; ++g) {
+      rays += fits[g];
+      if (fits[g]) samples = base[g];
+    }
+    batch_info[BATCH_INFO_RAYS] = rays;
+    batch_info[BATCH_INFO_SAMPLES] = samples;
+  }
+}
+
+// Rays [ray_begin, ray_end) (and below batch_info[BATCH_INFO_RAYS] when p.end_on_device): sample
+// offsets come relative to ray_begin; ray_info gets RAY_INFO_FLOATS floats per ray (target rgb,
+// background rgb, pixel, image).
 __kernel void sample_write(const SampleParams p, __global const Camera* cams, __global const uint* offsets,
                            __global const float* pixels, __global const uint* occ,
-                           __global const uint* ray_offsets, __global float* pos, __global float* dir,
-                           __global float* ray_info) {
+                           __global const uint* ray_offsets, __global const uint* batch_info,
+                           __global float* pos, __global float* dir, __global float* ray_info) {
   uint ray = p.ray_begin + get_global_id(0);
-  if (ray >= p.ray_end) return;
+  if (ray >= p.ray_end || (p.end_on_device && ray >= batch_info[BATCH_INFO_RAYS])) return;
   uint local_ray = ray - p.ray_begin;
   RaySetup r;
   if (setup_ray(&p, cams, offsets, pixels, ray, &r))

@@ -29,9 +29,21 @@ typedef struct SampleParams {
   lgn_uint stride;     // SoA stride of the per-sample arrays (Field::max_batch)
   lgn_uint ray_begin;  // write pass: first ray whose samples are written
   lgn_uint ray_end;    // write pass: one past the last ray written
-  lgn_uint pad;
+  // write pass: 1 = the rays also end at batch_info[BATCH_INFO_RAYS] (sample_offsets' fit, computed
+  // on the device; ray_begin must be 0); 0 = ray_end alone.
+  lgn_uint end_on_device;
 } SampleParams;
 LGN_STATIC_ASSERT(sizeof(SampleParams) == 112, "SampleParams layout is shared with OpenCL");
+
+// The batch record sample_offsets writes (uints): the leading rays whose samples fit the batch, their
+// samples, the samples of all counted rays, and (written by loss_sum, float bits) the summed loss.
+#define BATCH_INFO_RAYS 0u
+#define BATCH_INFO_SAMPLES 1u
+#define BATCH_INFO_COUNTED 2u
+#define BATCH_INFO_LOSS 3u
+#define BATCH_INFO_UINTS 4u
+// Largest work-group of the single-group scan and sum kernels (their local arrays).
+#define BATCH_SCAN_MAX_GROUP 256u
 
 // Per-ray record written by the sampler (floats): target rgb (background composited), background rgb,
 // pixel index within its image (as float bits), image index (as float bits).

@@ -156,4 +156,136 @@ TEST(Sampling, TrainingRaysAreReproducibleAndCompositeAlpha) {
   EXPECT_GT(partial, 0);  // edge pixels with partial coverage were drawn
 }
 
+// The device way (sample_offsets' scan and fit on the device, one read of the batch record) writes
+// exactly what the host way (counts read back, host prefix sum and fit) writes, and its loss and
+// gradients equal the host render's: the same rays, offsets, samples, targets and gradients bit for
+// bit; the loss sum (float on the device, double on the host) within 1e-5 relative.
+TEST(Sampling, DeviceScanAndFitWriteWhatTheHostWayWrites) {
+  Fixture f;
+  auto scene = nerftest::render_views(nerftest::ring_cameras(3, 2.5f, 16));
+  DeviceViews views(f.rt, scene.views, true);
+  RayBatch batch(f.model, 4096);
+  SampleParams p = sample_params_for(f.model, views);
+  p.mode = SAMPLE_MODE_TRAIN;
+  p.n_rays = 4096;
+  p.seed = 3;
+  p.iteration = 11;
+  const uint32_t stride = f.model.field().max_batch();
+  const std::vector<uint32_t> counts = batch.count(p, views);
+  uint64_t counted = 0;
+  for (uint32_t c : counts) counted += c;
+  ASSERT_GT(counted, stride) << "the rays must overflow the batch, so the fit cuts them";
+  const uint32_t end = batch.fit(0, stride);
+  const uint32_t n = batch.write(p, views, 0, end);
+  ASSERT_GT(end, 0u);
+  ASSERT_LT(end, p.n_rays);
+  auto read_all = [&] {
+    return std::vector<std::vector<float>>{batch.positions().read(f.rt), batch.directions().read(f.rt),
+                                           batch.ray_info().read(f.rt, size_t(end) * RAY_INFO_FLOATS)};
+  };
+  std::vector<std::vector<float>> host = read_all();
+  // Field outputs for the loss: a fixed pseudo-random density and colour per sample.
+  std::mt19937 gen(17);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  std::vector<float> sigma(stride), rgb(3 * size_t(stride));
+  for (float& v : sigma) v = 40.0f * u(gen);
+  for (float& v : rgb) v = u(gen);
+  batch.sigma().write(f.rt, sigma);
+  batch.rgb().write(f.rt, rgb);
+  const double host_loss = batch.render(LOSS_L2_SRGB, false);
+  const std::vector<float> host_dsigma = batch.dsigma().read(f.rt), host_drgb = batch.drgb().read(f.rt);
+
+  for (auto* b :
+       {&batch.positions(), &batch.directions(), &batch.ray_info_mut(), &batch.dsigma(), &batch.drgb()})
+    b->fill(f.rt, -1.0f);
+  const RayBatch::DeviceBatch d = batch.sample_on_device(p, views);
+  EXPECT_EQ(d.rays, end);
+  EXPECT_EQ(d.samples, n);
+  EXPECT_EQ(d.counted, counted);
+  std::vector<std::vector<float>> dev = read_all();
+  for (int a = 0; a < 3; ++a)
+    for (uint32_t i = 0; i < n; ++i) {
+      ASSERT_EQ(dev[0][a * size_t(stride) + i], host[0][a * size_t(stride) + i])
+          << "position " << a << " " << i;
+      ASSERT_EQ(dev[1][a * size_t(stride) + i], host[1][a * size_t(stride) + i])
+          << "direction " << a << " " << i;
+    }
+  EXPECT_TRUE(dev[2] == host[2]) << "ray records";
+  batch.render_on_device(LOSS_L2_SRGB);
+  const float device_loss = batch.loss_sum();
+  EXPECT_NEAR(device_loss, host_loss, 1e-5 * host_loss);
+  const std::vector<float> dsigma = batch.dsigma().read(f.rt), drgb = batch.drgb().read(f.rt);
+  for (uint32_t i = 0; i < n; ++i) ASSERT_EQ(dsigma[i], host_dsigma[i]) << "dsigma " << i;
+  for (int c = 0; c < 3; ++c)
+    for (uint32_t i = 0; i < n; ++i)
+      ASSERT_EQ(drgb[c * size_t(stride) + i], host_drgb[c * size_t(stride) + i]);
+  // The next step's read brings this loss along.
+  p.iteration = 12;
+  EXPECT_EQ(batch.sample_on_device(p, views).previous_loss_sum, device_loss);
+}
+
+// sample_offsets and loss_sum launched directly against a host prefix sum, fit and sum, for ray
+// counts around the group size, zero counts, a budget hit exactly, and group sizes 1, 3 and 256.
+TEST(Sampling, OffsetsScanAndLossSumMatchTheHostForAnyGroupSize) {
+  cl::Runtime rt{cl::RuntimeOptions{"", "", false}};
+  cl_program sampling = rt.program("train/sampling.cl"), loss = rt.program("train/loss.cl");
+  cl::Kernel scan(sampling, "sample_offsets"), sum(loss, "loss_sum");
+  std::mt19937 gen(23);
+  for (uint32_t n_rays : {0u, 1u, 7u, 256u, 1000u, 3001u}) {
+    std::vector<uint32_t> counts(std::max(n_rays, 1u));
+    for (auto& c : counts) c = gen() % 4 == 0 ? 0u : gen() % 97;
+    std::vector<uint32_t> offsets_ref(n_rays);
+    uint32_t total = 0;
+    for (uint32_t i = 0; i < n_rays; ++i) {
+      offsets_ref[i] = total;
+      total += counts[i];
+    }
+    // Budgets: none fit (below the first non-empty ray), exactly the inclusive sum of ray n/2, all.
+    std::vector<uint32_t> budgets = {0u, total + 5u};
+    if (n_rays > 1) budgets.push_back(offsets_ref[n_rays / 2] + counts[n_rays / 2]);
+    for (uint32_t budget : budgets) {
+      uint32_t fit = 0, fit_samples = 0;
+      while (fit < n_rays && fit_samples + counts[fit] <= budget) fit_samples += counts[fit++];
+      for (size_t group : {size_t(1), size_t(3), size_t(BATCH_SCAN_MAX_GROUP)}) {
+        cl::Buffer<uint32_t> c_dev(rt, counts), off_dev(rt, counts.size()), info(rt, BATCH_INFO_UINTS);
+        info.fill(rt, 0xdeadbeefu);
+        SampleParams p{};
+        p.n_rays = n_rays;
+        p.stride = budget;
+        scan.args(p, c_dev, off_dev, info).launch(rt, group, group);
+        const std::vector<uint32_t> got = info.read(rt);
+        const std::string what = "rays " + std::to_string(n_rays) + ", budget " + std::to_string(budget) +
+                                 ", group " + std::to_string(group);
+        EXPECT_EQ(got[BATCH_INFO_RAYS], fit) << what;
+        EXPECT_EQ(got[BATCH_INFO_SAMPLES], fit_samples) << what;
+        EXPECT_EQ(got[BATCH_INFO_COUNTED], total) << what;
+        EXPECT_EQ(got[BATCH_INFO_LOSS], 0xdeadbeefu) << what << ": the scan must leave the loss alone";
+        if (n_rays) {
+          EXPECT_EQ(off_dev.read(rt, n_rays), offsets_ref) << what;
+        }
+      }
+    }
+    std::vector<float> losses(counts.size());
+    double ref = 0.0;
+    for (uint32_t i = 0; i < n_rays; ++i)
+      ref += losses[i] = std::uniform_real_distribution<float>(0, 0.1f)(gen);
+    cl::Buffer<float> l_dev(rt, losses);
+    for (size_t group : {size_t(1), size_t(3), size_t(BATCH_SCAN_MAX_GROUP)}) {
+      cl::Buffer<uint32_t> info(rt, BATCH_INFO_UINTS);
+      LossParams lp{};
+      lp.n_rays = n_rays;
+      float bits[2];
+      for (int run = 0; run < 2; ++run) {
+        info.fill(rt, 0u);
+        sum.args(lp, l_dev, info).launch(rt, group, group);
+        uint32_t u = info.read(rt)[BATCH_INFO_LOSS];
+        std::memcpy(&bits[run], &u, 4);
+      }
+      // n * 0.05 summed in float: rounding ~ n * 6e-8 of the sum at worst.
+      EXPECT_NEAR(bits[0], ref, 1e-5 * ref + 1e-9) << n_rays << " rays, group " << group;
+      EXPECT_EQ(std::memcmp(&bits[0], &bits[1], 4), 0) << "loss_sum is not reproducible";
+    }
+  }
+}
+
 }  // namespace

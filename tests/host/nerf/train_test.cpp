@@ -9,6 +9,7 @@
 #include "host/nerf/sizing.h"
 #include "host/nerf/trainer.h"
 #include "host/render/evaluate.h"
+#include "host/render/orbit.h"
 #include "synthetic_scene.h"
 
 namespace {
@@ -49,6 +50,29 @@ TEST(Sizing, VisualHullBoundsTheSphere) {
   EXPECT_LT(s.sizing.megabytes(), 4.0) << s.sizing.summary();
 }
 
+TEST(Sizing, CamerasLookAtTheNearestPointToTheirAxes) {
+  // Cameras around (0.3, -0.2, 0.1) aimed at it: their axes meet there (least squares, exact here,
+  // to float rounding of the poses).
+  const render::Vec3 target{0.3f, -0.2f, 0.1f};
+  std::vector<Camera> cams;
+  for (int i = 0; i < 8; ++i) {
+    float a = 0.8f * float(i), e = 0.2f * float(i % 3) - 0.2f;
+    render::Vec3 eye{target[0] + 2.0f * std::cos(e) * std::sin(a), target[1] + 2.0f * std::sin(e),
+                     target[2] + 2.0f * std::cos(e) * std::cos(a)};
+    cams.push_back(render::look_at(eye, target, {0, 1, 0}, 32, 32, 40.0f));
+  }
+  std::array<float, 3> p = cameras_look_at(cams);
+  for (int k = 0; k < 3; ++k) EXPECT_NEAR(p[k], target[k], 1e-4f) << k;
+  // Parallel axes meet nowhere (the system is singular): the cameras' centroid instead.
+  std::vector<Camera> parallel;
+  for (float x : {-1.0f, 0.0f, 2.0f})
+    parallel.push_back(render::look_at({x, 0.5f, 3.0f}, {x, 0.5f, 0.0f}, {0, 1, 0}, 32, 32, 40.0f));
+  p = cameras_look_at(parallel);
+  EXPECT_NEAR(p[0], 1.0f / 3.0f, 1e-5f);
+  EXPECT_NEAR(p[1], 0.5f, 1e-5f);
+  EXPECT_NEAR(p[2], 3.0f, 1e-5f);
+}
+
 TEST(Train, SphereReachesHeldOutPsnr) {
   SceneSetup s;
   NerfModel model = s.make_model(1u << 14, 1);
@@ -87,6 +111,38 @@ TEST(Train, DeterministicRunsAreBitwiseEqual) {
   EXPECT_TRUE(params[0] == params[1]);
 }
 
+// run() and advance() take one host synchronisation per step and get each loss one step late;
+// step() waits for its own loss. Both drive the same training: equal losses and parameters.
+TEST(Train, LossesReadOneStepLateAreTheLossesOfEachStep) {
+  SceneSetup s;
+  std::vector<std::vector<double>> curves(2);
+  std::vector<std::vector<float>> params;
+  for (int run = 0; run < 2; ++run) {
+    NerfModel model = s.make_model(1u << 12, 5);
+    TrainOptions o;
+    o.steps = 20;
+    o.progress = false;
+    Trainer trainer(model, s.train.views, o, s.sizing.occupancy_mask);
+    for (int k = 0; k < 20; ++k) {
+      if (run == 0) {
+        curves[0].push_back(trainer.step());
+        EXPECT_FALSE(trainer.last_loss().has_value()) << "step() leaves nothing pending";
+        continue;
+      }
+      std::optional<double> previous = trainer.advance();
+      EXPECT_EQ(previous.has_value(), k > 0) << "step " << k;
+      if (previous) curves[1].push_back(*previous);
+    }
+    if (run == 1) curves[1].push_back(trainer.last_loss().value());
+    EXPECT_FALSE(trainer.last_loss().has_value());
+    params.push_back(model.field().download_params());
+  }
+  ASSERT_EQ(curves[1].size(), 20u);
+  EXPECT_EQ(curves[0], curves[1]);
+  for (double l : curves[0]) EXPECT_GT(l, 0.0);
+  EXPECT_TRUE(params[0] == params[1]);
+}
+
 TEST(Train, DivergenceStopsAndKeepsTheLastGoodSnapshot) {
   SceneSetup s;
   NerfModel model = s.make_model(1u << 12, 3);
@@ -97,8 +153,10 @@ TEST(Train, DivergenceStopsAndKeepsTheLastGoodSnapshot) {
   o.progress = false;
   o.good_copy_every = 1;
   o.snapshot_path = path;
-  // A loss that turns NaN: poison the parameters after step 30 (an absurd learning rate does not
-  // reliably produce NaN here: Adam's normalised steps saturate the activations instead).
+  // A loss that turns NaN: poison the parameters when step 30's loss arrives (an absurd learning
+  // rate does not reliably produce NaN here: Adam's normalised steps saturate the activations
+  // instead). Losses arrive one step late (Trainer::advance), so by then step 31 has run on clean
+  // parameters and step 32 is the first to use the poisoned ones.
   o.on_step = [&model](uint64_t step, double, double) {
     if (step != 30) return;
     std::vector<float> p = model.field().download_params();
@@ -112,16 +170,16 @@ TEST(Train, DivergenceStopsAndKeepsTheLastGoodSnapshot) {
   } catch (const TrainingDiverged& e) {
     std::string msg = e.what();
     EXPECT_NE(msg.find("diverged"), std::string::npos) << msg;
-    EXPECT_NE(msg.find("step 31"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("step 32"), std::string::npos) << msg;
     EXPECT_NE(msg.find(path), std::string::npos) << msg;
     EXPECT_NE(msg.find("learning rate"), std::string::npos) << msg;
   }
   ASSERT_TRUE(std::filesystem::exists(path));
   NerfModel kept = NerfModel::load(s.rt, path, 1u << 12);
   for (float v : kept.field().download_params()) ASSERT_TRUE(std::isfinite(v));
-  // The last copy whose loss was verified finite: the parameters after 29 updates (the copy taken
-  // after step 30 is the poisoned one).
-  EXPECT_EQ(kept.metadata.steps, 29u);
+  // The last copy whose loss was verified finite: the parameters after 30 updates (the copy taken
+  // after step 31 is the poisoned one).
+  EXPECT_EQ(kept.metadata.steps, 30u);
 }
 
 TEST(Train, EmptyInputIsAClearError) {
