@@ -322,7 +322,7 @@ void run(const Args& a) {
 
   auto lat = bench_latency(ioc, server.port(), a.trials);
   std::vector<std::vector<std::string>> rows;
-  ChartSeries coarse{"input -> coarse frame"}, full{"input -> full still"};
+  ChartSeries coarse{"input -> coarse frame", {}, {}}, full{"input -> full still", {}, {}};
   for (size_t i = 0; i < lat.size(); ++i) {
     rows.push_back(
         {std::to_string(i + 1), fmt::format("{:.1f}", lat[i][0]), fmt::format("{:.1f}", lat[i][1])});
@@ -352,7 +352,7 @@ void run(const Args& a) {
     size_t rss0 = rss_bytes(), peak = rss0;
     auto load = bench_load(ioc, server.port(), a.load_clients, a.load_seconds, peak);
     rows.clear();
-    ChartSeries fc{"coarse frames"}, ff{"full frames"};
+    ChartSeries fc{"coarse frames", {}, {}}, ff{"full frames", {}, {}};
     uint64_t frames = 0, expected = 0, unexpected = 0, failed = 0;
     for (size_t i = 0; i < load.size(); ++i) {
       const auto& s = load[i];

@@ -178,8 +178,10 @@ std::array<float, 3> cameras_look_at(const std::vector<Camera>& cameras) {
     centroid += o / double(cameras.size());
   }
   Eigen::Vector3d p = centroid;
-  Eigen::JacobiSVD<Eigen::Matrix3d> svd(A);
-  if (svd.singularValues()[2] > 1e-3 * svd.singularValues()[0]) p = A.ldlt().solve(b);
+  // A is symmetric positive semi-definite: its eigenvalues (ascending) are its singular values.
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(A, Eigen::EigenvaluesOnly);
+  const Eigen::Vector3d& ev = eig.eigenvalues();
+  if (ev[0] > 1e-3 * ev[2]) p = A.ldlt().solve(b);
   return {float(p[0]), float(p[1]), float(p[2])};
 }
 

@@ -24,7 +24,8 @@ inline int16 mlp_valid16(uint i, uint n) {
 // Global size as mlp_chain_forward. d_sigma: n values; d_rgb: 3 rows of stride.
 __kernel void mlp_chain_backward(const MlpChainParams p, __global const float* restrict W,
                                  __global const float* acts, __global float* deltas,
-                                 __global const float* restrict d_sigma, __global const float* restrict d_rgb) {
+                                 __global const float* restrict d_sigma,
+                                 __global const float* restrict d_rgb) {
   const uint i0 = get_global_id(0) * 32;
   if (i0 >= p.n16) return;
   const uint s = p.stride, last = p.layers - 1;
@@ -40,8 +41,9 @@ __kernel void mlp_chain_backward(const MlpChainParams p, __global const float* r
     }
   }
   for (uint l = last + 1; l-- > 0;) {
-    mlp_layer_backward(W + p.w_offset[l], p.in[l], p.out[l], p.k_begin[l], p.mask[l], deltas + p.dy_row[l] * s + i0,
-                       acts + p.x_row[l] * s + i0, deltas + p.dx_row[l] * s + i0, s, i0, p.n16);
+    mlp_layer_backward(W + p.w_offset[l], p.in[l], p.out[l], p.k_begin[l], p.mask[l],
+                       deltas + p.dy_row[l] * s + i0, acts + p.x_row[l] * s + i0,
+                       deltas + p.dx_row[l] * s + i0, s, i0, p.n16);
     if (l != p.geo_layer) continue;
     for (uint i = i0; i < i0 + 32 && i < p.n16; i += 16) {
       // The raw density's delta: the colour network's share plus dL/dsigma * dsigma/draw.

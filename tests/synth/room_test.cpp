@@ -61,7 +61,7 @@ TEST(Room, MatteEqualsTheSubjectsOwnCoverage) {
   mesh::EmbreeScene alone(s.mesh, s.mesh_to_dataset);
   RenderedView a = render_view(alone, cam, StudioLighting{}, RenderSettings{3, std::nullopt, 1});
   int differ = 0, covered = 0;
-  for (int y = 0; y < cam.height; ++y)
+  for (int y = 0; y < int(cam.height); ++y)
     for (int x = 0; x < int(cam.width); ++x) {
       float d = std::abs(v.matte.at(x, y, 0) - a.rgba.at(x, y, 3));
       EXPECT_LE(d, 1.0f / 9.0f + 1e-6f) << x << "," << y;
