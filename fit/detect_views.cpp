@@ -109,11 +109,19 @@ std::vector<ViewRecord> detect_views(ViewSource& source, const LandmarkDetector&
 std::vector<TriangulatedPoint> triangulate_landmarks(const std::vector<ViewRecord>& views,
                                                      const TriangulateOptions& options) {
   std::vector<TriangulatedPoint> pts(lm::kCount);
+  std::vector<int> view_of;  // observation -> view index (views without a face give none)
+  for (size_t i = 0; i < views.size(); ++i)
+    if (views[i].detection.found) view_of.push_back(int(i));
   for (int k = 0; k < lm::kCount; ++k) {
     std::vector<Observation> obs;
-    for (const auto& v : views)
-      if (v.detection.found) obs.push_back({&v.camera, v.detection.points[k]});
+    for (int i : view_of) obs.push_back({&views[i].camera, views[i].detection.points[k]});
     pts[k] = triangulate_point(obs, options);
+    // Inliers and residuals by view, as the surface casts keep them (surface_landmarks.h).
+    std::vector<double> px(views.size(), -1.0);
+    for (size_t o = 0; o < obs.size() && o < pts[k].reprojection_px.size(); ++o)
+      px[view_of[o]] = pts[k].reprojection_px[o];
+    pts[k].reprojection_px = std::move(px);
+    for (int& o : pts[k].inliers) o = view_of[o];
   }
   return pts;
 }

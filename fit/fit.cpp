@@ -173,7 +173,8 @@ void triangulate_and_cast(FitRun& run) {
   if (o.cast_contour) cast_surface_landmarks(run.source, r.views, r.orbit, o.contour, run.surface, r.points);
 }
 
-// The mean face aligned to the points (and again after they are snapped onto the skin).
+// The mean face aligned to the points (and again after they are snapped onto the skin), then the
+// temples at one depth (temple_depth.h).
 void estimate_head(FitRun& run) {
   const LandmarkOptions& o = run.opt.landmarks;
   FitResult& r = run.r;
@@ -182,10 +183,17 @@ void estimate_head(FitRun& run) {
   std::vector<Eigen::Vector3d> p = positions(r.points);
   require_points(r.points);
   r.head = estimate_head_frame(p, valid, run.mean_face);
-  if (!o.snap_to_skin) return;
-  snap_to_surface(run.source, r.views, o.snap_reach_mm / r.head.mm_per_unit, run.surface, r.points,
-                  lm::kTempleR, o.cast_contour ? lm::kTempleL : -1);
-  r.head = estimate_head_frame(positions(r.points), valid, run.mean_face);
+  if (o.snap_to_skin) {
+    snap_to_surface(run.source, r.views, o.snap_reach_mm / r.head.mm_per_unit, run.surface, r.points,
+                    lm::kTempleR, o.cast_contour ? lm::kTempleL : -1, o.snap_opacity);
+    r.head = estimate_head_frame(positions(r.points), valid, run.mean_face);
+  }
+  if (!o.cast_contour) return;  // balance_temple_depths reads the casts' view indices
+  r.temple_depth = balance_temple_depths(r.views, r.head, o.temple_depth, r.points);
+  if (r.temple_depth.moved != 0)
+    spdlog::info("fit: {}", r.temple_depth.summary());
+  else
+    spdlog::debug("fit: {}", r.temple_depth.summary());
 }
 
 // The cap of views, its landmarks and the head frame; once more on a re-centred cap when the face's
@@ -219,6 +227,13 @@ void place_on_face(FitRun& run) {
   const HeadOptions& o = run.opt.head;
   const auto& P = r.points;
   r.f_c = nose_point(P[lm::kNoseBridgeTop].position, P[lm::kNoseBridge2].position, o.nose_blend);
+  if (o.nose_opacity > 0.0) {  // the two bridge points alone, onto the opacity depth
+    std::vector<TriangulatedPoint> bridge = P;
+    for (int k = 0; k < lm::kCount; ++k) bridge[k].ok = k == lm::kNoseBridgeTop || k == lm::kNoseBridge2;
+    snap_to_surface(run.source, r.views, run.opt.landmarks.snap_reach_mm / r.head.mm_per_unit, run.surface,
+                    bridge, -1, -1, o.nose_opacity);
+    r.f_c = nose_point(bridge[lm::kNoseBridgeTop].position, bridge[lm::kNoseBridge2].position, o.nose_blend);
+  }
   EarInputs ei{P[lm::kEyeOuterL].position,
                P[lm::kEyeOuterR].position,
                P[lm::kTempleL].position,

@@ -20,6 +20,7 @@
 #include "fit/landmarks_dlib.h"
 #include "fit/place.h"
 #include "fit/surface_landmarks.h"
+#include "fit/temple_depth.h"
 #include "fit/temple_fit.h"
 #include "fit/triangulate.h"
 #include "fit/view_planning.h"
@@ -38,11 +39,13 @@ struct DetectionOptions {  // "load_detector", "render_detect"
 
 struct LandmarkOptions {  // "triangulate": the 68 points in 3D
   TriangulateOptions triangulate;
-  bool cast_contour = true;      // jaw contour (temples) by surface casting, not triangulation
-  SurfaceCastOptions contour;    // the views and depth of those casts
-  bool snap_to_skin = true;      // move triangulated landmarks along their rays onto the skin
-  double snap_reach_mm = 12.0;   // how far (estimated with the mean face's scale)
-  double max_residual_px = 6.0;  // ok = false when a used landmark's RMS residual is above this
+  bool cast_contour = true;         // jaw contour (temples) by surface casting, not triangulation
+  SurfaceCastOptions contour;       // the views and depth of those casts
+  TempleDepthOptions temple_depth;  // ... then the temples at one depth (with cast_contour)
+  bool snap_to_skin = true;         // move triangulated landmarks along their rays onto the skin
+  double snap_reach_mm = 12.0;      // how far (estimated with the mean face's scale)
+  double snap_opacity = 0.0;        // > 0: onto that opacity depth (ray_surface.h), not the first crossing
+  double max_residual_px = 6.0;     // ok = false when a used landmark's RMS residual is above this
 };
 
 struct HeadOptions {           // the head frame ("triangulate") and the ears ("place")
@@ -50,6 +53,10 @@ struct HeadOptions {           // the head frame ("triangulate") and the ears ("
   double recenter_deg = 8.0;   // re-plan the cap when d_fwd is further than this from its centre
   double alpha = 0.5;          // Eq. 3
   double nose_blend = 0.5;     // f_c between dlib 27 (0) and 28 (1)
+  // > 0: f_c from 27 and 28 moved along their rays to this opacity depth (ray_surface.h), not to the
+  // skin density's first crossing: on a NeRF with haze in front of the face the first crossing stops
+  // 1-4 mm in front of the nose (docs/bench/real-captures.md). The head frame keeps the snapped points.
+  double nose_opacity = 0.0;
 };
 
 struct PlaceOptions {  // "place", "contact"
@@ -109,7 +116,8 @@ struct FitResult {
   int views_used = 0;                                   // views with a face
   std::vector<std::pair<std::string, double>> seconds;  // per stage, in order
   TempleFitResult temples;                              // the temple spread after the contact refinement
-  std::optional<SkinTone> skin;  // the skin's tone the hair test used (none: hair counted as solid)
+  std::optional<SkinTone> skin;    // the skin's tone the hair test used (none: hair counted as solid)
+  TempleDepthResult temple_depth;  // whether a temple was moved to the other's depth, and how far
   double total_seconds() const;
 };
 
@@ -122,7 +130,8 @@ FitResult fit_glasses(ViewSource& source, const GlassesInput& glasses, const Fit
 std::vector<ViewRecord> detect_views(ViewSource& source, const LandmarkDetector& detector,
                                      const std::vector<Camera>& cameras, const FitOptions& options);
 
-// Triangulates the 68 landmarks from the views with a face.
+// Triangulates the 68 landmarks from the views with a face; each point's inliers and residuals are
+// indexed by view (`views`), as the surface casts' are.
 std::vector<TriangulatedPoint> triangulate_landmarks(const std::vector<ViewRecord>& views,
                                                      const TriangulateOptions& options);
 

@@ -77,7 +77,7 @@ void cast_surface_landmarks(ViewSource& source, const std::vector<ViewRecord>& v
 
 int snap_to_surface(ViewSource& source, const std::vector<ViewRecord>& views, double reach,
                     float density_threshold, std::vector<TriangulatedPoint>& points, int skip_first,
-                    int skip_last) {
+                    int skip_last, double opacity) {
   int moved = 0;
   for (int k = 0; k < int(points.size()); ++k) {
     TriangulatedPoint& p = points[k];
@@ -86,9 +86,10 @@ int snap_to_surface(ViewSource& source, const std::vector<ViewRecord>& views, do
     for (int v : p.inliers) dir += camera_forward(views[v].camera);
     dir.normalize();
     double t = 0.0;
-    if (!first_surface_hit(source, p.position - reach * dir, dir, 0.0, 2.0 * reach, density_threshold, &t))
-      continue;
+    const Eigen::Vector3d start = p.position - reach * dir;
+    if (!first_surface_hit(source, start, dir, 0.0, 2.0 * reach, density_threshold, &t)) continue;
     if (t <= 0.0) continue;  // already inside at the start of the search: leave it
+    if (opacity > 0.0 && !opacity_depth(source, start, dir, 0.0, 2.0 * reach, opacity, &t)) continue;
     Eigen::Vector3d snapped = p.position - reach * dir + t * dir;
     p.sigma = std::sqrt(p.sigma * p.sigma + (snapped - p.position).squaredNorm());
     p.position = snapped;

@@ -52,8 +52,10 @@ void cast_surface_landmarks(ViewSource& source, const std::vector<ViewRecord>& v
 // point. Landmarks lie on the skin, while least squares over rays that dlib places slightly
 // inconsistently across views can end a few mm in front of or behind it (the depth is the poorly
 // constrained direction). Returns how many moved; the move is added to the point's sigma.
+// `opacity` > 0: to the depth where the opacity from the search's start reaches it instead of the
+// first density hit (ray_surface.h), unless the start already lies in the skin.
 int snap_to_surface(ViewSource& source, const std::vector<ViewRecord>& views, double reach,
                     float density_threshold, std::vector<TriangulatedPoint>& points, int skip_first = 0,
-                    int skip_last = 16);
+                    int skip_last = 16, double opacity = 0.0);
 
 }  // namespace lorgnette::fit

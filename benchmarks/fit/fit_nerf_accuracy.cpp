@@ -9,6 +9,7 @@
 //        [--variants baseline,overlap,hog,crop75,crop65,step15,fast,fast_k8,thr50,...]
 //        [--gt-shading studio|camera] [--gt-contour side|all] [--gt-yaws a,b,...]
 //        [--repeats N] [--glasses FILE] [--debug] [--mesh-only] [--no-profile]
+//        [--time-case NAME MODEL.lnerf]   (a real capture: the variants timed, no ground truth)
 //        bench_fit_nerf OUT_DIR --replot EARLIER/fit_nerf.csv   (the charts again, from a CSV)
 // Writes OUT_DIR/fit_nerf.csv (one row per fit), fit_nerf_profile.csv, fit_nerf_time.png,
 // fit_nerf_training.png (error against training time, for cases named NAME@N, N seconds or steps) and, with
@@ -21,6 +22,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -52,6 +54,7 @@ double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::
 
 struct Case {
   std::string name, model, dataset;
+  bool timed_only = false;  // --time-case: a real capture, no mesh: time and placement, no errors
 };
 
 struct Variant {
@@ -100,6 +103,31 @@ const std::vector<Variant>& all_variants() {
       // Stricter near-side rules: views turned about 5 / 10 deg towards the landmark's side.
       {"side5", [](FitOptions& o) { fast(o), o.landmarks.contour.side_tolerance = -0.125; }},
       {"side10", [](FitOptions& o) { fast(o), o.landmarks.contour.side_tolerance = -0.25; }},
+      // The product's defaults (fit_options of the CLI's settings, NerfViewOptions: step x1.5), and the
+      // jaw contour's surface depth on them: opacity 0.25 / 0.1, the first crossing (issue 13: the
+      // room-model NeRFs' softer sides).
+      {"default", [](FitOptions& o) { o = fit_options(FitSettings{}); }, 1.5f},
+      {"default_o25",
+       [](FitOptions& o) { o = fit_options(FitSettings{}), o.landmarks.contour.opacity = 0.25; }, 1.5f},
+      {"default_o10",
+       [](FitOptions& o) { o = fit_options(FitSettings{}), o.landmarks.contour.opacity = 0.1; }, 1.5f},
+      {"default_one_depth_off",
+       [](FitOptions& o) { o = fit_options(FitSettings{}), o.landmarks.temple_depth.enabled = false; }, 1.5f},
+      {"default_snap_o50",
+       [](FitOptions& o) { o = fit_options(FitSettings{}), o.landmarks.snap_opacity = 0.5; }, 1.5f},
+      // Speed levers for the 10 s target on real captures (issue 13): smaller / fewer views, a coarser
+      // march, rays stopped at 1e-3 or 1/255 transmittance.
+      {"default_cap224", [](FitOptions& o) { o = fit_options(FitSettings{}), o.cap.size = 224; }, 1.5f},
+      {"default_k10", [](FitOptions& o) { o = fit_options(FitSettings{}), o.cap.views = 10; }, 1.5f},
+      {"default_step2", [](FitOptions& o) { o = fit_options(FitSettings{}); }, 2.0f},
+      {"default_t1e3", [](FitOptions& o) { o = fit_options(FitSettings{}); }, 1.5f, 1e-3f},
+      {"default_t4e3", [](FitOptions& o) { o = fit_options(FitSettings{}); }, 1.5f, 1.0f / 255.0f},
+      {"default_nose_o50", [](FitOptions& o) { o = fit_options(FitSettings{}), o.head.nose_opacity = 0.5; },
+       1.5f},
+      {"default_nose_o25", [](FitOptions& o) { o = fit_options(FitSettings{}), o.head.nose_opacity = 0.25; },
+       1.5f},
+      {"default_first",
+       [](FitOptions& o) { o = fit_options(FitSettings{}), o.landmarks.contour.opacity = 0.0; }, 1.5f},
       {"thr50", [](FitOptions& o) { fast(o), o.surface_density = 50.0f; }},
       {"thr200", [](FitOptions& o) { fast(o), o.surface_density = 200.0f; }},
       {"thr1000", [](FitOptions& o) { fast(o), o.surface_density = 1000.0f; }},
@@ -113,18 +141,45 @@ struct Row {
   FitErrors e;
   FitErrors own;  // against ground truth from the fit's own cameras (mesh_ground_truth overload)
   double seconds = 0, load_seconds = 0, front_penetration = 0;
+  double cpu_seconds =
+      0;  // process CPU time (user + sys, all threads) of the whole fit, detector load included
+  double pd_mm = 0, slide_mm = 0;
+  // Signed offsets along the ground truth's d_fwd (mm, + = in front): the nose point, the temples.
+  double nose_fwd_mm = 0, temple_l_fwd_mm = 0, temple_r_fwd_mm = 0;
+  bool timed_only = false;                          // no ground truth: the error columns stay empty
   double contact_shift_mm = 0, head_pitch_deg = 0;  // slide along d_fwd; d_fwd against the scene's horizontal
   double temple_r_mm = 0, temple_l_mm = 0, eye_r_mm = 0, eye_l_mm = 0;  // diagnostics: inputs of Eq. 1-3
   int views_used = 0, views = 0;
   std::string stages, error;
 };
 
-// Scores the fit that `fit` runs (with `opt`) against the ground truth.
-Row run_fit(const std::function<FitResult()>& fit, const GlassesInput& g, const GroundTruth& gt,
+double cpu_now() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
+}
+
+// Scores the fit that `fit` runs (with `opt`) against the ground truth (none: timed only).
+Row run_fit(const std::function<FitResult()>& fit, const GlassesInput& g, const GroundTruth* gt_or_none,
             const FitOptions& opt, const Eigen::Vector3d& scene_up, MeshViewSource* mesh = nullptr) {
   Row row;
   try {
+    const double cpu0 = cpu_now();
     FitResult r = fit();
+    row.cpu_seconds = cpu_now() - cpu0;
+    row.pd_mm = r.head.pd_mm, row.slide_mm = r.contact.shift_mm;
+    row.timed_only = gt_or_none == nullptr;
+    for (const auto& [name, s] : r.seconds) {
+      if (name == "load_detector")
+        row.load_seconds += s;  // a one-off per process in a real app
+      else
+        row.seconds += s;
+      row.stages += fmt::format("{}{}={:.3f}", row.stages.empty() ? "" : ";", name, s);
+    }
+    row.views_used = r.views_used;
+    row.views = int(r.views.size());
+    if (!gt_or_none) return row;
+    const GroundTruth& gt = *gt_or_none;
     row.e = compare_fit(r, gt);
     if (mesh) {
       std::vector<Camera> cams;
@@ -133,13 +188,6 @@ Row run_fit(const std::function<FitResult()>& fit, const GlassesInput& g, const 
       gt_opt.landmarks.contour.side_tolerance = gt.contour_side_tolerance;
       row.own = compare_fit(r, mesh_ground_truth(*mesh, cams, g.ref, gt_opt));
     }
-    for (const auto& [name, s] : r.seconds) {
-      if (name == "load_detector")
-        row.load_seconds += s;  // a one-off per process in a real app
-      else
-        row.seconds += s;
-      row.stages += fmt::format("{}{}={:.3f}", row.stages.empty() ? "" : ";", name, s);
-    }
     row.front_penetration = r.contact.front_penetration_mm;
     row.contact_shift_mm = r.contact.shift_mm;
     row.head_pitch_deg =
@@ -147,8 +195,12 @@ Row run_fit(const std::function<FitResult()>& fit, const GlassesInput& g, const 
     auto err = [&](int k) { return (r.points[k].position - gt.points[k]).norm() * gt.head.mm_per_unit; };
     row.temple_r_mm = err(lm::kTempleR), row.temple_l_mm = err(lm::kTempleL);
     row.eye_r_mm = err(lm::kEyeOuterR), row.eye_l_mm = err(lm::kEyeOuterL);
-    row.views_used = r.views_used;
-    row.views = int(r.views.size());
+    auto fwd = [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+      return (a - b).dot(gt.head.d_fwd) * gt.head.mm_per_unit;
+    };
+    row.nose_fwd_mm = fwd(r.f_c, gt.f_c);
+    row.temple_l_fwd_mm = fwd(r.points[lm::kTempleL].position, gt.points[lm::kTempleL]);
+    row.temple_r_fwd_mm = fwd(r.points[lm::kTempleR].position, gt.points[lm::kTempleR]);
   } catch (const std::exception& ex) {
     row.error = ex.what();
   }
@@ -159,31 +211,41 @@ void write_charts(const std::string& out, const std::vector<Row>& rows);
 
 void write_rows(const std::string& out, const std::vector<Row>& rows) {
   std::vector<std::vector<std::string>> csv;
-  for (const auto& r : rows)
+  for (const auto& r : rows) {
+    auto e = [&](double v, const char* f) {
+      return r.timed_only ? std::string() : fmt::format(fmt::runtime(f), v);
+    };
     csv.push_back({r.name,
                    r.variant,
                    std::to_string(r.repeat),
-                   fmt::format("{:.3f}", r.e.nose_mm),
-                   fmt::format("{:.3f}", r.e.ear_l_mm),
-                   fmt::format("{:.3f}", r.e.ear_r_mm),
-                   fmt::format("{:.3f}", r.e.rotation_deg),
-                   fmt::format("{:.3f}", r.own.nose_mm),
-                   fmt::format("{:.3f}", r.own.ear_l_mm),
-                   fmt::format("{:.3f}", r.own.ear_r_mm),
-                   fmt::format("{:.3f}", r.own.rotation_deg),
-                   fmt::format("{:.4f}", r.e.mm_per_unit_rel),
+                   e(r.e.nose_mm, "{:.3f}"),
+                   e(r.e.ear_l_mm, "{:.3f}"),
+                   e(r.e.ear_r_mm, "{:.3f}"),
+                   e(r.e.rotation_deg, "{:.3f}"),
+                   e(r.own.nose_mm, "{:.3f}"),
+                   e(r.own.ear_l_mm, "{:.3f}"),
+                   e(r.own.ear_r_mm, "{:.3f}"),
+                   e(r.own.rotation_deg, "{:.3f}"),
+                   e(r.e.mm_per_unit_rel, "{:.4f}"),
                    fmt::format("{:.3f}", r.front_penetration),
                    fmt::format("{:.2f}", r.contact_shift_mm),
-                   fmt::format("{:.2f}", r.head_pitch_deg),
-                   fmt::format("{:.3f}", r.temple_l_mm),
-                   fmt::format("{:.3f}", r.temple_r_mm),
-                   fmt::format("{:.3f}", r.eye_l_mm),
-                   fmt::format("{:.3f}", r.eye_r_mm),
+                   e(r.head_pitch_deg, "{:.2f}"),
+                   e(r.temple_l_mm, "{:.3f}"),
+                   e(r.temple_r_mm, "{:.3f}"),
+                   e(r.eye_l_mm, "{:.3f}"),
+                   e(r.eye_r_mm, "{:.3f}"),
                    fmt::format("{}/{}", r.views_used, r.views),
                    fmt::format("{:.3f}", r.seconds),
                    fmt::format("{:.3f}", r.load_seconds),
+                   fmt::format("{:.3f}", r.cpu_seconds),
+                   fmt::format("{:.2f}", r.pd_mm),
+                   fmt::format("{:.2f}", r.slide_mm),
+                   e(r.nose_fwd_mm, "{:.2f}"),
+                   e(r.temple_l_fwd_mm, "{:.2f}"),
+                   e(r.temple_r_fwd_mm, "{:.2f}"),
                    r.stages,
                    r.error.empty() ? "ok" : "error: " + r.error.substr(0, 200)});
+  }
   write_csv(out + "/fit_nerf.csv",
             {"case",
              "variant",
@@ -207,6 +269,12 @@ void write_rows(const std::string& out, const std::vector<Row>& rows) {
              "views_used",
              "seconds_excl_model_load",
              "model_load_seconds",
+             "cpu_seconds",
+             "pd_mm",
+             "slide_mm",
+             "nose_fwd_mm",
+             "temple_l_fwd_mm",
+             "temple_r_fwd_mm",
              "stages",
              "status"},
             csv);
@@ -262,8 +330,8 @@ std::vector<Row> read_rows(const std::string& path) {
     std::vector<std::string> f;
     std::stringstream ss(text);
     for (std::string cell; std::getline(ss, cell, ',');) f.push_back(cell);
-    if (f.size() < 24)
-      throw std::runtime_error(path + ": a row has " + std::to_string(f.size()) + " columns, not 24");
+    if (f.size() < 24)  // 24 before the cpu_seconds ... temple_r_fwd_mm columns, 30 since
+      throw std::runtime_error(path + ": a row has " + std::to_string(f.size()) + " columns, not 24 or 30");
     Row r;
     r.name = f[0], r.variant = f[1], r.repeat = std::atoi(f[2].c_str());
     r.e.nose_mm = std::atof(f[3].c_str()), r.e.ear_l_mm = std::atof(f[4].c_str());
@@ -332,6 +400,8 @@ int main(int argc, char** argv) {
   for (int i = 2; i < argc; ++i) {
     if (std::strcmp(argv[i], "--case") == 0 && i + 3 < argc)
       cases.push_back({argv[i + 1], argv[i + 2], argv[i + 3]}), i += 3;
+    else if (std::strcmp(argv[i], "--time-case") == 0 && i + 2 < argc)
+      cases.push_back({argv[i + 1], argv[i + 2], "", true}), i += 2;
     else if (std::strcmp(argv[i], "--variants") == 0 && i + 1 < argc)
       variants = argv[++i];
     else if (std::strcmp(argv[i], "--repeats") == 0 && i + 1 < argc)
@@ -372,6 +442,28 @@ int main(int argc, char** argv) {
   std::vector<std::vector<std::string>> prof;
   for (const Case& c : cases) {
     nerf::NerfModel model = nerf::NerfModel::load(rt, c.model);
+    if (c.timed_only) {  // a real capture: the variants timed, interleaved, no ground truth
+      for (int rep = 0; rep < repeats; ++rep)
+        for (const Variant& v : all_variants()) {
+          if (("," + variants + ",").find("," + v.name + ",") == std::string::npos) continue;
+          FitOptions o;
+          plain(o);
+          v.set(o);
+          NerfViewOptions views;  // the capture's cameras from the model's metadata
+          views.render.step_scale = v.step_scale;
+          if (v.min_transmittance > 0.0f) views.render.min_transmittance = v.min_transmittance;
+          Row row = run_fit([&] { return run_fit_job(model, g, o, views).fit; }, g, nullptr, o,
+                            Eigen::Vector3d::UnitY());
+          row.name = c.name, row.variant = v.name, row.repeat = rep;
+          std::cerr << fmt::format(
+              "{} {} #{}: PD {:.2f} mm, slide {:.2f} mm, {:.2f} s, {:.2f} CPU s [{}] {}\n", c.name, v.name,
+              rep, row.pd_mm, row.slide_mm, row.seconds, row.cpu_seconds, row.stages,
+              row.error.substr(0, 160));
+          rows.push_back(row);
+          write_rows(out, rows);
+        }
+      continue;
+    }
     ViewPrior prior = prior_from_transforms(c.dataset + "/transforms.json", model);
     auto nerf_views = [&](float step_scale, float min_transmittance = 0.0f) {  // run_fit_job's views
       NerfViewOptions views;
@@ -399,7 +491,7 @@ int main(int argc, char** argv) {
     const GroundTruth& gt = gt_for(base);
     std::cerr << fmt::format("{}: ground truth mm/unit {:.2f}, PD {:.1f} mm\n", c.name, gt.head.mm_per_unit,
                              gt.head.pd_mm);
-    Row mesh_row = run_fit([&] { return fit_glasses(*mesh_src, g, base); }, g, gt, base, prior.up);
+    Row mesh_row = run_fit([&] { return fit_glasses(*mesh_src, g, base); }, g, &gt, base, prior.up);
     mesh_row.name = c.name, mesh_row.variant = "mesh";
     rows.push_back(mesh_row);
     std::cerr << fmt::format(
@@ -420,15 +512,16 @@ int main(int argc, char** argv) {
         if (debug && rep == 0 && v.name == "fast") o.debug_dir = out + "/" + c.name + "-debug";
         if (!o.debug_dir.empty()) fs::create_directories(o.debug_dir);
         const NerfViewOptions views = nerf_views(v.step_scale, v.min_transmittance);
-        Row row = run_fit([&] { return run_fit_job(model, g, o, views).fit; }, g, gt_for(o), o, prior.up,
+        Row row = run_fit([&] { return run_fit_job(model, g, o, views).fit; }, g, &gt_for(o), o, prior.up,
                           mesh_src.get());
         row.name = c.name, row.variant = v.name, row.repeat = rep;
         std::cerr << fmt::format(
-            "{} {} #{}: nose {:.2f} mm, ears {:.2f}/{:.2f} mm, rot {:.2f} deg (own views: ears "
-            "{:.2f}/{:.2f}), "
-            "{:.2f} s [{}] {}\n",
-            c.name, v.name, rep, row.e.nose_mm, row.e.ear_l_mm, row.e.ear_r_mm, row.e.rotation_deg,
-            row.own.ear_l_mm, row.own.ear_r_mm, row.seconds, row.stages, row.error.substr(0, 160));
+            "{} {} #{}: nose {:.2f} mm ({:+.1f} fwd), ears {:.2f}/{:.2f} mm (temples {:+.1f}/{:+.1f} fwd), "
+            "rot "
+            "{:.2f} deg (own views: ears {:.2f}/{:.2f}), {:.2f} s, {:.2f} CPU s [{}] {}\n",
+            c.name, v.name, rep, row.e.nose_mm, row.nose_fwd_mm, row.e.ear_l_mm, row.e.ear_r_mm,
+            row.temple_l_fwd_mm, row.temple_r_fwd_mm, row.e.rotation_deg, row.own.ear_l_mm, row.own.ear_r_mm,
+            row.seconds, row.cpu_seconds, row.stages, row.error.substr(0, 160));
         rows.push_back(row);
         write_rows(out, rows);
       }
