@@ -14,6 +14,7 @@
 #include "host/dataset/dataset.h"
 #include "host/util/image_io.h"
 #include "host/util/interrupt.h"
+#include "host/util/name_list.h"
 
 namespace fs = std::filesystem;
 
@@ -74,14 +75,6 @@ void write_frames(const FrameSet& frames, const std::vector<size_t>& keep, const
 // COLMAP needs this many overlapping views, and so does a model given as input to be worth a dataset.
 constexpr size_t kMinUsableFrames = 3;
 
-// "'a', 'b', 'c' and 4 more" for messages about many files.
-std::string first_names(const std::vector<std::string>& names, size_t shown = 5) {
-  std::string out;
-  for (size_t i = 0; i < names.size() && i < shown; ++i) out += (i ? ", '" : "'") + names[i] + "'";
-  if (names.size() > shown) out += fmt::format(" and {} more", names.size() - shown);
-  return out;
-}
-
 // COLMAP model input: the images the model names but the image folder lacks are dropped from the
 // model (and from its points' tracks), so no frame of the dataset points at a missing file. Throws
 // when fewer than kMinUsableFrames remain.
@@ -107,12 +100,12 @@ void drop_missing_images(ColmapModel& model, const CaptureInput& in, CaptureRepo
         "only {} of the {} images named by the COLMAP model in '{}' are in '{}' (missing: {}); at least "
         "{} are needed: put the photos the model was made from into '{}' (the model's image names are "
         "relative to it), or run `lorgnette capture` on the folder of photos to make a new model",
-        model.images.size(), named, in.model_dir.string(), in.image_dir.string(), first_names(missing),
+        model.images.size(), named, in.model_dir.string(), in.image_dir.string(), name_list(missing),
         kMinUsableFrames, in.image_dir.string()));
   report.warnings.push_back(
       fmt::format("{} of {} images named by the COLMAP model are not in '{}' ({}): "
                   "their frames are left out",
-                  missing.size(), named, in.image_dir.string(), first_names(missing)));
+                  missing.size(), named, in.image_dir.string(), name_list(missing)));
 }
 
 // COLMAP model input: copy the registered images beside the transforms.

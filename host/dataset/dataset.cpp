@@ -13,6 +13,7 @@
 
 #include "host/dataset/frame_image.h"
 #include "host/dataset/transforms_parse.h"
+#include "host/util/name_list.h"
 
 namespace lorgnette::dataset {
 namespace fs = std::filesystem;
@@ -132,14 +133,6 @@ Source find_source(const std::string& path) {
   return s;
 }
 
-// "'a', 'b', 'c' and 4 more" for messages about many files.
-std::string first_names(const std::vector<std::string>& names, size_t shown) {
-  std::string out;
-  for (size_t i = 0; i < names.size() && i < shown; ++i) out += (i ? ", '" : "'") + names[i] + "'";
-  if (names.size() > shown) out += fmt::format(" and {} more", names.size() - shown);
-  return out;
-}
-
 bool wanted(const LoadOptions& o, Split s) {
   return o.splits.empty() || std::find(o.splits.begin(), o.splits.end(), s) != o.splits.end();
 }
@@ -188,7 +181,7 @@ std::vector<FrameSpec> collect_frames(const Source& src, Dataset& ds, const Load
   std::string json_files;
   for (const auto& [file, split] : src.files)
     json_files += (json_files.empty() ? "" : ", ") + fs::path(file).filename().string();
-  std::string names = first_names(missing, 5), frames;  // "frames", or "train frames" for chosen splits
+  std::string names = name_list(missing), frames;  // "frames", or "train frames" for chosen splits
   for (Split sp : opt.splits) frames += (frames.empty() ? "" : "/") + std::string(to_string(sp));
   frames += frames.empty() ? "frames" : " frames";
   const bool too_few = kept.size() < kMinFramesLeft || 2 * kept.size() < wanted_frames;

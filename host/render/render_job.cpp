@@ -16,6 +16,7 @@
 
 #include "host/dataset/media.h"
 #include "host/util/interrupt.h"
+#include "host/util/name_list.h"
 #include "host/util/progress.h"
 
 namespace lorgnette::render {
@@ -156,13 +157,9 @@ void check_outputs_free(const std::string& dir, const std::vector<std::string>& 
   for (const auto& n : names)
     if (fs::exists(fs::path(dir) / n)) taken.push_back(n);
   if (taken.empty()) return;
-  std::string list;
-  for (size_t i = 0; i < taken.size() && i < 5; ++i) list += (i ? ", " : "") + taken[i];
-  if (taken.size() > 5) list += fmt::format(" and {} more", taken.size() - 5);
   throw std::runtime_error(
-      fmt::format("'{}' already holds {}: choose another -o directory or pass --force to "
-                  "overwrite",
-                  dir, list));
+      fmt::format("'{}' already holds {}: choose another -o directory or pass --force to overwrite", dir,
+                  name_list(taken)));
 }
 
 std::vector<std::string> render_job_outputs(const RenderJob& job) {
