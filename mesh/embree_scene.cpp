@@ -27,6 +27,20 @@ void check_device(RTCDevice device, const char* what) {
         fmt::format("Embree failed while {} (error code {}); see the log above", what, static_cast<int>(e)));
 }
 
+// One ray for rtcIntersect1 (inside an RTCRayHit) and rtcOccluded1 alike: every ray, no motion blur.
+RTCRay make_ray(const Eigen::Vector3f& origin, const Eigen::Vector3f& dir, float tnear, float tfar) {
+  RTCRay ray;
+  ray.org_x = origin.x(), ray.org_y = origin.y(), ray.org_z = origin.z();
+  ray.dir_x = dir.x(), ray.dir_y = dir.y(), ray.dir_z = dir.z();
+  ray.tnear = tnear;
+  ray.tfar = tfar;
+  ray.mask = 0xFFFFFFFFu;
+  ray.flags = 0;
+  ray.time = 0.0f;
+  ray.id = 0;
+  return ray;
+}
+
 }  // namespace
 
 EmbreeDevice::EmbreeDevice(const char* config) {
@@ -108,13 +122,7 @@ Hit EmbreeScene::intersect(const Eigen::Vector3f& origin, const Eigen::Vector3f&
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
   RTCRayHit rh;
-  rh.ray.org_x = origin.x(), rh.ray.org_y = origin.y(), rh.ray.org_z = origin.z();
-  rh.ray.dir_x = dir.x(), rh.ray.dir_y = dir.y(), rh.ray.dir_z = dir.z();
-  rh.ray.tnear = tnear;
-  rh.ray.tfar = tfar;
-  rh.ray.mask = 0xFFFFFFFFu;
-  rh.ray.flags = 0;
-  rh.ray.time = 0.0f;
+  rh.ray = make_ray(origin, dir, tnear, tfar);
   rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
   rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
   rtcIntersect1(scene_, &context, &rh);
@@ -148,14 +156,7 @@ bool EmbreeScene::occluded(const Eigen::Vector3f& origin, const Eigen::Vector3f&
                            float tfar) const {
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
-  RTCRay ray;
-  ray.org_x = origin.x(), ray.org_y = origin.y(), ray.org_z = origin.z();
-  ray.dir_x = dir.x(), ray.dir_y = dir.y(), ray.dir_z = dir.z();
-  ray.tnear = tnear;
-  ray.tfar = tfar;
-  ray.mask = 0xFFFFFFFFu;
-  ray.flags = 0;
-  ray.time = 0.0f;
+  RTCRay ray = make_ray(origin, dir, tnear, tfar);
   rtcOccluded1(scene_, &context, &ray);
   return ray.tfar < 0.0f;  // Embree sets tfar = -inf on a hit
 }
