@@ -254,8 +254,9 @@ void bind_model(pyb::module_& m) {
           pyb::arg("views"), pyb::arg("size") = Size{854, 480}, pyb::arg("elevation_deg") = 0.0f,
           pyb::arg("fov_y_deg") = 30.0f, pyb::arg("front") = pyb::none(), pyb::arg("beyond_capture") = false,
           "The cameras of `lorgnette render --orbit N`: around the head's box from its front, within the "
-          "directions the capture saw plus a margin (captured_range); beyond_capture=True: the full circle "
-          "(front is honoured only then).")
+          "directions the capture saw plus a margin (captured_range), starting at `front` (a direction from "
+          "the head; its tilt adds to elevation_deg) clamped into them; beyond_capture=True: the full "
+          "circle from `front`.")
       .def(
           "capture_cameras", [](Model& self) { return render::capture_cameras(*self.nerf); },
           "The cameras of the dataset the model was trained on (empty when it is gone).")
