@@ -2,7 +2,7 @@
 // the SH encoding of their directions, the density and colour MLPs and the density head, with the
 // activations in its work-group's local scratch (FieldInferParams.rows x 32 floats, hot in L1/L2
 // from one slab to the next) instead of [row][max_batch] global buffers. It calls the same helpers
-// as the layered kernels (hashgrid_block16.h, mlp_forward16.h, sh_basis, lgn_sigma_from_raw) in the
+// as the layered kernels (hashgrid_block16.h, mlp_forward16.h, sh_basis16, lgn_sigma_from_raw) in the
 // same order, so sigma and rgb equal the layered forward's bit for bit (tests/host/field).
 #include "field/field_infer_types.h"
 #include "hashgrid/hashgrid_block16.h"
@@ -36,18 +36,17 @@ inline void field_encode16(const FieldInferParams* p, __global const float* rest
   for (uint r = q->levels * F; r < p->enc_rows; ++r) vstore16((float16)(0.0f), 0, x + r * LGN_INFER_SLAB);
 }
 
-// SH rows of the samples i0.. (zeros past n and in the padding rows).
-inline void field_sh(const FieldInferParams* p, __global const float* restrict dir, uint i0,
-                     __local float* x) {
+// SH rows of the 16 samples from i into x (zeros past n and in the padding rows).
+inline void field_sh16(const FieldInferParams* p, __global const float* restrict dir, uint i,
+                       __local float* x) {
   const uint S = p->hash.stride;
-  for (uint k = 0; k < LGN_INFER_SLAB && i0 + k < p->n16; ++k) {
-    const uint i = i0 + k;
-    float sh[16];
-    for (int c = 0; c < 16; ++c) sh[c] = 0.0f;
-    if (i < p->hash.n) sh_basis(dir[i], dir[S + i], dir[2 * S + i], p->sh_degree, sh);
-    for (uint c = 0; c < p->sh_pad; ++c)
-      x[(p->sh_row + c) * LGN_INFER_SLAB + k] = c < p->sh_count ? sh[c] : 0.0f;
-  }
+  const int16 valid = (int16)(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15) + (int)i < (int)p->hash.n;
+  float16 sh[16];
+  for (int c = 0; c < 16; ++c) sh[c] = 0.0f;
+  sh_basis16(vload16(0, dir + i), vload16(0, dir + S + i), vload16(0, dir + 2 * S + i), p->sh_degree, sh);
+  for (uint c = 0; c < p->sh_pad; ++c)
+    vstore16(c < p->sh_count ? select((float16)(0.0f), sh[c], valid) : (float16)(0.0f), 0,
+             x + (p->sh_row + c) * LGN_INFER_SLAB);
 }
 
 // Global size: n16 / 32 rounded up, times the group size; local scratch: group size x rows x 32 floats.
@@ -58,8 +57,10 @@ __kernel void field_infer(const FieldInferParams p, __global const float* restri
   const uint i0 = get_global_id(0) * LGN_INFER_SLAB;
   if (i0 >= p.n16) return;
   __local float* x = scratch + get_local_id(0) * p.rows * LGN_INFER_SLAB;
-  for (uint h = 0; h < LGN_INFER_SLAB && i0 + h < p.n16; h += 16) field_encode16(&p, W, pos, i0 + h, x + h);
-  field_sh(&p, dir, i0, x);
+  for (uint h = 0; h < LGN_INFER_SLAB && i0 + h < p.n16; h += 16) {
+    field_encode16(&p, W, pos, i0 + h, x + h);
+    field_sh16(&p, dir, i0 + h, x + h);
+  }
   for (uint l = 0; l < p.layers; ++l)
     field_layer_forward_local(W + p.w_offset[l], p.in[l], p.out[l], p.act[l], x + p.x_row[l] * LGN_INFER_SLAB,
                               x + p.y_row[l] * LGN_INFER_SLAB, LGN_INFER_SLAB, i0, p.n16);

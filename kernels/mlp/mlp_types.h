@@ -83,26 +83,33 @@ LGN_DEFINE_MLP_MATH(double, _d)
 #endif
 
 // Real spherical harmonics of a unit direction, degree 1..4 (degree^2 coefficients), the basis
-// and constants of tiny-cuda-nn's SphericalHarmonics encoding.
-LGN_INLINE void sh_basis(float x, float y, float z, lgn_uint degree, float* out) {
-  const float xy = x * y, xz = x * z, yz = y * z, x2 = x * x, y2 = y * y, z2 = z * z;
-  out[0] = 0.28209479177387814f;
-  if (degree <= 1u) return;
-  out[1] = -0.48860251190291987f * y;
-  out[2] = 0.48860251190291987f * z;
-  out[3] = -0.48860251190291987f * x;
-  if (degree <= 2u) return;
-  out[4] = 1.0925484305920792f * xy;
-  out[5] = -1.0925484305920792f * yz;
-  out[6] = 0.94617469575755997f * z2 - 0.31539156525251999f;
-  out[7] = -1.0925484305920792f * xz;
-  out[8] = 0.54627421529603959f * x2 - 0.54627421529603959f * y2;
-  if (degree <= 3u) return;
-  out[9] = 0.59004358992664352f * y * (-3.0f * x2 + y2);
-  out[10] = 2.8906114426405538f * xy * z;
-  out[11] = 0.45704579946446572f * y * (1.0f - 5.0f * z2);
-  out[12] = 0.3731763325901154f * z * (5.0f * z2 - 3.0f);
-  out[13] = 0.45704579946446572f * x * (1.0f - 5.0f * z2);
-  out[14] = 1.4453057213202769f * z * (x2 - y2);
-  out[15] = 0.59004358992664352f * x * (-x2 + 3.0f * y2);
-}
+// and constants of tiny-cuda-nn's SphericalHarmonics encoding. Stamped for float (sh_basis) and, in
+// OpenCL, float16 (sh_basis16: 16 directions per call, the same value per lane as sh_basis).
+#define LGN_DEFINE_SH_BASIS(T, SFX)                                                 \
+  LGN_INLINE void sh_basis##SFX(T x, T y, T z, lgn_uint degree, T* out) {           \
+    const T xy = x * y, xz = x * z, yz = y * z, x2 = x * x, y2 = y * y, z2 = z * z; \
+    out[0] = 0.28209479177387814f;                                                  \
+    if (degree <= 1u) return;                                                       \
+    out[1] = -0.48860251190291987f * y;                                             \
+    out[2] = 0.48860251190291987f * z;                                              \
+    out[3] = -0.48860251190291987f * x;                                             \
+    if (degree <= 2u) return;                                                       \
+    out[4] = 1.0925484305920792f * xy;                                              \
+    out[5] = -1.0925484305920792f * yz;                                             \
+    out[6] = 0.94617469575755997f * z2 - 0.31539156525251999f;                      \
+    out[7] = -1.0925484305920792f * xz;                                             \
+    out[8] = 0.54627421529603959f * x2 - 0.54627421529603959f * y2;                 \
+    if (degree <= 3u) return;                                                       \
+    out[9] = 0.59004358992664352f * y * (-3.0f * x2 + y2);                          \
+    out[10] = 2.8906114426405538f * xy * z;                                         \
+    out[11] = 0.45704579946446572f * y * (1.0f - 5.0f * z2);                        \
+    out[12] = 0.3731763325901154f * z * (5.0f * z2 - 3.0f);                         \
+    out[13] = 0.45704579946446572f * x * (1.0f - 5.0f * z2);                        \
+    out[14] = 1.4453057213202769f * z * (x2 - y2);                                  \
+    out[15] = 0.59004358992664352f * x * (-x2 + 3.0f * y2);                         \
+  }
+
+LGN_DEFINE_SH_BASIS(float, )
+#ifdef __OPENCL_C_VERSION__
+LGN_DEFINE_SH_BASIS(float16, 16)
+#endif
