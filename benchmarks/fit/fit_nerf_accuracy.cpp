@@ -111,6 +111,11 @@ const std::vector<Variant>& all_variants() {
        [](FitOptions& o) { o = fit_options(FitSettings{}), o.landmarks.contour.opacity = 0.25; }, 1.5f},
       {"default_o10",
        [](FitOptions& o) { o = fit_options(FitSettings{}), o.landmarks.contour.opacity = 0.1; }, 1.5f},
+      {"default_before",  // the defaults before the temples at one depth and the nose at opacity 0.25
+       [](FitOptions& o) {
+         o = fit_options(FitSettings{}), o.landmarks.temple_depth.enabled = false, o.head.nose_opacity = 0.0;
+       },
+       1.5f},
       {"default_one_depth_off",
        [](FitOptions& o) { o = fit_options(FitSettings{}), o.landmarks.temple_depth.enabled = false; }, 1.5f},
       {"default_snap_o50",
@@ -118,10 +123,13 @@ const std::vector<Variant>& all_variants() {
       // Speed levers for the 10 s target on real captures (issue 13): smaller / fewer views, a coarser
       // march, rays stopped at 1e-3 or 1/255 transmittance.
       {"default_cap224", [](FitOptions& o) { o = fit_options(FitSettings{}), o.cap.size = 224; }, 1.5f},
+      {"default_cap224_step2", [](FitOptions& o) { o = fit_options(FitSettings{}), o.cap.size = 224; }, 2.0f},
       {"default_k10", [](FitOptions& o) { o = fit_options(FitSettings{}), o.cap.views = 10; }, 1.5f},
       {"default_step2", [](FitOptions& o) { o = fit_options(FitSettings{}); }, 2.0f},
       {"default_t1e3", [](FitOptions& o) { o = fit_options(FitSettings{}); }, 1.5f, 1e-3f},
       {"default_t4e3", [](FitOptions& o) { o = fit_options(FitSettings{}); }, 1.5f, 1.0f / 255.0f},
+      {"default_nose_first", [](FitOptions& o) { o = fit_options(FitSettings{}), o.head.nose_opacity = 0.0; },
+       1.5f},
       {"default_nose_o50", [](FitOptions& o) { o = fit_options(FitSettings{}), o.head.nose_opacity = 0.5; },
        1.5f},
       {"default_nose_o25", [](FitOptions& o) { o = fit_options(FitSettings{}), o.head.nose_opacity = 0.25; },
