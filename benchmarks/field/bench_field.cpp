@@ -257,6 +257,11 @@ void Bench::field(Inputs& in, uint32_t n) {
       "Msamples/s");
   report(
       "field_backward", n, [&] { f.backward(in.dsig, in.drgb, n); }, n / 1e6, "Msamples/s");
+  // Inference (keep_for_backward = false): the fused kernel on CPUs (host/field/field_infer.h), the
+  // same sigma and rgb as field_forward above, which is the path inference took before it.
+  report(
+      "field_inference", n, [&] { f.forward(in.pos, in.dir, n, in.sigma, in.rgb, false); }, n / 1e6,
+      "Msamples/s");
   report(
       "adam", n, [&] { f.adam_step(adam); }, f.layout().total / 1e6, "Mparams/s");
   report(
@@ -298,8 +303,9 @@ void Bench::write(const std::string& out) const {
             csv);
   chart(out + "/field_bench_mlp.png", "GFLOP/s",
         {"mlp_forward", "mlp_backward", "mlp_fused_fwd", "mlp_fused_bwd"});
-  chart(out + "/field_bench_rates.png", "M points or samples / s",
-        {"hash_forward", "hash_backward", "field_forward", "field_backward", "train_step"});
+  chart(
+      out + "/field_bench_rates.png", "M points or samples / s",
+      {"hash_forward", "hash_backward", "field_forward", "field_inference", "field_backward", "train_step"});
   std::printf("wrote %s/field_bench.csv, field_bench_mlp.png, field_bench_rates.png\n", out.c_str());
 }
 

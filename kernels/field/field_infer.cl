@@ -10,30 +10,26 @@
 
 LGN_DEFINE_MLP_LAYER_FORWARD16(field_layer_forward_local, __local, __local)
 
-// Encoding rows of the 16 samples from i into x (row stride LGN_INFER_SLAB); zeros past n.
-inline void field_encode16(const FieldInferParams* p, __global const float* restrict W,
-                           __global const float* restrict pos, uint i, __local float* x) {
+// Encoding rows of level l for the 16 samples from i into x (row stride LGN_INFER_SLAB); zeros past n.
+inline void field_encode_level16(const FieldInferParams* p, __global const float* restrict W,
+                                 __global const float* restrict pos, uint i, uint l, __local float* x) {
   const HashgridParams* q = &p->hash;
-  const uint F = q->features;
+  const uint F = q->features, res = q->resolution[l], size = q->size[l], dense = q->dense[l];
   const int16 valid = (int16)(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15) + (int)i < (int)q->n;
-  for (uint l = 0; l < q->levels; ++l) {
-    const uint res = q->resolution[l], size = q->size[l], dense = q->dense[l];
-    const HashCell16 h = hashgrid_cell16(pos, q->stride, i, res);
-    __global const float* table = W + q->offset[l];
-    for (uint f0 = 0; f0 < F; f0 += 2) {
-      const uint two = f0 + 1 < F;
-      float16 a0 = 0.0f, a1 = 0.0f;
-      for (uint c = 0; c < 8; ++c) {
-        float16 w;
-        const uint16 e = hashgrid_corner16(&h, c, res, size, dense, &w);
-        a0 = fma(w, hashgrid_gather16(table + f0 * size, e), a0);
-        if (two) a1 = fma(w, hashgrid_gather16(table + (f0 + 1) * size, e), a1);
-      }
-      vstore16(select((float16)(0.0f), a0, valid), 0, x + (l * F + f0) * LGN_INFER_SLAB);
-      if (two) vstore16(select((float16)(0.0f), a1, valid), 0, x + (l * F + f0 + 1) * LGN_INFER_SLAB);
+  const HashCell16 h = hashgrid_cell16(pos, q->stride, i, res);
+  __global const float* table = W + q->offset[l];
+  for (uint f0 = 0; f0 < F; f0 += 2) {
+    const uint two = f0 + 1 < F;
+    float16 a0 = 0.0f, a1 = 0.0f;
+    for (uint c = 0; c < 8; ++c) {
+      float16 w;
+      const uint16 e = hashgrid_corner16(&h, c, res, size, dense, &w);
+      a0 = fma(w, hashgrid_gather16(table + f0 * size, e), a0);
+      if (two) a1 = fma(w, hashgrid_gather16(table + (f0 + 1) * size, e), a1);
     }
+    vstore16(select((float16)(0.0f), a0, valid), 0, x + (l * F + f0) * LGN_INFER_SLAB);
+    if (two) vstore16(select((float16)(0.0f), a1, valid), 0, x + (l * F + f0 + 1) * LGN_INFER_SLAB);
   }
-  for (uint r = q->levels * F; r < p->enc_rows; ++r) vstore16((float16)(0.0f), 0, x + r * LGN_INFER_SLAB);
 }
 
 // SH rows of the 16 samples from i into x (zeros past n and in the padding rows).
@@ -55,12 +51,18 @@ __kernel void field_infer(const FieldInferParams p, __global const float* restri
                           __global float* restrict sigma, __global float* restrict rgb,
                           __local float* scratch) {
   const uint i0 = get_global_id(0) * LGN_INFER_SLAB;
-  if (i0 >= p.n16) return;
   __local float* x = scratch + get_local_id(0) * p.rows * LGN_INFER_SLAB;
-  for (uint h = 0; h < LGN_INFER_SLAB && i0 + h < p.n16; h += 16) {
-    field_encode16(&p, W, pos, i0 + h, x + h);
-    field_sh16(&p, dir, i0 + h, x + h);
+  // Level by level across the group (the barrier makes PoCL run every work-item's level l before
+  // level l + 1), so a level's table lines serve the group's 256 neighbouring samples in turn.
+  for (uint l = 0; l < p.hash.levels; ++l) {
+    for (uint h = 0; h < LGN_INFER_SLAB && i0 + h < p.n16; h += 16)
+      field_encode_level16(&p, W, pos, i0 + h, l, x + h);
+    barrier(CLK_LOCAL_MEM_FENCE);
   }
+  if (i0 >= p.n16) return;
+  for (uint r = p.hash.levels * p.hash.features; r < p.enc_rows; ++r)
+    for (uint h = 0; h < LGN_INFER_SLAB; h += 16) vstore16((float16)(0.0f), 0, x + r * LGN_INFER_SLAB + h);
+  for (uint h = 0; h < LGN_INFER_SLAB && i0 + h < p.n16; h += 16) field_sh16(&p, dir, i0 + h, x + h);
   for (uint l = 0; l < p.layers; ++l)
     field_layer_forward_local(W + p.w_offset[l], p.in[l], p.out[l], p.act[l], x + p.x_row[l] * LGN_INFER_SLAB,
                               x + p.y_row[l] * LGN_INFER_SLAB, LGN_INFER_SLAB, i0, p.n16);
