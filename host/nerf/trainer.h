@@ -40,7 +40,9 @@ struct TrainOptions {
   double snapshot_every_seconds = 120.0;
   uint32_t good_copy_every = 50;  // steps between in-memory copies of the parameters for NaN recovery
   bool progress = true;
-  // Called after every step with (step, seconds, loss); for benchmarks and tests.
+  // Called once per step with (steps done, seconds, that step's loss); for benchmarks, tests and
+  // Python's progress hook. Without a room model a step's loss arrives with the next step's
+  // synchronisation, so the call comes after the next step was issued (the last one after the loop).
   std::function<void(uint64_t, double, double)> on_step;
 };
 
