@@ -12,7 +12,8 @@
 //        [--seed 1337] [--views N]
 // Keys: bg=on|off (room model; default on), steps=N (default 1200), table=LOG2 (hash table),
 //       finest=N (finest grid), levels=N, room_batch=X (room model's samples per step relative to the
-//       subject's batch), room_spd=N (room steps per box diagonal).
+//       subject's batch), room_spd=N (room steps per box diagonal), room_spread=0|1 (the room's batch
+//       spread evenly over the step's rays).
 // Unset keys keep `train`'s defaults (automatic sizing from the landmark head box, 2^16 samples per step).
 // Writes OUT_DIR/room_budget.csv (a row per arm and checkpoint: steps, training seconds, subject and
 // room samples, rays, face PSNR) and room_budget_seconds.png / room_budget_steps.png (face PSNR
@@ -49,6 +50,7 @@ struct ArmSpec {
   uint64_t steps = 1200;
   std::optional<uint32_t> table, finest, levels, room_spd;
   float room_batch = 0.0f;  // 0: BackgroundOptions' default
+  std::optional<bool> room_spread;
 };
 
 ArmSpec parse_arm(const std::string& arg) {
@@ -76,11 +78,13 @@ ArmSpec parse_arm(const std::string& arg) {
       a.levels = uint32_t(std::stoul(v));
     } else if (k == "room_spd") {
       a.room_spd = uint32_t(std::stoul(v));
+    } else if (k == "room_spread") {
+      a.room_spread = v == "1";
     } else if (k == "room_batch") {
       a.room_batch = std::stof(v);
     } else {
       throw std::runtime_error("--arm " + arg + ": unknown key '" + k +
-                               "' (bg, steps, table, finest, levels, room_batch, room_spd)");
+                               "' (bg, steps, table, finest, levels, room_batch, room_spd, room_spread)");
     }
   }
   return a;
@@ -171,6 +175,15 @@ double face_psnr(nerf::NerfModel& model, bool region, const std::vector<HeldOut>
   return views ? sum / views : 0.0;
 }
 
+void write_charts(const std::string& out, const std::vector<Arm>& arms) {
+  std::vector<ChartSeries> s1, s2;
+  for (const Arm& a : arms) s1.push_back(a.by_seconds), s2.push_back(a.by_steps);
+  write_chart(out + "/room_budget_seconds.png",
+              {"Face PSNR on held-out views against training time (same load)", "training s", "dB"}, s1);
+  write_chart(out + "/room_budget_steps.png", {"Face PSNR on held-out views against steps", "step", "dB"},
+              s2);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -239,6 +252,7 @@ int main(int argc, char** argv) {
       to.background.enabled = a.spec.background;
       if (a.spec.room_batch > 0.0f) to.background.batch_scale = a.spec.room_batch;
       if (a.spec.room_spd) to.background.steps_per_diagonal = *a.spec.room_spd;
+      if (a.spec.room_spread) to.background.spread_over_rays = *a.spec.room_spread;
       a.trainer = std::make_unique<nerf::Trainer>(*a.model, views, to, sz.occupancy_mask);
       std::cerr << fmt::format("arm {}: {:.1f} M parameters ({} levels up to {}, 2^{} table), {} steps{}\n",
                                a.spec.name, double(sz.field.param_count()) / 1e6, sz.field.levels,
@@ -278,13 +292,8 @@ int main(int argc, char** argv) {
       }
       if (!any) break;
       write_csv(out + "/room_budget.csv", header, rows);
+      write_charts(out, arms);  // every round: a run stopped early keeps its charts
     }
-    std::vector<ChartSeries> s1, s2;
-    for (const Arm& a : arms) s1.push_back(a.by_seconds), s2.push_back(a.by_steps);
-    write_chart(out + "/room_budget_seconds.png",
-                {"Face PSNR on held-out views against training time (same load)", "training s", "dB"}, s1);
-    write_chart(out + "/room_budget_steps.png", {"Face PSNR on held-out views against steps", "step", "dB"},
-                s2);
   } catch (const std::exception& e) {
     std::cerr << "error: " << e.what() << "\n";
     return 1;

@@ -101,6 +101,9 @@ uint32_t BackgroundField::count(const SampleParams& subject_params, const Device
   params_.seed = subject_params.seed;
   params_.iteration = subject_params.iteration;
   params_.near_t = near_t_;
+  if (options_.spread_over_rays && params_.n_rays > 0)
+    params_.max_samples =
+        std::clamp<uint32_t>(model_->field().max_batch() / params_.n_rays, 1u, params_.max_samples);
   batch_->count(params_, views);
   return batch_->fit(0, model_->field().max_batch());
 }

@@ -49,7 +49,19 @@ TrainJobResult train_on_dataset(cl::Runtime& rt, const dataset::Dataset& ds, Tra
     job.sizing.aabb = box;
     spdlog::info("using the dataset's subject box 'aabb' instead of the automatic one");
   }
+  if (job.background != "auto" && job.background != "on" && job.background != "off")
+    throw std::invalid_argument("background must be auto, on or off, not '" + job.background + "'");
   ModelSizing sizing = choose_model_size(views, job.sizing);
+  const bool from_cameras = sizing.from.find("cameras") != std::string::npos;
+  const bool background =
+      job.background == "on" || (job.background == "auto" && !ds.has_alpha && !from_cameras);
+  if (background && !job.sizing.log2_table_size && sizing.field.log2_table_size > kRoomCaptureMaxLog2Table) {
+    sizing.field.log2_table_size = kRoomCaptureMaxLog2Table;
+    sizing.field.validate();
+    spdlog::info(
+        "hash table capped at 2^{} for a capture with a room model (train_budget.h; --log2-table overrides)",
+        kRoomCaptureMaxLog2Table);
+  }
   spdlog::info("{}", sizing.summary());
   if (job.batch_log2 == 0) {
     job.batch_log2 = device_batch_log2(rt.device());
@@ -73,10 +85,6 @@ TrainJobResult train_on_dataset(cl::Runtime& rt, const dataset::Dataset& ds, Tra
   }
   std::string budget_text = describe_budget(job.train.steps, job.train.seconds, defaulted, budget.why);
   spdlog::info("training budget: {}", budget_text);
-  if (job.background != "auto" && job.background != "on" && job.background != "off")
-    throw std::invalid_argument("background must be auto, on or off, not '" + job.background + "'");
-  const bool from_cameras = sizing.from.find("cameras") != std::string::npos;
-  bool background = job.background == "on" || (job.background == "auto" && !ds.has_alpha && !from_cameras);
   job.train.background.enabled = background;
   spdlog::info("background: {}",
                background ? "a room model behind the subject (mask-less capture, subject box)"
