@@ -8,9 +8,9 @@
 
 namespace lorgnette::nerf {
 
-StepBudget default_training_steps(uint64_t parameters, uint32_t batch_log2) {
+StepBudget default_training_steps(uint64_t parameters, uint32_t batch_log2, double samples_per_parameter) {
   const double batch = std::ldexp(1.0, int(batch_log2));
-  const double raw = kSamplesPerParameter * double(parameters) / batch;
+  const double raw = samples_per_parameter * double(parameters) / batch;
   // Round to whole hundreds so the number reads as a setting, not a measurement.
   uint64_t steps = uint64_t(std::llround(raw / 100.0)) * 100;
   steps = std::clamp<uint64_t>(steps, kMinSteps, kMaxSteps);
@@ -18,7 +18,7 @@ StepBudget default_training_steps(uint64_t parameters, uint32_t batch_log2) {
   b.steps = steps;
   b.why =
       fmt::format("{} steps of 2^{} samples: {:.0f} samples for each of the model's {:.1f} M parameters{}",
-                  steps, batch_log2, kSamplesPerParameter, double(parameters) / 1e6,
+                  steps, batch_log2, samples_per_parameter, double(parameters) / 1e6,
                   raw < double(kMinSteps)   ? fmt::format(", raised to the minimum {}", kMinSteps)
                   : raw > double(kMaxSteps) ? fmt::format(", capped at {}", kMaxSteps)
                                             : std::string());

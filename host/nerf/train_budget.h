@@ -27,10 +27,16 @@ inline constexpr uint64_t kMinSteps = 500, kMaxSteps = 20000;
 // 11.4 M parameters, 4300 steps, 463 s on the quiet machine). At 2^18 the rule above gives 2300
 // steps (6.1 M parameters); docs/bench/real-captures.md has the face PSNR against the 2^19 runs.
 inline constexpr uint32_t kRoomCaptureMaxLog2Table = 18;
+// And train kRoomCaptureSamplesPerParameter samples per parameter instead of kSamplesPerParameter:
+// in2n-face's 2300 steps at 25 took 487 CPU s (0.58 of the 2^19 default's 839), about 270 s on the
+// quiet 2-core CPU; 19 gives 1800 steps, about 210 s, which with the ~13 s fit keeps a real capture
+// to a fitted try-on under 4 minutes.
+inline constexpr double kRoomCaptureSamplesPerParameter = 19.0;
 
 // The default number of training steps for a model of `parameters` floats trained with 2^batch_log2
 // samples per step.
-StepBudget default_training_steps(uint64_t parameters, uint32_t batch_log2);
+StepBudget default_training_steps(uint64_t parameters, uint32_t batch_log2,
+                                  double samples_per_parameter = kSamplesPerParameter);
 
 // A one-line description of the budget a run used: "2000 steps (default for a 5.2 M-parameter model)",
 // "--steps 500", "--seconds 60 (time budget)".

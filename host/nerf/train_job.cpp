@@ -80,7 +80,10 @@ TrainJobResult train_on_dataset(cl::Runtime& rt, const dataset::Dataset& ds, Tra
   const bool defaulted = job.train.steps == 0 && !(job.train.seconds > 0.0);
   StepBudget budget;
   if (defaulted) {
-    budget = default_training_steps(sizing.field.param_count(), job.batch_log2);
+    budget = background ? default_training_steps(sizing.field.param_count(), job.batch_log2,
+                                                 kRoomCaptureSamplesPerParameter)
+                        : default_training_steps(sizing.field.param_count(), job.batch_log2);
+    if (background) budget.why += " (a capture with a room model: train_budget.h)";
     job.train.steps = budget.steps;
   }
   std::string budget_text = describe_budget(job.train.steps, job.train.seconds, defaulted, budget.why);

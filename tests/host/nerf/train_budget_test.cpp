@@ -18,6 +18,15 @@ TEST(TrainBudget, StepsFollowParametersAndBatch) {
   EXPECT_EQ(default_training_steps(3000000, 16).steps, 1100u);
 }
 
+TEST(TrainBudget, RoomCapturesTrainFewerSamplesPerParameter) {
+  // A room capture's 2^18 subject (6.1 M parameters on in2n-face): 19 * 6100000 / 65536 = 1768.5
+  // -> 1800 steps, where the general rule gives 25 * 6100000 / 65536 = 2327 -> 2300.
+  EXPECT_EQ(default_training_steps(6100000, 16, kRoomCaptureSamplesPerParameter).steps, 1800u);
+  EXPECT_EQ(default_training_steps(6100000, 16).steps, 2300u);
+  EXPECT_NE(default_training_steps(6100000, 16, kRoomCaptureSamplesPerParameter).why.find("19 samples"),
+            std::string::npos);
+}
+
 TEST(TrainBudget, ClampedAndSaysSo) {
   StepBudget small = default_training_steps(1000, 16);
   EXPECT_EQ(small.steps, kMinSteps);
