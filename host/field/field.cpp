@@ -42,7 +42,6 @@ Field::Field(cl::Runtime& rt, const FieldConfig& cfg, uint32_t max_batch, uint64
   if (max_batch == 0 || max_batch > (1u << 24))
     throw std::invalid_argument("Field max_batch = " + std::to_string(max_batch) + " (expected 1..16777216)");
   max_batch_ = uint32_t(cl::round_up(max_batch, 64));
-  const size_t S = max_batch_;
   const uint64_t P = layout_.total;
   plan_rows();
   uint32_t largest = 16;
@@ -52,12 +51,8 @@ Field::Field(cl::Runtime& rt, const FieldConfig& cfg, uint32_t max_batch, uint64
   grads_ = cl::Buffer<float>(rt, P);
   adam_m_ = cl::Buffer<float>(rt, P);
   adam_v_ = cl::Buffer<float>(rt, P);
-  acts_ = cl::Buffer<float>(rt, rows_ * S);
-  deltas_ = cl::Buffer<float>(rt, rows_ * S);
-  pos_copy_ = cl::Buffer<float>(rt, 3 * S);
   dw_partial_ = cl::Buffer<float>(rt, size_t(kMaxGradChunks) * largest);
-  // Padded rows are never written by the kernels and must read as zero.
-  for (auto* b : {&acts_, &deltas_, &pos_copy_, &grads_, &adam_m_, &adam_v_}) b->fill(rt, 0.0f);
+  for (auto* b : {&grads_, &adam_m_, &adam_v_}) b->fill(rt, 0.0f);
 
   hash_ = std::make_unique<HashGrid>(rt, cfg_, layout_, max_batch_, variant);
   uint32_t largest_padded = 0;  // in_pad * out_pad: the local-weights chain's scratch
@@ -67,6 +62,8 @@ Field::Field(cl::Runtime& rt, const FieldConfig& cfg, uint32_t max_batch, uint64
   adam_ = std::make_unique<Adam>(rt);
   if (!use_gpu_variant(rt, variant) && FieldInfer::supports(layout_))
     infer_ = std::make_unique<FieldInfer>(rt, cfg_, layout_, max_batch_);
+  else
+    ensure_layered_buffers();
 
   std::mt19937_64 rng(seed);
   std::vector<float> init(P, 0.0f);
@@ -89,6 +86,16 @@ void Field::plan_rows() {
 
 Field::~Field() = default;
 
+void Field::ensure_layered_buffers() {
+  if (acts_.size() > 0) return;
+  const size_t S = max_batch_;
+  acts_ = cl::Buffer<float>(rt_, rows_ * S);
+  deltas_ = cl::Buffer<float>(rt_, rows_ * S);
+  pos_copy_ = cl::Buffer<float>(rt_, 3 * S);
+  // Padded rows are never written by the kernels and must read as zero.
+  for (auto* b : {&acts_, &deltas_, &pos_copy_}) b->fill(rt_, 0.0f);
+}
+
 void Field::check_batch(const char* what, uint32_t n) const {
   if (n > max_batch_)
     throw std::invalid_argument(std::string("Field::") + what + ": " + std::to_string(n) +
@@ -109,6 +116,7 @@ void Field::density(const cl::Buffer<float>& pos, uint32_t n, cl::Buffer<float>&
   check_size("sigma", sigma, n);
   pending_backward_n_ = 0;
   if (n == 0) return;
+  ensure_layered_buffers();
   hash_->encode(params_, pos, n, acts_);
   MlpChainParams c = chain_;
   c.layers = 2;
@@ -131,6 +139,7 @@ void Field::forward(const cl::Buffer<float>& pos, const cl::Buffer<float>& dir, 
     infer_->run(params_, pos, dir, n, sigma, rgb);
     return;
   }
+  ensure_layered_buffers();
   hash_->encode(params_, pos, n, acts_);
   mlp_->sh_encode(dir, n, layout_.sh_count, acts_, color_in_row_);
   mlp_->chain_forward(chain_, n, params_, acts_);

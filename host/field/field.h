@@ -66,6 +66,9 @@ class Field {
  private:
   void check_batch(const char* what, uint32_t n) const;
   void plan_rows();
+  // The layered path's activation, delta and position buffers (about 2 x 1 KiB per sample of
+  // max_batch): made on its first use, so a Field that only runs the fused inference never holds them.
+  void ensure_layered_buffers();
 
   cl::Runtime& rt_;
   FieldConfig cfg_;
