@@ -60,7 +60,7 @@ Field::Field(cl::Runtime& rt, const FieldConfig& cfg, uint32_t max_batch, uint64
   for (const auto& L : layout_.color) largest_padded = std::max(largest_padded, L.in_pad * L.out_pad);
   mlp_ = std::make_unique<Mlp>(rt, max_batch_, variant, largest_padded);
   adam_ = std::make_unique<Adam>(rt);
-  if (!use_gpu_variant(rt, variant) && FieldInfer::supports(layout_))
+  if (!use_gpu_variant(rt, variant) && FieldInfer::supports(layout_, rt.device().local_mem_bytes))
     infer_ = std::make_unique<FieldInfer>(rt, cfg_, layout_, max_batch_);
   else
     ensure_layered_buffers();

@@ -2,6 +2,7 @@
 #include "host/field/field_infer.h"
 
 #include <algorithm>
+#include <cstdint>
 #include <stdexcept>
 #include <string>
 
@@ -16,14 +17,21 @@ namespace {
 constexpr size_t kGroup = 8;
 }  // namespace
 
-bool FieldInfer::supports(const ParamLayout& layout) {
-  return 2 + layout.color.size() <= LGN_INFER_MAX_LAYERS;
+uint64_t FieldInfer::local_bytes(const ParamLayout& layout) {
+  uint32_t hidden = layout.density[0].out_pad;
+  for (const auto& L : layout.color) hidden = std::max(hidden, L.out_pad);
+  const uint64_t rows = layout.enc_pad + layout.color_in_pad + 2 * uint64_t(hidden) + 4;  // see below
+  return kGroup * rows * LGN_INFER_SLAB * sizeof(float);
+}
+
+bool FieldInfer::supports(const ParamLayout& layout, uint64_t local_mem_bytes) {
+  return 2 + layout.color.size() <= LGN_INFER_MAX_LAYERS && local_bytes(layout) <= local_mem_bytes;
 }
 
 // Scratch rows: encoding | colour input (SH, padding, geo features) | hidden A | hidden B | RGB.
 // Hidden layers alternate between A and B; the density hidden layer uses A before the colour net.
 FieldInferParams make_infer_params(const FieldConfig& cfg, const ParamLayout& lay, uint32_t stride) {
-  if (!FieldInfer::supports(lay))
+  if (2 + lay.color.size() > LGN_INFER_MAX_LAYERS)
     throw std::invalid_argument("fused field inference supports up to " +
                                 std::to_string(LGN_INFER_MAX_LAYERS - 2) + " colour layers, the config has " +
                                 std::to_string(lay.color.size()));

@@ -20,8 +20,11 @@ FieldInferParams make_infer_params(const FieldConfig& cfg, const ParamLayout& la
 
 class FieldInfer {
  public:
-  // Whether the fused kernel handles this shape (density 2 + colour layers <= LGN_INFER_MAX_LAYERS).
-  static bool supports(const ParamLayout& layout);
+  // Whether the fused kernel handles this shape (density 2 + colour layers <= LGN_INFER_MAX_LAYERS)
+  // and its work-group's scratch fits the device's local memory of local_mem_bytes.
+  static bool supports(const ParamLayout& layout, uint64_t local_mem_bytes = UINT64_MAX);
+  // Local scratch of one work-group for this shape, in bytes.
+  static uint64_t local_bytes(const ParamLayout& layout);
   FieldInfer(cl::Runtime& rt, const FieldConfig& cfg, const ParamLayout& layout, uint32_t stride);
 
   // sigma[i], rgb[c * stride + i] for i < n, from positions and unit directions of stride `stride`.

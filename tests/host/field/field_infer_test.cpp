@@ -80,6 +80,10 @@ TEST(FieldInfer, TooDeepColourNetsUseTheLayeredPath) {
   FieldConfig c = test::small_config();
   c.color_hidden_layers = LGN_INFER_MAX_LAYERS - 1;  // 2 + 8 layers: beyond the fused kernel
   EXPECT_FALSE(FieldInfer::supports(make_layout(c)));
+  // A device whose local memory cannot hold one group's scratch gets the layered path too.
+  const ParamLayout lay = make_layout(test::small_config());
+  EXPECT_TRUE(FieldInfer::supports(lay, FieldInfer::local_bytes(lay)));
+  EXPECT_FALSE(FieldInfer::supports(lay, FieldInfer::local_bytes(lay) - 1));
   EXPECT_THROW(make_infer_params(c, make_layout(c), 64), std::invalid_argument);
   expect_fused_equals_layered(c, 64, {64});
 }
