@@ -27,11 +27,12 @@ inline constexpr uint64_t kMinSteps = 500, kMaxSteps = 20000;
 // 11.4 M parameters, 4300 steps, 463 s on the quiet machine). At 2^18 the rule above gives 2300
 // steps (6.1 M parameters); docs/bench/real-captures.md has the face PSNR against the 2^19 runs.
 inline constexpr uint32_t kRoomCaptureMaxLog2Table = 18;
-// And train kRoomCaptureSamplesPerParameter samples per parameter instead of kSamplesPerParameter:
-// in2n-face's 2300 steps at 25 took 487 CPU s (0.58 of the 2^19 default's 839), about 270 s on the
-// quiet 2-core CPU; 19 gives 1800 steps, about 210 s, which with the ~13 s fit keeps a real capture
-// to a fitted try-on under 4 minutes.
-inline constexpr double kRoomCaptureSamplesPerParameter = 19.0;
+// And train kRoomCaptureSamplesPerParameter samples per parameter instead of kSamplesPerParameter,
+// from the CPU seconds of in2n-face's runs (x 463 / 839, the 2^19 default's quiet wall per CPU s):
+// 2300 steps (25) 487 CPU s, about 270 s quiet, face PSNR 24.89 dB; 1800 (19) 414 CPU s, about
+// 229 s, 24.79 dB; 1600 (17) 356 CPU s, about 197 s, 24.71 dB (the 2^19 default: 24.49 dB). With the
+// ~13 s fit only 17 keeps a real capture to a fitted try-on within 4 minutes with a margin.
+inline constexpr double kRoomCaptureSamplesPerParameter = 17.0;
 
 // The default number of training steps for a model of `parameters` floats trained with 2^batch_log2
 // samples per step.
