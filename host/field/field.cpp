@@ -42,6 +42,10 @@ Field::Field(cl::Runtime& rt, const FieldConfig& cfg, uint32_t max_batch, uint64
   if (max_batch == 0 || max_batch > (1u << 24))
     throw std::invalid_argument("Field max_batch = " + std::to_string(max_batch) + " (expected 1..16777216)");
   max_batch_ = uint32_t(cl::round_up(max_batch, 64));
+  // Per-sample arrays are rows of max_batch_ floats. A power-of-two row length puts every row of a
+  // slab in the same cache sets (rows 2^k floats apart), so the layered MLP and the hash encoding
+  // thrash the cache; 64 spare samples break the alignment.
+  if (max_batch_ >= 4096 && (max_batch_ & (max_batch_ - 1)) == 0) max_batch_ += 64;
   const uint64_t P = layout_.total;
   plan_rows();
   uint32_t largest = 16;
