@@ -188,7 +188,8 @@ void estimate_head(FitRun& run) {
                     lm::kTempleR, o.cast_contour ? lm::kTempleL : -1, o.snap_opacity);
     r.head = estimate_head_frame(positions(r.points), valid, run.mean_face);
   }
-  if (!o.cast_contour) return;  // balance_temple_depths reads the casts' view indices
+  if (!o.cast_contour) return;            // balance_temple_depths reads the casts' view indices
+  if (run.source.hard_surface()) return;  // exact surfaces are never soft (temple_depth.h)
   r.temple_depth = balance_temple_depths(r.views, r.head, o.temple_depth, r.points);
   if (r.temple_depth.moved != 0)
     spdlog::info("fit: {}", r.temple_depth.summary());

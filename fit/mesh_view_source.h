@@ -36,6 +36,7 @@ class MeshViewSource : public ViewSource {
   std::vector<float> density(const std::vector<Eigen::Vector3f>& points) override;
   Bounds bounds() const override;
   ViewPrior prior() const override;
+  bool hard_surface() const override { return true; }
 
   // First surface hit along a ray (scene units); for ground-truth landmarks.
   mesh::Hit cast(const Eigen::Vector3f& origin, const Eigen::Vector3f& dir) const;

@@ -45,6 +45,10 @@ class ViewSource {
   // casts). A density is per scene unit, and scene units differ by 15x between captures (in2n-face
   // ~69 mm, fangzhou ~21 mm, the demo 200 mm): a NeRF source derives it from its marching step.
   virtual float surface_density() const { return 10.0f; }
+  // True where the surface is exact (a mesh): its opacity steps from 0 to 1 at the skin, so a cast
+  // never lands behind it. A volume (NeRF) may be soft where the capture saw it only at grazing
+  // angles, which temple_depth.h corrects for; a hard surface needs no such correction.
+  virtual bool hard_surface() const { return false; }
 };
 
 }  // namespace lorgnette::fit

@@ -107,6 +107,10 @@ TEST_F(LeePerrySmith, FitMatchesGroundTruth) {
   for (size_t i = 0; i < started.size(); ++i) EXPECT_EQ(started[i], r.seconds[i].first);
   GroundTruth gt = mesh_ground_truth(*source_, r.orbit, {-20, -10, 0, 10, 20}, g.ref, opt);
   FitErrors e = compare_fit(r, gt);
+  // A mesh's surface is exact: the temples keep the depths their casts found (temple_depth.h
+  // corrects only a volume's soft sides).
+  EXPECT_TRUE(source_->hard_surface());
+  EXPECT_EQ(r.temple_depth.moved, 0);
   // The targets: nose <= 2 mm, ears <= 4 mm, rotation <= 2 deg, penetration <= 0.5 mm.
   EXPECT_LT(e.nose_mm, 2.0);
   EXPECT_LT(e.ear_l_mm, 4.0);
