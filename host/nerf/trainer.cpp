@@ -216,6 +216,8 @@ TrainResult Trainer::run() {
       candidate_occ = std::move(fresh_occ);
       candidate_step = fresh_step;
     }
+    if (options_.on_step_in_time)
+      if (std::optional<double> loss = last_loss()) take_loss(*loss, step_);
     if (options_.snapshot_every_seconds > 0.0 &&
         std::chrono::duration<double>(clock::now() - last_snapshot).count() >
             options_.snapshot_every_seconds) {

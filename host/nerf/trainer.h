@@ -44,6 +44,9 @@ struct TrainOptions {
   // Python's progress hook. Without a room model a step's loss arrives with the next step's
   // synchronisation, so the call comes after the next step was issued (the last one after the loop).
   std::function<void(uint64_t, double, double)> on_step;
+  // Read each step's loss right after the step (one more synchronisation per step), so on_step comes
+  // before the next step is issued: a hook that stops training (Python's progress) stops at its step.
+  bool on_step_in_time = false;
 };
 
 struct TrainResult {

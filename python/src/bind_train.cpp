@@ -85,6 +85,7 @@ pyb::object run_train(const TrainArgs& a) {
     job.train.snapshot_path = a.output;
     job.train.progress = a.show_progress;
     job.train.on_step = [hook](uint64_t s, double t, double l) { (*hook)(s, t, l); };
+    job.train.on_step_in_time = true;  // returning False at step k stops after step k
     std::lock_guard<std::mutex> lock(model->device->mutex);
     clear_interrupt();
     try {
