@@ -20,13 +20,8 @@ inline void field_encode_level16(const FieldInferParams* p, __global const float
   __global const float* table = W + q->offset[l];
   for (uint f0 = 0; f0 < F; f0 += 2) {
     const uint two = f0 + 1 < F;
-    float16 a0 = 0.0f, a1 = 0.0f;
-    for (uint c = 0; c < 8; ++c) {
-      float16 w;
-      const uint16 e = hashgrid_corner16(&h, c, res, size, dense, &w);
-      a0 = fma(w, hashgrid_gather16(table + f0 * size, e), a0);
-      if (two) a1 = fma(w, hashgrid_gather16(table + (f0 + 1) * size, e), a1);
-    }
+    float16 a0, a1;
+    hashgrid_interp_pair16(&h, table, f0, two, res, size, dense, &a0, &a1);
     vstore16(select((float16)(0.0f), a0, valid), 0, x + (l * F + f0) * LGN_INFER_SLAB);
     if (two) vstore16(select((float16)(0.0f), a1, valid), 0, x + (l * F + f0 + 1) * LGN_INFER_SLAB);
   }

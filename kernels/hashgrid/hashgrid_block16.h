@@ -40,3 +40,18 @@ inline uint16 hashgrid_corner16(const HashCell16* h, uint c, uint res, uint size
   if (dense) return LGN_HASH_DENSE_INDEX(res + 1u, x, y, z);
   return LGN_HASH_SPATIAL_INDEX(size - 1u, x, y, z);
 }
+
+// Features f0 and f0 + 1 (when `two`) of one level for the 16 samples of cell h: trilinear over the 8
+// corners, in corner order. `table` is the level's table (feature-major, `size` entries per feature).
+inline void hashgrid_interp_pair16(const HashCell16* h, __global const float* table, uint f0, uint two,
+                                   uint res, uint size, uint dense, float16* a0, float16* a1) {
+  float16 s0 = 0.0f, s1 = 0.0f;
+  for (uint c = 0; c < 8; ++c) {
+    float16 w;
+    const uint16 e = hashgrid_corner16(h, c, res, size, dense, &w);
+    s0 = fma(w, hashgrid_gather16(table + f0 * size, e), s0);
+    if (two) s1 = fma(w, hashgrid_gather16(table + (f0 + 1) * size, e), s1);
+  }
+  *a0 = s0;
+  *a1 = s1;
+}
