@@ -1,10 +1,10 @@
 #!/usr/bin/env bash
-# Checks that every tracked C++ source and header is formatted as .clang-format says (clang-format 14,
-# Debian's clang-format package). Part of the README's test command; exits 1 listing the files that
-# differ. `tools/check-format.sh --fix` formats them in place instead.
+# Checks that every tracked C++ source, header and OpenCL kernel (.cl) is formatted as .clang-format
+# says (clang-format 14, Debian's clang-format package). Part of the README's test command; exits 1
+# listing the files that differ. `tools/check-format.sh --fix` formats them in place instead.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-mapfile -t files < <(git ls-files '*.cpp' '*.h' | grep -v '^fuzz/corpus/\|^fuzz/regressions/')
+mapfile -t files < <(git ls-files '*.cpp' '*.h' '*.cl' | grep -v '^fuzz/corpus/\|^fuzz/regressions/')
 if [ "${1:-}" = "--fix" ]; then
   clang-format -i "${files[@]}"
   exit 0

@@ -105,7 +105,10 @@ __kernel void hashgrid_backward(const HashgridParams p, __global const float* re
 }
 
 inline void hashgrid_atomic_add(volatile __global float* addr, float v) {
-  union { uint u; float f; } old, next;
+  union {
+    uint u;
+    float f;
+  } old, next;
   do {
     old.f = *addr;
     next.f = old.f + v;
@@ -127,7 +130,8 @@ __kernel void hashgrid_backward_atomic(const HashgridParams p, __global const fl
   for (uint c = 0; c < 8; ++c) {
     float w;
     uint e = hashgrid_corner(res, size, dense, cell, frac, c, &w);
-    for (uint f = 0; f < F; ++f) hashgrid_atomic_add(table + f * size + e, w * d_enc[(l * F + f) * p.stride + i]);
+    for (uint f = 0; f < F; ++f)
+      hashgrid_atomic_add(table + f * size + e, w * d_enc[(l * F + f) * p.stride + i]);
   }
 }
 #endif

@@ -136,8 +136,8 @@ __kernel void march_composite(const MarchParams p, __global MarchRay* rays, __gl
                               __global const uint* counts, __global const uint* offsets,
                               __global const float2* seg, __global const float* sigma,
                               __global const float* rgb, __global const float* surf_ca,
-                              __global const float* surf_filter, __global float* out_rgba, __global float* out_depth,
-                              __global uint* out_samples, __global uint* flags) {
+                              __global const float* surf_filter, __global float* out_rgba,
+                              __global float* out_depth, __global uint* out_samples, __global uint* flags) {
   const uint i = get_global_id(0);
   if (i >= p.live_count) return;
   __global MarchRay* r = rays + live[i];
@@ -156,7 +156,10 @@ __kernel void march_composite(const MarchParams p, __global MarchRay* rays, __gl
       march_add_pixel_surface(&acc, ts, ca);
       surface = LGN_SURF_PASSED;
       f[0] = fl[0], f[1] = fl[1], f[2] = fl[2];
-      if (acc.T < p.min_transmittance) { done = 1; break; }
+      if (acc.T < p.min_transmittance) {
+        done = 1;
+        break;
+      }
     }
     uint j = off + k;
     march_add_segment(&acc, s.x, s.y, sigma[j], f[0] * rgb[j], f[1] * rgb[S + j], f[2] * rgb[2 * S + j]);
@@ -172,7 +175,9 @@ __kernel void march_composite(const MarchParams p, __global MarchRay* rays, __gl
     done = 1;
   }
   r->transmittance = acc.T;
-  r->r = acc.r; r->g = acc.g; r->b = acc.b;
+  r->r = acc.r;
+  r->g = acc.g;
+  r->b = acc.b;
   r->depth_sum = acc.depth_sum;
   r->samples = samples;
   r->surface = surface;

@@ -25,9 +25,10 @@ inline void fused_pass_surface(MarchAccum* acc, uint* surface, float ts, __globa
 // Global size: ray_count rounded up to the work-group size; local_weights: mlp_count floats (NeRF
 // with LGN_FUSED_LOCAL_WEIGHTS), else unused.
 __kernel void march_fused(const MarchParams p, __constant const MarchFusedField* field,
-                          __global const float* params, __global const uint* occ, __global const float* surf_ca,
-                          __global const float* surf_depth, __global const float* surf_filter,
-                          __global float* out_rgba, __global float* out_depth, __global uint* out_samples,
+                          __global const float* params, __global const uint* occ,
+                          __global const float* surf_ca, __global const float* surf_depth,
+                          __global const float* surf_filter, __global float* out_rgba,
+                          __global float* out_depth, __global uint* out_samples,
                           __local float* local_weights) {
 #if LGN_FUSED_FIELD == LGN_FUSED_NERF && LGN_FUSED_LOCAL_WEIGHTS
   for (uint k = get_local_id(0); k < field->mlp_count; k += get_local_size(0))
@@ -53,8 +54,8 @@ __kernel void march_fused(const MarchParams p, __constant const MarchFusedField*
   while (!done && t < t_end) {
     if (samples >= p.max_samples) break;  // the safety bound: the ray ends here
     const float tm = fmin(t + 0.5f * p.step, 0.5f * (t + t_end));
-    if (!march_occupied(p.occ_layout, p.occ_res, occ, p.aabb_min, p.aabb_max, o[0] + tm * d[0], o[1] + tm * d[1],
-                        o[2] + tm * d[2])) {
+    if (!march_occupied(p.occ_layout, p.occ_res, occ, p.aabb_min, p.aabb_max, o[0] + tm * d[0],
+                        o[1] + tm * d[1], o[2] + tm * d[2])) {
       t += march_skip(p.aabb_min, p.aabb_max, p.occ_res, p.step, tm, o[0], o[1], o[2], d[0], d[1], d[2]);
       continue;
     }

@@ -5,10 +5,10 @@
 #include "train/render.h"
 #include "train/train_types.h"
 
-__kernel void render_loss(const LossParams p, __global const uint* ray_offsets, __global const uint* ray_counts,
-                          __global const float* ray_info, __global const float* sigma,
-                          __global const float* rgb, __global float* dsigma, __global float* drgb,
-                          __global float* ray_loss, __global float* ray_color) {
+__kernel void render_loss(const LossParams p, __global const uint* ray_offsets,
+                          __global const uint* ray_counts, __global const float* ray_info,
+                          __global const float* sigma, __global const float* rgb, __global float* dsigma,
+                          __global float* drgb, __global float* ray_loss, __global float* ray_color) {
   uint ray = get_global_id(0);
   if (ray >= p.n_rays) return;
   __global const float* info = ray_info + RAY_INFO_FLOATS * ray;

@@ -26,7 +26,10 @@ uint find_image(__global const uint* offsets, uint n_images, uint pixel) {
   uint lo = 0, hi = n_images;  // offsets[lo] <= pixel < offsets[hi]
   while (hi - lo > 1u) {
     uint mid = (lo + hi) / 2u;
-    if (offsets[mid] <= pixel) lo = mid; else hi = mid;
+    if (offsets[mid] <= pixel)
+      lo = mid;
+    else
+      hi = mid;
   }
   return lo;
 }
@@ -81,8 +84,12 @@ int setup_ray(const SampleParams* p, __global const Camera* cams, __global const
     }
   }
   LgnVec3 o = camera_origin(&cam), d = camera_ray_dir(&cam, u, v);
-  r->o[0] = o.x; r->o[1] = o.y; r->o[2] = o.z;
-  r->d[0] = d.x; r->d[1] = d.y; r->d[2] = d.z;
+  r->o[0] = o.x;
+  r->o[1] = o.y;
+  r->o[2] = o.z;
+  r->d[0] = d.x;
+  r->d[1] = d.y;
+  r->d[2] = d.z;
   if (!clip_aabb(p, r, p->near_t)) return 0;
   r->t_start += jitter * p->step;
   return r->t_start < r->t_end;
