@@ -13,7 +13,8 @@
 // Keys: bg=on|off (room model; default on), steps=N (default 1200), table=LOG2 (hash table),
 //       finest=N (finest grid), levels=N, room_batch=X (room model's samples per step relative to the
 //       subject's batch), room_spd=N (room steps per box diagonal), room_spread=0|1 (the room's batch
-//       spread evenly over the step's rays).
+//       spread evenly over the step's rays), prior=X (weight of the binary-opacity prior on the
+//       subject's rays; 0 = off).
 // Unset keys keep `train`'s defaults (automatic sizing from the landmark head box, 2^16 samples per step).
 // Writes OUT_DIR/room_budget.csv (a row per arm and checkpoint: steps, training seconds, subject and
 // room samples, rays, face PSNR) and room_budget_seconds.png / room_budget_steps.png (face PSNR
@@ -51,6 +52,7 @@ struct ArmSpec {
   std::optional<uint32_t> table, finest, levels, room_spd;
   float room_batch = 0.0f;  // 0: BackgroundOptions' default
   std::optional<bool> room_spread;
+  std::optional<float> prior;  // the binary-opacity prior's weight
 };
 
 ArmSpec parse_arm(const std::string& arg) {
@@ -82,9 +84,12 @@ ArmSpec parse_arm(const std::string& arg) {
       a.room_spread = v == "1";
     } else if (k == "room_batch") {
       a.room_batch = std::stof(v);
+    } else if (k == "prior") {
+      a.prior = std::stof(v);
     } else {
-      throw std::runtime_error("--arm " + arg + ": unknown key '" + k +
-                               "' (bg, steps, table, finest, levels, room_batch, room_spd, room_spread)");
+      throw std::runtime_error(
+          "--arm " + arg + ": unknown key '" + k +
+          "' (bg, steps, table, finest, levels, room_batch, room_spd, room_spread, prior)");
     }
   }
   return a;
@@ -253,6 +258,7 @@ int main(int argc, char** argv) {
       if (a.spec.room_batch > 0.0f) to.background.batch_scale = a.spec.room_batch;
       if (a.spec.room_spd) to.background.steps_per_diagonal = *a.spec.room_spd;
       if (a.spec.room_spread) to.background.spread_over_rays = *a.spec.room_spread;
+      if (a.spec.prior) to.background.opacity_prior = *a.spec.prior;
       a.trainer = std::make_unique<nerf::Trainer>(*a.model, views, to, sz.occupancy_mask);
       std::cerr << fmt::format("arm {}: {:.1f} M parameters ({} levels up to {}, 2^{} table), {} steps{}\n",
                                a.spec.name, double(sz.field.param_count()) / 1e6, sz.field.levels,
