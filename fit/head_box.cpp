@@ -96,6 +96,8 @@ HeadBox head_box_from_frame(const HeadFrame& head, const Eigen::Vector3d& anchor
   b.axes.col(1) = head.d_up;
   b.axes.col(2) = head.d_fwd;
   b.half_extent = 0.5 * (hi - lo) / head.mm_per_unit;
+  b.anchor = anchor;
+  b.extents = e;
   b.center = anchor + b.axes * (0.5 * (hi + lo) / head.mm_per_unit);
   // Scene-axis bounds of the oriented box: |axes| * half extent per axis.
   Eigen::Vector3d r = b.axes.cwiseAbs() * b.half_extent;

@@ -73,6 +73,8 @@ struct HeadBox {
   Eigen::Vector3d center = Eigen::Vector3d::Zero();       // the oriented box's centre (scene)
   Eigen::Matrix3d axes = Eigen::Matrix3d::Identity();     // columns: head left, up, forward (scene)
   Eigen::Vector3d half_extent = Eigen::Vector3d::Zero();  // oriented half sizes along axes (scene units)
+  Eigen::Vector3d anchor = Eigen::Vector3d::Zero();       // HeadExtents' origin (scene): eye level, mid eyes
+  HeadExtents extents;                                    // the extents the box was sized from
   HeadFrame head;                                         // d_fwd, d_up, d_eye, mm per unit, PD
   int photos_tried = 0, faces_found = 0, landmarks_triangulated = 0;
   std::string summary() const;  // one line for logs and reports

@@ -1,0 +1,313 @@
+// head_volume_bench: where a mask-less capture's subject model holds density, and what of it the
+// held-out views see, in its head's frame. For each case (a trained .lnerf and its dataset) the
+// landmark head box is estimated again as training does (fit::estimate_head_box on the training
+// photos) and space is sorted into three regions: the head volume (capture/head_volume.h: "head"),
+// the rest of the oriented head box ("box_not_head"), and the rest of the model's axis-aligned box
+// ("corners"). Per region: occupancy cells, occupied cells, "solid" cells (one cell's length of the
+// grid density gives opacity > 0.5), and the opacity the held-out views see there (rays of every
+// 4th pixel of 4 views marched at the model's step through the field's density in occupied cells;
+// each sample's compositing weight T * alpha goes to its region; mean per ray). Writes
+// head_volume.csv, head_volume_depth.csv (solid cells per 10 mm of head depth, z forward from the
+// eyes), head_volume_seen_depth.csv (seen opacity per 10 mm of head depth), <case>_seen_<k>.png
+// (each held-out view: grey head, red box_not_head, blue corners, mixed by their weights; white
+// where nothing is seen) and <case>_side.png / _top.png (the densest cell along the head's x / y,
+// coloured alike, with the oriented box in black and the head volume's middle section in green).
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <functional>
+#include <map>
+
+#include "capture/head_volume.h"
+#include "capture/subject_box.h"
+#include "fit/camera_math.h"
+#include "host/nerf/model.h"
+#include "host/nerf/snapshot.h"
+#include "host/util/chart.h"
+#include "host/util/image_io.h"
+
+namespace fs = std::filesystem;
+using namespace lorgnette;
+
+namespace {
+
+enum Region { kHead = 0, kBoxNotHead = 1, kCorners = 2 };
+const char* kRegionNames[3] = {"head", "box_not_head", "corners"};
+
+struct Case {
+  std::string name, model, data;
+};
+
+struct Grid {
+  nerf::Snapshot snap;
+  float cell = 0.0f;  // mean cell side (scene units)
+  float alpha(uint64_t c) const {
+    if (!((snap.occ.bits[c >> 5] >> (c & 31u)) & 1u)) return 0.0f;
+    float d = snap.occ.density.empty() ? 0.0f : snap.occ.density[c];
+    return 1.0f - std::exp(-std::max(d, 0.0f) * cell);
+  }
+  // The cell holding scene point p, or -1 outside the box.
+  int64_t cell_of(const nerf::Vec3f& p) const {
+    const uint32_t res = snap.occ.res;
+    int64_t idx[3];
+    for (int a = 0; a < 3; ++a) {
+      float f = (p[a] - snap.aabb.min[a]) / snap.aabb.extent(a);
+      if (!(f >= 0.0f && f < 1.0f)) return -1;
+      idx[a] = int64_t(f * float(res));
+    }
+    return idx[0] + int64_t(res) * (idx[1] + int64_t(res) * idx[2]);
+  }
+};
+
+Eigen::Vector3d to_scene(const fit::HeadBox& b, const Eigen::Vector3d& mm) {
+  return b.anchor + b.axes * (mm / b.head.mm_per_unit);
+}
+
+nerf::Vec3f vec(const Eigen::Vector3d& p) { return {float(p.x()), float(p.y()), float(p.z())}; }
+
+Region region_of(const nerf::Vec3f& p, const nerf::SubjectVolume& box, const nerf::SubjectVolume& head) {
+  if (head.contains(p)) return kHead;
+  return box.contains(p) ? kBoxNotHead : kCorners;
+}
+
+// One projection of the grid along head-frame axis `along` onto the other two (u horizontal, v up),
+// 2 mm per pixel over the model's box in the head frame.
+void write_view(const std::string& path, const Grid& g, const fit::HeadBox& b, const nerf::SubjectVolume& box,
+                const nerf::SubjectVolume& head, int u_axis, int v_axis, int along) {
+  const double px = 2.0, range = 260.0;  // mm per pixel; half the picture's side in mm
+  const int n = int(2.0 * range / px);
+  const double mid[3] = {0.0, -5.0, -87.0};  // about the oriented box's middle (mm)
+  Image img(n, n, 3);
+  const double step = std::max(1.0, 0.5 * g.cell * b.head.mm_per_unit);
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      float best[3] = {0, 0, 0};
+      Eigen::Vector3d mm = Eigen::Vector3d::Zero();
+      mm[u_axis] = mid[u_axis] - range + (i + 0.5) * px;
+      mm[v_axis] = mid[v_axis] + range - (j + 0.5) * px;
+      for (double w = -range; w <= range; w += step) {
+        mm[along] = w;
+        nerf::Vec3f p = vec(to_scene(b, mm));
+        int64_t c = g.cell_of(p);
+        if (c < 0) continue;
+        float a = g.alpha(uint64_t(c));
+        if (a <= 0.0f) continue;
+        int r = region_of(p, box, head);
+        best[r] = std::max(best[r], a);
+      }
+      mm[along] = 0.0;  // outlines: the section through the eyes' middle (side) or eye level (top)
+      auto inside = [&](const nerf::SubjectVolume& v, double du, double dv) {
+        Eigen::Vector3d q = mm;
+        q[u_axis] += du, q[v_axis] += dv;
+        return v.contains(vec(to_scene(b, q)));
+      };
+      bool in_head = inside(head, 0, 0), in_box = inside(box, 0, 0);
+      bool head_edge = in_head != inside(head, px, 0) || in_head != inside(head, 0, px);
+      bool box_edge = in_box != inside(box, px, 0) || in_box != inside(box, 0, px);
+      float rgb[3] = {1.0f, 1.0f, 1.0f};
+      int r = int(std::max_element(best, best + 3) - best);
+      float a = best[r];
+      const float tint[3][3] = {{0.25f, 0.25f, 0.25f}, {0.9f, 0.1f, 0.1f}, {0.1f, 0.3f, 0.95f}};
+      for (int k = 0; k < 3; ++k) rgb[k] = (1.0f - a) + a * tint[r][k];
+      if (box_edge) rgb[0] = rgb[1] = rgb[2] = 0.0f;
+      if (head_edge) rgb[0] = 0.0f, rgb[1] = 0.7f, rgb[2] = 0.0f;
+      for (int k = 0; k < 3; ++k) img.at(i, j, k) = rgb[k] * rgb[k];  // image_io writes sRGB from linear
+    }
+  write_image(path, img);
+}
+
+// What the held-out views see: each view's rays (every `stride`-th pixel) marched through the model's
+// box at its step, the field's density queried at the samples in occupied cells, and each sample's
+// compositing weight (T * alpha) added to its region. Returns the mean weight per ray in each region
+// and writes one picture per view: white where nothing is seen, else the regions' colours
+// (grey: head, red: box but not head, blue: corners) mixed by their weights.
+std::array<double, 3> seen_opacity(cl::Runtime& rt, const std::string& model_path, const dataset::Dataset& ds,
+                                   const nerf::SubjectVolume& box, const nerf::SubjectVolume& head,
+                                   const std::function<double(const Eigen::Vector3d&)>& head_z_mm,
+                                   const std::string& picture_prefix, int stride, size_t max_views,
+                                   std::map<int, std::array<double, 3>>* seen_depth) {
+  nerf::NerfModel model = nerf::NerfModel::load(rt, model_path);
+  const nerf::Aabb& bb = model.aabb();
+  const nerf::OccupancyGrid& occ = model.occupancy();
+  const float step = model.step();
+  field::Field& f = model.field();
+  const uint32_t batch = f.max_batch();
+  cl::Buffer<float> pos(rt, 3u * batch), sigma(rt, batch);
+  std::array<double, 3> total{0, 0, 0};
+  size_t rays_total = 0, views = 0;
+  for (const dataset::Frame* fr : ds.require_split(dataset::Split::Holdout)) {
+    if (views >= max_views) break;
+    const int w = int(fr->camera.width) / stride, h = int(fr->camera.height) / stride;
+    struct Sample {
+      uint32_t ray;
+      uint8_t region;
+      int16_t depth_bin;  // head-frame z, 10 mm bins
+      nerf::Vec3f q;      // normalised position
+    };
+    std::vector<Sample> samples;
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        fit::Ray r = fit::camera_ray(fr->camera, {(x + 0.5) * stride, (y + 0.5) * stride});
+        Eigen::Vector3d o = r.origin * model.normalisation.scale +
+                            Eigen::Vector3d(model.normalisation.offset[0], model.normalisation.offset[1],
+                                            model.normalisation.offset[2]);
+        double t0 = 0.0, t1 = 1e30;
+        for (int a = 0; a < 3; ++a) {
+          double inv = 1.0 / r.dir[a], ta = (bb.min[a] - o[a]) * inv, tb = (bb.max[a] - o[a]) * inv;
+          t0 = std::max(t0, std::min(ta, tb)), t1 = std::min(t1, std::max(ta, tb));
+        }
+        for (double t = t0 + 0.5 * step; t < t1; t += step) {
+          Eigen::Vector3d p = o + t * r.dir;
+          nerf::Vec3f q;
+          for (int a = 0; a < 3; ++a)
+            q[a] = std::clamp(float((p[a] - bb.min[a]) / bb.extent(a)), 0.0f, 0.999999f);
+          uint32_t cx = uint32_t(q[0] * occ.res), cy = uint32_t(q[1] * occ.res),
+                   cz = uint32_t(q[2] * occ.res);
+          uint64_t c = cx + uint64_t(occ.res) * (cy + uint64_t(occ.res) * cz);
+          if (!((occ.bits[c >> 5] >> (c & 31u)) & 1u)) continue;
+          // Region from the dataset-frame point (the volumes are in the dataset's scene).
+          Eigen::Vector3d pd =
+              (p - Eigen::Vector3d(model.normalisation.offset[0], model.normalisation.offset[1],
+                                   model.normalisation.offset[2])) /
+              model.normalisation.scale;
+          const double z_mm = head_z_mm(pd);
+          samples.push_back({uint32_t(y * w + x), uint8_t(region_of(vec(pd), box, head)),
+                             int16_t(std::floor(z_mm / 10.0)), q});
+        }
+      }
+    std::vector<float> sig(samples.size());
+    for (size_t s0 = 0; s0 < samples.size(); s0 += batch) {
+      const uint32_t n = uint32_t(std::min<size_t>(batch, samples.size() - s0));
+      std::vector<float> soa(3u * batch, 0.0f);
+      for (uint32_t i = 0; i < n; ++i)
+        for (int a = 0; a < 3; ++a) soa[a * batch + i] = samples[s0 + i].q[a];
+      pos.write(rt, soa);
+      f.density(pos, n, sigma);
+      std::vector<float> out = sigma.read(rt, n);
+      std::copy(out.begin(), out.end(), sig.begin() + s0);
+    }
+    std::vector<std::array<float, 3>> per_ray(size_t(w) * h, {0, 0, 0});
+    std::vector<float> T(size_t(w) * h, 1.0f);
+    for (size_t i = 0; i < samples.size(); ++i) {  // samples are in ray order, near to far
+      const Sample& s = samples[i];
+      const float a = 1.0f - std::exp(-sig[i] * step), wgt = T[s.ray] * a;
+      per_ray[s.ray][s.region] += wgt;
+      (*seen_depth)[s.depth_bin][s.region] += wgt;
+      T[s.ray] *= 1.0f - a;
+    }
+    Image img(w, h, 3);
+    const float tint[3][3] = {{0.25f, 0.25f, 0.25f}, {0.9f, 0.1f, 0.1f}, {0.1f, 0.3f, 0.95f}};
+    for (int i = 0; i < w * h; ++i) {
+      float rgb[3] = {T[i], T[i], T[i]};
+      for (int r = 0; r < 3; ++r) {
+        total[r] += per_ray[i][r];
+        for (int k = 0; k < 3; ++k) rgb[k] += per_ray[i][r] * tint[r][k];
+      }
+      for (int k = 0; k < 3; ++k) img.pixels[size_t(i) * 3 + k] = rgb[k] * rgb[k];
+    }
+    rays_total += size_t(w) * h;
+    write_image(fmt::format("{}_seen_{}.png", picture_prefix, views), img);
+    ++views;
+  }
+  for (double& t : total) t /= double(std::max<size_t>(rays_total, 1));
+  for (auto& [bin, v] : *seen_depth)
+    for (double& t : v) t /= double(std::max<size_t>(rays_total, 1));
+  return total;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"where a subject model's density lies in its head frame"};
+  std::string out = "head_volume_bench";
+  std::vector<std::string> case_args;
+  app.add_option("out", out, "output directory")->required();
+  app.add_option("--case", case_args, "NAME MODEL DATASET (repeatable)")->expected(3)->take_all();
+  int stride = 4;
+  size_t max_views = 4;
+  app.add_option("--stride", stride, "held-out pixels: every N-th in x and y (default 4)");
+  app.add_option("--views", max_views, "held-out views marched (default 4)");
+  CLI11_PARSE(app, argc, argv);
+  cl::Runtime rt;
+  if (case_args.empty() || case_args.size() % 3) {
+    spdlog::error("give at least one --case NAME MODEL DATASET");
+    return 2;
+  }
+  fs::create_directories(out);
+  std::vector<std::vector<std::string>> rows, depth_rows, seen_rows;
+  for (size_t k = 0; k + 2 < case_args.size(); k += 3) {
+    Case cs{case_args[k], case_args[k + 1], case_args[k + 2]};
+    dataset::Dataset ds = dataset::load_dataset(cs.data, {});
+    fit::HeadBox b = fit::estimate_head_box(capture::posed_photos(ds));
+    Grid g;
+    g.snap = nerf::read_snapshot(cs.model);
+    const uint32_t res = g.snap.occ.res;
+    g.cell = (g.snap.aabb.extent(0) + g.snap.aabb.extent(1) + g.snap.aabb.extent(2)) / (3.0f * float(res));
+    spdlog::info("{}: {}; model box [{:.3f} {:.3f} {:.3f}] .. [{:.3f} {:.3f} {:.3f}], cell {:.1f} mm",
+                 cs.name, b.summary(), g.snap.aabb.min[0], g.snap.aabb.min[1], g.snap.aabb.min[2],
+                 g.snap.aabb.max[0], g.snap.aabb.max[1], g.snap.aabb.max[2], g.cell * b.head.mm_per_unit);
+    nerf::SubjectVolume box = capture::head_volume(b, capture::HeadVolumeShape::OrientedBox);
+    nerf::SubjectVolume head = capture::head_volume(b, capture::HeadVolumeShape::Head);
+    uint64_t occupied[3] = {0, 0, 0}, solid[3] = {0, 0, 0}, cells[3] = {0, 0, 0};
+    double alpha_sum[3] = {0, 0, 0};
+    std::map<int, std::array<uint64_t, 3>> depth;  // 10 mm bins of head-frame z
+    for (uint32_t z = 0; z < res; ++z)
+      for (uint32_t y = 0; y < res; ++y)
+        for (uint32_t x = 0; x < res; ++x) {
+          const uint64_t c = x + uint64_t(res) * (y + uint64_t(res) * z);
+          nerf::Vec3f p;
+          const uint32_t q[3] = {x, y, z};
+          for (int a = 0; a < 3; ++a)
+            p[a] = g.snap.aabb.min[a] + (float(q[a]) + 0.5f) / float(res) * g.snap.aabb.extent(a);
+          const int r = region_of(p, box, head);
+          ++cells[r];
+          const float al = g.alpha(c);
+          if (!((g.snap.occ.bits[c >> 5] >> (c & 31u)) & 1u)) continue;
+          ++occupied[r], alpha_sum[r] += al;
+          if (al > 0.5f) {
+            ++solid[r];
+            Eigen::Vector3d mm =
+                b.axes.transpose() * (Eigen::Vector3d(p[0], p[1], p[2]) - b.anchor) * b.head.mm_per_unit;
+            depth[int(std::floor(mm.z() / 10.0))][r]++;
+          }
+        }
+    for (int r = 0; r < 3; ++r) {
+      spdlog::info("{}: {:>13}: {:6} cells, {:6} occupied, {:6} solid (opacity > 0.5), opacity sum {:.0f}",
+                   cs.name, kRegionNames[r], cells[r], occupied[r], solid[r], alpha_sum[r]);
+      rows.push_back({cs.name, kRegionNames[r], std::to_string(cells[r]), std::to_string(occupied[r]),
+                      std::to_string(solid[r]), fmt::format("{:.1f}", alpha_sum[r])});
+    }
+    for (const auto& [bin, n] : depth)
+      depth_rows.push_back({cs.name, std::to_string(bin * 10), std::to_string(n[0]), std::to_string(n[1]),
+                            std::to_string(n[2])});
+    std::map<int, std::array<double, 3>> seen_depth;
+    auto head_z = [&](const Eigen::Vector3d& p) {
+      return b.head.d_fwd.dot(p - b.anchor) * b.head.mm_per_unit;
+    };
+    std::array<double, 3> seen =
+        seen_opacity(rt, cs.model, ds, box, head, head_z, (fs::path(out) / cs.name).string(), stride,
+                     max_views, &seen_depth);
+    for (auto& [bin, v] : seen_depth) {
+      seen_rows.push_back({cs.name, std::to_string(bin * 10), fmt::format("{:.5f}", v[0]),
+                           fmt::format("{:.5f}", v[1]), fmt::format("{:.5f}", v[2])});
+    }
+    spdlog::info(
+        "{}: held-out views see opacity {:.4f} in the head, {:.4f} in the box outside it, {:.4f} in "
+        "the corners (mean per ray)",
+        cs.name, seen[0], seen[1], seen[2]);
+    for (int r = 0; r < 3; ++r) rows[rows.size() - 3 + r].push_back(fmt::format("{:.4f}", seen[r]));
+    write_view((fs::path(out) / (cs.name + "_side.png")).string(), g, b, box, head, 2, 1, 0);
+    write_view((fs::path(out) / (cs.name + "_top.png")).string(), g, b, box, head, 0, 2, 1);
+  }
+  write_csv((fs::path(out) / "head_volume.csv").string(),
+            {"case", "region", "cells", "occupied", "solid", "opacity_sum", "seen_opacity_per_ray"}, rows);
+  write_csv((fs::path(out) / "head_volume_seen_depth.csv").string(),
+            {"case", "depth_mm", "seen_head", "seen_box_not_head", "seen_corners"}, seen_rows);
+  write_csv((fs::path(out) / "head_volume_depth.csv").string(),
+            {"case", "depth_mm", "solid_head", "solid_box_not_head", "solid_corners"}, depth_rows);
+  return 0;
+}

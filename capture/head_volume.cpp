@@ -1,0 +1,91 @@
+// The head's volume in its landmark box; see head_volume.h.
+#include "capture/head_volume.h"
+
+namespace lorgnette::capture {
+namespace {
+
+using nerf::OrientedShape;
+
+// Hair that stands out beyond the head box's margins (in2n-face's curls reach past the box's sides at
+// ear level): the skull part of the volume and the clip reach this much further sideways, upwards
+// and backwards. Not forwards, where a frontal capture's wall is otherwise rebuilt beside the face
+// (docs/bench/real-captures.md, "The head volume").
+constexpr double kLooseHairMm = 40.0;
+
+// An axis-aligned shape of the head frame spanning [lo, hi] (mm).
+OrientedShape span(OrientedShape::Kind kind, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
+  OrientedShape s;
+  s.kind = kind;
+  for (int a = 0; a < 3; ++a)
+    s.center[a] = float(0.5 * (lo[a] + hi[a])), s.half[a] = float(0.5 * (hi[a] - lo[a]));
+  return s;
+}
+
+}  // namespace
+
+nerf::SubjectVolume head_volume_mm(const fit::HeadExtents& e, HeadVolumeShape shape) {
+  // The oriented head box, as fit::head_box_from_frame places it.
+  const double half_x = 0.5 * e.head_breadth_mm + e.side_margin_mm;
+  const double back = e.head_length_mm - e.glabella_ahead_mm + e.hair_mm;  // behind the anchor
+  const double top = e.vertex_above_eyes_mm + e.hair_mm, bottom = e.chin_below_eyes_mm + e.neck_mm;
+  const double front = e.nose_ahead_mm + e.front_margin_mm;
+  nerf::SubjectVolume v;
+  if (shape == HeadVolumeShape::OrientedBox) {
+    v.parts.push_back(span(OrientedShape::Kind::Box, {-half_x, -bottom, -back}, {half_x, top, front}));
+    v.what = "the oriented head box";
+    return v;
+  }
+  const double loose = kLooseHairMm;
+  v.clip = span(OrientedShape::Kind::Box, {-half_x - loose, -bottom, -back - loose},
+                {half_x + loose, top + loose, front});
+  // Skull with hair and ears: from the back of the hair to in front of the glabella, from chin level
+  // to the top of the hair, as wide as the box (head breadth + the ears' and side hair's margin),
+  // and loose hair beyond that.
+  v.parts.push_back(span(OrientedShape::Kind::Ellipsoid,
+                         {-half_x - loose, -e.chin_below_eyes_mm - loose, -back - loose},
+                         {half_x + loose, top + loose, e.glabella_ahead_mm + e.front_margin_mm}));
+  // Face and jaw: the front half of the head, head-breadth wide, from below the chin (beard) to the
+  // forehead, to the front of the box (nose tip and margin).
+  v.parts.push_back(
+      span(OrientedShape::Kind::Box,
+           {-0.5 * e.head_breadth_mm, -(e.chin_below_eyes_mm + e.front_margin_mm), -0.5 * e.head_length_mm},
+           {0.5 * e.head_breadth_mm, 0.5 * e.vertex_above_eyes_mm, front}));
+  // Neck (and hair falling on it): an ellipsoid centred on the box's bottom under the skull's
+  // middle, reaching up to eye level, head-breadth wide and a head length deep, so the box's bottom
+  // keeps the neck and what hangs behind it.
+  const double skull_mid = -0.5 * (e.head_length_mm - 2.0 * e.glabella_ahead_mm);
+  v.parts.push_back(span(OrientedShape::Kind::Ellipsoid,
+                         {-0.5 * e.head_breadth_mm, -2.0 * bottom, skull_mid - 0.5 * e.head_length_mm},
+                         {0.5 * e.head_breadth_mm, 0.0, skull_mid + 0.5 * e.head_length_mm}));
+  v.what = "the head's volume in the oriented head box (skull and hair, face, neck; capture/head_volume.h)";
+  return v;
+}
+
+nerf::SubjectVolume to_scene(const nerf::SubjectVolume& mm, const fit::HeadBox& box) {
+  const double s = 1.0 / box.head.mm_per_unit;
+  auto map = [&](const OrientedShape& in) {
+    OrientedShape out = in;
+    Eigen::Vector3d c =
+        box.anchor + box.axes * (s * Eigen::Vector3d(in.center[0], in.center[1], in.center[2]));
+    for (int a = 0; a < 3; ++a) {
+      out.center[a] = float(c[a]);
+      out.half[a] = float(in.half[a] * s);
+      // The shape's axes are the head frame's (mm shapes are axis-aligned there).
+      Eigen::Vector3d local = Eigen::Vector3d::Zero();
+      for (int b = 0; b < 3; ++b) local += double(in.axes[a][b]) * box.axes.col(b);
+      for (int b = 0; b < 3; ++b) out.axes[a][b] = float(local[b]);
+    }
+    return out;
+  };
+  nerf::SubjectVolume v;
+  for (const OrientedShape& p : mm.parts) v.parts.push_back(map(p));
+  if (mm.clip) v.clip = map(*mm.clip);
+  v.what = mm.what;
+  return v;
+}
+
+nerf::SubjectVolume head_volume(const fit::HeadBox& box, HeadVolumeShape shape) {
+  return to_scene(head_volume_mm(box.extents, shape), box);
+}
+
+}  // namespace lorgnette::capture

@@ -1,0 +1,28 @@
+// The volume a head may occupy in its landmark head box (fit/head_box.h), as the subject volume of a
+// mask-less capture's model (host/nerf/subject_volume.h): the oriented head box (not its axis-aligned
+// bounds, whose corners hold the room), and within it a head shape sized from the same
+// anthropometric extents (fit::HeadExtents): the skull with its hair as an ellipsoid, the face and
+// jaw in front of it, and the neck below it down to the box's bottom. Every part is sized from the
+// p99 extents plus their margins, so ears, hair and neck stay in; what it removes is the box's
+// corners behind and below the skull, where a wall close behind the subject otherwise gets
+// rebuilt as part of the subject (docs/bench/real-captures.md, "The head volume").
+#pragma once
+#include "fit/head_box.h"
+#include "host/nerf/subject_volume.h"
+
+namespace lorgnette::capture {
+
+enum class HeadVolumeShape { OrientedBox, Head };
+
+// The volume in the head frame: millimetres from HeadExtents' anchor (eye level, between the eyes),
+// x = the head's left, y = up, z = forward.
+nerf::SubjectVolume head_volume_mm(const fit::HeadExtents& extents,
+                                   HeadVolumeShape shape = HeadVolumeShape::Head);
+
+// The same volume placed in the scene (units of the head box's scene): its anchor, axes and scale.
+nerf::SubjectVolume head_volume(const fit::HeadBox& box, HeadVolumeShape shape = HeadVolumeShape::Head);
+
+// A head-frame (mm) volume mapped to the scene by the frame of `box`.
+nerf::SubjectVolume to_scene(const nerf::SubjectVolume& mm, const fit::HeadBox& box);
+
+}  // namespace lorgnette::capture

@@ -1,0 +1,76 @@
+// The subject's volume and its occupancy mask; see subject_volume.h.
+#include "host/nerf/subject_volume.h"
+
+#include <cmath>
+
+#include "kernels/train/occupancy.h"
+
+namespace lorgnette::nerf {
+
+Vec3f OrientedShape::local(const Vec3f& p) const {
+  const float d[3] = {p[0] - center[0], p[1] - center[1], p[2] - center[2]};
+  Vec3f q;
+  for (int a = 0; a < 3; ++a) q[a] = axes[a][0] * d[0] + axes[a][1] * d[1] + axes[a][2] * d[2];
+  return q;
+}
+
+bool OrientedShape::contains(const Vec3f& p) const {
+  const Vec3f q = local(p);
+  if (kind == Kind::Box)
+    return std::fabs(q[0]) <= half[0] && std::fabs(q[1]) <= half[1] && std::fabs(q[2]) <= half[2];
+  float s = 0.0f;
+  for (int a = 0; a < 3; ++a) {
+    if (!(half[a] > 0.0f)) return false;
+    s += (q[a] / half[a]) * (q[a] / half[a]);
+  }
+  return s <= 1.0f;
+}
+
+OrientedShape OrientedShape::grown(float d) const {
+  OrientedShape s = *this;
+  for (float& h : s.half) h += d;
+  return s;
+}
+
+bool SubjectVolume::contains(const Vec3f& p) const {
+  if (clip && !clip->contains(p)) return false;
+  for (const OrientedShape& s : parts)
+    if (s.contains(p)) return true;
+  return false;
+}
+
+SubjectVolume SubjectVolume::grown(float d) const {
+  SubjectVolume v = *this;
+  for (OrientedShape& s : v.parts) s = s.grown(d);
+  if (v.clip) v.clip = v.clip->grown(d);
+  return v;
+}
+
+std::vector<uint32_t> volume_occupancy_mask(const SubjectVolume& volume, const Aabb& box, uint32_t res) {
+  std::vector<uint32_t> bits(occ_word_count(res), 0u);
+  for (uint32_t z = 0; z < res; ++z)
+    for (uint32_t y = 0; y < res; ++y)
+      for (uint32_t x = 0; x < res; ++x) {
+        const uint32_t q[3] = {x, y, z};
+        bool any = false;
+        for (int k = 0; k < 9 && !any; ++k) {  // the 8 corners, then the centre
+          Vec3f p;
+          for (int a = 0; a < 3; ++a) {
+            const float f = k == 8 ? 0.5f : float((k >> a) & 1);
+            p[a] = box.min[a] + (float(q[a]) + f) / float(res) * box.extent(a);
+          }
+          any = volume.contains(p);
+        }
+        const uint32_t cell = x + res * (y + res * z);
+        if (any) bits[cell >> 5] |= 1u << (cell & 31u);
+      }
+  return bits;
+}
+
+uint64_t mask_count(const std::vector<uint32_t>& mask) {
+  uint64_t n = 0;
+  for (uint32_t w : mask) n += static_cast<uint64_t>(__builtin_popcount(w));
+  return n;
+}
+
+}  // namespace lorgnette::nerf

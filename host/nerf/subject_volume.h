@@ -1,0 +1,54 @@
+// The space a subject may occupy inside its model's box, when more is known than the box: a union
+// of oriented ellipsoids and boxes (scene units), optionally clipped to one oriented box, and the
+// permanent occupancy mask it gives the subject's model (cells outside never hold density, in
+// training, in the subject region and in every render). A model's box is axis-aligned; a subject
+// placed at an angle in it (a head tilted in the scene's axes) leaves corners that are not subject
+// but that a mask-less capture fills with whatever is behind it (the wall). The NeRF core knows
+// nothing about faces: capture/head_volume.h builds the volume of a head from its landmark box.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "host/nerf/snapshot.h"
+
+namespace lorgnette::nerf {
+
+using Vec3f = std::array<float, 3>;
+
+struct OrientedShape {
+  enum class Kind : uint8_t { Box, Ellipsoid };
+  Kind kind = Kind::Box;
+  Vec3f center{0.0f, 0.0f, 0.0f};
+  // The shape's own axes in scene coordinates (unit, orthogonal), and its half sizes along them.
+  std::array<Vec3f, 3> axes{{{1.0f, 0.0f, 0.0f}, {0.0f, 1.0f, 0.0f}, {0.0f, 0.0f, 1.0f}}};
+  Vec3f half{0.0f, 0.0f, 0.0f};
+
+  Vec3f local(const Vec3f& p) const;  // p in the shape's axes, relative to its centre
+  bool contains(const Vec3f& p) const;
+  // The same shape with every half size grown by `d` (scene units).
+  OrientedShape grown(float d) const;
+};
+
+struct SubjectVolume {
+  std::vector<OrientedShape> parts;   // union
+  std::optional<OrientedShape> clip;  // the union is intersected with this (e.g. the oriented head box)
+  std::string what;                   // one line for logs: what the volume is
+
+  bool contains(const Vec3f& p) const;
+  bool empty() const { return parts.empty(); }
+  // Every part and the clip grown by `d` (scene units).
+  SubjectVolume grown(float d) const;
+};
+
+// The occupancy mask of `volume` over `box` at res^3 cells (occ_word_count(res) words, the grid's
+// cell order): a cell is allowed when its centre or one of its 8 corners lies in the volume, so no
+// cell the volume reaches into is lost at the grid's resolution.
+std::vector<uint32_t> volume_occupancy_mask(const SubjectVolume& volume, const Aabb& box, uint32_t res);
+
+// Cells allowed by a mask (for logs and tests).
+uint64_t mask_count(const std::vector<uint32_t>& mask);
+
+}  // namespace lorgnette::nerf

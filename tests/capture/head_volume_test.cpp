@@ -1,0 +1,136 @@
+// The head volume (capture/head_volume.h) keeps the head and drops the box's corners: every vertex
+// of procedural heads with neck and shoulders (random shapes, seeds 0-5) that lies in the oriented
+// head box is inside the head volume, with the head upright and tilted in the scene; the 68 points
+// of the mean face are inside with a 10 mm margin; and the volume's occupancy mask over the box's
+// axis-aligned bounds leaves out the corners that the tilt adds (the wall's place on fangzhou-frontal,
+// docs/bench/real-captures.md).
+#include "capture/head_volume.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+
+#include "fit/landmark_ids.h"
+#include "fit/mean_face.h"
+#include "synth/subject.h"
+
+namespace lorgnette::capture {
+namespace {
+
+nerf::Vec3f vec(const Eigen::Vector3d& p) { return {float(p.x()), float(p.y()), float(p.z())}; }
+
+// The head box of a procedural subject from its true head frame (rotated by `rot` in the scene),
+// anchored as fit::estimate_head_box anchors it (the eye corners' centroid, at the inner corners'
+// depth), and the subject's vertices in that scene.
+struct PlacedHead {
+  fit::HeadBox box;
+  std::vector<Eigen::Vector3d> vertices;
+};
+
+PlacedHead place(const synth::Subject& s, const Eigen::Matrix3d& rot) {
+  const double mpu = *s.mm_per_unit;
+  auto scene = [&](const Eigen::Vector3f& dataset_point) {
+    return Eigen::Vector3d(rot * dataset_point.cast<double>());
+  };
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  for (int k : {fit::lm::kEyeOuterR, fit::lm::kEyeInnerR, fit::lm::kEyeInnerL, fit::lm::kEyeOuterL})
+    centroid += 0.25 * scene(s.ibug68[k]);
+  const Eigen::Vector3d inner =
+      0.5 * (scene(s.ibug68[fit::lm::kEyeInnerR]) + scene(s.ibug68[fit::lm::kEyeInnerL]));
+  fit::HeadFrame head;
+  head.d_eye = rot.col(0), head.d_up = rot.col(1), head.d_fwd = rot.col(2);
+  head.mm_per_unit = mpu;
+  const Eigen::Vector3d anchor = centroid + head.d_fwd * head.d_fwd.dot(inner - centroid);
+  PlacedHead out{fit::head_box_from_frame(head, anchor, fit::HeadExtents{}), {}};
+  for (const auto& v : s.mesh.positions)
+    out.vertices.push_back(scene(synth::transform_point(s.mesh_to_dataset, v)));
+  return out;
+}
+
+// Vertices in the oriented box but outside the head volume.
+int cut_vertices(const PlacedHead& h, int* in_box) {
+  nerf::SubjectVolume box = head_volume(h.box, HeadVolumeShape::OrientedBox), vol = head_volume(h.box);
+  int cut = 0;
+  *in_box = 0;
+  for (const auto& v : h.vertices) {
+    if (!box.contains(vec(v))) continue;
+    ++*in_box;
+    cut += !vol.contains(vec(v));
+  }
+  return cut;
+}
+
+TEST(HeadVolume, KeepsProceduralHeadsUprightAndTilted) {
+  const Eigen::Matrix3d tilt =
+      (Eigen::AngleAxisd(0.45, Eigen::Vector3d::UnitX()) * Eigen::AngleAxisd(-0.3, Eigen::Vector3d::UnitY()) *
+       Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitZ()))
+          .toRotationMatrix();
+  for (int seed = 0; seed < 6; ++seed) {
+    synth::Subject s =
+        synth::procedural_subject(synth::random_head_params(seed), synth::HeadMeshOptions{96, 48, 256}, true);
+    for (const Eigen::Matrix3d& rot : {Eigen::Matrix3d(Eigen::Matrix3d::Identity()), tilt}) {
+      int in_box = 0;
+      EXPECT_EQ(cut_vertices(place(s, rot), &in_box), 0) << "seed " << seed;
+      EXPECT_GT(in_box, 1000) << "seed " << seed;
+    }
+  }
+}
+
+TEST(HeadVolume, MeanFaceInsideWithMargin) {
+  nerf::SubjectVolume vol = head_volume_mm(fit::HeadExtents{});
+  const fit::Face68& face = fit::builtin_mean_face();
+  ASSERT_EQ(face.size(), 68u);
+  // The mean face is in mm about its own origin; move it so its eye anchor is the volume's origin.
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  for (int k : {fit::lm::kEyeOuterR, fit::lm::kEyeInnerR, fit::lm::kEyeInnerL, fit::lm::kEyeOuterL})
+    centroid += 0.25 * face[k];
+  Eigen::Vector3d anchor = centroid;
+  anchor.z() = 0.5 * (face[fit::lm::kEyeInnerR].z() + face[fit::lm::kEyeInnerL].z());
+  for (int k = 0; k < 68; ++k)
+    for (int a = 0; a < 3; ++a)
+      for (double d : {-10.0, 10.0}) {
+        Eigen::Vector3d p = face[k] - anchor;
+        p[a] += d;
+        EXPECT_TRUE(vol.contains(vec(p))) << "landmark " << k << " moved " << d << " mm along axis " << a;
+      }
+}
+
+TEST(HeadVolume, MaskDropsTheTiltedBoxCorners) {
+  // A head pitched 25 deg (as fangzhou-frontal's is in its scene): the axis-aligned box gains
+  // corners; the oriented box's mask drops them, the head volume drops more and keeps the head.
+  synth::Subject s =
+      synth::procedural_subject(synth::random_head_params(0), synth::HeadMeshOptions{96, 48, 256}, true);
+  PlacedHead h = place(s, Eigen::AngleAxisd(0.44, Eigen::Vector3d::UnitX()).toRotationMatrix());
+  nerf::Aabb aabb;
+  for (int a = 0; a < 3; ++a) aabb.min[a] = float(h.box.min[a]), aabb.max[a] = float(h.box.max[a]);
+  const uint32_t res = 64;
+  const double cells = double(res) * res * res;
+  nerf::SubjectVolume box = head_volume(h.box, HeadVolumeShape::OrientedBox), vol = head_volume(h.box);
+  const double box_share = double(nerf::mask_count(nerf::volume_occupancy_mask(box, aabb, res))) / cells;
+  const double vol_share = double(nerf::mask_count(nerf::volume_occupancy_mask(vol, aabb, res))) / cells;
+  // Oriented box / its bounds at 25 deg about x: (y z) / ((y cos + z sin)(y sin + z cos)) with the
+  // box's 340 x 284 mm side: 96560 / (428 x 401) = 0.56, plus the boundary cells (~+0.05).
+  EXPECT_GT(box_share, 0.5);
+  EXPECT_LT(box_share, 0.66);
+  EXPECT_LT(vol_share, box_share - 0.05);
+  std::vector<uint32_t> mask = nerf::volume_occupancy_mask(vol, aabb, res);
+  int lost = 0;
+  for (const auto& v : h.vertices) {
+    int idx[3];
+    bool inside = true;
+    for (int a = 0; a < 3; ++a) {
+      double f = (v[a] - aabb.min[a]) / aabb.extent(a);
+      inside = inside && f >= 0.0 && f < 1.0;
+      idx[a] = std::clamp(int(f * res), 0, int(res) - 1);
+    }
+    if (!inside || !box.contains(vec(v))) continue;
+    uint32_t cell = uint32_t(idx[0]) + res * (uint32_t(idx[1]) + res * uint32_t(idx[2]));
+    lost += !((mask[cell >> 5] >> (cell & 31u)) & 1u);
+  }
+  EXPECT_EQ(lost, 0) << "head vertices in cells the mask drops";
+}
+
+}  // namespace
+}  // namespace lorgnette::capture

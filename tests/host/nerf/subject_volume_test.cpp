@@ -1,0 +1,156 @@
+// The subject volume's geometry and occupancy mask (host/nerf/subject_volume.h) against analytic
+// shapes: a rotated box and a rotated ellipsoid, written here independently as quadratic forms on
+// rotation matrices built from Euler angles. Every cell whose centre lies in the shape must be
+// allowed; every cell farther outside than its half diagonal must not (for the ellipsoid: outside
+// the ellipsoid scaled by 1 + half diagonal / shortest semi-axis, which holds that neighbourhood);
+// and the allowed volume lies between the shape's and that grown shape's.
+#include "host/nerf/subject_volume.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace lorgnette::nerf {
+namespace {
+
+using Mat3 = std::array<Vec3f, 3>;
+
+// Rows: the rotated frame's axes in scene coordinates (R = Rz(c) Ry(b) Rx(a), rows of R^T).
+Mat3 rotation_rows(double a, double b, double c) {
+  const double ca = std::cos(a), sa = std::sin(a), cb = std::cos(b), sb = std::sin(b), cc = std::cos(c),
+               sc = std::sin(c);
+  const double R[3][3] = {{cc * cb, cc * sb * sa - sc * ca, cc * sb * ca + sc * sa},
+                          {sc * cb, sc * sb * sa + cc * ca, sc * sb * ca - cc * sa},
+                          {-sb, cb * sa, cb * ca}};
+  Mat3 rows;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) rows[i][j] = float(R[j][i]);  // column i of R
+  return rows;
+}
+
+// Local coordinates of p, computed in double (independent of OrientedShape::local).
+std::array<double, 3> local(const Vec3f& p, const Vec3f& c, const Mat3& rows) {
+  std::array<double, 3> q{};
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) q[i] += double(rows[i][j]) * (double(p[j]) - double(c[j]));
+  return q;
+}
+
+struct Counts {
+  int inside = 0, far_outside = 0, allowed = 0;
+};
+
+// Checks the mask of `shape` over `box` against the analytic inside test `in(local, grow)`, where
+// grow scales the shape (1 = the shape itself).
+template <typename Inside>
+Counts check_mask(const OrientedShape& shape, const Aabb& box, uint32_t res, Inside in) {
+  SubjectVolume v;
+  v.parts.push_back(shape);
+  std::vector<uint32_t> mask = volume_occupancy_mask(v, box, res);
+  EXPECT_EQ(mask.size(), size_t((res * res * res + 31) / 32));
+  double half_diag = 0.0;
+  for (int a = 0; a < 3; ++a) half_diag += std::pow(0.5 * box.extent(a) / res, 2);
+  half_diag = std::sqrt(half_diag);
+  const double shortest = std::min({shape.half[0], shape.half[1], shape.half[2]});
+  const double grow = 1.0 + half_diag / shortest;
+  Counts n;
+  for (uint32_t z = 0; z < res; ++z)
+    for (uint32_t y = 0; y < res; ++y)
+      for (uint32_t x = 0; x < res; ++x) {
+        const uint32_t cell = x + res * (y + res * z), q[3] = {x, y, z};
+        Vec3f p;
+        for (int a = 0; a < 3; ++a) p[a] = box.min[a] + (float(q[a]) + 0.5f) / float(res) * box.extent(a);
+        const bool allowed = (mask[cell >> 5] >> (cell & 31u)) & 1u;
+        const auto l = local(p, shape.center, shape.axes);
+        n.allowed += allowed;
+        if (in(l, 1.0)) {
+          ++n.inside;
+          EXPECT_TRUE(allowed) << "cell " << x << "," << y << "," << z << " has its centre inside";
+        } else if (!in(l, grow)) {
+          ++n.far_outside;
+          EXPECT_FALSE(allowed) << "cell " << x << "," << y << "," << z << " lies wholly outside";
+        }
+      }
+  EXPECT_EQ(mask_count(mask), uint64_t(n.allowed));
+  return n;
+}
+
+TEST(SubjectVolume, RotatedBoxMask) {
+  OrientedShape s;
+  s.kind = OrientedShape::Kind::Box;
+  s.center = {0.1f, -0.2f, 0.05f};
+  s.axes = rotation_rows(0.4, -0.7, 1.1);
+  s.half = {0.5f, 0.3f, 0.2f};
+  Aabb box;
+  box.min = {-1.0f, -1.0f, -1.0f}, box.max = {1.0f, 1.0f, 1.0f};
+  auto in = [&](const std::array<double, 3>& l, double g) {
+    // A box grown by a factor's worth of its shortest side keeps every point within that distance.
+    const double d = (g - 1.0) * 0.2;
+    return std::fabs(l[0]) <= 0.5 + d && std::fabs(l[1]) <= 0.3 + d && std::fabs(l[2]) <= 0.2 + d;
+  };
+  Counts n = check_mask(s, box, 48, in);
+  // Volume 0.24 of the box's 8 at 48^3: ~3318 cells inside; the grown box bounds the allowed ones.
+  EXPECT_GT(n.inside, 2500);
+  EXPECT_GT(n.far_outside, 90000);
+  const double cell = std::pow(2.0 / 48.0, 3), d = std::sqrt(3.0) / 48.0;
+  EXPECT_GE(n.allowed * cell, 0.24);
+  EXPECT_LE(n.allowed * cell, 8.0 * (0.5 + d) * (0.3 + d) * (0.2 + d));
+  // contains() agrees with the analytic test on points just inside and outside each face.
+  for (int a = 0; a < 3; ++a)
+    for (double sign : {-1.0, 1.0})
+      for (double f : {0.98, 1.02}) {
+        Vec3f p = s.center;
+        for (int k = 0; k < 3; ++k) p[k] += float(sign * f * s.half[a] * s.axes[a][k]);
+        EXPECT_EQ(s.contains(p), f < 1.0) << "axis " << a << " sign " << sign << " factor " << f;
+      }
+}
+
+TEST(SubjectVolume, RotatedEllipsoidMask) {
+  OrientedShape s;
+  s.kind = OrientedShape::Kind::Ellipsoid;
+  s.center = {-0.15f, 0.1f, 0.2f};
+  s.axes = rotation_rows(-0.3, 0.5, 2.0);
+  s.half = {0.7f, 0.45f, 0.3f};
+  Aabb box;  // not a cube: cells are not cubes either
+  box.min = {-1.0f, -0.8f, -0.6f}, box.max = {1.0f, 0.9f, 1.0f};
+  auto in = [&](const std::array<double, 3>& l, double g) {
+    double r = 0.0;
+    for (int a = 0; a < 3; ++a) r += std::pow(l[a] / (g * s.half[a]), 2);
+    return r <= 1.0;
+  };
+  const uint32_t res = 40;
+  Counts n = check_mask(s, box, res, in);
+  const double volume = 4.0 / 3.0 * M_PI * 0.7 * 0.45 * 0.3;
+  const double cell = double(box.extent(0)) * box.extent(1) * box.extent(2) / double(res * res * res);
+  double half_diag =
+      0.5 * std::sqrt(std::pow(2.0 / res, 2) + std::pow(1.7 / res, 2) + std::pow(1.6 / res, 2));
+  const double g = 1.0 + half_diag / 0.3;
+  EXPECT_GT(n.inside, 0.9 * volume / cell);
+  EXPECT_GE(n.allowed * cell, volume);
+  EXPECT_LE(n.allowed * cell, volume * g * g * g);
+  EXPECT_GT(n.far_outside, 40000);
+}
+
+TEST(SubjectVolume, UnionClipAndGrowth) {
+  // Two spheres side by side, clipped to a slab: points in either sphere and in the slab are in.
+  SubjectVolume v;
+  OrientedShape a, b, slab;
+  a.kind = b.kind = OrientedShape::Kind::Ellipsoid;
+  a.center = {-0.5f, 0.0f, 0.0f}, b.center = {0.5f, 0.0f, 0.0f};
+  a.half = b.half = {0.4f, 0.4f, 0.4f};
+  slab.center = {0.0f, 0.0f, 0.0f}, slab.half = {2.0f, 0.2f, 2.0f};
+  v.parts = {a, b};
+  v.clip = slab;
+  EXPECT_TRUE(v.contains({-0.5f, 0.1f, 0.0f}));
+  EXPECT_TRUE(v.contains({0.8f, -0.15f, 0.0f}));
+  EXPECT_FALSE(v.contains({0.0f, 0.0f, 0.0f}));   // between the spheres
+  EXPECT_FALSE(v.contains({-0.5f, 0.3f, 0.0f}));  // in a sphere, outside the slab
+  SubjectVolume g = v.grown(0.15f);
+  EXPECT_TRUE(g.contains({0.0f, 0.0f, 0.0f}));   // the spheres now reach 0.55 from their centres
+  EXPECT_TRUE(g.contains({-0.5f, 0.3f, 0.0f}));  // the slab now reaches 0.35
+  EXPECT_TRUE(SubjectVolume{}.empty());
+  EXPECT_FALSE(SubjectVolume{}.contains({0.0f, 0.0f, 0.0f}));
+}
+
+}  // namespace
+}  // namespace lorgnette::nerf
