@@ -5,12 +5,18 @@
 //   edge   opacity within 2 px of the true matte's outline (anti-aliasing, a soft silhouette);
 //   below  farther out, below the chin (the lowest of the 68 true landmarks): haze under the jaw;
 //   other  farther out elsewhere (floaters, room density left in the box).
+// edge is also split into the outline's own anti-aliased pixels (0 < matte < 1) and the room pixels
+// (matte 0) within 2 px; beside the product's leak (opacity x (1 - matte)) it reports the leak beyond
+// the matte's coverage (max(0, opacity - matte), MatteScore::leak_excess), which a render whose
+// opacity equals the anti-aliased matte does not pay, and the mean opacity against the distance from
+// the matte's outline (room_matte_profile.csv / .png), which tells a 1-px soft silhouette from haze.
 // --min-alpha a,b,...: also score the model with every occupancy cell whose density gives less than
 // that opacity over one marching step cleared (the subject region's threshold at extraction; 0 =
 // the model as saved), to see which threshold the metric supports.
 // Usage: bench_room_matte OUT_DIR --case NAME MODEL.lnerf DATASET [--case ...] [--min-alpha 0,0.1]
 //        [--sheet-views N]
-// Writes OUT_DIR/room_matte.csv (one row per case and threshold) and OUT_DIR/<case>_sheet.png
+// Writes OUT_DIR/room_matte.csv (one row per case and threshold), OUT_DIR/room_matte_profile.csv
+// and .png (opacity by distance from the outline) and OUT_DIR/<case>_sheet.png
 // (per held-out view: prediction over white | photo | opacity error: red = opacity where the
 // matte is room, blue = subject the prediction misses).
 #include <fmt/format.h>
@@ -49,43 +55,25 @@ struct HeldOut {
 
 struct LeakSplit {
   double edge = 0, below = 0, other = 0;  // fractions of the subject's pixels, like MatteScore::leak
+  // edge = outline + ring: the outline's own pixels (0 < matte < 1, the anti-aliased ones) and the
+  // room pixels (matte 0) within 2 px of the matte.
+  double outline = 0, ring = 0;
   double floor = 0;  // the leak of a render whose opacity equals the matte (its anti-aliased outline)
+  // max(0, opacity - matte) (MatteScore::leak_excess) within 2 px of the matte, and farther out
+  double excess_edge = 0, excess_far = 0;
 };
 
-// The leak of one view, split by where it lies (see the file comment). Same region rule as
-// score_matte: matte pixels whose subject point lies outside the model's box are not judged.
-LeakSplit split_leak(const Image& pred, const HeldOut& h, const std::vector<Eigen::Vector3f>& face,
-                     long subject_pixels) {
-  const Camera& cam = h.frame->camera;
-  const int w = h.matte.width, ht = h.matte.height;
-  cv::Mat inside(ht, w, CV_8U);
-  for (int y = 0; y < ht; ++y)
-    for (int x = 0; x < w; ++x) inside.at<uint8_t>(y, x) = h.matte.at(x, y, 0) >= 0.5f ? 255 : 0;
-  cv::Mat near;
-  cv::dilate(inside, near, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(5, 5)));
-  float chin_v = -1e30f;
-  for (const auto& p : face) {
-    float u, v;
-    if (camera_project(&cam, lgn_vec3(p.x(), p.y(), p.z()), &u, &v) > 0.0f) chin_v = std::max(chin_v, v);
-  }
-  LeakSplit s;
-  for (int y = 0; y < ht; ++y)
-    for (int x = 0; x < w; ++x) {
-      const double m = h.matte.at(x, y, 0), a = pred.at(x, y, 3);
-      const double leak = a * (1.0 - m);
-      s.floor += m * (1.0 - m);
-      if (leak <= 0.0) continue;
-      if (near.at<uint8_t>(y, x))
-        s.edge += leak;
-      else if (y + 0.5f > chin_v)
-        s.below += leak;
-      else
-        s.other += leak;
-    }
-  const double n = subject_pixels ? double(subject_pixels) : 1.0;
-  s.edge /= n, s.below /= n, s.other /= n, s.floor /= n;
-  return s;
-}
+// Opacity against the signed distance (px) from the true matte's outline (matte >= 0.5): negative
+// inside the subject, positive in the room; one bin per pixel of distance, summed over views.
+constexpr int kProfileMin = -4, kProfileMax = 10;
+struct Profile {
+  struct Bin {
+    long pixels = 0;
+    double opacity = 0, matte = 0, leak = 0, excess = 0;
+  };
+  std::vector<Bin> bins = std::vector<Bin>(kProfileMax - kProfileMin + 1);
+  long subject_pixels = 0;
+};
 
 // True where the matte's subject point lies outside the model's box (score_matte does not judge it).
 bool outside_box(const HeldOut& h, const nerf::Aabb& box, int x, int y) {
@@ -97,6 +85,58 @@ bool outside_box(const HeldOut& h, const nerf::Aabb& box, int x, int y) {
   for (int k = 0; k < 3; ++k)
     if (p[k] < box.min[k] || p[k] > box.max[k]) return true;
   return false;
+}
+
+// The leak of one view, split by where it lies (see the file comment), and its opacity profile
+// across the outline. Same region rule as score_matte: matte pixels whose subject point lies
+// outside the model's box are not judged.
+LeakSplit split_leak(const Image& pred, const HeldOut& h, const nerf::Aabb& box,
+                     const std::vector<Eigen::Vector3f>& face, long subject_pixels, Profile& profile) {
+  const Camera& cam = h.frame->camera;
+  const int w = h.matte.width, ht = h.matte.height;
+  cv::Mat inside(ht, w, CV_8U), room(ht, w, CV_8U);
+  for (int y = 0; y < ht; ++y)
+    for (int x = 0; x < w; ++x) {
+      const bool t = h.matte.at(x, y, 0) >= 0.5f;
+      inside.at<uint8_t>(y, x) = t ? 255 : 0;
+      room.at<uint8_t>(y, x) = t ? 0 : 255;
+    }
+  cv::Mat near, dist_out, dist_in;
+  cv::dilate(inside, near, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(5, 5)));
+  cv::distanceTransform(room, dist_out, cv::DIST_L2, cv::DIST_MASK_PRECISE);   // room px to the subject
+  cv::distanceTransform(inside, dist_in, cv::DIST_L2, cv::DIST_MASK_PRECISE);  // subject px to the room
+  float chin_v = -1e30f;
+  for (const auto& p : face) {
+    float u, v;
+    if (camera_project(&cam, lgn_vec3(p.x(), p.y(), p.z()), &u, &v) > 0.0f) chin_v = std::max(chin_v, v);
+  }
+  LeakSplit s;
+  for (int y = 0; y < ht; ++y)
+    for (int x = 0; x < w; ++x) {
+      if (outside_box(h, box, x, y)) continue;
+      const double m = h.matte.at(x, y, 0), a = pred.at(x, y, 3);
+      const double leak = a * (1.0 - m), excess = std::max(0.0, a - m);
+      const float d = m >= 0.5 ? -dist_in.at<float>(y, x) : dist_out.at<float>(y, x);
+      const int bin = std::clamp(int(std::lround(d)), kProfileMin, kProfileMax) - kProfileMin;
+      Profile::Bin& b = profile.bins[size_t(bin)];
+      ++b.pixels, b.opacity += a, b.matte += m, b.leak += leak, b.excess += excess;
+      s.floor += m * (1.0 - m);
+      const bool is_near = near.at<uint8_t>(y, x) != 0;
+      (is_near ? s.excess_edge : s.excess_far) += excess;
+      if (leak <= 0.0) continue;
+      if (is_near)
+        (m > 0.0 ? s.outline : s.ring) += leak;
+      else if (y + 0.5f > chin_v)
+        s.below += leak;
+      else
+        s.other += leak;
+    }
+  profile.subject_pixels += subject_pixels;
+  const double n = subject_pixels ? double(subject_pixels) : 1.0;
+  s.outline /= n, s.ring /= n, s.below /= n, s.other /= n, s.floor /= n;
+  s.excess_edge /= n, s.excess_far /= n;
+  s.edge = s.outline + s.ring;
+  return s;
 }
 
 // prediction over white | photo | opacity error (grey: not judged, the body below the box), one
@@ -190,7 +230,9 @@ int main(int argc, char** argv) {
   cl::Runtime rt;
   render::Renderer renderer(rt);
   std::unique_ptr<fit::LandmarkDetector> dlib;  // loaded for the first case without true landmarks
-  std::vector<std::vector<std::string>> csv;
+  std::vector<std::vector<std::string>> csv, profile_csv;
+  std::vector<ChartSeries> profile_series;  // mean opacity by distance from the outline, one per case
+  ChartSeries matte_series{"true matte (first case)", {}, {}};
   for (const Case& c : cases) {
     nerf::NerfModel model = nerf::NerfModel::load(rt, c.model);
     dataset::LoadOptions lo;
@@ -218,6 +260,7 @@ int main(int argc, char** argv) {
       threshold_occupancy(model, saved, alpha);
       std::vector<render::MatteScore> scores;
       LeakSplit leak;
+      Profile profile;
       std::vector<cv::Mat> rows;
       double dlib_psnr = 0.0;
       int dlib_faces = 0;
@@ -229,10 +272,11 @@ int main(int argc, char** argv) {
         scores.push_back(render::score_matte(v, model.aabb()));
         if (face.empty())
           if (auto f = detected_face_psnr(pred, h.frame->image, *dlib)) dlib_psnr += *f, ++dlib_faces;
-        LeakSplit s = split_leak(pred, h, face, scores.back().subject_pixels);
-        leak.edge += s.edge / held.size(), leak.below += s.below / held.size(),
-            leak.other += s.other / held.size();
-        leak.floor += s.floor / held.size();
+        LeakSplit s = split_leak(pred, h, model.aabb(), face, scores.back().subject_pixels, profile);
+        const double k = 1.0 / double(held.size());
+        leak.edge += k * s.edge, leak.below += k * s.below, leak.other += k * s.other;
+        leak.outline += k * s.outline, leak.ring += k * s.ring, leak.floor += k * s.floor;
+        leak.excess_edge += k * s.excess_edge, leak.excess_far += k * s.excess_far;
         if (int(rows.size()) < sheet_views && alpha == alphas.front())
           rows.push_back(sheet_row(pred, h, model.aabb()));
       }
@@ -244,16 +288,34 @@ int main(int argc, char** argv) {
       const uint64_t occupied = model.occupancy().occupied_count();
       std::cerr << fmt::format(
           "{} min-alpha {:.3f}: IoU {:.4f}, leak {:.2f} % (edge {:.2f}, below chin {:.2f}, other {:.2f}; "
-          "the matte's own {:.2f}), face PSNR {:.2f} dB ({}), {} views, {} occupied cells\n",
+          "the matte's own {:.2f}); beyond the matte's coverage {:.2f} % (edge {:.2f}, farther {:.2f}); "
+          "face PSNR {:.2f} dB ({}), {} views, {} occupied cells\n",
           c.name, alpha, m.iou, 100 * m.leak, 100 * leak.edge, 100 * leak.below, 100 * leak.other,
-          100 * leak.floor, m.face_psnr, face_region, scores.size(), occupied);
-      csv.push_back({c.name, fmt::format("{:.3f}", alpha), fmt::format("{:.4f}", m.iou),
-                     fmt::format("{:.4f}", m.leak), fmt::format("{:.4f}", leak.edge),
-                     fmt::format("{:.4f}", leak.below), fmt::format("{:.4f}", leak.other),
-                     fmt::format("{:.4f}", leak.floor), fmt::format("{:.3f}", m.face_psnr), face_region,
-                     std::to_string(scores.size()), std::to_string(occupied),
-                     std::to_string(model.metadata.steps),
-                     fmt::format("{:.1f}", model.metadata.train_seconds)});
+          100 * leak.floor, 100 * m.leak_excess, 100 * leak.excess_edge, 100 * leak.excess_far, m.face_psnr,
+          face_region, scores.size(), occupied);
+      csv.push_back(
+          {c.name, fmt::format("{:.3f}", alpha), fmt::format("{:.4f}", m.iou), fmt::format("{:.4f}", m.leak),
+           fmt::format("{:.4f}", leak.edge), fmt::format("{:.4f}", leak.below),
+           fmt::format("{:.4f}", leak.other), fmt::format("{:.4f}", leak.floor),
+           fmt::format("{:.3f}", m.face_psnr), face_region, std::to_string(scores.size()),
+           std::to_string(occupied), std::to_string(model.metadata.steps),
+           fmt::format("{:.1f}", model.metadata.train_seconds), fmt::format("{:.4f}", m.leak_excess),
+           fmt::format("{:.4f}", leak.excess_edge), fmt::format("{:.4f}", leak.excess_far),
+           fmt::format("{:.4f}", leak.outline), fmt::format("{:.4f}", leak.ring)});
+      ChartSeries opacity_series{c.name, {}, {}};
+      for (int b = 0; b < int(profile.bins.size()); ++b) {
+        const Profile::Bin& bin = profile.bins[size_t(b)];
+        if (!bin.pixels) continue;
+        const double n = double(bin.pixels), subj = double(std::max(1L, profile.subject_pixels));
+        profile_csv.push_back({c.name, fmt::format("{:.3f}", alpha), std::to_string(b + kProfileMin),
+                               std::to_string(bin.pixels), fmt::format("{:.4f}", bin.opacity / n),
+                               fmt::format("{:.4f}", bin.matte / n), fmt::format("{:.5f}", bin.leak / subj),
+                               fmt::format("{:.5f}", bin.excess / subj)});
+        opacity_series.x.push_back(b + kProfileMin), opacity_series.y.push_back(bin.opacity / n);
+        if (profile_series.empty())
+          matte_series.x.push_back(b + kProfileMin), matte_series.y.push_back(bin.matte / n);
+      }
+      if (alpha == alphas.front()) profile_series.push_back(std::move(opacity_series));
       if (!rows.empty()) {
         cv::Mat sheet;
         cv::vconcat(rows, sheet);
@@ -264,7 +326,20 @@ int main(int argc, char** argv) {
   write_csv(
       out + "/room_matte.csv",
       {"case", "min_alpha", "iou", "leak", "leak_edge", "leak_below_chin", "leak_other", "leak_of_true_matte",
-       "face_psnr_db", "face_region", "views", "occupied_cells", "steps", "train_seconds"},
+       "face_psnr_db", "face_region", "views", "occupied_cells", "steps", "train_seconds", "leak_excess",
+       "leak_excess_edge", "leak_excess_far", "leak_outline", "leak_ring"},
       csv);
+  // Summed over views: leak and leak_excess are the bin's share of the subject's pixels.
+  write_csv(
+      out + "/room_matte_profile.csv",
+      {"case", "min_alpha", "distance_px", "pixels", "mean_opacity", "mean_matte", "leak", "leak_excess"},
+      profile_csv);
+  if (!profile_series.empty()) {
+    profile_series.push_back(matte_series);
+    write_chart(out + "/room_matte_profile.png",
+                {"opacity across the true matte's outline (held-out views, model as saved)",
+                 "px from the outline (< 0: subject; 10: 10 and farther)", "mean opacity"},
+                profile_series);
+  }
   return 0;
 }

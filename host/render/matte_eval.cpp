@@ -1,6 +1,7 @@
 // Matte scores of a render against a synthetic capture's truth; see matte_eval.h.
 #include "host/render/matte_eval.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <opencv2/imgproc.hpp>
@@ -35,7 +36,7 @@ MatteScore score_matte(const MatteView& v, const nerf::Aabb& box) {
     throw std::runtime_error("score_matte: the prediction must be RGBA of the matte's size");
   const LgnVec3 o = camera_origin(&v.camera);
   long inter = 0, uni = 0, subject = 0;
-  double leak = 0.0;
+  double leak = 0.0, excess = 0.0;
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
       const float m = matte.at(x, y, 0), a = pred.at(x, y, 3);
@@ -54,10 +55,12 @@ MatteScore score_matte(const MatteView& v, const nerf::Aabb& box) {
       uni += t || p;
       subject += t;
       leak += double(a) * (1.0 - m);
+      excess += std::max(0.0, double(a) - double(m));
     }
   MatteScore s;
   s.iou = uni ? double(inter) / double(uni) : 1.0;
   s.leak = subject ? leak / double(subject) : 0.0;
+  s.leak_excess = subject ? excess / double(subject) : 0.0;
   s.subject_pixels = subject;
   if (!v.face_points.empty() && v.truth) {
     cv::Mat mask = face_mask(v.camera, v.face_points);
@@ -84,6 +87,7 @@ MatteScore mean_score(const std::vector<MatteScore>& scores) {
   for (const auto& s : scores) {
     m.iou += s.iou / double(scores.size());
     m.leak += s.leak / double(scores.size());
+    m.leak_excess += s.leak_excess / double(scores.size());
     m.subject_pixels += s.subject_pixels;
     if (s.face_pixels) m.face_psnr += s.face_psnr, m.face_pixels += s.face_pixels, ++faces;
   }

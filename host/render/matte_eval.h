@@ -26,8 +26,13 @@ struct MatteView {
 };
 
 struct MatteScore {
-  double iou = 0.0;        // |pred >= 0.5 and matte >= 0.5| / |either|, in the region
-  double leak = 0.0;       // sum of opacity * (1 - matte) / subject pixels, in the region
+  double iou = 0.0;   // |pred >= 0.5 and matte >= 0.5| / |either|, in the region
+  double leak = 0.0;  // sum of opacity * (1 - matte) / subject pixels, in the region
+  // sum of max(0, opacity - matte) / subject pixels, in the region: the opacity a pixel holds beyond
+  // the subject's coverage of it. `leak` counts a * (1 - m) as if the opacity were spread over the
+  // pixel independently of where the subject lies in it, so a render whose opacity equals the
+  // anti-aliased matte (a = m on the outline) scores sum m (1 - m) > 0 there; this one scores 0.
+  double leak_excess = 0.0;
   double face_psnr = 0.0;  // sRGB PSNR inside the face hull (0 when no face points)
   long subject_pixels = 0, face_pixels = 0;
 };
