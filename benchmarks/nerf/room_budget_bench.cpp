@@ -9,7 +9,7 @@
 // as `train` saves them.
 //
 // Usage: bench_room_budget DATASET OUT_DIR --arm NAME:KEY=VALUE,... [--arm ...] [--every 100]
-//        [--seed 1337] [--views N]
+//        [--seed 1337] [--views N] [--save]
 // Keys: bg=on|off (room model; default on), steps=N (default 1200), table=LOG2 (hash table),
 //       finest=N (finest grid), levels=N, room_batch=X (room model's samples per step relative to the
 //       subject's batch), room_spd=N (room steps per box diagonal), room_spread=0|1 (the room's batch
@@ -18,7 +18,9 @@
 // Unset keys keep `train`'s defaults (automatic sizing from the landmark head box, 2^16 samples per step).
 // Writes OUT_DIR/room_budget.csv (a row per arm and checkpoint: steps, training seconds, subject and
 // room samples, rays, face PSNR) and room_budget_seconds.png / room_budget_steps.png (face PSNR
-// against training seconds and against steps).
+// against training seconds and against steps). --save: each arm's model after its last step as
+// OUT_DIR/<arm>.lnerf, with the room model the subject region applied as `train` saves it (to score
+// the arms' mattes with bench_room_matte on a synthetic room capture).
 #include <fmt/format.h>
 
 #include <chrono>
@@ -195,7 +197,7 @@ int main(int argc, char** argv) {
   if (argc < 4) {
     std::cerr
         << "usage: bench_room_budget DATASET OUT_DIR --arm NAME:KEY=VALUE,... [--arm ...] [--every 100] "
-           "[--seed 1337] [--views N]\n";
+           "[--seed 1337] [--views N] [--save]\n";
     return 2;
   }
   try {
@@ -203,6 +205,7 @@ int main(int argc, char** argv) {
     uint64_t every = 100;
     uint32_t seed = 1337;
     size_t max_views = 0;
+    bool save = false;
     std::vector<ArmSpec> specs;
     for (int i = 3; i < argc; ++i) {
       if (std::strcmp(argv[i], "--arm") == 0 && i + 1 < argc)
@@ -213,6 +216,8 @@ int main(int argc, char** argv) {
         seed = uint32_t(std::stoul(argv[++i]));
       else if (std::strcmp(argv[i], "--views") == 0 && i + 1 < argc)
         max_views = std::stoull(argv[++i]);
+      else if (std::strcmp(argv[i], "--save") == 0)
+        save = true;
       else
         return std::cerr << "unknown argument " << argv[i] << "\n", 2;
     }
@@ -299,6 +304,16 @@ int main(int argc, char** argv) {
       if (!any) break;
       write_csv(out + "/room_budget.csv", header, rows);
       write_charts(out, arms);  // every round: a run stopped early keeps its charts
+    }
+    for (Arm& a : arms) {
+      if (!save) break;
+      if (a.spec.background) {
+        nerf::OccupancyGrid g = a.model->occupancy();
+        const nerf::SubjectRegionReport rep = nerf::keep_central_region(g);
+        std::cerr << fmt::format("{}: {}\n", a.spec.name, rep.summary());
+        if (rep.found) a.model->set_occupancy(std::move(g));
+      }
+      a.model->save(out + "/" + a.spec.name + ".lnerf");
     }
   } catch (const std::exception& e) {
     std::cerr << "error: " << e.what() << "\n";
