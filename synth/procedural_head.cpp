@@ -137,9 +137,11 @@ void find_landmarks(ProceduralHead& head, const HeadShape& shape) {
         cast(scene, V3(ec.x() + s * 3.0f, 300.0f, ec.z()), V3(0, -1, 0), "ear_top");
     // Ear rest (where a temple arm lies): the lowest point of the crease between the skull and the
     // ear's top, on the profile of downward rays across the ear root, a little in front of its centre.
+    // |x| in the bound: ec.x() is negative on the wearer's right, where a signed bound ran no ray and
+    // left the right ear's rest at its top.
     V3 rest = L[fmt::format("ear_top_{}", side)];
     const float z = ec.z() + 0.3f * shape.ear_radii().z(), skull = 0.5f * head.params.head_width;
-    for (float x = skull - 4.0f; x <= ec.x() + 3.0f; x += 0.25f) {
+    for (float x = skull - 4.0f; x <= std::abs(ec.x()) + 3.0f; x += 0.25f) {
       mesh::Hit h = scene.intersect(V3(s * x, 300.0f, z), V3(0, -1, 0));
       if (h.hit && h.position.y() < rest.y()) rest = h.position;
     }

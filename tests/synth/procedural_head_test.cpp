@@ -58,6 +58,16 @@ TEST(ProceduralHead, LandmarksMatchTheParameters) {
     EXPECT_LT(rest.z(), L("eye_r_outer").z()) << side;
   }
   EXPECT_NEAR(L("ear_top_l").x(), -L("ear_top_r").x(), 0.5f);
+  // The rests are mirror images too, each a crease point of its own profile, not its ear's top (the
+  // right rest once stayed at the top: its search ran no ray).
+  EXPECT_NEAR(L("ear_rest_l").x(), -L("ear_rest_r").x(), 0.5f);
+  EXPECT_NEAR(L("ear_rest_l").y(), L("ear_rest_r").y(), 0.5f);
+  EXPECT_NEAR(L("ear_rest_l").z(), L("ear_rest_r").z(), 0.5f);
+  for (const char* side : {"l", "r"})
+    EXPECT_GT(
+        (L((std::string("ear_rest_") + side).c_str()) - L((std::string("ear_top_") + side).c_str())).z(),
+        1.0f)
+        << side << ": the rest lies in front of the ear top";
   ASSERT_EQ(s.ibug68.size(), 68u);
 }
 
