@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "capture/head_volume.h"
 #include "capture/subject_framing.h"
 
 namespace lorgnette::capture {
@@ -22,6 +23,7 @@ SubjectBoxChoice head_choice(const dataset::Dataset& ds, const fit::HeadBoxOptio
   SubjectBoxChoice c;
   c.source = BoxSource::Head;
   c.aabb = to_array(box.min, box.max);
+  c.volume = head_volume(box);
   c.why = box.summary();
   std::vector<Camera> cams;
   for (const auto& p : photos) cams.push_back(p.camera);
@@ -145,6 +147,7 @@ void apply_subject_box(dataset::Dataset& ds, BoxSource requested, bool masks_all
       throw std::runtime_error(
           "the chosen subject box is empty: give a box yourself or use the cameras' box");
     job.sizing.aabb = box;
+    job.subject_volume = c.volume;
   }
 }
 

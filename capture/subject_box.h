@@ -10,6 +10,7 @@
 
 #include "fit/head_box.h"
 #include "host/dataset/dataset.h"
+#include "host/nerf/subject_volume.h"
 #include "host/nerf/train_job.h"
 
 namespace lorgnette::capture {
@@ -26,7 +27,11 @@ struct SubjectBoxChoice {
   // sizing carves the hull or builds the camera box itself).
   std::optional<std::array<std::array<float, 3>, 2>> aabb;
   bool use_masks = false;  // let the sizing carve the alpha-mask hull
-  std::string why;         // one sentence for the log
+  // Head: the head's volume in the box (capture/head_volume.h): the box is the oriented head box's
+  // axis-aligned bounds, so it holds corners that are not head; training with a room model masks
+  // them out of the subject's occupancy.
+  std::optional<nerf::SubjectVolume> volume;
+  std::string why;  // one sentence for the log
   // Why the subject cannot be separated from the room, with what to film differently ("" when it
   // can): auto found no face in a mask-less dataset, or the head runs off every frame
   // (subject_framing.h). Training goes on, but the model records it (ModelMetadata::subject_problem).
@@ -42,9 +47,10 @@ SubjectBoxChoice choose_subject_box(const dataset::Dataset& ds, BoxSource reques
                                     bool masks_allowed = true, const fit::HeadBoxOptions& head_options = {});
 
 // Chooses the box (choose_subject_box) and sets the training job up for it, as `lorgnette train
-// --box` and Python's train() do: an explicit box, or the dataset's aabb removed so the sizing
-// carves the mask hull or builds the camera box. Logs the choice (and the problem, as a warning, into
-// job.subject_problem); throws when the box is empty.
+// --box` and Python's train() do: an explicit box (with the head's volume in it, for the head box),
+// or the dataset's aabb removed so the sizing carves the mask hull or builds the camera box. Logs
+// the choice (and the problem, as a warning, into job.subject_problem); throws when the box is
+// empty.
 void apply_subject_box(dataset::Dataset& ds, BoxSource requested, bool masks_allowed, nerf::TrainJob& job);
 
 // The dataset's training frames as posed photos for fit::estimate_head_box (pointers into `ds`).

@@ -14,6 +14,7 @@
 #pragma once
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -21,6 +22,7 @@
 #include "host/nerf/model.h"
 #include "host/nerf/occupancy_update.h"
 #include "host/nerf/ray_batch.h"
+#include "host/nerf/subject_volume.h"
 #include "host/nerf/views.h"
 
 namespace lorgnette::nerf {
@@ -40,6 +42,13 @@ struct BackgroundOptions {
   // (not downwards: the shoulders and body below the head box belong to the room model) is cut
   // out of the room model, so it cannot paint the face on a surface just behind the head.
   float cutout_margin = 0.5f;
+  // The subject's volume in its box when known (TrainJob::subject_volume: the head's volume from the
+  // landmark box), which the subject's model is masked to. The room's cutout is then that volume
+  // grown by `volume_cutout_margin` x the subject box's largest side, not the whole box grown by
+  // cutout_margin: the room model covers what the subject gave up (the box's corners, the space
+  // beside and behind the head where fangzhou-frontal's wall was rebuilt).
+  std::optional<SubjectVolume> subject_volume;
+  float volume_cutout_margin = 0.1f;
   float lr_scale = 1.0f;  // the room model's learning rate relative to the subject's
   // The room model's sample capacity per step relative to the subject's batch. The step's rays are
   // the leading rays that fit both batches, so a room batch no larger than the subject's cuts the

@@ -3,12 +3,14 @@
 // fingerprint, device) and the Trainer run. `lorgnette train` and the demo both go through here.
 #pragma once
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "host/dataset/dataset.h"
 #include "host/nerf/model.h"
 #include "host/nerf/sizing.h"
+#include "host/nerf/subject_volume.h"
 #include "host/nerf/train_budget.h"
 #include "host/nerf/trainer.h"
 
@@ -22,6 +24,11 @@ struct TrainJob {
   // Room model behind the subject (background_field.h) and the subject's connected region after
   // training (subject_region.h): "auto" = on for mask-less datasets whose box is not the cameras'.
   std::string background = "auto";  // auto | on | off
+  // The subject's volume inside its box when known (the head's volume from the landmark head box,
+  // capture/head_volume.h). With a room model it becomes a permanent occupancy mask of the subject
+  // (subject_volume.h), and the room model's cutout: the box's corners and the space around the head
+  // outside it never hold subject density and belong to the room model. Ignored without a room model.
+  std::optional<SubjectVolume> subject_volume;
   TrainOptions train;  // steps/seconds (both 0: the size-based default, train_budget.h), seed, ...
   // Why the subject could not be separated (capture/subject_box.h), kept in the model's metadata;
   // training adds its own reason when the room model finds no subject region.
