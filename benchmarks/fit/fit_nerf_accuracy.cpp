@@ -158,6 +158,7 @@ struct Row {
   bool timed_only = false;                          // no ground truth: the error columns stay empty
   double contact_shift_mm = 0, head_pitch_deg = 0;  // slide along d_fwd; d_fwd against the scene's horizontal
   double temple_r_mm = 0, temple_l_mm = 0, eye_r_mm = 0, eye_l_mm = 0;  // diagnostics: inputs of Eq. 1-3
+  std::string contact;  // stderr only: penetration, temple-tip penetration, temple spreads, ok / warnings
   int views_used = 0, views = 0;
   std::string stages, error;
 };
@@ -198,6 +199,15 @@ Row run_fit(const std::function<FitResult()>& fit, const GlassesInput& g, const 
       row.own = compare_fit(r, mesh_ground_truth(*mesh, cams, g.ref, gt_opt));
     }
     row.front_penetration = r.contact.front_penetration_mm;
+    row.contact = fmt::format(
+        "frame pitch {:.2f} deg (its forward axis against the head's d_up), penetration {:.2f} mm (tips "
+        "{:.2f}), "
+        "temple spread l/r {:.2f}/{:.2f} deg ({}/{}), ok {}, {} warnings",
+        std::asin(std::clamp(r.placement.rotation.col(2).dot(r.head.d_up.normalized()), -1.0, 1.0)) * 180.0 /
+            M_PI,
+        r.contact.penetration_mm, r.contact.tip_penetration_mm, r.temples.left.spread_deg,
+        r.temples.right.spread_deg, r.temples.left.clear ? "clear" : "clipping",
+        r.temples.right.clear ? "clear" : "clipping", r.ok, r.warnings.size());
     row.contact_shift_mm = r.contact.shift_mm;
     row.head_pitch_deg =
         std::asin(std::clamp(r.head.d_fwd.dot(scene_up.normalized()), -1.0, 1.0)) * 180.0 / M_PI;
@@ -396,7 +406,7 @@ int main(int argc, char** argv) {
   if (argc < 2) {
     std::cerr
         << "usage: bench_fit_nerf OUT_DIR --case NAME MODEL DATASET [...] [--variants a,b] [--repeats N] "
-           "[--glasses FILE] [--debug]\n";
+           "[--glasses FILE] [--debug] [--fit-alpha A]\n";
     return 2;
   }
   const std::string out = argv[1];
@@ -412,6 +422,10 @@ int main(int argc, char** argv) {
   std::vector<double> gt_yaws = {-20, -15, -10, -5, 0, 5, 10, 15, 20};
   std::vector<double> gt_pitches = {-15, -7.5, 0, 7.5, 15};
   std::string replot;
+  // Eq. 3's alpha for the fits only (the ground truth keeps the definition, alpha 0.5): the ear columns
+  // then show the ears' move and rotation_deg the frame's turn (docs/bench/real-captures.md, "Eq. 3
+  // with dlib temples").
+  double fit_alpha = FitOptions{}.head.alpha;
   for (int i = 2; i < argc; ++i) {
     if (std::strcmp(argv[i], "--case") == 0 && i + 3 < argc)
       cases.push_back({argv[i + 1], argv[i + 2], argv[i + 3]}), i += 3;
@@ -425,6 +439,8 @@ int main(int argc, char** argv) {
       glasses = argv[++i];
     else if (std::strcmp(argv[i], "--replot") == 0 && i + 1 < argc)
       replot = argv[++i];
+    else if (std::strcmp(argv[i], "--fit-alpha") == 0 && i + 1 < argc)
+      fit_alpha = std::atof(argv[++i]);
     else if (std::strcmp(argv[i], "--mesh-only") == 0)
       mesh_only = true;
     else if (std::strcmp(argv[i], "--debug") == 0)
@@ -515,14 +531,17 @@ int main(int argc, char** argv) {
     std::cerr << fmt::format(
         "{}: ground truth from {} x {} views (yaw x pitch), mm/unit {:.2f}, PD {:.1f} mm\n", c.name,
         gt_yaws.size(), gt_pitches.size(), gt.head.mm_per_unit, gt.head.pd_mm);
-    Row mesh_row = run_fit([&] { return fit_glasses(*mesh_src, g, base); }, g, &gt, base, prior.up);
+    FitOptions mesh_opt = base;
+    mesh_opt.head.alpha = fit_alpha;
+    Row mesh_row = run_fit([&] { return fit_glasses(*mesh_src, g, mesh_opt); }, g, &gt, mesh_opt, prior.up);
     mesh_row.name = c.name, mesh_row.variant = "mesh";
     rows.push_back(mesh_row);
     std::cerr << fmt::format(
-        "{} mesh: nose {:.2f} mm, ears {:.2f}/{:.2f} mm, rot {:.2f} deg, head pitch {:.1f} deg, "
-        "contact shift {:.2f} mm\n",
-        c.name, mesh_row.e.nose_mm, mesh_row.e.ear_l_mm, mesh_row.e.ear_r_mm, mesh_row.e.rotation_deg,
-        mesh_row.head_pitch_deg, mesh_row.contact_shift_mm);
+        "{} mesh (alpha {:.2f}): nose {:.2f} mm, ears {:.2f}/{:.2f} mm, rot {:.2f} deg, head pitch {:.1f} "
+        "deg, "
+        "contact shift {:.2f} mm, {}\n",
+        c.name, fit_alpha, mesh_row.e.nose_mm, mesh_row.e.ear_l_mm, mesh_row.e.ear_r_mm,
+        mesh_row.e.rotation_deg, mesh_row.head_pitch_deg, mesh_row.contact_shift_mm, mesh_row.contact);
     if (mesh_only) {
       write_rows(out, rows);
       continue;
@@ -533,6 +552,7 @@ int main(int argc, char** argv) {
         FitOptions o = base;
         plain(o);
         v.set(o);
+        o.head.alpha = fit_alpha;
         if (debug && rep == 0 && v.name == "fast") o.debug_dir = out + "/" + c.name + "-debug";
         if (!o.debug_dir.empty()) fs::create_directories(o.debug_dir);
         const NerfViewOptions views = nerf_views(v.step_scale, v.min_transmittance);
@@ -542,10 +562,10 @@ int main(int argc, char** argv) {
         std::cerr << fmt::format(
             "{} {} #{}: nose {:.2f} mm ({:+.1f} fwd), ears {:.2f}/{:.2f} mm (temples {:+.1f}/{:+.1f} fwd), "
             "rot "
-            "{:.2f} deg (own views: ears {:.2f}/{:.2f}), {:.2f} s, {:.2f} CPU s [{}] {}\n",
+            "{:.2f} deg (own views: ears {:.2f}/{:.2f}), {:.2f} s, {:.2f} CPU s [{}] {} {}\n",
             c.name, v.name, rep, row.e.nose_mm, row.nose_fwd_mm, row.e.ear_l_mm, row.e.ear_r_mm,
             row.temple_l_fwd_mm, row.temple_r_fwd_mm, row.e.rotation_deg, row.own.ear_l_mm, row.own.ear_r_mm,
-            row.seconds, row.cpu_seconds, row.stages, row.error.substr(0, 160));
+            row.seconds, row.cpu_seconds, row.stages, row.contact, row.error.substr(0, 160));
         rows.push_back(row);
         write_rows(out, rows);
       }
