@@ -14,7 +14,6 @@
 #include "fit/landmark_ids.h"
 
 namespace lorgnette::fit {
-namespace {
 
 cv::Mat to_bgr8(const Image& img) {
   std::vector<unsigned char> rgb = to_srgb8(img);
@@ -26,6 +25,8 @@ cv::Mat to_bgr8(const Image& img) {
     }
   return m;
 }
+
+namespace {
 
 bool is_key(int k) {
   return k == lm::kTempleL || k == lm::kTempleR || k == lm::kNoseBridgeTop || k == lm::kNoseBridge2 ||

@@ -2,11 +2,17 @@
 // 3D landmarks reprojected (red; the placement's key points larger), the face box, and a line of text
 // with the view's yaw/pitch and RMS residual; written as view_NN.png plus views.txt.
 #pragma once
+#include <opencv2/core.hpp>
 #include <string>
+
+#include "host/util/image_io.h"
 
 namespace lorgnette::fit {
 
 struct FitResult;
+
+// A linear-RGB image as an 8-bit sRGB BGR matrix for OpenCV's drawing and writing.
+cv::Mat to_bgr8(const Image& img);
 
 // Creates `dir` when needed; throws std::runtime_error when it cannot write there.
 void write_debug_views(const std::string& dir, const FitResult& result);

@@ -24,6 +24,7 @@
 #include <optional>
 
 #include "fit/camera_math.h"
+#include "fit/debug_draw.h"
 #include "fit/fit.h"
 #include "fit/glasses_input.h"
 #include "fit/landmark_ids.h"
@@ -49,17 +50,6 @@ struct Frame {  // the ground truth's head frame, in mm from its f_c
 };
 
 std::string str(const V3& p) { return fmt::format("({:7.1f} {:7.1f} {:7.1f})", p.x(), p.y(), p.z()); }
-
-cv::Mat to_bgr8(const Image& img) {
-  std::vector<unsigned char> rgb = to_srgb8(img);
-  cv::Mat m(img.height, img.width, CV_8UC3);
-  for (int y = 0; y < img.height; ++y)
-    for (int x = 0; x < img.width; ++x) {
-      const unsigned char* p = &rgb[(size_t(y) * img.width + x) * 3];
-      m.at<cv::Vec3b>(y, x) = cv::Vec3b(p[2], p[1], p[0]);
-    }
-  return m;
-}
 
 struct Mark {
   int landmark = -1;  // a per-view temple hit: drawn on that temple's side only
