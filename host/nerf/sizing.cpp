@@ -11,6 +11,7 @@
 #include <opencv2/imgproc.hpp>
 #include <stdexcept>
 
+#include "host/nerf/occupancy_cells.h"
 #include "kernels/train/occupancy.h"
 
 namespace lorgnette::nerf {
@@ -118,26 +119,11 @@ bool hull_bounds(const Carve& c, Aabb* box, double* area) {
 // Occupancy mask at resolution res over `box`: a cell is allowed when any of its corners or its
 // centre lies in a kept carving voxel.
 std::vector<uint32_t> mask_from_hull(const Carve& c, const Aabb& box, uint32_t res) {
-  std::vector<uint32_t> bits(occ_word_count(res), 0u);
-  for (uint32_t z = 0; z < res; ++z)
-    for (uint32_t y = 0; y < res; ++y)
-      for (uint32_t x = 0; x < res; ++x) {
-        bool any = false;
-        for (int k = 0; k < 9 && !any; ++k) {
-          double f[3] = {k == 8 ? 0.5 : double(k & 1), k == 8 ? 0.5 : double((k >> 1) & 1),
-                         k == 8 ? 0.5 : double((k >> 2) & 1)};
-          uint32_t q[3] = {x, y, z};
-          int v[3];
-          for (int a = 0; a < 3; ++a) {
-            double p = box.min[a] + (q[a] + f[a]) / res * box.extent(a);
-            v[a] = int(std::floor((p - c.min[a]) / c.voxel));
-          }
-          any = c.at(v[0], v[1], v[2]);
-        }
-        uint32_t cell = x + res * (y + res * z);
-        if (any) bits[cell >> 5] |= 1u << (cell & 31u);
-      }
-  return bits;
+  return occupancy_mask_where<double>(box, res, [&](const double* p) {
+    int v[3];
+    for (int a = 0; a < 3; ++a) v[a] = int(std::floor((p[a] - c.min[a]) / c.voxel));
+    return c.at(v[0], v[1], v[2]);
+  });
 }
 
 // Nearest distance from any camera to a kept hull cell (the closest the object gets to a camera).

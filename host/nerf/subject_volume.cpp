@@ -3,6 +3,7 @@
 
 #include <cmath>
 
+#include "host/nerf/occupancy_cells.h"
 #include "kernels/train/occupancy.h"
 
 namespace lorgnette::nerf {
@@ -47,24 +48,9 @@ SubjectVolume SubjectVolume::grown(float d) const {
 }
 
 std::vector<uint32_t> volume_occupancy_mask(const SubjectVolume& volume, const Aabb& box, uint32_t res) {
-  std::vector<uint32_t> bits(occ_word_count(res), 0u);
-  for (uint32_t z = 0; z < res; ++z)
-    for (uint32_t y = 0; y < res; ++y)
-      for (uint32_t x = 0; x < res; ++x) {
-        const uint32_t q[3] = {x, y, z};
-        bool any = false;
-        for (int k = 0; k < 9 && !any; ++k) {  // the 8 corners, then the centre
-          Vec3f p;
-          for (int a = 0; a < 3; ++a) {
-            const float f = k == 8 ? 0.5f : float((k >> a) & 1);
-            p[a] = box.min[a] + (float(q[a]) + f) / float(res) * box.extent(a);
-          }
-          any = volume.contains(p);
-        }
-        const uint32_t cell = x + res * (y + res * z);
-        if (any) bits[cell >> 5] |= 1u << (cell & 31u);
-      }
-  return bits;
+  return occupancy_mask_where<float>(box, res, [&](const float* p) {
+    return volume.contains(Vec3f{p[0], p[1], p[2]});
+  });
 }
 
 uint64_t mask_count(const std::vector<uint32_t>& mask) {
