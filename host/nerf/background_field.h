@@ -73,6 +73,13 @@ struct BackgroundOptions {
   // 0.85-0.87).
   float opacity_prior = 0.01f;
   uint32_t opacity_prior_start = 256, opacity_prior_ramp = 256;
+  // Room-explained clearing (kernels/train/render.h): on a ray whose pixel the room model's colour
+  // already matches (RMS sRGB difference under `room_clear_tolerance`, a linear gate), the prior
+  // pulls the subject's opacity to 0 with `room_clear` x its weight instead of pushing it to 0 or 1,
+  // so the subject does not keep a wall that the room model explains (a frontal capture's wall in
+  // the head volume's rim). 0 = off.
+  float room_clear = 0.0f;
+  float room_clear_tolerance = 0.05f;
 };
 
 class BackgroundField {

@@ -149,11 +149,11 @@ RayBatch::DeviceBatch RayBatch::sample_on_device(SampleParams p, const DeviceVie
   return b;
 }
 
-void RayBatch::render_on_device(uint32_t loss_kind, float min_transmittance, float opacity_prior) {
+void RayBatch::render_on_device(uint32_t loss_kind, float min_transmittance, const RayPriors& priors) {
   if (!on_device_) throw std::logic_error("RayBatch::render_on_device must follow sample_on_device");
   if (written_rays_ == 0) return;
   cl::Runtime& rt = model_.runtime();
-  LossParams lp = loss_params(loss_kind, false, min_transmittance, opacity_prior);
+  LossParams lp = loss_params(loss_kind, false, min_transmittance, priors);
   render_k_
       .args(lp, sub_offsets_, counts_dev_, ray_info_, sigma_, rgb_, dsigma_, drgb_, ray_loss_, ray_color_)
       .launch(rt, written_rays_, ray_group(rt));
@@ -170,7 +170,7 @@ float RayBatch::loss_sum() const {
 }
 
 LossParams RayBatch::loss_params(uint32_t loss_kind, bool forward_only, float min_transmittance,
-                                 float opacity_prior) const {
+                                 const RayPriors& priors) const {
   LossParams lp{};
   lp.n_rays = written_rays_;
   lp.stride = stride_;
@@ -179,14 +179,16 @@ LossParams RayBatch::loss_params(uint32_t loss_kind, bool forward_only, float mi
   lp.step = model_.step();
   lp.grad_scale = 1.0f / (3.0f * float(written_rays_));
   lp.min_transmittance = min_transmittance;
-  lp.opacity_prior = opacity_prior;
+  lp.opacity_prior = priors.weight;
+  lp.room_clear = priors.room_clear;
+  lp.room_clear_tolerance = priors.room_clear_tolerance;
   return lp;
 }
 
-double RayBatch::render(uint32_t loss_kind, bool forward_only, float min_transmittance, float opacity_prior) {
+double RayBatch::render(uint32_t loss_kind, bool forward_only, float min_transmittance, const RayPriors& priors) {
   if (written_rays_ == 0) return 0.0;
   cl::Runtime& rt = model_.runtime();
-  const LossParams lp = loss_params(loss_kind, forward_only, min_transmittance, opacity_prior);
+  const LossParams lp = loss_params(loss_kind, forward_only, min_transmittance, priors);
   render_k_
       .args(lp, sub_offsets_, on_device_ ? counts_dev_ : sub_counts_, ray_info_, sigma_, rgb_, dsigma_, drgb_,
             ray_loss_, ray_color_)

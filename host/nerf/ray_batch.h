@@ -20,6 +20,14 @@ namespace lorgnette::nerf {
 // fills the ray-selection fields (mode, n_rays, camera/first_pixel or seed/iteration).
 SampleParams sample_params_for(const NerfModel& model, const DeviceViews& views);
 
+// The opacity prior of a training render (kernels/train/render.h): its weight (0 = off), and the
+// room-explained clearing relative to it with the RMS sRGB difference at which that gate closes.
+struct RayPriors {
+  float weight = 0.0f;
+  float room_clear = 0.0f;
+  float room_clear_tolerance = 0.0f;
+};
+
 class RayBatch {
  public:
   RayBatch(NerfModel& model, uint32_t max_rays);
@@ -34,9 +42,9 @@ class RayBatch {
   uint32_t write(SampleParams p, const DeviceViews& views, uint32_t begin, uint32_t end);
   // Composites the written rays (after the field filled sigma()/rgb()). Training: also the loss
   // gradient into dsigma()/drgb() with grad_scale = 1 / (3 * rays); returns the summed squared error.
-  // opacity_prior > 0 adds the binary-opacity prior's gradient (kernels/train/render.h) of that weight.
+  // priors.weight > 0 adds the opacity prior's gradient (kernels/train/render.h).
   double render(uint32_t loss_kind, bool forward_only, float min_transmittance = 1e-4f,
-                float opacity_prior = 0.0f);
+                const RayPriors& priors = {});
   // Colour + opacity (4 floats per ray) of the last render().
   std::vector<float> colors() const;
 
@@ -53,7 +61,7 @@ class RayBatch {
   DeviceBatch sample_on_device(SampleParams p, const DeviceViews& views);
   // render() for the rays of the last sample_on_device(), with the loss summed on the device into
   // the batch record (no transfer). The sum arrives with the next sample_on_device() or loss_sum().
-  void render_on_device(uint32_t loss_kind, float min_transmittance = 1e-4f, float opacity_prior = 0.0f);
+  void render_on_device(uint32_t loss_kind, float min_transmittance = 1e-4f, const RayPriors& priors = {});
   // Blocking read of the summed loss of the last render_on_device().
   float loss_sum() const;
 
@@ -72,7 +80,7 @@ class RayBatch {
 
  private:
   LossParams loss_params(uint32_t loss_kind, bool forward_only, float min_transmittance,
-                         float opacity_prior) const;
+                         const RayPriors& priors) const;
 
   NerfModel& model_;
   uint32_t max_rays_, stride_;

@@ -49,11 +49,15 @@ double Trainer::run_fraction(double elapsed) const {
   return f;
 }
 
-float Trainer::opacity_prior() const {
+RayPriors Trainer::opacity_prior() const {
   const BackgroundOptions& b = options_.background;
-  if (!background_ || !(b.opacity_prior > 0.0f)) return 0.0f;
+  if (!background_ || !(b.opacity_prior > 0.0f)) return {};
   const double ramp = std::max<double>(1.0, b.opacity_prior_ramp);
-  return float(b.opacity_prior * std::clamp((double(step_) - b.opacity_prior_start) / ramp, 0.0, 1.0));
+  RayPriors p;
+  p.weight = float(b.opacity_prior * std::clamp((double(step_) - b.opacity_prior_start) / ramp, 0.0, 1.0));
+  p.room_clear = b.room_clear;
+  p.room_clear_tolerance = b.room_clear_tolerance;
+  return p;
 }
 
 float Trainer::learning_rate(double elapsed) const {

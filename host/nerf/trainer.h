@@ -95,7 +95,7 @@ class Trainer {
  private:
   double run_fraction(double elapsed) const;  // of the steps or seconds, whichever is further
   float learning_rate(double elapsed) const;
-  float opacity_prior() const;  // the room model's binary-opacity prior weight now
+  RayPriors opacity_prior() const;  // the room model's opacity prior now (its weight ramps in)
   [[noreturn]] void diverged(double loss, uint64_t at_step);
   void save_snapshot(double elapsed);
 

@@ -22,8 +22,11 @@ __kernel void render_loss(const LossParams p, __global const uint* ray_offsets,
   float dC[3];
   ray_loss[ray] = render_ray_loss(color, target, p.loss_kind, p.grad_scale, dC);
   render_ray_backward(sigma, rgb, p.stride, first, count, used, p.step, color, dC, dsigma, drgb);
-  if (p.opacity_prior > 0.0f)
-    render_ray_opacity_prior(first, used, p.step, color, p.opacity_prior, 3.0f * p.grad_scale, dsigma);
+  if (p.opacity_prior > 0.0f) {
+    const float gate = p.room_clear > 0.0f ? render_ray_room_gate(target, bg, p.room_clear_tolerance) : 0.0f;
+    render_ray_opacity_prior(first, used, p.step, color, p.opacity_prior, p.room_clear, gate,
+                             3.0f * p.grad_scale, dsigma);
+  }
 }
 
 // Sum of ray_loss[0, p.n_rays) into batch_info[BATCH_INFO_LOSS] (float bits). One work-group (local

@@ -20,6 +20,15 @@
 // that the room model could explain are pushed to 0 or 1. Its gradient, dL/dsigma_i = step * T_end *
 // dL/da for the samples used, is added to the colour loss's; the ray's reported loss stays the
 // colour loss (the PSNR the trainer prints).
+//
+// Room-explained clearing (with the prior): where the room model's colour behind the ray already
+// matches the pixel, the subject's opacity there explains nothing the room does not, so the ray is
+// pulled to clear instead of to 0 or 1: the prior per ray becomes
+//   weight * ((1 - g) * a * (1 - a) + clear * g * a),   g = clamp(1 - e / tolerance, 0, 1),
+// e the RMS sRGB difference between the room's colour and the pixel. Without it a frontal capture's
+// wall, which the subject's fine grid can paint in its volume's rim as well as the coarse room model
+// can behind it, is made opaque there by the binary push (fangzhou-frontal's shell,
+// docs/bench/real-captures.md). A pixel the room does not explain (g = 0) keeps the binary prior.
 #pragma once
 #include "common/cl_compat.h"
 #include "common/composite.h"
@@ -116,13 +125,27 @@ LGN_INLINE void render_ray_backward(LGN_GLOBAL const float* sigma, LGN_GLOBAL co
   }
 }
 
-// Adds the binary-opacity prior's gradient (weight * a * (1 - a) per ray, times `ray_scale`, the
-// batch mean's 1 / rays) to dsigma of the `used` samples from `first`; returns the prior's value
-// (unscaled). color[3] is the ray's opacity from render_ray_forward.
+// The room gate g of the prior above: 1 where the room colour `bg` (linear) equals the pixel
+// `target` (linear), falling linearly to 0 at an RMS sRGB difference of `tolerance` (0: no gate).
+LGN_INLINE float render_ray_room_gate(const float* target, const float* bg, float tolerance) {
+  if (!(tolerance > 0.0f)) return 0.0f;
+  float e2 = 0.0f;
+  for (int c = 0; c < 3; ++c) {
+    const float d = lgn_srgb_encode(bg[c]) - lgn_srgb_encode(target[c]);
+    e2 += d * d;
+  }
+  return fmin(fmax(1.0f - sqrt(e2 / 3.0f) / tolerance, 0.0f), 1.0f);
+}
+
+// Adds the opacity prior's gradient (weight * ((1 - g) a (1 - a) + clear g a) per ray, times
+// `ray_scale`, the batch mean's 1 / rays) to dsigma of the `used` samples from `first`; returns the
+// prior's value (unscaled). color[3] is the ray's opacity from render_ray_forward; gate = 0 gives the
+// binary prior alone.
 LGN_INLINE float render_ray_opacity_prior(lgn_uint first, lgn_uint used, float step, const float* color,
-                                          float weight, float ray_scale, LGN_GLOBAL float* dsigma) {
+                                          float weight, float clear, float gate, float ray_scale,
+                                          LGN_GLOBAL float* dsigma) {
   const float a = color[3], T = 1.0f - a;
-  const float dLda = weight * ray_scale * (1.0f - 2.0f * a);
+  const float dLda = weight * ray_scale * ((1.0f - gate) * (1.0f - 2.0f * a) + clear * gate);
   for (lgn_uint k = 0; k < used; ++k) dsigma[first + k] += step * T * dLda;
-  return weight * a * (1.0f - a);
+  return weight * ((1.0f - gate) * a * (1.0f - a) + clear * gate * a);
 }

@@ -58,8 +58,13 @@ typedef struct LossParams {
   float grad_scale;         // 1 / (3 * rays in the batch): the loss is a mean
   float min_transmittance;  // stop accumulating below this (instant-ngp: 1e-4)
   float opacity_prior;      // weight of the binary-opacity prior (train/render.h); 0 = off
+  // Room-explained clearing (train/render.h): the clearing pull relative to opacity_prior where the
+  // room's colour matches the pixel (0 = off), and the RMS sRGB difference at which the gate closes.
+  float room_clear;
+  float room_clear_tolerance;
+  lgn_uint pad0, pad1;
 } LossParams;
-LGN_STATIC_ASSERT(sizeof(LossParams) == 32, "LossParams layout is shared with OpenCL");
+LGN_STATIC_ASSERT(sizeof(LossParams) == 48, "LossParams layout is shared with OpenCL");
 
 typedef struct OccParams {
   lgn_uint res;

@@ -47,12 +47,13 @@ struct Out {
   std::vector<float> color, loss, dsigma, drgb;
 };
 Out run_kernel(Runtime& rt, const Rays& r, float step, uint32_t loss_kind, uint32_t forward_only,
-               float opacity_prior = 0.0f) {
+               float opacity_prior = 0.0f, float room_clear = 0.0f, float room_clear_tolerance = 0.0f) {
   uint32_t n = uint32_t(r.counts.size());
   Buffer<uint32_t> off(rt, r.offsets), cnt(rt, r.counts);
   Buffer<float> info(rt, r.info), sigma(rt, r.sigma), rgb(rt, r.rgb);
   Buffer<float> dsigma(rt, r.stride), drgb(rt, 3 * r.stride), loss(rt, n), color(rt, 4 * n);
-  LossParams p{n, r.stride, forward_only, loss_kind, step, 1.0f / (3.0f * n), 1e-4f, opacity_prior};
+  LossParams p{n,     r.stride, forward_only, loss_kind, step, 1.0f / (3.0f * n), 1e-4f, opacity_prior,
+               room_clear, room_clear_tolerance};
   Kernel k(rt.program("train/loss.cl"), "render_loss");
   k.args(p, off, cnt, info, sigma, rgb, dsigma, drgb, loss, color).launch(rt, n, 64);
   return {color.read(rt), loss.read(rt), dsigma.read(rt), drgb.read(rt)};
@@ -126,74 +127,106 @@ TEST(Render, GradientsMatchFiniteDifferences) {
   }
 }
 
-// The binary-opacity prior (weight * a * (1 - a) per ray): its gradient, added to the colour loss's,
-// against central differences of the sum of both; and the kernel with the prior on against the host.
-double host_loss_with_prior(const Rays& r, uint32_t ray, float step, float weight) {
+// The opacity prior (weight * ((1 - g) a (1 - a) + clear g a) per ray; g = 0: the binary prior
+// alone): its gradient, added to the colour loss's, against central differences of the sum of both
+// at several gates; the room gate against its closed form; and the kernel with the prior on against
+// the host.
+double host_loss_with_prior(const Rays& r, uint32_t ray, float step, float weight, float clear, float gate) {
   float color[4], dC[3];
   const float* info = &r.info[RAY_INFO_FLOATS * ray];
   render_ray_forward(r.sigma.data(), r.rgb.data(), r.stride, r.offsets[ray], r.counts[ray], step, 1e-4f,
                      info + 3, color);
-  return render_ray_loss(color, info, LOSS_L2_SRGB, 1.0f, dC) + weight * color[3] * (1.0f - color[3]);
+  const double a = color[3];
+  return render_ray_loss(color, info, LOSS_L2_SRGB, 1.0f, dC) +
+         weight * ((1.0 - gate) * a * (1.0 - a) + clear * gate * a);
 }
 
 TEST(Render, OpacityPriorGradientMatchesFiniteDifferences) {
   Rays r = random_rays(8, 11);
   for (auto& s : r.sigma) s *= 0.2f;  // partly transparent rays: the prior's gradient is largest there
-  const float step = 0.02f, weight = 0.5f;
+  const float step = 0.02f, weight = 0.5f, clear = 2.0f;
   int checked = 0;
-  for (uint32_t ray = 1; ray < 8; ++ray) {
-    uint32_t first = r.offsets[ray], count = r.counts[ray];
-    const float* info = &r.info[RAY_INFO_FLOATS * ray];
-    float color[4], dC[3];
-    std::vector<float> dsigma(r.stride), drgb(3 * r.stride);
-    uint32_t used = render_ray_forward(r.sigma.data(), r.rgb.data(), r.stride, first, count, step, 1e-4f,
-                                       info + 3, color);
-    render_ray_loss(color, info, LOSS_L2_SRGB, 1.0f, dC);
-    render_ray_backward(r.sigma.data(), r.rgb.data(), r.stride, first, count, used, step, color, dC,
-                        dsigma.data(), drgb.data());
-    float prior = render_ray_opacity_prior(first, used, step, color, weight, 1.0f, dsigma.data());
-    EXPECT_NEAR(prior, weight * color[3] * (1.0f - color[3]), 1e-7);
-    for (uint32_t k = 0; k < count; ++k) {
-      uint32_t i = first + k;
-      // Same step sizes and tolerance as GradientsMatchFiniteDifferences.
-      float save = r.sigma[i];
-      r.sigma[i] = save + 1e-2f;
-      double lp = host_loss_with_prior(r, ray, step, weight);
-      r.sigma[i] = save - 1e-2f;
-      double lm = host_loss_with_prior(r, ray, step, weight);
-      r.sigma[i] = save;
-      double g = (lp - lm) / 2e-2;
-      EXPECT_NEAR(dsigma[i], g, 1e-4 + 0.01 * std::fabs(g)) << "ray " << ray << " sample " << k;
-      ++checked;
+  for (float gate : {0.0f, 0.4f, 1.0f}) {
+    for (uint32_t ray = 1; ray < 8; ++ray) {
+      uint32_t first = r.offsets[ray], count = r.counts[ray];
+      const float* info = &r.info[RAY_INFO_FLOATS * ray];
+      float color[4], dC[3];
+      std::vector<float> dsigma(r.stride), drgb(3 * r.stride);
+      uint32_t used = render_ray_forward(r.sigma.data(), r.rgb.data(), r.stride, first, count, step, 1e-4f,
+                                         info + 3, color);
+      render_ray_loss(color, info, LOSS_L2_SRGB, 1.0f, dC);
+      render_ray_backward(r.sigma.data(), r.rgb.data(), r.stride, first, count, used, step, color, dC,
+                          dsigma.data(), drgb.data());
+      float prior = render_ray_opacity_prior(first, used, step, color, weight, clear, gate, 1.0f, dsigma.data());
+      const float a = color[3];
+      EXPECT_NEAR(prior, weight * ((1.0f - gate) * a * (1.0f - a) + clear * gate * a), 1e-6);
+      for (uint32_t k = 0; k < count; ++k) {
+        uint32_t i = first + k;
+        // Same step sizes and tolerance as GradientsMatchFiniteDifferences.
+        float save = r.sigma[i];
+        r.sigma[i] = save + 1e-2f;
+        double lp = host_loss_with_prior(r, ray, step, weight, clear, gate);
+        r.sigma[i] = save - 1e-2f;
+        double lm = host_loss_with_prior(r, ray, step, weight, clear, gate);
+        r.sigma[i] = save;
+        double g = (lp - lm) / 2e-2;
+        EXPECT_NEAR(dsigma[i], g, 1e-4 + 0.01 * std::fabs(g)) << "gate " << gate << " ray " << ray << " sample " << k;
+        ++checked;
+      }
     }
   }
-  EXPECT_GT(checked, 50);
+  EXPECT_GT(checked, 150);
+}
+
+TEST(Render, RoomGateFollowsTheSrgbDifference) {
+  // Colours chosen in sRGB and decoded to linear, so the RMS sRGB difference is exact: a uniform
+  // difference d on every channel gives e = d.
+  auto linear = [](float s) { return s <= 0.04045f ? s / 12.92f : std::pow((s + 0.055f) / 1.055f, 2.4f); };
+  const float target[3] = {linear(0.50f), linear(0.30f), linear(0.70f)};
+  const float same[3] = {target[0], target[1], target[2]};
+  const float near[3] = {linear(0.52f), linear(0.32f), linear(0.72f)};  // e = 0.02
+  const float far[3] = {linear(0.60f), linear(0.40f), linear(0.80f)};   // e = 0.10
+  EXPECT_NEAR(render_ray_room_gate(target, same, 0.05f), 1.0f, 1e-6);
+  // float32 sRGB round trip: ~1e-6 in e, / tolerance 0.05 -> 2e-5 in the gate.
+  EXPECT_NEAR(render_ray_room_gate(target, near, 0.05f), 1.0f - 0.02f / 0.05f, 1e-4);
+  EXPECT_EQ(render_ray_room_gate(target, far, 0.05f), 0.0f);
+  EXPECT_EQ(render_ray_room_gate(target, same, 0.0f), 0.0f);  // tolerance 0: no gate
+  // One channel off by 0.06: e = 0.06 / sqrt(3).
+  const float one[3] = {linear(0.56f), target[1], target[2]};
+  EXPECT_NEAR(render_ray_room_gate(target, one, 0.05f), 1.0f - 0.06f / std::sqrt(3.0f) / 0.05f, 1e-4);
 }
 
 TEST(Render, KernelWithOpacityPriorMatchesHostReference) {
   Runtime rt({"", "", false});
   Rays r = random_rays(200, 5);
-  const float step = 0.015f, weight = 0.25f;
-  Out o = run_kernel(rt, r, step, LOSS_L2_SRGB, 0, weight);
+  const float step = 0.015f, weight = 0.25f, clear = 3.0f, tolerance = 0.4f;
   Out plain = run_kernel(rt, r, step, LOSS_L2_SRGB, 0, 0.0f);
-  std::vector<float> dsigma(r.stride, 0.0f), drgb(3 * r.stride, 0.0f);
-  double changed = 0.0;
-  for (uint32_t ray = 0; ray < 200; ++ray) {
-    const float* info = &r.info[RAY_INFO_FLOATS * ray];
-    float color[4], dC[3];
-    uint32_t used = render_ray_forward(r.sigma.data(), r.rgb.data(), r.stride, r.offsets[ray], r.counts[ray],
-                                       step, 1e-4f, info + 3, color);
-    float loss = render_ray_loss(color, info, LOSS_L2_SRGB, 1.0f / 600.0f, dC);
-    render_ray_backward(r.sigma.data(), r.rgb.data(), r.stride, r.offsets[ray], r.counts[ray], used, step,
-                        color, dC, dsigma.data(), drgb.data());
-    render_ray_opacity_prior(r.offsets[ray], used, step, color, weight, 1.0f / 200.0f, dsigma.data());
-    EXPECT_NEAR(o.loss[ray], loss, 1e-5 * std::fabs(loss) + 1e-7) << ray;  // the colour loss only
+  for (float c : {0.0f, clear}) {
+    Out o = run_kernel(rt, r, step, LOSS_L2_SRGB, 0, weight, c, tolerance);
+    std::vector<float> dsigma(r.stride, 0.0f), drgb(3 * r.stride, 0.0f);
+    double changed = 0.0;
+    int gated = 0;
+    for (uint32_t ray = 0; ray < 200; ++ray) {
+      const float* info = &r.info[RAY_INFO_FLOATS * ray];
+      float color[4], dC[3];
+      uint32_t used = render_ray_forward(r.sigma.data(), r.rgb.data(), r.stride, r.offsets[ray], r.counts[ray],
+                                         step, 1e-4f, info + 3, color);
+      float loss = render_ray_loss(color, info, LOSS_L2_SRGB, 1.0f / 600.0f, dC);
+      render_ray_backward(r.sigma.data(), r.rgb.data(), r.stride, r.offsets[ray], r.counts[ray], used, step,
+                          color, dC, dsigma.data(), drgb.data());
+      const float gate = c > 0.0f ? render_ray_room_gate(info, info + 3, tolerance) : 0.0f;
+      gated += gate > 0.0f && r.counts[ray] > 0;
+      render_ray_opacity_prior(r.offsets[ray], used, step, color, weight, c, gate, 1.0f / 200.0f,
+                               dsigma.data());
+      EXPECT_NEAR(o.loss[ray], loss, 1e-5 * std::fabs(loss) + 1e-7) << ray;  // the colour loss only
+    }
+    for (uint32_t i = 0; i < r.stride - 5; ++i) {
+      EXPECT_NEAR(o.dsigma[i], dsigma[i], 1e-4 * std::fabs(dsigma[i]) + 1e-8) << "clear " << c << " sample " << i;
+      changed += std::fabs(o.dsigma[i] - plain.dsigma[i]);
+    }
+    EXPECT_GT(changed, 1e-3);  // the prior reached the kernel's gradient
+    if (c > 0.0f) EXPECT_GT(gated, 20) << "the random rays should open the gate on some rays";
   }
-  for (uint32_t i = 0; i < r.stride - 5; ++i) {
-    EXPECT_NEAR(o.dsigma[i], dsigma[i], 1e-4 * std::fabs(dsigma[i]) + 1e-8) << i;
-    changed += std::fabs(o.dsigma[i] - plain.dsigma[i]);
-  }
-  EXPECT_GT(changed, 1e-3);  // the prior reached the kernel's gradient
 }
 
 TEST(Render, KernelMatchesHostReference) {
