@@ -185,7 +185,8 @@ LossParams RayBatch::loss_params(uint32_t loss_kind, bool forward_only, float mi
   return lp;
 }
 
-double RayBatch::render(uint32_t loss_kind, bool forward_only, float min_transmittance, const RayPriors& priors) {
+double RayBatch::render(uint32_t loss_kind, bool forward_only, float min_transmittance,
+                        const RayPriors& priors) {
   if (written_rays_ == 0) return 0.0;
   cl::Runtime& rt = model_.runtime();
   const LossParams lp = loss_params(loss_kind, forward_only, min_transmittance, priors);

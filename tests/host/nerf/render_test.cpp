@@ -52,8 +52,8 @@ Out run_kernel(Runtime& rt, const Rays& r, float step, uint32_t loss_kind, uint3
   Buffer<uint32_t> off(rt, r.offsets), cnt(rt, r.counts);
   Buffer<float> info(rt, r.info), sigma(rt, r.sigma), rgb(rt, r.rgb);
   Buffer<float> dsigma(rt, r.stride), drgb(rt, 3 * r.stride), loss(rt, n), color(rt, 4 * n);
-  LossParams p{n,     r.stride, forward_only, loss_kind, step, 1.0f / (3.0f * n), 1e-4f, opacity_prior,
-               room_clear, room_clear_tolerance};
+  LossParams p{n,     r.stride,      forward_only, loss_kind,           step, 1.0f / (3.0f * n),
+               1e-4f, opacity_prior, room_clear,   room_clear_tolerance};
   Kernel k(rt.program("train/loss.cl"), "render_loss");
   k.args(p, off, cnt, info, sigma, rgb, dsigma, drgb, loss, color).launch(rt, n, 64);
   return {color.read(rt), loss.read(rt), dsigma.read(rt), drgb.read(rt)};
@@ -157,7 +157,8 @@ TEST(Render, OpacityPriorGradientMatchesFiniteDifferences) {
       render_ray_loss(color, info, LOSS_L2_SRGB, 1.0f, dC);
       render_ray_backward(r.sigma.data(), r.rgb.data(), r.stride, first, count, used, step, color, dC,
                           dsigma.data(), drgb.data());
-      float prior = render_ray_opacity_prior(first, used, step, color, weight, clear, gate, 1.0f, dsigma.data());
+      float prior =
+          render_ray_opacity_prior(first, used, step, color, weight, clear, gate, 1.0f, dsigma.data());
       const float a = color[3];
       EXPECT_NEAR(prior, weight * ((1.0f - gate) * a * (1.0f - a) + clear * gate * a), 1e-6);
       for (uint32_t k = 0; k < count; ++k) {
@@ -170,7 +171,8 @@ TEST(Render, OpacityPriorGradientMatchesFiniteDifferences) {
         double lm = host_loss_with_prior(r, ray, step, weight, clear, gate);
         r.sigma[i] = save;
         double g = (lp - lm) / 2e-2;
-        EXPECT_NEAR(dsigma[i], g, 1e-4 + 0.01 * std::fabs(g)) << "gate " << gate << " ray " << ray << " sample " << k;
+        EXPECT_NEAR(dsigma[i], g, 1e-4 + 0.01 * std::fabs(g))
+            << "gate " << gate << " ray " << ray << " sample " << k;
         ++checked;
       }
     }
@@ -209,8 +211,8 @@ TEST(Render, KernelWithOpacityPriorMatchesHostReference) {
     for (uint32_t ray = 0; ray < 200; ++ray) {
       const float* info = &r.info[RAY_INFO_FLOATS * ray];
       float color[4], dC[3];
-      uint32_t used = render_ray_forward(r.sigma.data(), r.rgb.data(), r.stride, r.offsets[ray], r.counts[ray],
-                                         step, 1e-4f, info + 3, color);
+      uint32_t used = render_ray_forward(r.sigma.data(), r.rgb.data(), r.stride, r.offsets[ray],
+                                         r.counts[ray], step, 1e-4f, info + 3, color);
       float loss = render_ray_loss(color, info, LOSS_L2_SRGB, 1.0f / 600.0f, dC);
       render_ray_backward(r.sigma.data(), r.rgb.data(), r.stride, r.offsets[ray], r.counts[ray], used, step,
                           color, dC, dsigma.data(), drgb.data());
@@ -221,7 +223,8 @@ TEST(Render, KernelWithOpacityPriorMatchesHostReference) {
       EXPECT_NEAR(o.loss[ray], loss, 1e-5 * std::fabs(loss) + 1e-7) << ray;  // the colour loss only
     }
     for (uint32_t i = 0; i < r.stride - 5; ++i) {
-      EXPECT_NEAR(o.dsigma[i], dsigma[i], 1e-4 * std::fabs(dsigma[i]) + 1e-8) << "clear " << c << " sample " << i;
+      EXPECT_NEAR(o.dsigma[i], dsigma[i], 1e-4 * std::fabs(dsigma[i]) + 1e-8)
+          << "clear " << c << " sample " << i;
       changed += std::fabs(o.dsigma[i] - plain.dsigma[i]);
     }
     EXPECT_GT(changed, 1e-3);  // the prior reached the kernel's gradient
