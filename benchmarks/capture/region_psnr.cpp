@@ -76,7 +76,9 @@ cv::Mat region_mask(const std::vector<MaskSpec>& masks, size_t frame, int w, int
 
 // With --face: the mask also keeps only the convex hull of dlib's 68 landmarks on the truth photo
 // (the face from jaw to brows: the part the try-on shows). Empty when no face is found.
-void restrict_to_face(const cv::Mat& trip, const fit::LandmarkDetector& det, cv::Mat& mask) {
+// erode_px > 0 shrinks the hull by that many pixels: dlib's jaw contour lies on the silhouette, so
+// the hull's rim holds background pixels, which score the room behind the face instead of the face.
+void restrict_to_face(const cv::Mat& trip, const fit::LandmarkDetector& det, int erode_px, cv::Mat& mask) {
   int w = trip.cols / 3;
   cv::Mat truth = trip(cv::Rect(w, 0, w, trip.rows));
   Image img(w, trip.rows, 3);
@@ -92,6 +94,8 @@ void restrict_to_face(const cv::Mat& trip, const fit::LandmarkDetector& det, cv:
     cv::convexHull(pts, hull);
     cv::fillConvexPoly(face, hull, cv::Scalar(1));
   }
+  if (erode_px > 0)
+    cv::erode(face, face, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * erode_px + 1, 2 * erode_px + 1)));
   mask &= face;
 }
 
@@ -115,12 +119,18 @@ int main(int argc, char** argv) {
   CLI::App app{"PSNR of eval outputs inside the head boxes' footprint"};
   std::vector<std::string> mask_args, evals;
   std::string csv;
-  bool face = false;
+  bool face = false, per_view = false;
+  int erode_px = 0;
+  std::string mask_dir;
   app.add_option("--mask", mask_args, "DATASET@minx,miny,minz,maxx,maxy,maxz (repeatable; intersected)")
       ->required();
   app.add_option("--eval", evals, "NAME=EVAL_DIR from lorgnette eval -o (repeatable)")->required();
   app.add_option("--csv", csv, "CSV file to write");
   app.add_flag("--face", face, "also restrict to the landmark hull of the face on the truth photo");
+  app.add_option("--erode", erode_px, "with --face: shrink the face hull by this many pixels (default 0)")
+      ->check(CLI::Range(0, 200));
+  app.add_flag("--per-view", per_view, "print each view's region PSNR");
+  app.add_option("--mask-dir", mask_dir, "write each view's region as NAME_<view>_region.png here");
   CLI11_PARSE(app, argc, argv);
   try {
     std::vector<MaskSpec> masks;
@@ -139,12 +149,17 @@ int main(int argc, char** argv) {
         if (!fs::exists(p)) break;
         cv::Mat trip = cv::imread(p.string(), cv::IMREAD_COLOR);
         cv::Mat mask = region_mask(masks, k, trip.cols / 3, trip.rows);
-        if (det) restrict_to_face(trip, *det, mask);
+        if (det) restrict_to_face(trip, *det, erode_px, mask);
         double sa = 0, na = 0, si = 0, ni = 0;
         accumulate(trip, mask, &sa, &na, &si, &ni);
         if (ni == 0)
           throw std::runtime_error(fmt::format("view {} of '{}' has an empty head region", k, dir));
         full += -10 * std::log10(sa / na), region += -10 * std::log10(si / ni), n_all += na, n_in += ni;
+        if (per_view)
+          std::cout << fmt::format("{:<20} view {:3d}: region {:.2f} dB ({:.0f} pixels)\n", name, k,
+                                   -10 * std::log10(si / ni), ni / 3);
+        if (!mask_dir.empty())
+          cv::imwrite((fs::path(mask_dir) / fmt::format("{}_{:03d}_region.png", name, k)).string(), mask * 255);
       }
       if (k == 0) throw std::runtime_error("no eval images in '" + dir + "'");
       full /= double(k), region /= double(k);
