@@ -95,7 +95,8 @@ void restrict_to_face(const cv::Mat& trip, const fit::LandmarkDetector& det, int
     cv::fillConvexPoly(face, hull, cv::Scalar(1));
   }
   if (erode_px > 0)
-    cv::erode(face, face, cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * erode_px + 1, 2 * erode_px + 1)));
+    cv::erode(face, face,
+              cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * erode_px + 1, 2 * erode_px + 1)));
   mask &= face;
 }
 
@@ -159,7 +160,8 @@ int main(int argc, char** argv) {
           std::cout << fmt::format("{:<20} view {:3d}: region {:.2f} dB ({:.0f} pixels)\n", name, k,
                                    -10 * std::log10(si / ni), ni / 3);
         if (!mask_dir.empty())
-          cv::imwrite((fs::path(mask_dir) / fmt::format("{}_{:03d}_region.png", name, k)).string(), mask * 255);
+          cv::imwrite((fs::path(mask_dir) / fmt::format("{}_{:03d}_region.png", name, k)).string(),
+                      mask * 255);
       }
       if (k == 0) throw std::runtime_error("no eval images in '" + dir + "'");
       full /= double(k), region /= double(k);
