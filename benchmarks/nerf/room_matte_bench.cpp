@@ -31,6 +31,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <optional>
+#include <utility>
 
 #include "fit/landmarks_dlib.h"
 #include "host/dataset/dataset.h"
@@ -166,9 +167,11 @@ cv::Mat sheet_row(const Image& pred, const HeldOut& view, const nerf::Aabb& box)
 }
 
 // Face PSNR when the dataset has no true landmarks (a mesh subject such as the scan): the hull of
-// dlib's 68 landmarks on the photo, sRGB PSNR inside it; nullopt when dlib finds no face.
-std::optional<double> detected_face_psnr(const Image& pred, const Image& photo,
-                                         const fit::LandmarkDetector& dlib) {
+// dlib's 68 landmarks on the photo, sRGB PSNR inside it (first) and inside the part of it the true
+// matte covers fully (second; render/matte_eval.h); nullopt when dlib finds no face.
+std::optional<std::pair<double, double>> detected_face_psnr(const Image& pred, const Image& photo,
+                                                            const Image& matte,
+                                                            const fit::LandmarkDetector& dlib) {
   fit::FaceDetection d = dlib.detect(photo);
   if (!d.found) return std::nullopt;
   std::vector<cv::Point> px, hull;
@@ -176,19 +179,24 @@ std::optional<double> detected_face_psnr(const Image& pred, const Image& photo,
   cv::convexHull(px, hull);
   cv::Mat mask = cv::Mat::zeros(photo.height, photo.width, CV_8U);
   cv::fillConvexPoly(mask, hull, cv::Scalar(255));
-  double se = 0.0;
-  long n = 0;
+  double se = 0.0, se_in = 0.0;
+  long n = 0, n_in = 0;
   for (int y = 0; y < photo.height; ++y)
     for (int x = 0; x < photo.width; ++x) {
       if (!mask.at<uint8_t>(y, x)) continue;
+      double px = 0.0;
       for (int c = 0; c < 3; ++c) {
         const double e = linear_to_srgb(pred.at(x, y, c)) - linear_to_srgb(photo.at(x, y, c));
-        se += e * e;
+        px += e * e;
       }
-      ++n;
+      se += px, ++n;
+      if (matte.at(x, y, 0) >= 0.999f) se_in += px, ++n_in;
     }
   if (!n) return std::nullopt;
-  return -10.0 * std::log10(std::max(se / (3.0 * n), 1e-12));
+  auto psnr = [](double sum, long count) {
+    return count ? -10.0 * std::log10(std::max(sum / (3.0 * count), 1e-12)) : 0.0;
+  };
+  return std::make_pair(psnr(se, n), psnr(se_in, n_in));
 }
 
 // Clears occupancy cells whose density gives less than `alpha` opacity over one step.
@@ -262,7 +270,7 @@ int main(int argc, char** argv) {
       LeakSplit leak;
       Profile profile;
       std::vector<cv::Mat> rows;
-      double dlib_psnr = 0.0;
+      double dlib_psnr = 0.0, dlib_psnr_subject = 0.0;
       int dlib_faces = 0;
       if (face.empty() && !dlib) dlib = std::make_unique<fit::LandmarkDetector>();
       for (const HeldOut& h : held) {
@@ -271,7 +279,8 @@ int main(int argc, char** argv) {
         render::MatteView v{h.frame->camera, &pred, &h.frame->image, &h.matte, &h.depth, face};
         scores.push_back(render::score_matte(v, model.aabb()));
         if (face.empty())
-          if (auto f = detected_face_psnr(pred, h.frame->image, *dlib)) dlib_psnr += *f, ++dlib_faces;
+          if (auto f = detected_face_psnr(pred, h.frame->image, h.matte, *dlib))
+            dlib_psnr += f->first, dlib_psnr_subject += f->second, ++dlib_faces;
         LeakSplit s = split_leak(pred, h, model.aabb(), face, scores.back().subject_pixels, profile);
         const double k = 1.0 / double(held.size());
         leak.edge += k * s.edge, leak.below += k * s.below, leak.other += k * s.other;
@@ -281,7 +290,10 @@ int main(int argc, char** argv) {
           rows.push_back(sheet_row(pred, h, model.aabb()));
       }
       render::MatteScore m = render::mean_score(scores);
-      if (face.empty()) m.face_psnr = dlib_faces ? dlib_psnr / dlib_faces : 0.0;
+      if (face.empty()) {
+        m.face_psnr = dlib_faces ? dlib_psnr / dlib_faces : 0.0;
+        m.face_psnr_subject = dlib_faces ? dlib_psnr_subject / dlib_faces : 0.0;
+      }
       const std::string face_region =
           face.empty() ? fmt::format("dlib on the photo ({}/{} views)", dlib_faces, held.size())
                        : "68 true landmarks";
@@ -289,10 +301,11 @@ int main(int argc, char** argv) {
       std::cerr << fmt::format(
           "{} min-alpha {:.3f}: IoU {:.4f}, leak {:.2f} % (edge {:.2f}, below chin {:.2f}, other {:.2f}; "
           "the matte's own {:.2f}); beyond the matte's coverage {:.2f} % (edge {:.2f}, farther {:.2f}); "
-          "face PSNR {:.2f} dB ({}), {} views, {} occupied cells\n",
+          "face PSNR {:.2f} dB ({}; {:.2f} dB where the subject covers the pixel), {} views, {} occupied "
+          "cells\n",
           c.name, alpha, m.iou, 100 * m.leak, 100 * leak.edge, 100 * leak.below, 100 * leak.other,
           100 * leak.floor, 100 * m.leak_excess, 100 * leak.excess_edge, 100 * leak.excess_far, m.face_psnr,
-          face_region, scores.size(), occupied);
+          face_region, m.face_psnr_subject, scores.size(), occupied);
       csv.push_back(
           {c.name, fmt::format("{:.3f}", alpha), fmt::format("{:.4f}", m.iou), fmt::format("{:.4f}", m.leak),
            fmt::format("{:.4f}", leak.edge), fmt::format("{:.4f}", leak.below),
@@ -301,7 +314,8 @@ int main(int argc, char** argv) {
            std::to_string(occupied), std::to_string(model.metadata.steps),
            fmt::format("{:.1f}", model.metadata.train_seconds), fmt::format("{:.4f}", m.leak_excess),
            fmt::format("{:.4f}", leak.excess_edge), fmt::format("{:.4f}", leak.excess_far),
-           fmt::format("{:.4f}", leak.outline), fmt::format("{:.4f}", leak.ring)});
+           fmt::format("{:.4f}", leak.outline), fmt::format("{:.4f}", leak.ring),
+           fmt::format("{:.3f}", m.face_psnr_subject)});
       ChartSeries opacity_series{c.name, {}, {}};
       for (int b = 0; b < int(profile.bins.size()); ++b) {
         const Profile::Bin& bin = profile.bins[size_t(b)];
@@ -327,7 +341,7 @@ int main(int argc, char** argv) {
       out + "/room_matte.csv",
       {"case", "min_alpha", "iou", "leak", "leak_edge", "leak_below_chin", "leak_other", "leak_of_true_matte",
        "face_psnr_db", "face_region", "views", "occupied_cells", "steps", "train_seconds", "leak_excess",
-       "leak_excess_edge", "leak_excess_far", "leak_outline", "leak_ring"},
+       "leak_excess_edge", "leak_excess_far", "leak_outline", "leak_ring", "face_psnr_subject_db"},
       csv);
   // Summed over views: leak and leak_excess are the bin's share of the subject's pixels.
   write_csv(

@@ -64,34 +64,41 @@ MatteScore score_matte(const MatteView& v, const nerf::Aabb& box) {
   s.subject_pixels = subject;
   if (!v.face_points.empty() && v.truth) {
     cv::Mat mask = face_mask(v.camera, v.face_points);
-    double se = 0.0;
-    long n = 0;
+    double se = 0.0, se_in = 0.0;
+    long n = 0, n_in = 0;
     for (int y = 0; y < h; ++y)
       for (int x = 0; x < w; ++x) {
         if (!mask.at<uint8_t>(y, x)) continue;
+        double px = 0.0;
         for (int c = 0; c < 3; ++c) {
           double e = linear_to_srgb(pred.at(x, y, c)) - linear_to_srgb(v.truth->at(x, y, c));
-          se += e * e;
+          px += e * e;
         }
-        ++n;
+        se += px, ++n;
+        if (matte.at(x, y, 0) >= 0.999f) se_in += px, ++n_in;
       }
     s.face_pixels = n;
     s.face_psnr = n ? -10.0 * std::log10(std::max(se / (3.0 * n), 1e-12)) : 0.0;
+    s.face_subject_pixels = n_in;
+    s.face_psnr_subject = n_in ? -10.0 * std::log10(std::max(se_in / (3.0 * n_in), 1e-12)) : 0.0;
   }
   return s;
 }
 
 MatteScore mean_score(const std::vector<MatteScore>& scores) {
   MatteScore m;
-  int faces = 0;
+  int faces = 0, covered = 0;
   for (const auto& s : scores) {
     m.iou += s.iou / double(scores.size());
     m.leak += s.leak / double(scores.size());
     m.leak_excess += s.leak_excess / double(scores.size());
     m.subject_pixels += s.subject_pixels;
     if (s.face_pixels) m.face_psnr += s.face_psnr, m.face_pixels += s.face_pixels, ++faces;
+    if (s.face_subject_pixels)
+      m.face_psnr_subject += s.face_psnr_subject, m.face_subject_pixels += s.face_subject_pixels, ++covered;
   }
   if (faces) m.face_psnr /= faces;
+  if (covered) m.face_psnr_subject /= covered;
   return m;
 }
 

@@ -3,7 +3,8 @@
 // (alpha = 1 - T) against the matte, inside the region the model can show at all (pixels whose
 // subject point, from the synthetic depth, lies inside the model's box: head to neck; shoulders and
 // body below the box are left out of both sides), plus the PSNR of the face (the convex hull of the
-// 68 ground-truth landmarks projected into the view).
+// 68 ground-truth landmarks projected into the view), over all of it and over the part the subject
+// covers fully.
 #pragma once
 #include <Eigen/Core>
 #include <array>
@@ -34,7 +35,11 @@ struct MatteScore {
   // anti-aliased matte (a = m on the outline) scores sum m (1 - m) > 0 there; this one scores 0.
   double leak_excess = 0.0;
   double face_psnr = 0.0;  // sRGB PSNR inside the face hull (0 when no face points)
-  long subject_pixels = 0, face_pixels = 0;
+  // The same over the hull's pixels the subject covers fully (matte >= 0.999): the hull's rim holds
+  // room beside the jaw and under the chin, which face_psnr scores as if it were face, so a model
+  // that paints the room around the head scores higher there than one that renders it clear.
+  double face_psnr_subject = 0.0;
+  long subject_pixels = 0, face_pixels = 0, face_subject_pixels = 0;
 };
 
 MatteScore score_matte(const MatteView& view, const nerf::Aabb& box);

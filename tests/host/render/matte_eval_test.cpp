@@ -2,15 +2,19 @@
 // its exact coverage of each pixel (16 x 16 samples), against predictions whose scores follow by
 // hand: the matte itself, the disc thresholded at the pixel centres, and a uniform haze over the
 // room. The region rule (matte pixels whose subject point lies outside the model's box are not
-// judged) is checked with a depth map that puts one strip of the disc far outside the box.
+// judged) is checked with a depth map that puts one strip of the disc far outside the box; the face
+// PSNRs with a face hull larger than the disc, whose rim is room.
 #include "host/render/matte_eval.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <limits>
+#include <utility>
+#include <vector>
 
 #include "host/render/orbit.h"
+#include "host/util/image_io.h"
 
 namespace {
 
@@ -117,6 +121,40 @@ TEST(MatteEval, SubjectOutsideTheModelsBoxIsNotJudged) {
   const render::MatteScore all = s.score(pred);
   EXPECT_EQ(all.subject_pixels, subject);
   EXPECT_NEAR(all.iou, double(subject - strip) / double(subject), 1e-12);
+}
+
+TEST(MatteEval, FacePsnrOverTheSubjectLeavesTheHullsRoomOut) {
+  Scene s;
+  // Face points on the rays through the integer pixel positions (10, 5) .. (52, 42), 3 units out:
+  // their hull is that pixel rectangle, which holds the whole disc and a rim of room around it.
+  const int x0 = 10, y0 = 5, x1 = 52, y1 = 42;
+  std::vector<Eigen::Vector3f> face;
+  const LgnVec3 o = camera_origin(&s.camera);
+  for (auto [u, v] : {std::pair{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}}) {
+    const LgnVec3 d = camera_ray_dir(&s.camera, float(u), float(v));
+    face.emplace_back(o.x + 3.0f * d.x, o.y + 3.0f * d.y, o.z + 3.0f * d.z);
+  }
+  // The prediction: linear 0.6 where the disc covers the pixel fully (the truth is 0.5), white
+  // elsewhere (a model that renders the room clear over a white background).
+  Image pred(kW, kH, 4, 1.0f);
+  long in = 0, rim = 0;
+  for (int y = 0; y < kH; ++y)
+    for (int x = 0; x < kW; ++x) {
+      const bool full = s.matte.at(x, y, 0) >= 0.999f;
+      if (full)
+        for (int c = 0; c < 3; ++c) pred.at(x, y, c) = 0.6f;
+      if (x >= x0 && x <= x1 && y >= y0 && y <= y1) (full ? in : rim) += 1;
+    }
+  ASSERT_GT(in, 400);
+  ASSERT_GT(rim, 600);
+  const render::MatteScore r = render::score_matte({s.camera, &pred, &s.truth, &s.matte, nullptr, face}, s.box);
+  const double e_in = linear_to_srgb(0.6f) - linear_to_srgb(0.5f), e_rim = 1.0 - linear_to_srgb(0.5f);
+  EXPECT_EQ(r.face_pixels, in + rim);
+  EXPECT_EQ(r.face_subject_pixels, in);
+  // float sRGB conversions: 1e-4 dB.
+  EXPECT_NEAR(r.face_psnr_subject, -10.0 * std::log10(e_in * e_in), 1e-4);
+  EXPECT_NEAR(r.face_psnr, -10.0 * std::log10((in * e_in * e_in + rim * e_rim * e_rim) / double(in + rim)), 1e-4);
+  EXPECT_GT(r.face_psnr_subject - r.face_psnr, 5.0);  // the rim's room dominates the whole hull
 }
 
 }  // namespace
