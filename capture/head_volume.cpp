@@ -12,6 +12,10 @@ using nerf::OrientedShape;
 // (docs/bench/real-captures.md, "The head volume").
 constexpr double kLooseHairMm = 40.0;
 
+// The average chin lies about this far above HeadExtents' p99 chin (menton 114 mm below the eyes in
+// the mean face, against 135 mm).
+constexpr double kChinAboveP99Mm = 20.0;
+
 // An axis-aligned shape of the head frame spanning [lo, hi] (mm).
 OrientedShape span(OrientedShape::Kind kind, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
   OrientedShape s;
@@ -61,6 +65,19 @@ nerf::SubjectVolume head_volume_mm(const fit::HeadExtents& e, HeadVolumeShape sh
   return v;
 }
 
+nerf::SubjectVolume head_clear_keep_mm(const fit::HeadExtents& e) {
+  const double half_x = 0.5 * e.head_breadth_mm + e.side_margin_mm + kLooseHairMm;
+  const double back = e.head_length_mm - e.glabella_ahead_mm + e.hair_mm + kLooseHairMm;
+  const double bottom = e.chin_below_eyes_mm + e.neck_mm, front = e.nose_ahead_mm + e.front_margin_mm;
+  // From the average chin down (chin_below_eyes_mm is the p99 chin, ~20 mm below the average one:
+  // keeping a long face's chin costs only its clearing there).
+  const double top = -(e.chin_below_eyes_mm - kChinAboveP99Mm);
+  nerf::SubjectVolume v;
+  v.parts.push_back(span(OrientedShape::Kind::Box, {-half_x, -bottom, -back}, {half_x, top, front}));
+  v.what = "the head box below the chin (the neck; capture/head_volume.h)";
+  return v;
+}
+
 nerf::SubjectVolume to_scene(const nerf::SubjectVolume& mm, const fit::HeadBox& box) {
   const double s = 1.0 / box.head.mm_per_unit;
   auto map = [&](const OrientedShape& in) {
@@ -86,6 +103,10 @@ nerf::SubjectVolume to_scene(const nerf::SubjectVolume& mm, const fit::HeadBox& 
 
 nerf::SubjectVolume head_volume(const fit::HeadBox& box, HeadVolumeShape shape) {
   return to_scene(head_volume_mm(box.extents, shape), box);
+}
+
+nerf::SubjectVolume head_clear_keep(const fit::HeadBox& box) {
+  return to_scene(head_clear_keep_mm(box.extents), box);
 }
 
 }  // namespace lorgnette::capture

@@ -22,6 +22,13 @@ nerf::SubjectVolume head_volume_mm(const fit::HeadExtents& extents,
 // The same volume placed in the scene (units of the head box's scene): its anchor, axes and scale.
 nerf::SubjectVolume head_volume(const fit::HeadBox& box, HeadVolumeShape shape = HeadVolumeShape::Head);
 
+// The part of the head box below the chin (from the average chin down to the box's bottom, the box's
+// full width and depth with loose hair), in the head frame (mm) and in the scene: the neck, which
+// the body in the room model lies right behind, so the room's colour can match it without the neck
+// being a backdrop. The room-explained clearing (nerf::BackgroundOptions::clear_keep) leaves it out.
+nerf::SubjectVolume head_clear_keep_mm(const fit::HeadExtents& extents);
+nerf::SubjectVolume head_clear_keep(const fit::HeadBox& box);
+
 // A head-frame (mm) volume mapped to the scene by the frame of `box`.
 nerf::SubjectVolume to_scene(const nerf::SubjectVolume& mm, const fit::HeadBox& box);
 

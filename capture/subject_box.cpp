@@ -24,6 +24,7 @@ SubjectBoxChoice head_choice(const dataset::Dataset& ds, const fit::HeadBoxOptio
   c.source = BoxSource::Head;
   c.aabb = to_array(box.min, box.max);
   c.volume = head_volume(box);
+  c.clear_keep = head_clear_keep(box);
   c.why = box.summary();
   std::vector<Camera> cams;
   for (const auto& p : photos) cams.push_back(p.camera);
@@ -148,6 +149,7 @@ void apply_subject_box(dataset::Dataset& ds, BoxSource requested, bool masks_all
           "the chosen subject box is empty: give a box yourself or use the cameras' box");
     job.sizing.aabb = box;
     job.subject_volume = c.volume;
+    job.clear_keep = c.clear_keep;
   }
 }
 

@@ -31,6 +31,9 @@ struct SubjectBoxChoice {
   // axis-aligned bounds, so it holds corners that are not head; training with a room model masks
   // them out of the subject's occupancy.
   std::optional<nerf::SubjectVolume> volume;
+  // Head: the part of it where the room model's clearing prior does not apply (the neck below the
+  // chin, which the body in the room model lies right behind; capture/head_volume.h).
+  std::optional<nerf::SubjectVolume> clear_keep;
   std::string why;  // one sentence for the log
   // Why the subject cannot be separated from the room, with what to film differently ("" when it
   // can): auto found no face in a mask-less dataset, or the head runs off every frame

@@ -306,16 +306,26 @@ int main(int argc, char** argv) {
           c.name, alpha, m.iou, 100 * m.leak, 100 * leak.edge, 100 * leak.below, 100 * leak.other,
           100 * leak.floor, 100 * m.leak_excess, 100 * leak.excess_edge, 100 * leak.excess_far, m.face_psnr,
           face_region, m.face_psnr_subject, scores.size(), occupied);
-      csv.push_back(
-          {c.name, fmt::format("{:.3f}", alpha), fmt::format("{:.4f}", m.iou), fmt::format("{:.4f}", m.leak),
-           fmt::format("{:.4f}", leak.edge), fmt::format("{:.4f}", leak.below),
-           fmt::format("{:.4f}", leak.other), fmt::format("{:.4f}", leak.floor),
-           fmt::format("{:.3f}", m.face_psnr), face_region, std::to_string(scores.size()),
-           std::to_string(occupied), std::to_string(model.metadata.steps),
-           fmt::format("{:.1f}", model.metadata.train_seconds), fmt::format("{:.4f}", m.leak_excess),
-           fmt::format("{:.4f}", leak.excess_edge), fmt::format("{:.4f}", leak.excess_far),
-           fmt::format("{:.4f}", leak.outline), fmt::format("{:.4f}", leak.ring),
-           fmt::format("{:.3f}", m.face_psnr_subject)});
+      csv.push_back({c.name,
+                     fmt::format("{:.3f}", alpha),
+                     fmt::format("{:.4f}", m.iou),
+                     fmt::format("{:.4f}", m.leak),
+                     fmt::format("{:.4f}", leak.edge),
+                     fmt::format("{:.4f}", leak.below),
+                     fmt::format("{:.4f}", leak.other),
+                     fmt::format("{:.4f}", leak.floor),
+                     fmt::format("{:.3f}", m.face_psnr),
+                     face_region,
+                     std::to_string(scores.size()),
+                     std::to_string(occupied),
+                     std::to_string(model.metadata.steps),
+                     fmt::format("{:.1f}", model.metadata.train_seconds),
+                     fmt::format("{:.4f}", m.leak_excess),
+                     fmt::format("{:.4f}", leak.excess_edge),
+                     fmt::format("{:.4f}", leak.excess_far),
+                     fmt::format("{:.4f}", leak.outline),
+                     fmt::format("{:.4f}", leak.ring),
+                     fmt::format("{:.3f}", m.face_psnr_subject)});
       ChartSeries opacity_series{c.name, {}, {}};
       for (int b = 0; b < int(profile.bins.size()); ++b) {
         const Profile::Bin& bin = profile.bins[size_t(b)];
@@ -337,12 +347,28 @@ int main(int argc, char** argv) {
       }
     }
   }
-  write_csv(
-      out + "/room_matte.csv",
-      {"case", "min_alpha", "iou", "leak", "leak_edge", "leak_below_chin", "leak_other", "leak_of_true_matte",
-       "face_psnr_db", "face_region", "views", "occupied_cells", "steps", "train_seconds", "leak_excess",
-       "leak_excess_edge", "leak_excess_far", "leak_outline", "leak_ring", "face_psnr_subject_db"},
-      csv);
+  write_csv(out + "/room_matte.csv",
+            {"case",
+             "min_alpha",
+             "iou",
+             "leak",
+             "leak_edge",
+             "leak_below_chin",
+             "leak_other",
+             "leak_of_true_matte",
+             "face_psnr_db",
+             "face_region",
+             "views",
+             "occupied_cells",
+             "steps",
+             "train_seconds",
+             "leak_excess",
+             "leak_excess_edge",
+             "leak_excess_far",
+             "leak_outline",
+             "leak_ring",
+             "face_psnr_subject_db"},
+            csv);
   // Summed over views: leak and leak_excess are the bin's share of the subject's pixels.
   write_csv(
       out + "/room_matte_profile.csv",

@@ -80,6 +80,12 @@ struct BackgroundOptions {
   // the head volume's rim). 0 = off.
   float room_clear = 0.0f;
   float room_clear_tolerance = 0.05f;
+  // Where the clearing does not apply (the binary prior does): the part of the subject that the room
+  // model's own surfaces lie right behind, so that the room can match its colour there without the
+  // subject being a painted backdrop (a head box's neck, with the body below the box in the room
+  // model; capture/head_volume.h). Without it the clearing ate the scan's neck base (room 1, yaw
+  // +-20: IoU 0.978 -> 0.946, docs/bench/real-captures.md).
+  std::optional<SubjectVolume> clear_keep;
 };
 
 class BackgroundField {

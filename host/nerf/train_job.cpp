@@ -75,6 +75,7 @@ TrainJobResult train_on_dataset(cl::Runtime& rt, const dataset::Dataset& ds, Tra
                  allowed, cells, 100.0 * double(allowed) / double(cells), job.subject_volume->what);
     sizing.occupancy_mask = std::move(mask);
     job.train.background.subject_volume = job.subject_volume;
+    job.train.background.clear_keep = job.clear_keep;
   }
   if (job.batch_log2 == 0) {
     job.batch_log2 = device_batch_log2(rt.device());

@@ -37,6 +37,11 @@ Trainer::Trainer(NerfModel& model, const std::vector<View>& views, const TrainOp
     background_ =
         std::make_unique<BackgroundField>(rt, model, *views_, options.background, batch, options.seed);
     spdlog::info("{}", background_->summary());
+    const std::optional<SubjectVolume>& keep = options.background.clear_keep;
+    if (options.background.room_clear > 0.0f && keep && !keep->empty()) {
+      keep_res_ = model.occupancy_resolution();
+      keep_ = cl::Buffer<uint32_t>(rt, volume_occupancy_mask(*keep, model.aabb(), keep_res_));
+    }
   }
 }
 
@@ -57,6 +62,7 @@ RayPriors Trainer::opacity_prior() const {
   p.weight = float(b.opacity_prior * std::clamp((double(step_) - b.opacity_prior_start) / ramp, 0.0, 1.0));
   p.room_clear = b.room_clear;
   p.room_clear_tolerance = b.room_clear_tolerance;
+  if (keep_res_) p.keep = &keep_, p.keep_res = keep_res_;
   return p;
 }
 

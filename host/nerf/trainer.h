@@ -105,6 +105,8 @@ class Trainer {
   std::unique_ptr<RayBatch> batch_;
   std::unique_ptr<OccupancyUpdater> occupancy_;
   std::unique_ptr<BackgroundField> background_;
+  cl::Buffer<uint32_t> keep_;  // BackgroundOptions::clear_keep's cells (keep_res_^3; 0: none)
+  uint32_t keep_res_ = 0;
   uint64_t step_ = 0;
   uint32_t n_rays_;
   uint64_t samples_ = 0, rays_ = 0;

@@ -32,6 +32,7 @@
 #pragma once
 #include "common/cl_compat.h"
 #include "common/composite.h"
+#include "train/occupancy.h"
 #include "train/train_types.h"
 
 #ifndef __OPENCL_C_VERSION__
@@ -141,11 +142,36 @@ LGN_INLINE float render_ray_room_gate(const float* target, const float* bg, floa
 // `ray_scale`, the batch mean's 1 / rays) to dsigma of the `used` samples from `first`; returns the
 // prior's value (unscaled). color[3] is the ray's opacity from render_ray_forward; gate = 0 gives the
 // binary prior alone.
+LGN_INLINE float render_ray_opacity_prior_dlda(float a, float weight, float clear, float gate,
+                                               float ray_scale) {
+  return weight * ray_scale * ((1.0f - gate) * (1.0f - 2.0f * a) + clear * gate);
+}
+
 LGN_INLINE float render_ray_opacity_prior(lgn_uint first, lgn_uint used, float step, const float* color,
                                           float weight, float clear, float gate, float ray_scale,
                                           LGN_GLOBAL float* dsigma) {
   const float a = color[3], T = 1.0f - a;
-  const float dLda = weight * ray_scale * ((1.0f - gate) * (1.0f - 2.0f * a) + clear * gate);
+  const float dLda = render_ray_opacity_prior_dlda(a, weight, clear, gate, ray_scale);
   for (lgn_uint k = 0; k < used; ++k) dsigma[first + k] += step * T * dLda;
   return weight * ((1.0f - gate) * a * (1.0f - a) + clear * gate * a);
+}
+
+// The same with a keep mask (occupancy bits at `keep_res`^3 over the model's box; positions `pos` SoA
+// with `stride`, normalised to the box): samples in kept cells get the binary prior's gradient
+// (gate 0), the others the gated one. Where the room model's own subject-coloured surface lies right
+// behind the subject (the body below a head box, behind the neck) the gate would clear the subject
+// there too; the caller keeps those cells.
+LGN_INLINE void render_ray_opacity_prior_keep(lgn_uint first, lgn_uint used, float step, const float* color,
+                                              float weight, float clear, float gate, float ray_scale,
+                                              LGN_GLOBAL const float* pos, lgn_uint stride,
+                                              LGN_GLOBAL const lgn_uint* keep_bits, lgn_uint keep_res,
+                                              LGN_GLOBAL float* dsigma) {
+  const float a = color[3], T = 1.0f - a;
+  const float gated = render_ray_opacity_prior_dlda(a, weight, clear, gate, ray_scale);
+  const float binary = render_ray_opacity_prior_dlda(a, weight, clear, 0.0f, ray_scale);
+  for (lgn_uint k = 0; k < used; ++k) {
+    const lgn_uint i = first + k;
+    const int keep = occ_test(keep_bits, keep_res, pos[i], pos[stride + i], pos[2u * stride + i]);
+    dsigma[i] += step * T * (keep ? binary : gated);
+  }
 }

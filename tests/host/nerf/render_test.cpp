@@ -10,6 +10,7 @@
 
 #include "host/cl/kernel.h"
 #include "host/cl/runtime.h"
+#include "kernels/train/occupancy.h"
 
 namespace {
 
@@ -19,7 +20,7 @@ using lorgnette::cl::Runtime;
 
 struct Rays {
   std::vector<uint32_t> offsets, counts;
-  std::vector<float> info, sigma, rgb;  // rgb SoA with stride
+  std::vector<float> info, sigma, rgb, pos;  // rgb and pos (normalised to the box) SoA with stride
   uint32_t stride = 0;
 };
 
@@ -39,6 +40,8 @@ Rays random_rays(uint32_t n_rays, uint32_t seed) {
   r.rgb.resize(3 * r.stride);
   for (auto& s : r.sigma) s = 30.0f * u(gen) * u(gen);
   for (auto& c : r.rgb) c = u(gen);
+  r.pos.resize(3 * r.stride);
+  for (auto& x : r.pos) x = u(gen);
   return r;
 }
 
@@ -47,15 +50,26 @@ struct Out {
   std::vector<float> color, loss, dsigma, drgb;
 };
 Out run_kernel(Runtime& rt, const Rays& r, float step, uint32_t loss_kind, uint32_t forward_only,
-               float opacity_prior = 0.0f, float room_clear = 0.0f, float room_clear_tolerance = 0.0f) {
+               float opacity_prior = 0.0f, float room_clear = 0.0f, float room_clear_tolerance = 0.0f,
+               const std::vector<uint32_t>& keep = {}, uint32_t keep_res = 0) {
   uint32_t n = uint32_t(r.counts.size());
   Buffer<uint32_t> off(rt, r.offsets), cnt(rt, r.counts);
-  Buffer<float> info(rt, r.info), sigma(rt, r.sigma), rgb(rt, r.rgb);
+  Buffer<uint32_t> keep_bits(rt, keep.empty() ? std::vector<uint32_t>{0u} : keep);
+  Buffer<float> info(rt, r.info), sigma(rt, r.sigma), rgb(rt, r.rgb), pos(rt, r.pos);
   Buffer<float> dsigma(rt, r.stride), drgb(rt, 3 * r.stride), loss(rt, n), color(rt, 4 * n);
-  LossParams p{n,     r.stride,      forward_only, loss_kind,           step, 1.0f / (3.0f * n),
-               1e-4f, opacity_prior, room_clear,   room_clear_tolerance};
+  LossParams p{n,
+               r.stride,
+               forward_only,
+               loss_kind,
+               step,
+               1.0f / (3.0f * n),
+               1e-4f,
+               opacity_prior,
+               room_clear,
+               room_clear_tolerance,
+               keep.empty() ? 0u : keep_res};
   Kernel k(rt.program("train/loss.cl"), "render_loss");
-  k.args(p, off, cnt, info, sigma, rgb, dsigma, drgb, loss, color).launch(rt, n, 64);
+  k.args(p, off, cnt, info, sigma, rgb, dsigma, drgb, loss, color, pos, keep_bits).launch(rt, n, 64);
   return {color.read(rt), loss.read(rt), dsigma.read(rt), drgb.read(rt)};
 }
 
@@ -230,6 +244,52 @@ TEST(Render, KernelWithOpacityPriorMatchesHostReference) {
     EXPECT_GT(changed, 1e-3);  // the prior reached the kernel's gradient
     if (c > 0.0f) EXPECT_GT(gated, 20) << "the random rays should open the gate on some rays";
   }
+}
+
+// The keep mask: samples in kept cells get the binary prior's gradient, the others the gated one;
+// the kernel against the host build, and against the two unmasked renders sample by sample.
+TEST(Render, KeptCellsGetTheBinaryPriorOnly) {
+  Runtime rt({"", "", false});
+  Rays r = random_rays(200, 9);
+  const float step = 0.015f, weight = 0.25f, clear = 3.0f, tolerance = 0.4f;
+  const uint32_t res = 4;
+  std::vector<uint32_t> keep(occ_word_count(res), 0u);
+  std::mt19937 gen(3);
+  for (uint32_t c = 0; c < res * res * res; ++c)
+    if (gen() % 2) keep[c >> 5] |= 1u << (c & 31u);
+  Out masked = run_kernel(rt, r, step, LOSS_L2_SRGB, 0, weight, clear, tolerance, keep, res);
+  Out gated = run_kernel(rt, r, step, LOSS_L2_SRGB, 0, weight, clear, tolerance);
+  Out binary = run_kernel(rt, r, step, LOSS_L2_SRGB, 0, weight, 0.0f, tolerance);
+  std::vector<float> dsigma(r.stride, 0.0f), drgb(3 * r.stride, 0.0f);
+  int kept = 0, cleared = 0;
+  for (uint32_t ray = 0; ray < 200; ++ray) {
+    const float* info = &r.info[RAY_INFO_FLOATS * ray];
+    float color[4], dC[3];
+    const uint32_t first = r.offsets[ray], count = r.counts[ray];
+    uint32_t used = render_ray_forward(r.sigma.data(), r.rgb.data(), r.stride, first, count, step, 1e-4f,
+                                       info + 3, color);
+    render_ray_loss(color, info, LOSS_L2_SRGB, 1.0f / 600.0f, dC);
+    render_ray_backward(r.sigma.data(), r.rgb.data(), r.stride, first, count, used, step, color, dC,
+                        dsigma.data(), drgb.data());
+    const float gate = render_ray_room_gate(info, info + 3, tolerance);
+    if (gate > 0.0f)
+      render_ray_opacity_prior_keep(first, used, step, color, weight, clear, gate, 1.0f / 200.0f,
+                                    r.pos.data(), r.stride, keep.data(), res, dsigma.data());
+    else
+      render_ray_opacity_prior(first, used, step, color, weight, clear, gate, 1.0f / 200.0f, dsigma.data());
+    for (uint32_t k = 0; k < used && gate > 0.0f; ++k) {
+      const uint32_t i = first + k;
+      const bool in = occ_test(keep.data(), res, r.pos[i], r.pos[r.stride + i], r.pos[2 * r.stride + i]);
+      // Same tolerance as the host comparison below.
+      const float want = in ? binary.dsigma[i] : gated.dsigma[i];
+      EXPECT_NEAR(masked.dsigma[i], want, 1e-4 * std::fabs(want) + 1e-8) << "sample " << i;
+      (in ? kept : cleared) += 1;
+    }
+  }
+  for (uint32_t i = 0; i < r.stride - 5; ++i)
+    EXPECT_NEAR(masked.dsigma[i], dsigma[i], 1e-4 * std::fabs(dsigma[i]) + 1e-8) << "sample " << i;
+  EXPECT_GT(kept, 50);
+  EXPECT_GT(cleared, 50);
 }
 
 TEST(Render, KernelMatchesHostReference) {

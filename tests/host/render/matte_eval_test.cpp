@@ -147,13 +147,15 @@ TEST(MatteEval, FacePsnrOverTheSubjectLeavesTheHullsRoomOut) {
     }
   ASSERT_GT(in, 400);
   ASSERT_GT(rim, 600);
-  const render::MatteScore r = render::score_matte({s.camera, &pred, &s.truth, &s.matte, nullptr, face}, s.box);
+  const render::MatteScore r =
+      render::score_matte({s.camera, &pred, &s.truth, &s.matte, nullptr, face}, s.box);
   const double e_in = linear_to_srgb(0.6f) - linear_to_srgb(0.5f), e_rim = 1.0 - linear_to_srgb(0.5f);
   EXPECT_EQ(r.face_pixels, in + rim);
   EXPECT_EQ(r.face_subject_pixels, in);
   // float sRGB conversions: 1e-4 dB.
   EXPECT_NEAR(r.face_psnr_subject, -10.0 * std::log10(e_in * e_in), 1e-4);
-  EXPECT_NEAR(r.face_psnr, -10.0 * std::log10((in * e_in * e_in + rim * e_rim * e_rim) / double(in + rim)), 1e-4);
+  EXPECT_NEAR(r.face_psnr, -10.0 * std::log10((in * e_in * e_in + rim * e_rim * e_rim) / double(in + rim)),
+              1e-4);
   EXPECT_GT(r.face_psnr_subject - r.face_psnr, 5.0);  // the rim's room dominates the whole hull
 }
 
