@@ -33,13 +33,14 @@ nerf::Aabb head_box(const synth::Subject& s, const synth::HeadParams& p) {
   return out;
 }
 
-// IoU floor 0.78 and leak ceiling 15 % after 500 steps of 2^15 samples on 24 views of 120x160
+// IoU floor 0.88 and leak ceiling 10 % after 500 steps of 2^15 samples on 24 views of 120x160
 // (50-85 s on 2 shared CPU cores). Measured: IoU 0.846, leak 8.7 %; with the binary-opacity prior
 // (background_field.h) IoU 0.870 and 0.870, leak 7.8 and 8.5 % in two runs (training is not bitwise
 // deterministic here, hence the margins); with the room's samples spread over the rays (25 Nov)
-// IoU 0.916, leak 10.5 %, the subject's batch 97 % full (one run); without the room model the same
-// capture's box fills with the room (IoU 0.30 at full size). The full-size benchmark is in
-// docs/bench/real-captures.md.
+// IoU 0.916-0.918, leak 10.5-10.8 %, the subject's batch 97 % full; with the room-explained
+// clearing (26 Nov, BackgroundOptions::room_clear 1) IoU 0.941, leak 6.5 % (one run), so the
+// ceiling fails the code before it; without the room model the same capture's box fills with the
+// room (IoU 0.30 at full size). The full-size benchmark is in docs/bench/real-captures.md.
 TEST(RoomTraining, SubjectSeparatesFromTheRoom) {
   synth::HeadParams params = synth::random_head_params(0);
   synth::Subject subject = synth::procedural_subject(params, synth::HeadMeshOptions{256, 128, 512}, true);
@@ -91,8 +92,8 @@ TEST(RoomTraining, SubjectSeparatesFromTheRoom) {
   }
   ASSERT_GE(scores.size(), 3u);
   render::MatteScore m = render::mean_score(scores);
-  EXPECT_GE(m.iou, 0.78);
-  EXPECT_LE(m.leak, 0.15);
+  EXPECT_GE(m.iou, 0.88);
+  EXPECT_LE(m.leak, 0.10);
   std::cout << "room capture, 500 steps: IoU " << m.iou << ", leak " << 100.0 * m.leak << " %, face PSNR "
             << m.face_psnr << " dB, subject batch filled " << 100.0 * fill << " %\n";
 }

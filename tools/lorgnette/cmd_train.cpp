@@ -128,7 +128,7 @@ void add_train(CLI::App& app, GlobalOptions& global) {
       ->check(CLI::Range(0.0f, 1.0f));
   cmd->add_option("--room-clear", a->room_clear,
                   "with the room model: where the room's colour matches the pixel, pull the subject's "
-                  "opacity to 0 with this many times the opacity prior's weight (0 = off)")
+                  "opacity to 0 with this many times the opacity prior's weight (default 1; 0 = off)")
       ->check(CLI::Range(0.0f, 100.0f));
   cmd->add_option("--room-clear-tolerance", a->room_clear_tolerance,
                   "RMS sRGB difference between the room's colour and the pixel at which --room-clear stops "
