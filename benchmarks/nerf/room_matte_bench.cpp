@@ -31,7 +31,6 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <optional>
-#include <utility>
 
 #include "fit/landmarks_dlib.h"
 #include "host/dataset/dataset.h"
@@ -166,37 +165,16 @@ cv::Mat sheet_row(const Image& pred, const HeldOut& view, const nerf::Aabb& box)
   return row;
 }
 
-// Face PSNR when the dataset has no true landmarks (a mesh subject such as the scan): the hull of
-// dlib's 68 landmarks on the photo, sRGB PSNR inside it (first) and inside the part of it the true
-// matte covers fully (second; render/matte_eval.h); nullopt when dlib finds no face.
-std::optional<std::pair<double, double>> detected_face_psnr(const Image& pred, const Image& photo,
-                                                            const Image& matte,
-                                                            const fit::LandmarkDetector& dlib) {
+// Face PSNRs when the dataset has no true landmarks (a mesh subject such as the scan): the hull of
+// dlib's 68 landmarks on the photo (render::score_face); nullopt when dlib finds no face.
+std::optional<render::MatteScore> detected_face_psnr(const Image& pred, const Image& photo,
+                                                     const Image& matte, const fit::LandmarkDetector& dlib) {
   fit::FaceDetection d = dlib.detect(photo);
   if (!d.found) return std::nullopt;
-  std::vector<cv::Point> px, hull;
-  for (const auto& p : d.points) px.emplace_back(int(std::lround(p.x())), int(std::lround(p.y())));
-  cv::convexHull(px, hull);
-  cv::Mat mask = cv::Mat::zeros(photo.height, photo.width, CV_8U);
-  cv::fillConvexPoly(mask, hull, cv::Scalar(255));
-  double se = 0.0, se_in = 0.0;
-  long n = 0, n_in = 0;
-  for (int y = 0; y < photo.height; ++y)
-    for (int x = 0; x < photo.width; ++x) {
-      if (!mask.at<uint8_t>(y, x)) continue;
-      double px = 0.0;
-      for (int c = 0; c < 3; ++c) {
-        const double e = linear_to_srgb(pred.at(x, y, c)) - linear_to_srgb(photo.at(x, y, c));
-        px += e * e;
-      }
-      se += px, ++n;
-      if (matte.at(x, y, 0) >= 0.999f) se_in += px, ++n_in;
-    }
-  if (!n) return std::nullopt;
-  auto psnr = [](double sum, long count) {
-    return count ? -10.0 * std::log10(std::max(sum / (3.0 * count), 1e-12)) : 0.0;
-  };
-  return std::make_pair(psnr(se, n), psnr(se_in, n_in));
+  render::MatteScore s;
+  render::score_face(pred, photo, matte, d.points, s);
+  if (!s.face_pixels) return std::nullopt;
+  return s;
 }
 
 // Clears occupancy cells whose density gives less than `alpha` opacity over one step.
@@ -280,7 +258,7 @@ int main(int argc, char** argv) {
         scores.push_back(render::score_matte(v, model.aabb()));
         if (face.empty())
           if (auto f = detected_face_psnr(pred, h.frame->image, h.matte, *dlib))
-            dlib_psnr += f->first, dlib_psnr_subject += f->second, ++dlib_faces;
+            dlib_psnr += f->face_psnr, dlib_psnr_subject += f->face_psnr_subject, ++dlib_faces;
         LeakSplit s = split_leak(pred, h, model.aabb(), face, scores.back().subject_pixels, profile);
         const double k = 1.0 / double(held.size());
         leak.edge += k * s.edge, leak.below += k * s.below, leak.other += k * s.other;

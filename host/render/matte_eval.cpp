@@ -10,23 +10,49 @@
 namespace lorgnette::render {
 namespace {
 
-cv::Mat face_mask(const Camera& cam, const std::vector<Eigen::Vector3f>& pts) {
-  cv::Mat mask = cv::Mat::zeros(int(cam.height), int(cam.width), CV_8U);
-  if (pts.empty()) return mask;
-  std::vector<cv::Point> px;
+// The face points in front of the camera, projected to pixel coordinates.
+std::vector<Eigen::Vector2d> project_face(const Camera& cam, const std::vector<Eigen::Vector3f>& pts) {
+  std::vector<Eigen::Vector2d> px;
   for (const auto& p : pts) {
     float u, v;
-    if (!(camera_project(&cam, lgn_vec3(p.x(), p.y(), p.z()), &u, &v) > 0.0f)) continue;
-    px.emplace_back(int(std::lround(u)), int(std::lround(v)));
+    if (camera_project(&cam, lgn_vec3(p.x(), p.y(), p.z()), &u, &v) > 0.0f) px.emplace_back(u, v);
   }
-  if (px.size() < 3) return mask;
-  std::vector<cv::Point> hull;
-  cv::convexHull(px, hull);
-  cv::fillConvexPoly(mask, hull, cv::Scalar(255));
-  return mask;
+  return px;
+}
+
+double psnr_of(double squared_error_sum, long pixels) {
+  return pixels ? -10.0 * std::log10(std::max(squared_error_sum / (3.0 * double(pixels)), 1e-12)) : 0.0;
 }
 
 }  // namespace
+
+void score_face(const Image& pred, const Image& truth, const Image& matte,
+                const std::vector<Eigen::Vector2d>& hull_px, MatteScore& s) {
+  cv::Mat mask = cv::Mat::zeros(matte.height, matte.width, CV_8U);
+  if (hull_px.size() >= 3) {
+    std::vector<cv::Point> px, hull;
+    for (const auto& p : hull_px) px.emplace_back(int(std::lround(p.x())), int(std::lround(p.y())));
+    cv::convexHull(px, hull);
+    cv::fillConvexPoly(mask, hull, cv::Scalar(255));
+  }
+  double se = 0.0, se_in = 0.0;
+  long n = 0, n_in = 0;
+  for (int y = 0; y < matte.height; ++y)
+    for (int x = 0; x < matte.width; ++x) {
+      if (!mask.at<uint8_t>(y, x)) continue;
+      double px = 0.0;
+      for (int c = 0; c < 3; ++c) {
+        const double e = linear_to_srgb(pred.at(x, y, c)) - linear_to_srgb(truth.at(x, y, c));
+        px += e * e;
+      }
+      se += px, ++n;
+      if (matte.at(x, y, 0) >= 0.999f) se_in += px, ++n_in;
+    }
+  s.face_pixels = n;
+  s.face_psnr = psnr_of(se, n);
+  s.face_subject_pixels = n_in;
+  s.face_psnr_subject = psnr_of(se_in, n_in);
+}
 
 MatteScore score_matte(const MatteView& v, const nerf::Aabb& box) {
   const Image& pred = *v.prediction;
@@ -62,26 +88,8 @@ MatteScore score_matte(const MatteView& v, const nerf::Aabb& box) {
   s.leak = subject ? leak / double(subject) : 0.0;
   s.leak_excess = subject ? excess / double(subject) : 0.0;
   s.subject_pixels = subject;
-  if (!v.face_points.empty() && v.truth) {
-    cv::Mat mask = face_mask(v.camera, v.face_points);
-    double se = 0.0, se_in = 0.0;
-    long n = 0, n_in = 0;
-    for (int y = 0; y < h; ++y)
-      for (int x = 0; x < w; ++x) {
-        if (!mask.at<uint8_t>(y, x)) continue;
-        double px = 0.0;
-        for (int c = 0; c < 3; ++c) {
-          double e = linear_to_srgb(pred.at(x, y, c)) - linear_to_srgb(v.truth->at(x, y, c));
-          px += e * e;
-        }
-        se += px, ++n;
-        if (matte.at(x, y, 0) >= 0.999f) se_in += px, ++n_in;
-      }
-    s.face_pixels = n;
-    s.face_psnr = n ? -10.0 * std::log10(std::max(se / (3.0 * n), 1e-12)) : 0.0;
-    s.face_subject_pixels = n_in;
-    s.face_psnr_subject = n_in ? -10.0 * std::log10(std::max(se_in / (3.0 * n_in), 1e-12)) : 0.0;
-  }
+  if (!v.face_points.empty() && v.truth)
+    score_face(pred, *v.truth, matte, project_face(v.camera, v.face_points), s);
   return s;
 }
 

@@ -44,6 +44,14 @@ struct MatteScore {
 
 MatteScore score_matte(const MatteView& view, const nerf::Aabb& box);
 
+// The face fields of `s` (face_psnr, face_psnr_subject and their pixel counts): sRGB PSNR of `pred`
+// against `truth` inside the convex hull of `hull_px` (pixel coordinates, rounded; fewer than 3
+// points: an empty hull, PSNR 0), and over the hull's pixels `matte` covers fully (>= 0.999).
+// score_matte calls it with the projected ground-truth landmarks; a subject without them (a mesh)
+// can pass dlib's landmarks on the photo.
+void score_face(const Image& pred, const Image& truth, const Image& matte,
+                const std::vector<Eigen::Vector2d>& hull_px, MatteScore& s);
+
 // Means over views (face PSNR over views that have a face).
 MatteScore mean_score(const std::vector<MatteScore>& scores);
 
