@@ -25,23 +25,39 @@ OrientedShape span(OrientedShape::Kind kind, const Eigen::Vector3d& lo, const Ei
   return s;
 }
 
-}  // namespace
-
-nerf::SubjectVolume head_volume_mm(const fit::HeadExtents& e, HeadVolumeShape shape) {
-  // The oriented head box, as fit::head_box_from_frame places it.
+// The oriented head box in the head frame (mm), as fit::head_box_from_frame places it, and the same
+// grown by the loose hair sideways, upwards and backwards (the head volume's clip).
+struct Span {
+  Eigen::Vector3d lo, hi;
+};
+Span head_box_span(const fit::HeadExtents& e) {
   const double half_x = 0.5 * e.head_breadth_mm + e.side_margin_mm;
   const double back = e.head_length_mm - e.glabella_ahead_mm + e.hair_mm;  // behind the anchor
   const double top = e.vertex_above_eyes_mm + e.hair_mm, bottom = e.chin_below_eyes_mm + e.neck_mm;
   const double front = e.nose_ahead_mm + e.front_margin_mm;
+  return {{-half_x, -bottom, -back}, {half_x, top, front}};
+}
+Span loose_hair_span(const fit::HeadExtents& e) {
+  Span s = head_box_span(e);
+  s.lo.x() -= kLooseHairMm, s.lo.z() -= kLooseHairMm;
+  s.hi.x() += kLooseHairMm, s.hi.y() += kLooseHairMm;
+  return s;
+}
+
+}  // namespace
+
+nerf::SubjectVolume head_volume_mm(const fit::HeadExtents& e, HeadVolumeShape shape) {
+  const Span box = head_box_span(e), loose_box = loose_hair_span(e);
+  const double half_x = box.hi.x(), back = -box.lo.z(), top = box.hi.y(), bottom = -box.lo.y();
+  const double front = box.hi.z();
   nerf::SubjectVolume v;
   if (shape == HeadVolumeShape::OrientedBox) {
-    v.parts.push_back(span(OrientedShape::Kind::Box, {-half_x, -bottom, -back}, {half_x, top, front}));
+    v.parts.push_back(span(OrientedShape::Kind::Box, box.lo, box.hi));
     v.what = "the oriented head box";
     return v;
   }
   const double loose = kLooseHairMm;
-  v.clip = span(OrientedShape::Kind::Box, {-half_x - loose, -bottom, -back - loose},
-                {half_x + loose, top + loose, front});
+  v.clip = span(OrientedShape::Kind::Box, loose_box.lo, loose_box.hi);
   // Skull with hair and ears: from the back of the hair to in front of the glabella, from chin level
   // to the top of the hair, as wide as the box (head breadth + the ears' and side hair's margin),
   // and loose hair beyond that.
@@ -66,14 +82,12 @@ nerf::SubjectVolume head_volume_mm(const fit::HeadExtents& e, HeadVolumeShape sh
 }
 
 nerf::SubjectVolume head_clear_keep_mm(const fit::HeadExtents& e) {
-  const double half_x = 0.5 * e.head_breadth_mm + e.side_margin_mm + kLooseHairMm;
-  const double back = e.head_length_mm - e.glabella_ahead_mm + e.hair_mm + kLooseHairMm;
-  const double bottom = e.chin_below_eyes_mm + e.neck_mm, front = e.nose_ahead_mm + e.front_margin_mm;
-  // From the average chin down (chin_below_eyes_mm is the p99 chin, ~20 mm below the average one:
-  // keeping a long face's chin costs only its clearing there).
-  const double top = -(e.chin_below_eyes_mm - kChinAboveP99Mm);
+  // The head volume's clip from the average chin down (chin_below_eyes_mm is the p99 chin, ~20 mm
+  // below the average one: keeping a long face's chin costs only its clearing there).
+  Span keep = loose_hair_span(e);
+  keep.hi.y() = -(e.chin_below_eyes_mm - kChinAboveP99Mm);
   nerf::SubjectVolume v;
-  v.parts.push_back(span(OrientedShape::Kind::Box, {-half_x, -bottom, -back}, {half_x, top, front}));
+  v.parts.push_back(span(OrientedShape::Kind::Box, keep.lo, keep.hi));
   v.what = "the head box below the chin (the neck; capture/head_volume.h)";
   return v;
 }
