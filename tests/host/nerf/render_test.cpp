@@ -57,17 +57,11 @@ Out run_kernel(Runtime& rt, const Rays& r, float step, uint32_t loss_kind, uint3
   Buffer<uint32_t> keep_bits(rt, keep.empty() ? std::vector<uint32_t>{0u} : keep);
   Buffer<float> info(rt, r.info), sigma(rt, r.sigma), rgb(rt, r.rgb), pos(rt, r.pos);
   Buffer<float> dsigma(rt, r.stride), drgb(rt, 3 * r.stride), loss(rt, n), color(rt, 4 * n);
-  LossParams p{n,
-               r.stride,
-               forward_only,
-               loss_kind,
-               step,
-               1.0f / (3.0f * n),
-               1e-4f,
-               opacity_prior,
-               room_clear,
-               room_clear_tolerance,
-               keep.empty() ? 0u : keep_res};
+  LossParams p{};
+  p.n_rays = n, p.stride = r.stride, p.forward_only = forward_only, p.loss_kind = loss_kind;
+  p.step = step, p.grad_scale = 1.0f / (3.0f * n), p.min_transmittance = 1e-4f;
+  p.opacity_prior = opacity_prior, p.room_clear = room_clear, p.room_clear_tolerance = room_clear_tolerance;
+  p.keep_res = keep.empty() ? 0u : keep_res;
   Kernel k(rt.program("train/loss.cl"), "render_loss");
   k.args(p, off, cnt, info, sigma, rgb, dsigma, drgb, loss, color, pos, keep_bits).launch(rt, n, 64);
   return {color.read(rt), loss.read(rt), dsigma.read(rt), drgb.read(rt)};
@@ -94,12 +88,29 @@ TEST(Render, ConstantSlabMatchesClosedForm) {
   for (int c = 0; c < 3; ++c) EXPECT_NEAR(o.color[c], (0.9 - 0.3 * c) * (1.0 - T) + r.info[3 + c] * T, 1e-5);
 }
 
-double host_loss(const Rays& r, uint32_t ray, float step, uint32_t kind) {
-  float color[4], dC[3];
+// The host build of one ray: forward, the loss (its gradient scaled by grad_scale) and, when dsigma
+// and drgb are given, the backward pass into them.
+struct HostRay {
+  float color[4];
+  float loss;
+  uint32_t used;
+};
+HostRay host_ray(const Rays& r, uint32_t ray, float step, uint32_t kind, float grad_scale,
+                 std::vector<float>* dsigma = nullptr, std::vector<float>* drgb = nullptr) {
+  HostRay h;
+  float dC[3];
   const float* info = &r.info[RAY_INFO_FLOATS * ray];
-  render_ray_forward(r.sigma.data(), r.rgb.data(), r.stride, r.offsets[ray], r.counts[ray], step, 1e-4f,
-                     info + 3, color);
-  return render_ray_loss(color, info, kind, 1.0f, dC);
+  h.used = render_ray_forward(r.sigma.data(), r.rgb.data(), r.stride, r.offsets[ray], r.counts[ray], step,
+                              1e-4f, info + 3, h.color);
+  h.loss = render_ray_loss(h.color, info, kind, grad_scale, dC);
+  if (dsigma && drgb)
+    render_ray_backward(r.sigma.data(), r.rgb.data(), r.stride, r.offsets[ray], r.counts[ray], h.used, step,
+                        h.color, dC, dsigma->data(), drgb->data());
+  return h;
+}
+
+double host_loss(const Rays& r, uint32_t ray, float step, uint32_t kind) {
+  return host_ray(r, ray, step, kind, 1.0f).loss;
 }
 
 TEST(Render, GradientsMatchFiniteDifferences) {
@@ -108,14 +119,8 @@ TEST(Render, GradientsMatchFiniteDifferences) {
   for (uint32_t kind : {LOSS_L2_SRGB, LOSS_L2_LINEAR}) {
     for (uint32_t ray = 1; ray < 8; ++ray) {
       uint32_t first = r.offsets[ray], count = r.counts[ray];
-      const float* info = &r.info[RAY_INFO_FLOATS * ray];
-      float color[4], dC[3];
       std::vector<float> dsigma(r.stride), drgb(3 * r.stride);
-      uint32_t used = render_ray_forward(r.sigma.data(), r.rgb.data(), r.stride, first, count, step, 1e-4f,
-                                         info + 3, color);
-      render_ray_loss(color, info, kind, 1.0f, dC);
-      render_ray_backward(r.sigma.data(), r.rgb.data(), r.stride, first, count, used, step, color, dC,
-                          dsigma.data(), drgb.data());
+      host_ray(r, ray, step, kind, 1.0f, &dsigma, &drgb);
       for (uint32_t k = 0; k < count; ++k) {
         uint32_t i = first + k;
         // Central differences in float32: eps 1e-2 on sigma (values up to 30) and 1e-3 on colours keeps
@@ -146,13 +151,9 @@ TEST(Render, GradientsMatchFiniteDifferences) {
 // at several gates; the room gate against its closed form; and the kernel with the prior on against
 // the host.
 double host_loss_with_prior(const Rays& r, uint32_t ray, float step, float weight, float clear, float gate) {
-  float color[4], dC[3];
-  const float* info = &r.info[RAY_INFO_FLOATS * ray];
-  render_ray_forward(r.sigma.data(), r.rgb.data(), r.stride, r.offsets[ray], r.counts[ray], step, 1e-4f,
-                     info + 3, color);
-  const double a = color[3];
-  return render_ray_loss(color, info, LOSS_L2_SRGB, 1.0f, dC) +
-         weight * ((1.0 - gate) * a * (1.0 - a) + clear * gate * a);
+  const HostRay h = host_ray(r, ray, step, LOSS_L2_SRGB, 1.0f);
+  const double a = h.color[3];
+  return h.loss + weight * ((1.0 - gate) * a * (1.0 - a) + clear * gate * a);
 }
 
 TEST(Render, OpacityPriorGradientMatchesFiniteDifferences) {
@@ -163,17 +164,11 @@ TEST(Render, OpacityPriorGradientMatchesFiniteDifferences) {
   for (float gate : {0.0f, 0.4f, 1.0f}) {
     for (uint32_t ray = 1; ray < 8; ++ray) {
       uint32_t first = r.offsets[ray], count = r.counts[ray];
-      const float* info = &r.info[RAY_INFO_FLOATS * ray];
-      float color[4], dC[3];
       std::vector<float> dsigma(r.stride), drgb(3 * r.stride);
-      uint32_t used = render_ray_forward(r.sigma.data(), r.rgb.data(), r.stride, first, count, step, 1e-4f,
-                                         info + 3, color);
-      render_ray_loss(color, info, LOSS_L2_SRGB, 1.0f, dC);
-      render_ray_backward(r.sigma.data(), r.rgb.data(), r.stride, first, count, used, step, color, dC,
-                          dsigma.data(), drgb.data());
+      const HostRay h = host_ray(r, ray, step, LOSS_L2_SRGB, 1.0f, &dsigma, &drgb);
       float prior =
-          render_ray_opacity_prior(first, used, step, color, weight, clear, gate, 1.0f, dsigma.data());
-      const float a = color[3];
+          render_ray_opacity_prior(first, h.used, step, h.color, weight, clear, gate, 1.0f, dsigma.data());
+      const float a = h.color[3];
       EXPECT_NEAR(prior, weight * ((1.0f - gate) * a * (1.0f - a) + clear * gate * a), 1e-6);
       for (uint32_t k = 0; k < count; ++k) {
         uint32_t i = first + k;
@@ -224,17 +219,12 @@ TEST(Render, KernelWithOpacityPriorMatchesHostReference) {
     int gated = 0;
     for (uint32_t ray = 0; ray < 200; ++ray) {
       const float* info = &r.info[RAY_INFO_FLOATS * ray];
-      float color[4], dC[3];
-      uint32_t used = render_ray_forward(r.sigma.data(), r.rgb.data(), r.stride, r.offsets[ray],
-                                         r.counts[ray], step, 1e-4f, info + 3, color);
-      float loss = render_ray_loss(color, info, LOSS_L2_SRGB, 1.0f / 600.0f, dC);
-      render_ray_backward(r.sigma.data(), r.rgb.data(), r.stride, r.offsets[ray], r.counts[ray], used, step,
-                          color, dC, dsigma.data(), drgb.data());
+      const HostRay h = host_ray(r, ray, step, LOSS_L2_SRGB, 1.0f / 600.0f, &dsigma, &drgb);
       const float gate = c > 0.0f ? render_ray_room_gate(info, info + 3, tolerance) : 0.0f;
       gated += gate > 0.0f && r.counts[ray] > 0;
-      render_ray_opacity_prior(r.offsets[ray], used, step, color, weight, c, gate, 1.0f / 200.0f,
+      render_ray_opacity_prior(r.offsets[ray], h.used, step, h.color, weight, c, gate, 1.0f / 200.0f,
                                dsigma.data());
-      EXPECT_NEAR(o.loss[ray], loss, 1e-5 * std::fabs(loss) + 1e-7) << ray;  // the colour loss only
+      EXPECT_NEAR(o.loss[ray], h.loss, 1e-5 * std::fabs(h.loss) + 1e-7) << ray;  // the colour loss only
     }
     for (uint32_t i = 0; i < r.stride - 5; ++i) {
       EXPECT_NEAR(o.dsigma[i], dsigma[i], 1e-4 * std::fabs(dsigma[i]) + 1e-8)
@@ -242,7 +232,9 @@ TEST(Render, KernelWithOpacityPriorMatchesHostReference) {
       changed += std::fabs(o.dsigma[i] - plain.dsigma[i]);
     }
     EXPECT_GT(changed, 1e-3);  // the prior reached the kernel's gradient
-    if (c > 0.0f) EXPECT_GT(gated, 20) << "the random rays should open the gate on some rays";
+    if (c > 0.0f) {
+      EXPECT_GT(gated, 20) << "the random rays should open the gate on some rays";
+    }
   }
 }
 
@@ -264,13 +256,10 @@ TEST(Render, KeptCellsGetTheBinaryPriorOnly) {
   int kept = 0, cleared = 0;
   for (uint32_t ray = 0; ray < 200; ++ray) {
     const float* info = &r.info[RAY_INFO_FLOATS * ray];
-    float color[4], dC[3];
-    const uint32_t first = r.offsets[ray], count = r.counts[ray];
-    uint32_t used = render_ray_forward(r.sigma.data(), r.rgb.data(), r.stride, first, count, step, 1e-4f,
-                                       info + 3, color);
-    render_ray_loss(color, info, LOSS_L2_SRGB, 1.0f / 600.0f, dC);
-    render_ray_backward(r.sigma.data(), r.rgb.data(), r.stride, first, count, used, step, color, dC,
-                        dsigma.data(), drgb.data());
+    const uint32_t first = r.offsets[ray];
+    const HostRay h = host_ray(r, ray, step, LOSS_L2_SRGB, 1.0f / 600.0f, &dsigma, &drgb);
+    const uint32_t used = h.used;
+    const float* color = h.color;
     const float gate = render_ray_room_gate(info, info + 3, tolerance);
     if (gate > 0.0f)
       render_ray_opacity_prior_keep(first, used, step, color, weight, clear, gate, 1.0f / 200.0f,
@@ -299,13 +288,9 @@ TEST(Render, KernelMatchesHostReference) {
   Out o = run_kernel(rt, r, step, LOSS_L2_SRGB, 0);
   std::vector<float> dsigma(r.stride, 0.0f), drgb(3 * r.stride, 0.0f);
   for (uint32_t ray = 0; ray < 200; ++ray) {
-    const float* info = &r.info[RAY_INFO_FLOATS * ray];
-    float color[4], dC[3];
-    uint32_t used = render_ray_forward(r.sigma.data(), r.rgb.data(), r.stride, r.offsets[ray], r.counts[ray],
-                                       step, 1e-4f, info + 3, color);
-    float loss = render_ray_loss(color, info, LOSS_L2_SRGB, 1.0f / 600.0f, dC);
-    render_ray_backward(r.sigma.data(), r.rgb.data(), r.stride, r.offsets[ray], r.counts[ray], used, step,
-                        color, dC, dsigma.data(), drgb.data());
+    const HostRay h = host_ray(r, ray, step, LOSS_L2_SRGB, 1.0f / 600.0f, &dsigma, &drgb);
+    const float* color = h.color;
+    const float loss = h.loss;
     // Same float32 formulas on both sides; the device may contract to FMA or use a different exp/pow
     // (OpenCL allows a few ulp): 1e-5 relative + 1e-7 absolute.
     for (int c = 0; c < 4; ++c) EXPECT_NEAR(o.color[4 * ray + c], color[c], 1e-5) << ray;
