@@ -44,26 +44,19 @@ Span loose_hair_span(const fit::HeadExtents& e) {
   return s;
 }
 
-}  // namespace
-
-nerf::SubjectVolume head_volume_mm(const fit::HeadExtents& e, HeadVolumeShape shape) {
-  const Span box = head_box_span(e), loose_box = loose_hair_span(e);
+// The head's parts (skull, face, neck) for extents `e` with loose hair around the skull: `side` mm
+// sideways, `loose` mm behind, above and below it.
+nerf::SubjectVolume head_parts_mm(const fit::HeadExtents& e, double side, double loose) {
+  const Span box = head_box_span(e);
   const double half_x = box.hi.x(), back = -box.lo.z(), top = box.hi.y(), bottom = -box.lo.y();
   const double front = box.hi.z();
   nerf::SubjectVolume v;
-  if (shape == HeadVolumeShape::OrientedBox) {
-    v.parts.push_back(span(OrientedShape::Kind::Box, box.lo, box.hi));
-    v.what = "the oriented head box";
-    return v;
-  }
-  const double loose = kLooseHairMm;
-  v.clip = span(OrientedShape::Kind::Box, loose_box.lo, loose_box.hi);
   // Skull with hair and ears: from the back of the hair to in front of the glabella, from chin level
   // to the top of the hair, as wide as the box (head breadth + the ears' and side hair's margin),
   // and loose hair beyond that.
   v.parts.push_back(span(OrientedShape::Kind::Ellipsoid,
-                         {-half_x - loose, -e.chin_below_eyes_mm - loose, -back - loose},
-                         {half_x + loose, top + loose, e.glabella_ahead_mm + e.front_margin_mm}));
+                         {-half_x - side, -e.chin_below_eyes_mm - loose, -back - loose},
+                         {half_x + side, top + loose, e.glabella_ahead_mm + e.front_margin_mm}));
   // Face and jaw: the front half of the head, head-breadth wide, from below the chin (beard) to the
   // forehead, to the front of the box (nose tip and margin).
   v.parts.push_back(
@@ -77,7 +70,35 @@ nerf::SubjectVolume head_volume_mm(const fit::HeadExtents& e, HeadVolumeShape sh
   v.parts.push_back(span(OrientedShape::Kind::Ellipsoid,
                          {-0.5 * e.head_breadth_mm, -2.0 * bottom, skull_mid - 0.5 * e.head_length_mm},
                          {0.5 * e.head_breadth_mm, 0.0, skull_mid + 0.5 * e.head_length_mm}));
+  return v;
+}
+
+}  // namespace
+
+nerf::SubjectVolume head_volume_mm(const fit::HeadExtents& e, HeadVolumeShape shape) {
+  if (shape == HeadVolumeShape::OrientedBox) {
+    const Span box = head_box_span(e);
+    nerf::SubjectVolume v;
+    v.parts.push_back(span(OrientedShape::Kind::Box, box.lo, box.hi));
+    v.what = "the oriented head box";
+    return v;
+  }
+  nerf::SubjectVolume v = head_parts_mm(e, kLooseHairMm, kLooseHairMm);
+  const Span loose_box = loose_hair_span(e);
+  v.clip = span(OrientedShape::Kind::Box, loose_box.lo, loose_box.hi);
   v.what = "the head's volume in the oriented head box (skull and hair, face, neck; capture/head_volume.h)";
+  return v;
+}
+
+nerf::SubjectVolume head_clear_core_mm(const fit::HeadExtents& e) {
+  fit::HeadExtents bare = e;
+  bare.hair_mm = 0.0;
+  // As wide as the head volume (the ears and what stands out beside them stay in the core).
+  nerf::SubjectVolume v = head_parts_mm(bare, kLooseHairMm, 0.0);
+  Span box = head_box_span(bare);  // the neck's ellipsoid ends at the box's bottom
+  box.lo.x() -= kLooseHairMm, box.hi.x() += kLooseHairMm;
+  v.clip = span(OrientedShape::Kind::Box, box.lo, box.hi);
+  v.what = "the bare head (skull, face and neck without the hair behind and above; capture/head_volume.h)";
   return v;
 }
 
@@ -121,6 +142,10 @@ nerf::SubjectVolume head_volume(const fit::HeadBox& box, HeadVolumeShape shape) 
 
 nerf::SubjectVolume head_clear_keep(const fit::HeadBox& box) {
   return to_scene(head_clear_keep_mm(box.extents), box);
+}
+
+nerf::SubjectVolume head_clear_core(const fit::HeadBox& box) {
+  return to_scene(head_clear_core_mm(box.extents), box);
 }
 
 }  // namespace lorgnette::capture

@@ -29,6 +29,13 @@ nerf::SubjectVolume head_volume(const fit::HeadBox& box, HeadVolumeShape shape =
 nerf::SubjectVolume head_clear_keep_mm(const fit::HeadExtents& extents);
 nerf::SubjectVolume head_clear_keep(const fit::HeadBox& box);
 
+// The bare head: the head volume's skull, face and neck at their p99 extents without the hair
+// behind and above the skull (hair_mm and the loose hair there), as wide as the head volume (ears),
+// in the head frame (mm) and in the scene. Outside it the clearing leans towards the room
+// (nerf::BackgroundOptions::clear_core).
+nerf::SubjectVolume head_clear_core_mm(const fit::HeadExtents& extents);
+nerf::SubjectVolume head_clear_core(const fit::HeadBox& box);
+
 // A head-frame (mm) volume mapped to the scene by the frame of `box`.
 nerf::SubjectVolume to_scene(const nerf::SubjectVolume& mm, const fit::HeadBox& box);
 

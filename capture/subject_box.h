@@ -34,6 +34,8 @@ struct SubjectBoxChoice {
   // Head: the part of it where the room model's clearing prior does not apply (the neck below the
   // chin, which the body in the room model lies right behind; capture/head_volume.h).
   std::optional<nerf::SubjectVolume> clear_keep;
+  // Head: the bare head, outside which the clearing leans towards the room (capture/head_volume.h).
+  std::optional<nerf::SubjectVolume> clear_core;
   std::string why;  // one sentence for the log
   // Why the subject cannot be separated from the room, with what to film differently ("" when it
   // can): auto found no face in a mask-less dataset, or the head runs off every frame

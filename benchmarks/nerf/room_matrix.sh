@@ -21,6 +21,12 @@ shift $(($# < 5 ? $# : 5))
 cases=("$@")
 [ ${#cases[@]} -gt 0 ] || cases=(p_r1_y40 p_r1_y20 p_r2_y40 p_r2_y20 s_r1_y40 s_r1_y20 s_r2_y40 s_r2_y20)
 lgn=$build/tools/lorgnette
+for tool in "$lgn" "$build/benchmarks/nerf/bench_room_matte" "$build/benchmarks/fit/bench_fit_nerf"; do
+  if [ ! -x "$tool" ]; then
+    echo "room_matrix.sh: $tool is missing; build it first (cmake --build $build --target $(basename "$tool"))" >&2
+    exit 2
+  fi
+done
 scan=$data/heads/lee-perry-smith/LeePerrySmith.glb
 mkdir -p "$work" "$out/fit"
 

@@ -58,8 +58,8 @@ RayBatch::RayBatch(NerfModel& model, uint32_t max_rays)
   rgb_ = cl::Buffer<float>(rt, size_t(stride_) * 3);
   dsigma_ = cl::Buffer<float>(rt, stride_);
   drgb_ = cl::Buffer<float>(rt, size_t(stride_) * 3);
-  no_keep_ = cl::Buffer<uint32_t>(rt, 1);
-  no_keep_.fill(rt, 0u);
+  no_zones_ = cl::Buffer<uint32_t>(rt, 1);
+  no_zones_.fill(rt, 0u);
 }
 
 const std::vector<uint32_t>& RayBatch::count(const SampleParams& p, const DeviceViews& views) {
@@ -158,7 +158,7 @@ void RayBatch::render_on_device(uint32_t loss_kind, float min_transmittance, con
   LossParams lp = loss_params(loss_kind, false, min_transmittance, priors);
   render_k_
       .args(lp, sub_offsets_, counts_dev_, ray_info_, sigma_, rgb_, dsigma_, drgb_, ray_loss_, ray_color_,
-            pos_, priors.keep ? *priors.keep : no_keep_)
+            pos_, priors.zones ? *priors.zones : no_zones_)
       .launch(rt, written_rays_, ray_group(rt));
   const size_t group = scan_group(rt);
   loss_sum_k_.args(lp, ray_loss_, batch_info_).launch(rt, group, group);
@@ -185,7 +185,8 @@ LossParams RayBatch::loss_params(uint32_t loss_kind, bool forward_only, float mi
   lp.opacity_prior = priors.weight;
   lp.room_clear = priors.room_clear;
   lp.room_clear_tolerance = priors.room_clear_tolerance;
-  lp.keep_res = priors.keep ? priors.keep_res : 0u;
+  lp.zone_res = priors.zones ? priors.zone_res : 0u;
+  lp.lean_gate = priors.zones ? priors.lean_gate : 0.0f;
   return lp;
 }
 
@@ -196,7 +197,7 @@ double RayBatch::render(uint32_t loss_kind, bool forward_only, float min_transmi
   const LossParams lp = loss_params(loss_kind, forward_only, min_transmittance, priors);
   render_k_
       .args(lp, sub_offsets_, on_device_ ? counts_dev_ : sub_counts_, ray_info_, sigma_, rgb_, dsigma_, drgb_,
-            ray_loss_, ray_color_, pos_, priors.keep ? *priors.keep : no_keep_)
+            ray_loss_, ray_color_, pos_, priors.zones ? *priors.zones : no_zones_)
       .launch(rt, written_rays_, ray_group(rt));
   if (forward_only) return 0.0;
   std::vector<float> losses = ray_loss_.read(rt, written_rays_);

@@ -21,14 +21,16 @@ namespace lorgnette::nerf {
 SampleParams sample_params_for(const NerfModel& model, const DeviceViews& views);
 
 // The opacity prior of a training render (kernels/train/render.h): its weight (0 = off), and the
-// room-explained clearing relative to it with the RMS sRGB difference at which that gate closes,
-// except in the cells of `keep` (occupancy bits at keep_res^3 over the model's box; null = none).
+// room-explained clearing relative to it with the RMS sRGB difference at which that gate closes, and
+// its zones (render_ray_opacity_prior_zones: the keep cells' and the lean cells' bitfields, one after
+// the other, at zone_res^3 over the model's box; null = none) with the lean cells' least gate.
 struct RayPriors {
   float weight = 0.0f;
   float room_clear = 0.0f;
   float room_clear_tolerance = 0.0f;
-  const cl::Buffer<uint32_t>* keep = nullptr;
-  uint32_t keep_res = 0;
+  const cl::Buffer<uint32_t>* zones = nullptr;
+  uint32_t zone_res = 0;
+  float lean_gate = 0.0f;
 };
 
 class RayBatch {
@@ -92,7 +94,7 @@ class RayBatch {
   cl::Buffer<uint32_t> counts_dev_, sub_offsets_, sub_counts_, batch_info_;
   cl::Buffer<float> ray_info_, ray_loss_, ray_color_;
   cl::Buffer<float> pos_, dir_, sigma_, rgb_, dsigma_, drgb_;
-  cl::Buffer<uint32_t> no_keep_;  // bound as the keep mask when RayPriors has none
+  cl::Buffer<uint32_t> no_zones_;  // bound as the zones when RayPriors has none
   uint32_t written_rays_ = 0, written_samples_ = 0;
   bool on_device_ = false;  // the last write was sample_on_device (counts in counts_dev_)
 };

@@ -76,6 +76,7 @@ TrainJobResult train_on_dataset(cl::Runtime& rt, const dataset::Dataset& ds, Tra
     sizing.occupancy_mask = std::move(mask);
     job.train.background.subject_volume = job.subject_volume;
     job.train.background.clear_keep = job.clear_keep;
+    job.train.background.clear_core = job.clear_core;
   }
   if (job.batch_log2 == 0) {
     job.batch_log2 = device_batch_log2(rt.device());

@@ -32,6 +32,9 @@ struct TrainJob {
   // With the subject volume: where the room-explained clearing does not apply
   // (BackgroundOptions::clear_keep).
   std::optional<SubjectVolume> clear_keep;
+  // With the subject volume: the bare head, outside which the clearing leans towards the room
+  // (BackgroundOptions::clear_core).
+  std::optional<SubjectVolume> clear_core;
   TrainOptions train;  // steps/seconds (both 0: the size-based default, train_budget.h), seed, ...
   // Why the subject could not be separated (capture/subject_box.h), kept in the model's metadata;
   // training adds its own reason when the room model finds no subject region.

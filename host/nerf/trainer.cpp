@@ -11,6 +11,7 @@
 
 #include "host/util/interrupt.h"
 #include "host/util/progress.h"
+#include "kernels/train/occupancy.h"
 
 namespace lorgnette::nerf {
 
@@ -37,10 +38,30 @@ Trainer::Trainer(NerfModel& model, const std::vector<View>& views, const TrainOp
     background_ =
         std::make_unique<BackgroundField>(rt, model, *views_, options.background, batch, options.seed);
     spdlog::info("{}", background_->summary());
-    const std::optional<SubjectVolume>& keep = options.background.clear_keep;
-    if (options.background.room_clear > 0.0f && keep && !keep->empty()) {
-      keep_res_ = model.occupancy_resolution();
-      keep_ = cl::Buffer<uint32_t>(rt, volume_occupancy_mask(*keep, model.aabb(), keep_res_));
+    const BackgroundOptions& b = options.background;
+    const bool keep = b.room_clear > 0.0f && b.clear_keep && !b.clear_keep->empty();
+    const bool lean = b.room_clear > 0.0f && b.lean_gate > 0.0f && b.clear_core && !b.clear_core->empty();
+    if (keep || lean) {
+      zone_res_ = model.occupancy_resolution();
+      const uint32_t words = occ_word_count(zone_res_);
+      std::vector<uint32_t> zones(2 * size_t(words), 0u);
+      if (keep) {
+        const std::vector<uint32_t> k = volume_occupancy_mask(*b.clear_keep, model.aabb(), zone_res_);
+        std::copy(k.begin(), k.end(), zones.begin());
+      }
+      if (lean) {  // outside the core, not kept, inside the subject's volume when it has one
+        const std::vector<uint32_t> core = volume_occupancy_mask(*b.clear_core, model.aabb(), zone_res_);
+        std::vector<uint32_t> in(words, ~0u);
+        if (b.subject_volume && !b.subject_volume->empty())
+          in = volume_occupancy_mask(*b.subject_volume, model.aabb(), zone_res_);
+        for (uint32_t w = 0; w < words; ++w) zones[words + w] = ~core[w] & ~zones[w] & in[w];
+      }
+      spdlog::info(
+          "clearing zones: {} cells keep the binary prior (the neck), {} lean towards the room "
+          "(gate >= {:.2f}: the volume beyond the bare head)",
+          mask_count({zones.begin(), zones.begin() + words}),
+          lean ? mask_count({zones.begin() + words, zones.end()}) : 0u, b.lean_gate);
+      zones_ = cl::Buffer<uint32_t>(rt, zones);
     }
   }
 }
@@ -62,7 +83,7 @@ RayPriors Trainer::opacity_prior() const {
   p.weight = float(b.opacity_prior * std::clamp((double(step_) - b.opacity_prior_start) / ramp, 0.0, 1.0));
   p.room_clear = b.room_clear;
   p.room_clear_tolerance = b.room_clear_tolerance;
-  if (keep_res_) p.keep = &keep_, p.keep_res = keep_res_;
+  if (zone_res_) p.zones = &zones_, p.zone_res = zone_res_, p.lean_gate = b.lean_gate;
   return p;
 }
 

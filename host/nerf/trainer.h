@@ -105,8 +105,10 @@ class Trainer {
   std::unique_ptr<RayBatch> batch_;
   std::unique_ptr<OccupancyUpdater> occupancy_;
   std::unique_ptr<BackgroundField> background_;
-  cl::Buffer<uint32_t> keep_;  // BackgroundOptions::clear_keep's cells (keep_res_^3; 0: none)
-  uint32_t keep_res_ = 0;
+  // The opacity prior's zones (RayPriors): clear_keep's cells, then the lean cells (the subject's
+  // volume outside BackgroundOptions::clear_core); zone_res_^3 each, 0: none.
+  cl::Buffer<uint32_t> zones_;
+  uint32_t zone_res_ = 0;
   uint64_t step_ = 0;
   uint32_t n_rays_;
   uint64_t samples_ = 0, rays_ = 0;

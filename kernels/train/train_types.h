@@ -62,10 +62,10 @@ typedef struct LossParams {
   // room's colour matches the pixel (0 = off), and the RMS sRGB difference at which the gate closes.
   float room_clear;
   float room_clear_tolerance;
-  // Cells where the clearing does not apply (render_ray_opacity_prior_keep): the keep mask's
-  // resolution, 0 = no mask.
-  lgn_uint keep_res;
-  lgn_uint pad0;
+  // The prior's zones (render_ray_opacity_prior_zones): their bitfields' resolution (0 = none: the
+  // ray's gate everywhere), and the least gate in the "lean" zone.
+  lgn_uint zone_res;
+  float lean_gate;
 } LossParams;
 LGN_STATIC_ASSERT(sizeof(LossParams) == 48, "LossParams layout is shared with OpenCL");
 

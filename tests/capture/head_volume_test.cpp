@@ -157,5 +157,56 @@ TEST(HeadVolume, ClearKeepIsTheNeckBelowTheChin) {
   }
 }
 
+// The clearing's core is the bare head: it holds the mean face (10 mm margin), the ears beside the
+// skull and the neck, and leaves out the hair margins behind and above the p99 skull that the head
+// volume keeps; the lean zone (the volume outside the core) lies behind the ears or above the brows,
+// never beside or in front of the face.
+TEST(HeadVolume, ClearCoreIsTheBareHead) {
+  const fit::HeadExtents e;
+  const nerf::SubjectVolume core = head_clear_core_mm(e), vol = head_volume_mm(e);
+  auto in = [](const nerf::SubjectVolume& v, double x, double y, double z) {
+    return v.contains({float(x), float(y), float(z)});
+  };
+  // The mean face about the volumes' anchor (its eye corners' centroid at the inner corners' depth).
+  const fit::Face68& face = fit::builtin_mean_face();
+  Eigen::Vector3d anchor = Eigen::Vector3d::Zero();
+  for (int k : {fit::lm::kEyeOuterR, fit::lm::kEyeInnerR, fit::lm::kEyeInnerL, fit::lm::kEyeOuterL})
+    anchor += 0.25 * face[k];
+  anchor.z() = 0.5 * (face[fit::lm::kEyeInnerR].z() + face[fit::lm::kEyeInnerL].z());
+  int core_points = 0, lean_points = 0;
+  for (double x = -300; x <= 300; x += 10)
+    for (double y = -300; y <= 300; y += 10)
+      for (double z = -350; z <= 150; z += 10) {
+        core_points += in(core, x, y, z);
+        if (!in(vol, x, y, z) || in(core, x, y, z)) continue;
+        ++lean_points;  // the lean zone keeps 15 mm from every face landmark, jawline included
+        double nearest = 1e9;
+        for (int k = 0; k < 68; ++k)
+          nearest = std::min(nearest, (face[k] - anchor - Eigen::Vector3d(x, y, z)).norm());
+        EXPECT_GT(nearest, 15.0) << x << " " << y << " " << z;
+      }
+  EXPECT_GT(core_points, 5000);  // the bare head is ~ 4 litres: ~4000 points at 1 cm, plus the neck
+  EXPECT_GT(lean_points, 1000);  // the hair margins: 30 + 40 mm behind and above a ~20 x 20 cm skull
+  const double back = e.head_length_mm - e.glabella_ahead_mm;   // the p99 skull's back
+  EXPECT_TRUE(in(core, 0, 0, -back + 10));                      // the back of the skull
+  EXPECT_FALSE(in(core, 0, 0, -back - 20));                     // hair behind it
+  EXPECT_TRUE(in(vol, 0, 0, -back - 20));                       // which the head volume keeps
+  EXPECT_TRUE(in(core, 0, e.vertex_above_eyes_mm - 10, -80));   // the crown
+  EXPECT_FALSE(in(core, 0, e.vertex_above_eyes_mm + 20, -80));  // hair on top
+  EXPECT_TRUE(in(vol, 0, e.vertex_above_eyes_mm + 20, -80));
+  // The ears and the side hair beside them: as wide as the head volume there.
+  const double ear_x = 0.5 * e.head_breadth_mm + e.side_margin_mm;
+  EXPECT_TRUE(in(core, ear_x, -30, -90));
+  EXPECT_EQ(in(core, ear_x + 30, -30, -90), in(vol, ear_x + 30, -30, -90));
+  EXPECT_TRUE(in(core, 0, -(e.chin_below_eyes_mm + 20), -90));  // the neck
+  for (int k = 0; k < 68; ++k)
+    for (int a = 0; a < 3; ++a)
+      for (double d : {-10.0, 10.0}) {
+        Eigen::Vector3d p = face[k] - anchor;
+        p[a] += d;
+        EXPECT_TRUE(in(core, p.x(), p.y(), p.z())) << "landmark " << k << " moved " << d << " along " << a;
+      }
+}
+
 }  // namespace
 }  // namespace lorgnette::capture

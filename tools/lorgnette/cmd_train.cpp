@@ -25,7 +25,8 @@ struct TrainArgs {
   uint32_t seed = 1337, batch_log2 = 0, finest = 0, log2_table = 0, levels = 0, occ_res = 0, downscale = 1;
   uint32_t max_side = 0;
   float step = 0.0f, lr = 1e-2f, aabb_scale = 0.0f;
-  float opacity_prior = -1.0f, room_clear = -1.0f, room_clear_tolerance = -1.0f;  // < 0: the default
+  float opacity_prior = -1.0f, room_clear = -1.0f, room_clear_tolerance = -1.0f,
+        lean_gate = -1.0f;  // < 0: the default
   double snapshot_every = 120.0;
   bool deterministic = false, force = false, no_masks = false, linear_loss = false;
 };
@@ -83,6 +84,7 @@ void run_train(const TrainArgs& a, GlobalOptions& global) {
   if (a.opacity_prior >= 0.0f) to.background.opacity_prior = a.opacity_prior;
   if (a.room_clear >= 0.0f) to.background.room_clear = a.room_clear;
   if (a.room_clear_tolerance >= 0.0f) to.background.room_clear_tolerance = a.room_clear_tolerance;
+  if (a.lean_gate >= 0.0f) to.background.lean_gate = a.lean_gate;
   to.loss_kind = a.linear_loss ? LOSS_L2_LINEAR : LOSS_L2_SRGB;
   to.snapshot_path = a.output;
   to.snapshot_every_seconds = a.snapshot_every;
@@ -134,6 +136,10 @@ void add_train(CLI::App& app, GlobalOptions& global) {
                   "RMS sRGB difference between the room's colour and the pixel at which --room-clear stops "
                   "(default 0.05)")
       ->check(CLI::Range(0.001f, 1.0f));
+  cmd->add_option("--lean-gate", a->lean_gate,
+                  "with the room model and a head box: in the head volume beyond the bare head, the "
+                  "clearing's gate is at least this (default 1: always clear there; 0 = off)")
+      ->check(CLI::Range(0.0f, 1.0f));
   cmd->add_option("--aabb-scale", a->aabb_scale,
                   "box size factor for datasets without alpha (default: dataset)");
   // The ranges the field and the occupancy grid accept (FieldConfig::validate, occupancy.h), checked

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -51,19 +52,20 @@ struct Out {
 };
 Out run_kernel(Runtime& rt, const Rays& r, float step, uint32_t loss_kind, uint32_t forward_only,
                float opacity_prior = 0.0f, float room_clear = 0.0f, float room_clear_tolerance = 0.0f,
-               const std::vector<uint32_t>& keep = {}, uint32_t keep_res = 0) {
+               const std::vector<uint32_t>& zones = {}, uint32_t zone_res = 0, float lean_gate = 0.0f) {
   uint32_t n = uint32_t(r.counts.size());
   Buffer<uint32_t> off(rt, r.offsets), cnt(rt, r.counts);
-  Buffer<uint32_t> keep_bits(rt, keep.empty() ? std::vector<uint32_t>{0u} : keep);
+  Buffer<uint32_t> zone_bits(rt, zones.empty() ? std::vector<uint32_t>{0u} : zones);
   Buffer<float> info(rt, r.info), sigma(rt, r.sigma), rgb(rt, r.rgb), pos(rt, r.pos);
   Buffer<float> dsigma(rt, r.stride), drgb(rt, 3 * r.stride), loss(rt, n), color(rt, 4 * n);
   LossParams p{};
   p.n_rays = n, p.stride = r.stride, p.forward_only = forward_only, p.loss_kind = loss_kind;
   p.step = step, p.grad_scale = 1.0f / (3.0f * n), p.min_transmittance = 1e-4f;
   p.opacity_prior = opacity_prior, p.room_clear = room_clear, p.room_clear_tolerance = room_clear_tolerance;
-  p.keep_res = keep.empty() ? 0u : keep_res;
+  p.zone_res = zones.empty() ? 0u : zone_res;
+  p.lean_gate = lean_gate;
   Kernel k(rt.program("train/loss.cl"), "render_loss");
-  k.args(p, off, cnt, info, sigma, rgb, dsigma, drgb, loss, color, pos, keep_bits).launch(rt, n, 64);
+  k.args(p, off, cnt, info, sigma, rgb, dsigma, drgb, loss, color, pos, zone_bits).launch(rt, n, 64);
   return {color.read(rt), loss.read(rt), dsigma.read(rt), drgb.read(rt)};
 }
 
@@ -238,47 +240,53 @@ TEST(Render, KernelWithOpacityPriorMatchesHostReference) {
   }
 }
 
-// The keep mask: samples in kept cells get the binary prior's gradient, the others the gated one;
-// the kernel against the host build, and against the two unmasked renders sample by sample.
-TEST(Render, KeptCellsGetTheBinaryPriorOnly) {
+// The prior's zones: samples in keep cells get the binary prior's gradient, samples in lean cells
+// (and not keep) the gradient with the gate raised to lean_gate, the rest the ray's gate. The kernel
+// sample by sample against host builds of the three ray-level priors (render_ray_opacity_prior).
+TEST(Render, PriorZonesPickTheGatePerSample) {
   Runtime rt({"", "", false});
   Rays r = random_rays(200, 9);
-  const float step = 0.015f, weight = 0.25f, clear = 3.0f, tolerance = 0.4f;
-  const uint32_t res = 4;
-  std::vector<uint32_t> keep(occ_word_count(res), 0u);
+  const float step = 0.015f, weight = 0.25f, clear = 3.0f, tolerance = 0.4f, lean_gate = 0.6f;
+  const uint32_t res = 4, words = occ_word_count(res);
+  std::vector<uint32_t> zones(2 * words, 0u);
   std::mt19937 gen(3);
   for (uint32_t c = 0; c < res * res * res; ++c)
-    if (gen() % 2) keep[c >> 5] |= 1u << (c & 31u);
-  Out masked = run_kernel(rt, r, step, LOSS_L2_SRGB, 0, weight, clear, tolerance, keep, res);
-  Out gated = run_kernel(rt, r, step, LOSS_L2_SRGB, 0, weight, clear, tolerance);
-  Out binary = run_kernel(rt, r, step, LOSS_L2_SRGB, 0, weight, 0.0f, tolerance);
-  std::vector<float> dsigma(r.stride, 0.0f), drgb(3 * r.stride, 0.0f);
-  int kept = 0, cleared = 0;
+    for (uint32_t z = 0; z < 2; ++z)
+      if (gen() % 2) zones[z * words + (c >> 5)] |= 1u << (c & 31u);
+  Out masked = run_kernel(rt, r, step, LOSS_L2_SRGB, 0, weight, clear, tolerance, zones, res, lean_gate);
+  // The colour loss's gradient, then each ray-level prior added to its own copy.
+  std::vector<float> base(r.stride, 0.0f), drgb(3 * r.stride, 0.0f);
+  for (uint32_t ray = 0; ray < 200; ++ray) host_ray(r, ray, step, LOSS_L2_SRGB, 1.0f / 600.0f, &base, &drgb);
+  std::vector<float> binary = base, gated = base, lean = base;
+  int gate_open = 0;
   for (uint32_t ray = 0; ray < 200; ++ray) {
     const float* info = &r.info[RAY_INFO_FLOATS * ray];
-    const uint32_t first = r.offsets[ray];
-    const HostRay h = host_ray(r, ray, step, LOSS_L2_SRGB, 1.0f / 600.0f, &dsigma, &drgb);
-    const uint32_t used = h.used;
-    const float* color = h.color;
+    const HostRay h = host_ray(r, ray, step, LOSS_L2_SRGB, 1.0f / 600.0f);
     const float gate = render_ray_room_gate(info, info + 3, tolerance);
-    if (gate > 0.0f)
-      render_ray_opacity_prior_keep(first, used, step, color, weight, clear, gate, 1.0f / 200.0f,
-                                    r.pos.data(), r.stride, keep.data(), res, dsigma.data());
-    else
-      render_ray_opacity_prior(first, used, step, color, weight, clear, gate, 1.0f / 200.0f, dsigma.data());
-    for (uint32_t k = 0; k < used && gate > 0.0f; ++k) {
-      const uint32_t i = first + k;
-      const bool in = occ_test(keep.data(), res, r.pos[i], r.pos[r.stride + i], r.pos[2 * r.stride + i]);
-      // Same tolerance as the host comparison below.
-      const float want = in ? binary.dsigma[i] : gated.dsigma[i];
-      EXPECT_NEAR(masked.dsigma[i], want, 1e-4 * std::fabs(want) + 1e-8) << "sample " << i;
-      (in ? kept : cleared) += 1;
-    }
+    gate_open += gate > 0.0f && h.used > 0;
+    const uint32_t first = r.offsets[ray];
+    render_ray_opacity_prior(first, h.used, step, h.color, weight, clear, 0.0f, 1.0f / 200.0f, binary.data());
+    render_ray_opacity_prior(first, h.used, step, h.color, weight, clear, gate, 1.0f / 200.0f, gated.data());
+    render_ray_opacity_prior(first, h.used, step, h.color, weight, clear, std::max(gate, lean_gate),
+                             1.0f / 200.0f, lean.data());
   }
-  for (uint32_t i = 0; i < r.stride - 5; ++i)
-    EXPECT_NEAR(masked.dsigma[i], dsigma[i], 1e-4 * std::fabs(dsigma[i]) + 1e-8) << "sample " << i;
-  EXPECT_GT(kept, 50);
-  EXPECT_GT(cleared, 50);
+  int count[3] = {0, 0, 0};
+  for (uint32_t i = 0; i < r.stride - 5; ++i) {
+    const float x = r.pos[i], y = r.pos[r.stride + i], z = r.pos[2 * r.stride + i];
+    const int zone = occ_test(zones.data(), res, x, y, z)           ? 0
+                     : occ_test(zones.data() + words, res, x, y, z) ? 1
+                                                                    : 2;
+    const float want = (zone == 0 ? binary : zone == 1 ? lean : gated)[i];
+    // Same tolerance as the other kernel-against-host comparisons.
+    EXPECT_NEAR(masked.dsigma[i], want, 1e-4 * std::fabs(want) + 1e-8) << "sample " << i << " zone " << zone;
+    count[zone] += masked.dsigma[i] != base[i];
+  }
+  EXPECT_GT(gate_open, 20) << "the random rays should open the gate on some rays";
+  for (int zone = 0; zone < 3; ++zone) EXPECT_GT(count[zone], 50) << "zone " << zone;
+  // The zones changed the gradient: lean differs from the ray's gate where that gate is below 0.6.
+  double lean_vs_gated = 0.0;
+  for (uint32_t i = 0; i < r.stride - 5; ++i) lean_vs_gated += std::fabs(lean[i] - gated[i]);
+  EXPECT_GT(lean_vs_gated, 1e-3);
 }
 
 TEST(Render, KernelMatchesHostReference) {
