@@ -26,7 +26,7 @@ OrientedShape span(OrientedShape::Kind kind, const Eigen::Vector3d& lo, const Ei
 }
 
 // The oriented head box in the head frame (mm), as fit::head_box_from_frame places it, and the same
-// grown by the loose hair sideways, upwards and backwards (the head volume's clip).
+// grown by loose hair: `side` mm sideways, `loose` mm upwards and backwards (the volumes' clips).
 struct Span {
   Eigen::Vector3d lo, hi;
 };
@@ -37,10 +37,10 @@ Span head_box_span(const fit::HeadExtents& e) {
   const double front = e.nose_ahead_mm + e.front_margin_mm;
   return {{-half_x, -bottom, -back}, {half_x, top, front}};
 }
-Span loose_hair_span(const fit::HeadExtents& e) {
+Span loose_hair_span(const fit::HeadExtents& e, double side = kLooseHairMm, double loose = kLooseHairMm) {
   Span s = head_box_span(e);
-  s.lo.x() -= kLooseHairMm, s.lo.z() -= kLooseHairMm;
-  s.hi.x() += kLooseHairMm, s.hi.y() += kLooseHairMm;
+  s.lo.x() -= side, s.hi.x() += side;
+  s.lo.z() -= loose, s.hi.y() += loose;
   return s;
 }
 
@@ -95,8 +95,7 @@ nerf::SubjectVolume head_clear_core_mm(const fit::HeadExtents& e) {
   bare.hair_mm = 0.0;
   // As wide as the head volume (the ears and what stands out beside them stay in the core).
   nerf::SubjectVolume v = head_parts_mm(bare, kLooseHairMm, 0.0);
-  Span box = head_box_span(bare);  // the neck's ellipsoid ends at the box's bottom
-  box.lo.x() -= kLooseHairMm, box.hi.x() += kLooseHairMm;
+  const Span box = loose_hair_span(bare, kLooseHairMm, 0.0);  // the neck's ellipsoid ends at its bottom
   v.clip = span(OrientedShape::Kind::Box, box.lo, box.hi);
   v.what = "the bare head (skull, face and neck without the hair behind and above; capture/head_volume.h)";
   return v;

@@ -14,6 +14,36 @@
 #include "kernels/train/occupancy.h"
 
 namespace lorgnette::nerf {
+namespace {
+
+// The opacity prior's zones (RayPriors): clear_keep's cells, then the lean cells (outside clear_core,
+// not kept, and allowed by the subject's permanent occupancy mask when it has one, which holds its
+// volume); empty when neither applies.
+std::vector<uint32_t> prior_zones(const BackgroundOptions& b, const NerfModel& model,
+                                  const std::vector<uint32_t>& allowed) {
+  const bool keep = b.room_clear > 0.0f && b.clear_keep && !b.clear_keep->empty();
+  const bool lean = b.room_clear > 0.0f && b.lean_gate > 0.0f && b.clear_core && !b.clear_core->empty();
+  if (!keep && !lean) return {};
+  const uint32_t res = model.occupancy_resolution(), words = occ_word_count(res);
+  std::vector<uint32_t> zones(2 * size_t(words), 0u);
+  if (keep) {
+    const std::vector<uint32_t> k = volume_occupancy_mask(*b.clear_keep, model.aabb(), res);
+    std::copy(k.begin(), k.end(), zones.begin());
+  }
+  if (lean) {
+    const std::vector<uint32_t> core = volume_occupancy_mask(*b.clear_core, model.aabb(), res);
+    for (uint32_t w = 0; w < words; ++w)
+      zones[words + w] = ~core[w] & ~zones[w] & (allowed.empty() ? ~0u : allowed[w]);
+  }
+  spdlog::info(
+      "clearing zones: {} cells keep the binary prior (the neck), {} lean towards the room "
+      "(gate >= {:.2f}: the volume beyond the bare head)",
+      mask_count({zones.begin(), zones.begin() + words}), mask_count({zones.begin() + words, zones.end()}),
+      b.lean_gate);
+  return zones;
+}
+
+}  // namespace
 
 Trainer::Trainer(NerfModel& model, const std::vector<View>& views, const TrainOptions& options,
                  std::vector<uint32_t> occupancy_mask)
@@ -31,6 +61,9 @@ Trainer::Trainer(NerfModel& model, const std::vector<View>& views, const TrainOp
     for (size_t w = 0; w < grid.bits.size(); ++w) grid.bits[w] &= occupancy_mask[w];
     model.set_occupancy(std::move(grid));
   }
+  const std::vector<uint32_t> zones = options.background.enabled
+                                          ? prior_zones(options.background, model, occupancy_mask)
+                                          : std::vector<uint32_t>{};
   occupancy_ =
       std::make_unique<OccupancyUpdater>(model, options.occupancy, options.seed, std::move(occupancy_mask));
   n_rays_ = std::max<uint32_t>(64, batch / 32);
@@ -38,29 +71,8 @@ Trainer::Trainer(NerfModel& model, const std::vector<View>& views, const TrainOp
     background_ =
         std::make_unique<BackgroundField>(rt, model, *views_, options.background, batch, options.seed);
     spdlog::info("{}", background_->summary());
-    const BackgroundOptions& b = options.background;
-    const bool keep = b.room_clear > 0.0f && b.clear_keep && !b.clear_keep->empty();
-    const bool lean = b.room_clear > 0.0f && b.lean_gate > 0.0f && b.clear_core && !b.clear_core->empty();
-    if (keep || lean) {
+    if (!zones.empty()) {
       zone_res_ = model.occupancy_resolution();
-      const uint32_t words = occ_word_count(zone_res_);
-      std::vector<uint32_t> zones(2 * size_t(words), 0u);
-      if (keep) {
-        const std::vector<uint32_t> k = volume_occupancy_mask(*b.clear_keep, model.aabb(), zone_res_);
-        std::copy(k.begin(), k.end(), zones.begin());
-      }
-      if (lean) {  // outside the core, not kept, inside the subject's volume when it has one
-        const std::vector<uint32_t> core = volume_occupancy_mask(*b.clear_core, model.aabb(), zone_res_);
-        std::vector<uint32_t> in(words, ~0u);
-        if (b.subject_volume && !b.subject_volume->empty())
-          in = volume_occupancy_mask(*b.subject_volume, model.aabb(), zone_res_);
-        for (uint32_t w = 0; w < words; ++w) zones[words + w] = ~core[w] & ~zones[w] & in[w];
-      }
-      spdlog::info(
-          "clearing zones: {} cells keep the binary prior (the neck), {} lean towards the room "
-          "(gate >= {:.2f}: the volume beyond the bare head)",
-          mask_count({zones.begin(), zones.begin() + words}),
-          lean ? mask_count({zones.begin() + words, zones.end()}) : 0u, b.lean_gate);
       zones_ = cl::Buffer<uint32_t>(rt, zones);
     }
   }
