@@ -23,9 +23,7 @@ SubjectBoxChoice head_choice(const dataset::Dataset& ds, const fit::HeadBoxOptio
   SubjectBoxChoice c;
   c.source = BoxSource::Head;
   c.aabb = to_array(box.min, box.max);
-  c.volume = head_volume(box);
-  c.clear_keep = head_clear_keep(box);
-  c.clear_core = head_clear_core(box);
+  c.zones = nerf::SubjectZones{head_volume(box), head_clear_keep(box), head_clear_core(box)};
   c.why = box.summary();
   std::vector<Camera> cams;
   for (const auto& p : photos) cams.push_back(p.camera);
@@ -149,9 +147,7 @@ void apply_subject_box(dataset::Dataset& ds, BoxSource requested, bool masks_all
       throw std::runtime_error(
           "the chosen subject box is empty: give a box yourself or use the cameras' box");
     job.sizing.aabb = box;
-    job.subject_volume = c.volume;
-    job.clear_keep = c.clear_keep;
-    job.clear_core = c.clear_core;
+    job.subject = c.zones;
   }
 }
 

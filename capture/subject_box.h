@@ -27,15 +27,10 @@ struct SubjectBoxChoice {
   // sizing carves the hull or builds the camera box itself).
   std::optional<std::array<std::array<float, 3>, 2>> aabb;
   bool use_masks = false;  // let the sizing carve the alpha-mask hull
-  // Head: the head's volume in the box (capture/head_volume.h): the box is the oriented head box's
-  // axis-aligned bounds, so it holds corners that are not head; training with a room model masks
-  // them out of the subject's occupancy.
-  std::optional<nerf::SubjectVolume> volume;
-  // Head: the part of it where the room model's clearing prior does not apply (the neck below the
-  // chin, which the body in the room model lies right behind; capture/head_volume.h).
-  std::optional<nerf::SubjectVolume> clear_keep;
-  // Head: the bare head, outside which the clearing leans towards the room (capture/head_volume.h).
-  std::optional<nerf::SubjectVolume> clear_core;
+  // Head: the head's volume in the box and its clearing zones (capture/head_volume.h: the neck kept,
+  // the bare head as the core). The box is the oriented head box's axis-aligned bounds, so it holds
+  // corners that are not head; training with a room model masks them out of the subject's occupancy.
+  std::optional<nerf::SubjectZones> zones;
   std::string why;  // one sentence for the log
   // Why the subject cannot be separated from the room, with what to film differently ("" when it
   // can): auto found no face in a mask-less dataset, or the head runs off every frame

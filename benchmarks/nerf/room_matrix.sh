@@ -6,13 +6,14 @@
 # sheets) and fitted (bench_fit_nerf, the fast default fit: nose, ear and rotation errors against
 # the mesh's ground truth). Step counts, not seconds, so runs compare under any load.
 # Usage: benchmarks/nerf/room_matrix.sh BUILD_DIR DATA_DIR WORK_DIR OUT_DIR [STEPS] [CASES...]
+#   STEPS: training steps (default 1200), or "default" for the product's own budget (no --steps).
 #   CASES: names like p_r1_y40 (p = procedural, s = scan; r1/r2 = room; y40/y20 = arc); default all 8.
 # Existing datasets and models in WORK_DIR are reused (delete them to start over). Writes
 # OUT_DIR/room_matte.csv, OUT_DIR/fit/fit_nerf.csv, OUT_DIR/room_matrix.csv (the two joined) and
 # OUT_DIR/<case>_sheet.png. TRAIN_ARGS (environment) adds options to every `lorgnette train`.
 set -euo pipefail
 if [ $# -lt 4 ]; then
-  sed -n '2,12p' "$0" >&2
+  sed -n '2,13p' "$0" >&2
   exit 2
 fi
 build=$1 data=$2 work=$3 out=$4
@@ -48,7 +49,9 @@ for c in "${cases[@]}"; do
     "$lgn" -q synth "${subject[@]}" --room "${room#r}" --views 40 --size 240x320 "${arc_args[@]}" --seed 1 -o "$ds"
   fi
   if [ ! -f "$model" ]; then
-    "$lgn" train "$ds" -o "$model" --steps "$steps" --seed 1337 --background on ${TRAIN_ARGS:-} >"$work/$c.train.log" 2>&1
+    step_args=(--steps "$steps")
+    [ "$steps" != default ] || step_args=()
+    "$lgn" train "$ds" -o "$model" "${step_args[@]}" --seed 1337 --background on ${TRAIN_ARGS:-} >"$work/$c.train.log" 2>&1
   fi
   grep -h "subject box\|subject region\|trained" "$work/$c.train.log" | sed "s/^/$c: /" >&2 || true
   matte_args+=(--case "$c" "$model" "$ds")

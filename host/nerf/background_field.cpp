@@ -86,8 +86,8 @@ BackgroundField::BackgroundField(cl::Runtime& rt, const NerfModel& subject, cons
                                        box.diagonal() / float(options.steps_per_diagonal), room_batch,
                                        seed + 7919u, false);
   std::vector<uint32_t> mask =
-      options.subject_volume && !options.subject_volume->empty()
-          ? volume_cutout(box, *options.subject_volume,
+      options.subject && !options.subject->volume.empty()
+          ? volume_cutout(box, options.subject->volume,
                           options.volume_cutout_margin * subject.aabb().max_extent(),
                           options.occupancy_resolution)
           : room_mask(box, subject.aabb(), options.cutout_margin, options.occupancy_resolution);
@@ -112,7 +112,7 @@ std::string BackgroundField::summary() const {
   return fmt::format(
       "room model: box {:.2f} units wide around the subject ({} cut out), {} levels up to {}, "
       "2^{} table, {:.1f} MB, up to {} samples per step (training only)",
-      b.extent(0), options_.subject_volume ? "the subject's volume" : "subject box", options_.levels,
+      b.extent(0), options_.subject ? "the subject's volume" : "subject box", options_.levels,
       options_.finest_resolution, options_.log2_table, double(model_->param_bytes()) / (1024.0 * 1024.0),
       model_->field().max_batch());
 }

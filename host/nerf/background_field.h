@@ -42,12 +42,13 @@ struct BackgroundOptions {
   // (not downwards: the shoulders and body below the head box belong to the room model) is cut
   // out of the room model, so it cannot paint the face on a surface just behind the head.
   float cutout_margin = 0.5f;
-  // The subject's volume in its box when known (TrainJob::subject_volume: the head's volume from the
-  // landmark box), which the subject's model is masked to. The room's cutout is then that volume
-  // grown by `volume_cutout_margin` x the subject box's largest side, not the whole box grown by
-  // cutout_margin: the room model covers what the subject gave up (the box's corners, the space
-  // beside and behind the head where fangzhou-frontal's wall was rebuilt).
-  std::optional<SubjectVolume> subject_volume;
+  // The subject's volume in its box and its clearing zones when known (TrainJob::subject: the head's
+  // volume, neck and bare head from the landmark box). The subject's model is masked to the volume,
+  // and the room's cutout is then that volume grown by `volume_cutout_margin` x the subject box's
+  // largest side, not the whole box grown by cutout_margin: the room model covers what the subject
+  // gave up (the box's corners, the space beside and behind the head where fangzhou-frontal's wall
+  // was rebuilt). Its keep and core zones are the clearing's (below).
+  std::optional<SubjectZones> subject;
   float volume_cutout_margin = 0.1f;
   float lr_scale = 1.0f;  // the room model's learning rate relative to the subject's
   // The room model's sample capacity per step relative to the subject's batch. The step's rays are
@@ -84,22 +85,21 @@ struct BackgroundOptions {
   // by -0.18 to +0.01 dB.
   float room_clear = 1.0f;
   float room_clear_tolerance = 0.05f;
-  // Where the clearing does not apply (the binary prior does): the part of the subject that the room
-  // model's own surfaces lie right behind, so that the room can match its colour there without the
-  // subject being a painted backdrop (a head box's neck, with the body below the box in the room
-  // model; capture/head_volume.h). Without it the clearing ate the scan's neck base (room 1, yaw
-  // +-20: IoU 0.978 -> 0.946, docs/bench/real-captures.md).
-  std::optional<SubjectVolume> clear_keep;
-  // The bare head (capture/head_volume.h head_clear_core: skull, face and neck at their p99 extents
-  // without the hair behind and above the skull, as wide as the head volume for the ears). In the
-  // subject's volume outside it, the clearing's gate is at least `lean_gate`, whether the room
+  // subject->keep is where the clearing does not apply (the binary prior does): the part of the
+  // subject that the room model's own surfaces lie right behind, so that the room can match its
+  // colour there without the subject being a painted backdrop (a head box's neck, with the body
+  // below the box in the room model; capture/head_volume.h). Without it the clearing ate the scan's
+  // neck base (room 1, yaw +-20: IoU 0.978 -> 0.946, docs/bench/real-captures.md).
+  // subject->core is the bare head (capture/head_volume.h head_clear_core: skull, face and neck at
+  // their p99 extents without the hair behind and above the skull, as wide as the head volume for
+  // the ears). In the subject's volume outside it, the clearing's gate is at least `lean_gate`,
+  // whether the room
   // explains the pixel yet or not: the binary prior otherwise makes solid a haze behind the skull
   // that side views see against the wall (and that the room model, trained there only through the
   // haze, never learns). Hair there stays where its colour differs from the room's. 0 = off. At 1
   // (27 Nov, docs/bench/real-captures.md): leak down and IoU up on all eight synthetic room
   // captures (p_r2_y40 3.55 -> 3.03 %, leak <= 2 % on 6 of 8 instead of 5), the face where the
   // subject covers the pixel -0.01 to +0.22 dB; in2n-face's curls kept; training +0.5 % time.
-  std::optional<SubjectVolume> clear_core;
   float lean_gate = 1.0f;
 };
 

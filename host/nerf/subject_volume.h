@@ -43,6 +43,19 @@ struct SubjectVolume {
   SubjectVolume grown(float d) const;
 };
 
+// A subject's volume with the zones of the room model's clearing inside it (background_field.h;
+// capture/head_volume.h builds all three from a landmark head box). Empty zones do not apply.
+struct SubjectZones {
+  // Where the subject may be: its permanent occupancy mask and the room model's cutout.
+  SubjectVolume volume;
+  // Where the clearing does not apply (BackgroundOptions::room_clear): the part the room model's own
+  // surfaces lie right behind (a head's neck, with the body below the box in the room model).
+  SubjectVolume keep;
+  // The bare subject (a head without the hair margins behind and above the skull): in `volume`
+  // outside it, the clearing leans towards the room (BackgroundOptions::lean_gate).
+  SubjectVolume core;
+};
+
 // The occupancy mask of `volume` over `box` at res^3 cells (occ_word_count(res) words, the grid's
 // cell order): a cell is allowed when its centre or one of its 8 corners lies in the volume, so no
 // cell the volume reaches into is lost at the grid's resolution.

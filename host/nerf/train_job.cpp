@@ -63,20 +63,18 @@ TrainJobResult train_on_dataset(cl::Runtime& rt, const dataset::Dataset& ds, Tra
         kRoomCaptureMaxLog2Table);
   }
   spdlog::info("{}", sizing.summary());
-  if (background && job.subject_volume && !job.subject_volume->empty()) {
+  if (background && job.subject && !job.subject->volume.empty()) {
     std::vector<uint32_t> mask =
-        volume_occupancy_mask(*job.subject_volume, sizing.aabb, sizing.occupancy_resolution);
+        volume_occupancy_mask(job.subject->volume, sizing.aabb, sizing.occupancy_resolution);
     if (!sizing.occupancy_mask.empty())
       for (size_t w = 0; w < mask.size(); ++w) mask[w] &= sizing.occupancy_mask[w];
     const uint64_t cells =
         uint64_t(sizing.occupancy_resolution) * sizing.occupancy_resolution * sizing.occupancy_resolution;
     const uint64_t allowed = mask_count(mask);
     spdlog::info("subject volume: {} of the box's {} occupancy cells ({:.0f} %) may hold the subject: {}",
-                 allowed, cells, 100.0 * double(allowed) / double(cells), job.subject_volume->what);
+                 allowed, cells, 100.0 * double(allowed) / double(cells), job.subject->volume.what);
     sizing.occupancy_mask = std::move(mask);
-    job.train.background.subject_volume = job.subject_volume;
-    job.train.background.clear_keep = job.clear_keep;
-    job.train.background.clear_core = job.clear_core;
+    job.train.background.subject = job.subject;
   }
   if (job.batch_log2 == 0) {
     job.batch_log2 = device_batch_log2(rt.device());

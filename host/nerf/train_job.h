@@ -28,13 +28,8 @@ struct TrainJob {
   // capture/head_volume.h). With a room model it becomes a permanent occupancy mask of the subject
   // (subject_volume.h), and the room model's cutout: the box's corners and the space around the head
   // outside it never hold subject density and belong to the room model. Ignored without a room model.
-  std::optional<SubjectVolume> subject_volume;
-  // With the subject volume: where the room-explained clearing does not apply
-  // (BackgroundOptions::clear_keep).
-  std::optional<SubjectVolume> clear_keep;
-  // With the subject volume: the bare head, outside which the clearing leans towards the room
-  // (BackgroundOptions::clear_core).
-  std::optional<SubjectVolume> clear_core;
+  // Its keep and core zones go to the clearing (BackgroundOptions::subject).
+  std::optional<SubjectZones> subject;
   TrainOptions train;  // steps/seconds (both 0: the size-based default, train_budget.h), seed, ...
   // Why the subject could not be separated (capture/subject_box.h), kept in the model's metadata;
   // training adds its own reason when the room model finds no subject region.

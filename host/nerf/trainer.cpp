@@ -16,22 +16,22 @@
 namespace lorgnette::nerf {
 namespace {
 
-// The opacity prior's zones (RayPriors): clear_keep's cells, then the lean cells (outside clear_core,
-// not kept, and allowed by the subject's permanent occupancy mask when it has one, which holds its
-// volume); empty when neither applies.
+// The opacity prior's zones (RayPriors): the subject's keep cells, then the lean cells (outside its
+// core, not kept, and allowed by the subject's permanent occupancy mask when it has one, which holds
+// its volume); empty when neither applies.
 std::vector<uint32_t> prior_zones(const BackgroundOptions& b, const NerfModel& model,
                                   const std::vector<uint32_t>& allowed) {
-  const bool keep = b.room_clear > 0.0f && b.clear_keep && !b.clear_keep->empty();
-  const bool lean = b.room_clear > 0.0f && b.lean_gate > 0.0f && b.clear_core && !b.clear_core->empty();
+  const bool keep = b.room_clear > 0.0f && b.subject && !b.subject->keep.empty();
+  const bool lean = b.room_clear > 0.0f && b.lean_gate > 0.0f && b.subject && !b.subject->core.empty();
   if (!keep && !lean) return {};
   const uint32_t res = model.occupancy_resolution(), words = occ_word_count(res);
   std::vector<uint32_t> zones(2 * size_t(words), 0u);
   if (keep) {
-    const std::vector<uint32_t> k = volume_occupancy_mask(*b.clear_keep, model.aabb(), res);
+    const std::vector<uint32_t> k = volume_occupancy_mask(b.subject->keep, model.aabb(), res);
     std::copy(k.begin(), k.end(), zones.begin());
   }
   if (lean) {
-    const std::vector<uint32_t> core = volume_occupancy_mask(*b.clear_core, model.aabb(), res);
+    const std::vector<uint32_t> core = volume_occupancy_mask(b.subject->core, model.aabb(), res);
     for (uint32_t w = 0; w < words; ++w)
       zones[words + w] = ~core[w] & ~zones[w] & (allowed.empty() ? ~0u : allowed[w]);
   }

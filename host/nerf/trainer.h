@@ -105,8 +105,8 @@ class Trainer {
   std::unique_ptr<RayBatch> batch_;
   std::unique_ptr<OccupancyUpdater> occupancy_;
   std::unique_ptr<BackgroundField> background_;
-  // The opacity prior's zones (RayPriors): clear_keep's cells, then the lean cells (the subject's
-  // volume outside BackgroundOptions::clear_core); zone_res_^3 each, 0: none.
+  // The opacity prior's zones (RayPriors): the subject's keep cells, then the lean cells (its
+  // volume outside its core; BackgroundOptions::subject); zone_res_^3 each, 0: none.
   cl::Buffer<uint32_t> zones_;
   uint32_t zone_res_ = 0;
   uint64_t step_ = 0;

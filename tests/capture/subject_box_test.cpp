@@ -50,7 +50,7 @@ TEST(SubjectBox, AutoPrefersTheDatasetsBox) {
   EXPECT_EQ(c.source, BoxSource::Dataset);
   ASSERT_TRUE(c.aabb.has_value());
   EXPECT_EQ((*c.aabb)[1][2], 1.0f);
-  EXPECT_FALSE(c.volume.has_value()) << "a dataset's own box is not masked to a head";
+  EXPECT_FALSE(c.zones.has_value()) << "a dataset's own box is not masked to a head";
 }
 
 TEST(SubjectBox, AutoUsesMasksThenFallsBackToCamerasWithoutFaces) {
@@ -85,11 +85,11 @@ TEST(SubjectBox, AutoUsesTheHeadBoxWhenFacesAreFound) {
   }
   // The head's volume comes with it (capture/head_volume.h): inside the box, holding its middle,
   // and leaving out part of the box (its corners).
-  ASSERT_TRUE(c.volume.has_value());
+  ASSERT_TRUE(c.zones.has_value());
   nerf::Aabb box;
   box.min = (*c.aabb)[0], box.max = (*c.aabb)[1];
-  EXPECT_TRUE(c.volume->contains(box.center()));
-  const uint64_t allowed = nerf::mask_count(nerf::volume_occupancy_mask(*c.volume, box, 32));
+  EXPECT_TRUE(c.zones->volume.contains(box.center()));
+  const uint64_t allowed = nerf::mask_count(nerf::volume_occupancy_mask(c.zones->volume, box, 32));
   EXPECT_GT(allowed, 32u * 32u * 32u / 4u);
   EXPECT_LT(allowed, 32u * 32u * 32u);
 }
