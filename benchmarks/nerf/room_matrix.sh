@@ -10,10 +10,11 @@
 #   CASES: names like p_r1_y40 (p = procedural, s = scan; r1/r2 = room; y40/y20 = arc); default all 8.
 # Existing datasets and models in WORK_DIR are reused (delete them to start over). Writes
 # OUT_DIR/room_matte.csv, OUT_DIR/fit/fit_nerf.csv, OUT_DIR/room_matrix.csv (the two joined) and
-# OUT_DIR/<case>_sheet.png. TRAIN_ARGS (environment) adds options to every `lorgnette train`.
+# OUT_DIR/<case>_sheet.png. TRAIN_ARGS (environment) adds options to every `lorgnette train`; SEED
+# (environment, default 1337) is its training seed.
 set -euo pipefail
 if [ $# -lt 4 ]; then
-  sed -n '2,13p' "$0" >&2
+  sed -n '2,14p' "$0" >&2
   exit 2
 fi
 build=$1 data=$2 work=$3 out=$4
@@ -51,7 +52,7 @@ for c in "${cases[@]}"; do
   if [ ! -f "$model" ]; then
     step_args=(--steps "$steps")
     [ "$steps" != default ] || step_args=()
-    "$lgn" train "$ds" -o "$model" "${step_args[@]}" --seed 1337 --background on ${TRAIN_ARGS:-} >"$work/$c.train.log" 2>&1
+    "$lgn" train "$ds" -o "$model" "${step_args[@]}" --seed "${SEED:-1337}" --background on ${TRAIN_ARGS:-} >"$work/$c.train.log" 2>&1
   fi
   grep -h "subject box\|subject region\|trained" "$work/$c.train.log" | sed "s/^/$c: /" >&2 || true
   matte_args+=(--case "$c" "$model" "$ds")

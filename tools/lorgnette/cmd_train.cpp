@@ -11,6 +11,7 @@
 
 #include "capture/subject_box.h"
 #include "host/dataset/dataset.h"
+#include "host/nerf/background_field.h"
 #include "host/nerf/train_job.h"
 #include "host/util/interrupt.h"
 #include "tools/lorgnette/command.h"
@@ -124,21 +125,28 @@ void add_train(CLI::App& app, GlobalOptions& global) {
                   "room model behind the subject, then keep the subject's connected region: auto (mask-less "
                   "datasets with a subject box), on or off")
       ->check(CLI::IsMember({"auto", "on", "off"}));
+  const nerf::BackgroundOptions room_defaults;
   cmd->add_option("--opacity-prior", a->opacity_prior,
-                  "with the room model: weight of the prior that pushes each ray's opacity to 0 or 1 "
-                  "(default 0.01; 0 = off)")
+                  fmt::format("with the room model: weight of the prior that pushes each ray's opacity to 0 "
+                              "or 1 (default {}; 0 = off)",
+                              room_defaults.opacity_prior))
       ->check(CLI::Range(0.0f, 1.0f));
   cmd->add_option("--room-clear", a->room_clear,
-                  "with the room model: where the room's colour matches the pixel, pull the subject's "
-                  "opacity to 0 with this many times the opacity prior's weight (default 1; 0 = off)")
+                  fmt::format("with the room model: where the room's colour matches the pixel, pull the "
+                              "subject's opacity to 0 with this many times the opacity prior's weight "
+                              "(default {}; 0 = off)",
+                              room_defaults.room_clear))
       ->check(CLI::Range(0.0f, 100.0f));
   cmd->add_option("--room-clear-tolerance", a->room_clear_tolerance,
-                  "RMS sRGB difference between the room's colour and the pixel at which --room-clear stops "
-                  "(default 0.05)")
+                  fmt::format("RMS sRGB difference between the room's colour and the pixel at which "
+                              "--room-clear stops (default {})",
+                              room_defaults.room_clear_tolerance))
       ->check(CLI::Range(0.001f, 1.0f));
   cmd->add_option("--lean-gate", a->lean_gate,
-                  "with the room model and a head box: in the head volume beyond the bare head, the "
-                  "clearing's gate is at least this (default 1: always clear there; 0 = off)")
+                  fmt::format("with the room model and a head box: in the head volume beyond the bare "
+                              "head, the clearing's gate is at least this (default {}; 1: always clear "
+                              "there; 0 = off)",
+                              room_defaults.lean_gate))
       ->check(CLI::Range(0.0f, 1.0f));
   cmd->add_option("--aabb-scale", a->aabb_scale,
                   "box size factor for datasets without alpha (default: dataset)");
