@@ -112,9 +112,10 @@ std::string BackgroundField::summary() const {
   return fmt::format(
       "room model: box {:.2f} units wide around the subject ({} cut out), {} levels up to {}, "
       "2^{} table, {:.1f} MB, up to {} samples per step (training only)",
-      b.extent(0), options_.subject ? "the subject's volume" : "subject box", options_.levels,
-      options_.finest_resolution, options_.log2_table, double(model_->param_bytes()) / (1024.0 * 1024.0),
-      model_->field().max_batch());
+      b.extent(0),
+      options_.subject && !options_.subject->volume.empty() ? "the subject's volume" : "subject box",
+      options_.levels, options_.finest_resolution, options_.log2_table,
+      double(model_->param_bytes()) / (1024.0 * 1024.0), model_->field().max_batch());
 }
 
 uint32_t BackgroundField::count(const SampleParams& subject_params, const DeviceViews& views) {

@@ -99,13 +99,12 @@ struct BackgroundOptions {
   // subject->core is the bare head (capture/head_volume.h head_clear_core: skull, face and neck at
   // their p99 extents without the hair behind and above the skull, as wide as the head volume for
   // the ears). In the subject's volume outside it, the clearing's gate is at least `lean_gate`,
-  // whether the room
-  // explains the pixel yet or not: the binary prior otherwise makes solid a haze behind the skull
-  // that side views see against the wall (and that the room model, trained there only through the
-  // haze, never learns). Hair there stays where its colour differs from the room's. 0 = off. At 1
-  // (27 Nov, docs/bench/real-captures.md): leak down and IoU up on all eight synthetic room
-  // captures (p_r2_y40 3.55 -> 3.03 %, leak <= 2 % on 6 of 8 instead of 5), the face where the
-  // subject covers the pixel -0.01 to +0.22 dB; in2n-face's curls kept; training +0.5 % time.
+  // whether the room explains the pixel yet or not: the binary prior otherwise makes solid a haze
+  // behind the skull that side views see against the wall (and that the room model, trained there
+  // only through the haze, never learns). Hair there stays where its colour differs from the room's. 0 = off.
+  // At 1 (27 Nov, docs/bench/real-captures.md): leak down and IoU up on all eight synthetic room captures
+  // (p_r2_y40 3.55 -> 3.03 %, leak <= 2 % on 6 of 8 instead of 5), the face where the subject covers the
+  // pixel -0.01 to +0.22 dB; in2n-face's curls kept; training +0.5 % time.
   float lean_gate = 1.0f;
 };
 
