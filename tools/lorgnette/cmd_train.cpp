@@ -26,8 +26,7 @@ struct TrainArgs {
   uint32_t seed = 1337, batch_log2 = 0, finest = 0, log2_table = 0, levels = 0, occ_res = 0, downscale = 1;
   uint32_t max_side = 0;
   float step = 0.0f, lr = 1e-2f, aabb_scale = 0.0f;
-  float opacity_prior = -1.0f, room_clear = -1.0f, room_clear_tolerance = -1.0f,
-        lean_gate = -1.0f;  // < 0: the default
+  nerf::BackgroundOptions room;  // the room model's prior and clearing options (defaults shown in --help)
   double snapshot_every = 120.0;
   bool deterministic = false, force = false, no_masks = false, linear_loss = false;
 };
@@ -82,10 +81,10 @@ void run_train(const TrainArgs& a, GlobalOptions& global) {
   to.seconds = a.seconds;
   to.seed = a.seed;
   to.adam.lr = a.lr;
-  if (a.opacity_prior >= 0.0f) to.background.opacity_prior = a.opacity_prior;
-  if (a.room_clear >= 0.0f) to.background.room_clear = a.room_clear;
-  if (a.room_clear_tolerance >= 0.0f) to.background.room_clear_tolerance = a.room_clear_tolerance;
-  if (a.lean_gate >= 0.0f) to.background.lean_gate = a.lean_gate;
+  to.background.opacity_prior = a.room.opacity_prior;
+  to.background.room_clear = a.room.room_clear;
+  to.background.room_clear_tolerance = a.room.room_clear_tolerance;
+  to.background.lean_gate = a.room.lean_gate;
   to.loss_kind = a.linear_loss ? LOSS_L2_LINEAR : LOSS_L2_SRGB;
   to.snapshot_path = a.output;
   to.snapshot_every_seconds = a.snapshot_every;
@@ -125,29 +124,26 @@ void add_train(CLI::App& app, GlobalOptions& global) {
                   "room model behind the subject, then keep the subject's connected region: auto (mask-less "
                   "datasets with a subject box), on or off")
       ->check(CLI::IsMember({"auto", "on", "off"}));
-  const nerf::BackgroundOptions room_defaults;
-  cmd->add_option("--opacity-prior", a->opacity_prior,
-                  fmt::format("with the room model: weight of the prior that pushes each ray's opacity to 0 "
-                              "or 1 (default {}; 0 = off)",
-                              room_defaults.opacity_prior))
-      ->check(CLI::Range(0.0f, 1.0f));
-  cmd->add_option("--room-clear", a->room_clear,
-                  fmt::format("with the room model: where the room's colour matches the pixel, pull the "
-                              "subject's opacity to 0 with this many times the opacity prior's weight "
-                              "(default {}; 0 = off)",
-                              room_defaults.room_clear))
-      ->check(CLI::Range(0.0f, 100.0f));
-  cmd->add_option("--room-clear-tolerance", a->room_clear_tolerance,
-                  fmt::format("RMS sRGB difference between the room's colour and the pixel at which "
-                              "--room-clear stops (default {})",
-                              room_defaults.room_clear_tolerance))
-      ->check(CLI::Range(0.001f, 1.0f));
-  cmd->add_option("--lean-gate", a->lean_gate,
-                  fmt::format("with the room model and a head box: in the head volume beyond the bare "
-                              "head, the clearing's gate is at least this (default {}; 1: always clear "
-                              "there; 0 = off)",
-                              room_defaults.lean_gate))
-      ->check(CLI::Range(0.0f, 1.0f));
+  // The room model's options start at BackgroundOptions' defaults, which --help shows.
+  cmd->add_option(
+         "--opacity-prior", a->room.opacity_prior,
+         "with the room model: weight of the prior that pushes each ray's opacity to 0 or 1 (0 = off)")
+      ->check(CLI::Range(0.0f, 1.0f))
+      ->capture_default_str();
+  cmd->add_option("--room-clear", a->room.room_clear,
+                  "with the room model: where the room's colour matches the pixel, pull the subject's "
+                  "opacity to 0 with this many times the opacity prior's weight (0 = off)")
+      ->check(CLI::Range(0.0f, 100.0f))
+      ->capture_default_str();
+  cmd->add_option("--room-clear-tolerance", a->room.room_clear_tolerance,
+                  "RMS sRGB difference between the room's colour and the pixel at which --room-clear stops")
+      ->check(CLI::Range(0.001f, 1.0f))
+      ->capture_default_str();
+  cmd->add_option("--lean-gate", a->room.lean_gate,
+                  "with the room model and a head box: in the head volume beyond the bare head, the "
+                  "clearing's gate is at least this (1: always clear there; 0 = off)")
+      ->check(CLI::Range(0.0f, 1.0f))
+      ->capture_default_str();
   cmd->add_option("--aabb-scale", a->aabb_scale,
                   "box size factor for datasets without alpha (default: dataset)");
   // The ranges the field and the occupancy grid accept (FieldConfig::validate, occupancy.h), checked
