@@ -2,6 +2,7 @@
 #include "fit/place.h"
 
 #include <fmt/format.h>
+#include <spdlog/spdlog.h>
 
 #include <Eigen/Dense>
 #include <algorithm>
@@ -86,6 +87,21 @@ std::vector<Eigen::Vector3d> transform_points(const Eigen::Matrix4d& t,
   return out;
 }
 
+// Debug log: which front points of the frame (canonical mm) still meet the head one step before the
+// contact search lets go, so a large shift can be traced to the rims, the bridge or the pads.
+void log_blocking_points(const DensityFn& density, const std::vector<Eigen::Vector3d>& front,
+                         const std::vector<Eigen::Vector3d>& canon, const Eigen::Vector3d& offset,
+                         float thr) {
+  if (!spdlog::should_log(spdlog::level::debug)) return;
+  std::vector<Eigen::Vector3d> moved;
+  for (const auto& p : front) moved.push_back(p + offset);
+  const auto in = inside(density, moved, thr);
+  for (size_t i = 0; i < in.size(); ++i)
+    if (in[i])
+      spdlog::debug("fit: contact held by frame point ({:.1f}, {:.1f}, {:.1f}) mm", canon[i].x(),
+                    canon[i].y(), canon[i].z());
+}
+
 }  // namespace
 
 std::vector<double> penetration_depths_mm(const HeadProbe& head,
@@ -158,6 +174,7 @@ ContactResult refine_contact(Placement& placement, const HeadProbe& head, const 
     shift = s + opt.step_mm;                 // the last position without contact: resting on the skin
     if (s < -opt.max_shift_mm) shift = 0.0;  // nothing to rest on within range: keep Eq. 4
   }
+  if (shift > 0.0) log_blocking_points(density, front, front_canon, (shift - opt.step_mm) * unit, thr);
   placement.transform.block<3, 1>(0, 3) += shift * unit;
   res.shift_mm = shift;
   res.refined = true;
