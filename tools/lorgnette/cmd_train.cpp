@@ -81,10 +81,7 @@ void run_train(const TrainArgs& a, GlobalOptions& global) {
   to.seconds = a.seconds;
   to.seed = a.seed;
   to.adam.lr = a.lr;
-  to.background.opacity_prior = a.room.opacity_prior;
-  to.background.room_clear = a.room.room_clear;
-  to.background.room_clear_tolerance = a.room.room_clear_tolerance;
-  to.background.lean_gate = a.room.lean_gate;
+  to.background = a.room;  // train_on_dataset adds whether the room model runs and the subject's zones
   to.loss_kind = a.linear_loss ? LOSS_L2_LINEAR : LOSS_L2_SRGB;
   to.snapshot_path = a.output;
   to.snapshot_every_seconds = a.snapshot_every;
