@@ -3,8 +3,8 @@
 
 For each case (a dataset made by `lorgnette synth --room` and one .lnerf per arm), every held-out
 view (every 8th frame: the dataset loader's held-out split, which the Python module does not expose,
-as `lorgnette eval` uses it) is rendered with depth (the expected termination depth along the unit ray) and compared with the dataset's true ray distance, over the pixels the subject
-covers fully and the render shows opaque (opacity >= 0.99); with true landmarks, only inside the
+as `lorgnette eval` uses it) is rendered with depth (the expected termination depth along the unit
+ray) and compared with the dataset's true ray distance, over the pixels the subject covers fully and the render shows opaque (opacity >= 0.99); with true landmarks, only inside the
 face (the hull of the 68 points), and separately around the eyes (the eye hulls grown by 4 px),
 where a frame's nose pads rest. Signed: positive = the model's surface lies behind the true one.
 The fit meets the surface through its density, so a model whose surface sits a few mm behind the
