@@ -4,9 +4,10 @@
 For each case (a dataset made by `lorgnette synth --room` and one .lnerf per arm), every held-out
 view (every 8th frame: the dataset loader's held-out split, which the Python module does not expose,
 as `lorgnette eval` uses it) is rendered with depth (the expected termination depth along the unit
-ray) and compared with the dataset's true ray distance, over the pixels the subject covers fully and the render shows opaque (opacity >= 0.99); with true landmarks, only inside the
-face (the hull of the 68 points), and separately around the eyes (the eye hulls grown by 4 px),
-where a frame's nose pads rest. Signed: positive = the model's surface lies behind the true one.
+ray) and compared with the dataset's true ray distance, over the pixels the subject covers fully
+and the render shows opaque (opacity >= 0.99); with true landmarks, only inside the face (the hull
+of the 68 points), and separately around the eyes (the eye hulls grown by 4 px), where a frame's
+nose pads rest. Signed: positive = the model's surface lies behind the true one.
 The fit meets the surface through its density, so a model whose surface sits a few mm behind the
 truth lets the frame sink in by that much before the contact search stops it.
 
@@ -28,7 +29,7 @@ import numpy as np
 
 
 def face_masks(gt, frame, tj, shape):
-    """(face, eyes) uint8 masks from the true landmarks; the whole image and nothing without them."""
+    """(face, eyes) uint8 masks from the true landmarks; without them, the whole image and none."""
     if not gt.get("ibug68"):
         return np.ones(shape, np.uint8), np.zeros(shape, np.uint8)
     w2c = np.linalg.inv(np.array(frame["transform_matrix"]))
@@ -54,6 +55,9 @@ def main():
     ap.add_argument("--mm-per-unit", type=float, help="for datasets whose ground truth states none")
     ap.add_argument("--csv", help="write the per-case medians here")
     a = ap.parse_args()
+    for arm in a.arm:
+        if "=" not in arm:
+            ap.error(f"--arm '{arm}': give NAME=DIR (DIR holds one CASE.lnerf per case)")
     if a.build:
         sys.path.insert(0, os.path.join(a.build, "python"))
     import lorgnette
@@ -76,7 +80,8 @@ def main():
                 truth = cv2.imread(os.path.join(ds, frame["depth_path"]), cv2.IMREAD_UNCHANGED)
                 truth = truth[..., 0] if truth.ndim == 3 else truth
                 matte = cv2.imread(os.path.join(ds, frame["eval_matte_path"]), cv2.IMREAD_UNCHANGED)
-                matte = (matte[..., 0] if matte.ndim == 3 else matte) / float(np.iinfo(matte.dtype).max)
+                matte = matte[..., 0] if matte.ndim == 3 else matte
+                matte = matte / float(np.iinfo(matte.dtype).max)
                 cam = lorgnette.Camera.from_transforms(os.path.join(ds, "transforms.json"), i)
                 rgba, depth = model.render(cam, depth=True)
                 face, eyes = face_masks(gt, frame, tj, truth.shape)
