@@ -119,6 +119,15 @@ const std::vector<Variant>& all_variants() {
        1.5f},
       {"default_one_depth_off",
        [](FitOptions& o) { o = fit_options(FitSettings{}), o.landmarks.temple_depth.enabled = false; }, 1.5f},
+      // The temples' depth rule (temple_depth.h) at other limits: moved to the other's depth beyond 0
+      // mm (always) or 3 mm instead of 5 (issue 13, 27 Nov: 20 room-capture models, no gain).
+      {"default_td_m0",
+       [](FitOptions& o) { o = fit_options(FitSettings{}), o.landmarks.temple_depth.max_gap_mm = 0.0; },
+       1.5f},
+      {"default_td_m3",
+       [](FitOptions& o) { o = fit_options(FitSettings{}), o.landmarks.temple_depth.max_gap_mm = 3.0; },
+       1.5f},
+      {"fast_td_m0", [](FitOptions& o) { fast(o), o.landmarks.temple_depth.max_gap_mm = 0.0; }},
       {"default_snap_o50",
        [](FitOptions& o) { o = fit_options(FitSettings{}), o.landmarks.snap_opacity = 0.5; }, 1.5f},
       // Speed levers for the 10 s target on real captures (issue 13): smaller / fewer views, a coarser

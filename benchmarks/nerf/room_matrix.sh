@@ -3,21 +3,25 @@
 # shoulders, the Lee Perry-Smith scan) x rooms (1, 2) x arcs (yaw +-40 / pitch +-10, yaw +-20 / pitch
 # +-15), each synthesized, trained with the room model for the same number of steps, then scored on
 # its held-out views against the true mattes (bench_room_matte: IoU, leak, face PSNR, contact
-# sheets) and fitted (bench_fit_nerf, the fast default fit: nose, ear and rotation errors against
-# the mesh's ground truth). Step counts, not seconds, so runs compare under any load.
+# sheets) and fitted (bench_fit_nerf's `default` variant, the options `lorgnette fit` runs: nose,
+# ear and rotation errors against the mesh's ground truth; until 27 Nov the matrix fitted the `fast`
+# variant, which marches the views at step x1 where the product marches at x1.5; FIT_VARIANT
+# (environment) picks another). Step counts, not seconds, so runs compare under any load.
 # Usage: benchmarks/nerf/room_matrix.sh BUILD_DIR DATA_DIR WORK_DIR OUT_DIR [STEPS] [CASES...]
 #   STEPS: training steps (default 1200), or "default" for the product's own budget (no --steps).
 #   CASES: names like p_r1_y40 (p = procedural, s = scan; r1/r2 = room; y40/y20 = arc); default all 8.
 # Existing datasets and models in WORK_DIR are reused (delete them to start over). Writes
 # OUT_DIR/room_matte.csv, OUT_DIR/fit/fit_nerf.csv, OUT_DIR/room_matrix.csv (the two joined) and
 # OUT_DIR/<case>_sheet.png. TRAIN_ARGS (environment) adds options to every `lorgnette train`; SEED
-# (environment, default 1337) is its training seed.
+# (environment, default 1337) is its training seed; SYNTH_SEED (environment, default 1) is synth's
+# (the cameras' jitter and the procedural head's shape: another seed is another person).
 set -euo pipefail
 if [ $# -lt 4 ]; then
-  sed -n '2,14p' "$0" >&2
+  sed -n '2,17p' "$0" >&2
   exit 2
 fi
 build=$1 data=$2 work=$3 out=$4
+fit_variant=${FIT_VARIANT:-default}
 steps=${5:-1200}
 shift $(($# < 5 ? $# : 5))
 cases=("$@")
@@ -47,7 +51,7 @@ for c in "${cases[@]}"; do
   esac
   ds=$work/$c model=$work/$c.lnerf
   if [ ! -f "$ds/transforms.json" ]; then
-    "$lgn" -q synth "${subject[@]}" --room "${room#r}" --views 40 --size 240x320 "${arc_args[@]}" --seed 1 -o "$ds"
+    "$lgn" -q synth "${subject[@]}" --room "${room#r}" --views 40 --size 240x320 "${arc_args[@]}" --seed "${SYNTH_SEED:-1}" -o "$ds"
   fi
   if [ ! -f "$model" ]; then
     step_args=(--steps "$steps")
@@ -60,11 +64,11 @@ for c in "${cases[@]}"; do
 done
 
 "$build/benchmarks/nerf/bench_room_matte" "$out" "${matte_args[@]}" --sheet-views 2
-"$build/benchmarks/fit/bench_fit_nerf" "$out/fit" "${fit_args[@]}" --variants fast --repeats 1 --no-profile || true
+"$build/benchmarks/fit/bench_fit_nerf" "$out/fit" "${fit_args[@]}" --variants "$fit_variant" --repeats 1 --no-profile || true
 
-# One row per case: the matte scores and the fast fit's errors (the fit's CSV may lack a case whose
+# One row per case: the matte scores and the fit's errors (the fit's CSV may lack a case whose
 # fit failed: its columns stay empty).
-awk -F, 'NR == FNR { if (FNR > 1 && $2 == "fast") fit[$1] = $4 "," $5 "," $6 "," $7 "," $NF; next }
+awk -F, -v variant="$fit_variant" 'NR == FNR { if (FNR > 1 && $2 == variant) fit[$1] = $4 "," $5 "," $6 "," $7 "," $NF; next }
          FNR == 1 { print $0 ",nose_mm,ear_l_mm,ear_r_mm,rotation_deg,fit_status"; next }
          { f = ($1 in fit) ? fit[$1] : ",,,,no fit row"; print $0 "," f }' \
   "$out/fit/fit_nerf.csv" "$out/room_matte.csv" >"$out/room_matrix.csv"
