@@ -471,6 +471,20 @@ int main(int argc, char** argv) {
     else
       return std::cerr << "unknown argument " << argv[i] << "\n", 2;
   }
+  // Every name in --variants must be a variant: an unknown one would otherwise be skipped silently,
+  // and a caller's table would show no fit at all.
+  for (size_t at = 0; at <= variants.size();) {
+    const size_t end = std::min(variants.find(',', at), variants.size());
+    const std::string name = variants.substr(at, end - at);
+    const auto& all = all_variants();
+    if (std::none_of(all.begin(), all.end(), [&](const Variant& v) { return v.name == name; })) {
+      std::string known;
+      for (const Variant& v : all) known += (known.empty() ? "" : ",") + v.name;
+      return std::cerr << "--variants: unknown variant '" << name << "' (known: " << known << ")\n", 2;
+    }
+    at = end + 1;
+  }
+  if (cases.empty() && replot.empty()) return 0;  // nothing to fit: the arguments were checked
   fs::create_directories(out);
   if (!replot.empty()) {  // charts only: the CSV is not rewritten
     try {

@@ -21,7 +21,7 @@ if [ $# -lt 4 ]; then
   exit 2
 fi
 build=$1 data=$2 work=$3 out=$4
-fit_variant=${FIT_VARIANT:-default}
+fit_variant=${FIT_VARIANT:-default} synth_seed=${SYNTH_SEED:-1}
 steps=${5:-1200}
 shift $(($# < 5 ? $# : 5))
 cases=("$@")
@@ -33,6 +33,9 @@ for tool in "$lgn" "$build/benchmarks/nerf/bench_room_matte" "$build/benchmarks/
     exit 2
   fi
 done
+# FIT_VARIANT is checked now, not after hours of training (bench_fit_nerf without cases checks its
+# arguments and exits).
+"$build/benchmarks/fit/bench_fit_nerf" "$out/fit" --variants "$fit_variant" || exit 2
 scan=$data/heads/lee-perry-smith/LeePerrySmith.glb
 mkdir -p "$work" "$out/fit"
 
@@ -51,7 +54,7 @@ for c in "${cases[@]}"; do
   esac
   ds=$work/$c model=$work/$c.lnerf
   if [ ! -f "$ds/transforms.json" ]; then
-    "$lgn" -q synth "${subject[@]}" --room "${room#r}" --views 40 --size 240x320 "${arc_args[@]}" --seed "${SYNTH_SEED:-1}" -o "$ds"
+    "$lgn" -q synth "${subject[@]}" --room "${room#r}" --views 40 --size 240x320 "${arc_args[@]}" --seed "$synth_seed" -o "$ds"
   fi
   if [ ! -f "$model" ]; then
     step_args=(--steps "$steps")
