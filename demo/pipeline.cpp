@@ -203,8 +203,8 @@ fit::FitResult stage_fit(Context& c, nerf::NerfModel& model, const std::string& 
     compare("nose_error_mm", "nose", 0.5f * (subject.ibug68[27] + subject.ibug68[28]));
   compare("eye_l_error_mm", "eye_l", truth("eye_l_outer"));
   compare("eye_r_error_mm", "eye_r", truth("eye_r_outer"));
-  // The paper's ear estimate (Eq. 2-3) against the head's anatomical ear rests: how far the
-  // approximation itself is from where a temple really rests.
+  // The fit's ears (the density's ear roots, fit/ear_root.h, or Eq. 2-3 where it shows none) against
+  // the head's anatomical ear rests (synth's, on the ear's top a few mm outside the crease).
   compare("ear_l_vs_anatomical_mm", "ear_l", truth("ear_rest_l"));
   compare("ear_r_vs_anatomical_mm", "ear_r", truth("ear_rest_r"));
   gt["mm_per_unit_true"] = mm;

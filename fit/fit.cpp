@@ -145,6 +145,10 @@ struct FitRun {
   FitResult& r;
   std::unique_ptr<LandmarkDetector> detector;
   Face68 mean_face;
+  ColourFn colour = [this](const std::vector<Eigen::Vector3f>& p, const std::vector<Eigen::Vector3f>& d) {
+    return source.colour(p, d);
+  };
+  bool skin_read = false;  // r.skin holds the nose line's tone (face_skin)
 };
 
 void load_detector(FitRun& run) {
@@ -221,7 +225,48 @@ void plan_detect_and_frame_head(FitRun& run) {
   for (const auto& v : r.views) r.views_used += v.detection.found;
 }
 
-// The nose point, the ears (Eq. 2-3) and the placement (Eq. 4-5).
+// The skin's tone from the nose line (hair.h), once: the ears' and the temples' hair tests read it.
+const std::optional<SkinTone>& face_skin(FitRun& run) {
+  FitResult& r = run.r;
+  if (run.skin_read) return r.skin;
+  run.skin_read = true;
+  std::vector<Eigen::Vector3d> nose_line;
+  for (int k = lm::kNoseBridgeTop; k <= lm::kNoseTip; ++k)
+    if (r.points[k].ok) nose_line.push_back(r.points[k].position);
+  r.skin = skin_tone(run.colour, nose_line, -r.head.d_fwd);
+  return r.skin;
+}
+
+// The ears where the density shows the crease above each ear's root (ear_root.h), instead of Eq.
+// 2-3. A side whose ear top is as dark as hair (hair.h's test, seen from above) is not an ear: the
+// two real captures' hair made creases of its own.
+void ears_from_density(FitRun& run, const EarInputs& ei) {
+  FitResult& r = run.r;
+  ViewSource& source = run.source;
+  DensityFn density = [&source](const std::vector<Eigen::Vector3f>& p) { return source.density(p); };
+  const std::optional<SkinTone> none, &skin = run.opt.hair.enabled ? face_skin(run) : none;
+  EarVeto hair_dark = [&](const EarRootSide& s) -> std::string {
+    if (!skin || s.ear_top.empty()) return {};
+    std::vector<Eigen::Vector3f> pts, dirs;
+    for (const auto& p : s.ear_top)
+      pts.push_back(p.cast<float>()), dirs.push_back(-r.head.d_up.cast<float>());
+    std::vector<Eigen::Vector3f> rgb = run.colour(pts, dirs);
+    if (rgb.size() != pts.size()) return {};
+    std::vector<double> lum;
+    for (const auto& c : rgb) lum.push_back(luminance(c));
+    std::nth_element(lum.begin(), lum.begin() + lum.size() / 2, lum.end());
+    const double median = lum[lum.size() / 2], darkest = run.opt.hair.max_luminance_ratio * skin->luminance;
+    spdlog::debug("fit: an ear's top at {:.2f} x the skin's luminance", median / skin->luminance);
+    if (median >= darkest) return {};
+    return fmt::format("its top is as dark as hair (luminance {:.3f}, under {:.3f} = {:.2f} x the skin's)",
+                       median, darkest, run.opt.hair.max_luminance_ratio);
+  };
+  r.ear_roots = apply_ear_roots(density, ei, r.head.d_eye, r.head.mm_per_unit, run.opt.head.ear_root, r.ears,
+                                hair_dark);
+  spdlog::info("fit: {}", r.ear_roots.summary());
+}
+
+// The nose point, the ears (Eq. 2-3, or the density's, above) and the placement (Eq. 4-5).
 void place_on_face(FitRun& run) {
   StageTimer t{run.r, "place", run.opt};
   FitResult& r = run.r;
@@ -242,6 +287,7 @@ void place_on_face(FitRun& run) {
                r.head.d_up,
                r.head.d_fwd};
   r.ears = ear_points(ei, o.alpha);
+  if (o.ear_root.enabled) ears_from_density(run, ei);
   PlaceInputs pi{r.f_c, r.ears.f_l, r.ears.f_r, ei.t_l, ei.t_r, r.head.mm_per_unit};
   r.placement = place_glasses(run.glasses.ref, pi, run.opt.place.scale_policy);
 }
@@ -279,15 +325,7 @@ void rest_on_skin(FitRun& run, const HeadProbe& head) {
 HeadProbe temple_probe(FitRun& run, const HeadProbe& head) {
   FitResult& r = run.r;
   if (!run.opt.hair.enabled) return head;
-  std::vector<Eigen::Vector3d> nose_line;
-  for (int k = lm::kNoseBridgeTop; k <= lm::kNoseTip; ++k)
-    if (r.points[k].ok) nose_line.push_back(r.points[k].position);
-  ViewSource& source = run.source;
-  ColourFn colour = [&source](const std::vector<Eigen::Vector3f>& p, const std::vector<Eigen::Vector3f>& d) {
-    return source.colour(p, d);
-  };
-  r.skin = skin_tone(colour, nose_line, -r.head.d_fwd);
-  if (!r.skin) {
+  if (!face_skin(run)) {
     spdlog::info("fit: no skin colour from this head (a source without colour): hair counts as solid");
     return head;
   }
@@ -295,7 +333,7 @@ HeadProbe temple_probe(FitRun& run, const HeadProbe& head) {
       "fit: skin luminance {:.3f} from {} nose-line points; the temples ignore dense volume below {:.3f}",
       r.skin->luminance, r.skin->samples, run.opt.hair.max_luminance_ratio * r.skin->luminance);
   HeadProbe skin = head;
-  skin.density = density_without_hair(head, std::move(colour), *r.skin, run.opt.hair);
+  skin.density = density_without_hair(head, run.colour, *r.skin, run.opt.hair);
   return skin;
 }
 

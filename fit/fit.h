@@ -12,6 +12,7 @@
 #include <utility>
 #include <vector>
 
+#include "fit/ear_root.h"
 #include "fit/ears.h"
 #include "fit/front_search.h"
 #include "fit/glasses_input.h"
@@ -63,6 +64,9 @@ struct HeadOptions {           // the head frame ("triangulate") and the ears ("
   // the scan 0.99 -> 1.43 mm. The head frame keeps the first-crossing points
   // (docs/bench/real-captures.md, 27 Nov).
   double nose_opacity = 0.5;
+  // The ears from the head's density (ear_root.h) where it shows the crease above the ear's root;
+  // Eq. 2-3 where it does not.
+  EarRootOptions ear_root;
 };
 
 struct PlaceOptions {  // "place", "contact"
@@ -113,6 +117,7 @@ struct FitResult {
   Placement placement;
   HeadFrame head;
   EarPoints ears;
+  EarRoots ear_roots;  // the density's ear rests (found or why not); `ears` holds the points used
   Eigen::Vector3d f_c = Eigen::Vector3d::Zero();
   std::map<std::string, NamedLandmark> landmarks;  // nose eye_l eye_r temple_l temple_r ear_l ear_r
   std::vector<TriangulatedPoint> points;           // all 68

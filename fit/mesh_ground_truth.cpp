@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "fit/camera_math.h"
+#include "fit/ear_root.h"
 #include "fit/landmark_ids.h"
 #include "fit/mean_face.h"
 #include "fit/surface_landmarks.h"
@@ -54,6 +55,11 @@ GroundTruth mesh_ground_truth(MeshViewSource& source, const std::vector<Camera>&
   EarInputs ei{P[lm::kEyeOuterL], P[lm::kEyeOuterR], P[lm::kTempleL],
                P[lm::kTempleR],   gt.head.d_up,      gt.head.d_fwd};
   gt.ears = ear_points(ei, options.head.alpha);
+  if (options.head.ear_root.enabled) {  // the fit's rule (ear_root.h) on the mesh's inside indicator
+    DensityFn density = [&source](const std::vector<Eigen::Vector3f>& p) { return source.density(p); };
+    gt.ear_roots =
+        apply_ear_roots(density, ei, gt.head.d_eye, gt.head.mm_per_unit, options.head.ear_root, gt.ears);
+  }
   gt.placement =
       place_glasses(glasses, {gt.f_c, gt.ears.f_l, gt.ears.f_r, ei.t_l, ei.t_r, gt.head.mm_per_unit},
                     options.place.scale_policy);

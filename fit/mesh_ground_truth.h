@@ -16,6 +16,7 @@ struct GroundTruth {
   std::vector<bool> valid;
   HeadFrame head;
   EarPoints ears;
+  EarRoots ear_roots;  // what the density search (ear_root.h) found, when the options enable it
   Eigen::Vector3d f_c = Eigen::Vector3d::Zero();
   Placement placement;
   double contour_side_tolerance = 0.0;  // the jaw-contour view rule it was made with

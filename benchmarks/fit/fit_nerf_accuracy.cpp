@@ -128,6 +128,14 @@ const std::vector<Variant>& all_variants() {
        [](FitOptions& o) { o = fit_options(FitSettings{}), o.landmarks.temple_depth.max_gap_mm = 3.0; },
        1.5f},
       {"fast_td_m0", [](FitOptions& o) { fast(o), o.landmarks.temple_depth.max_gap_mm = 0.0; }},
+      // The ears from Eq. 2-3 alone (the fit before ear_root.h), and the density's ear rests at other
+      // opacity / a sharper crease.
+      {"default_eq23", [](FitOptions& o) { o = fit_options(FitSettings{}), o.head.ear_root.enabled = false; },
+       1.5f},
+      {"default_root_o25",
+       [](FitOptions& o) { o = fit_options(FitSettings{}), o.head.ear_root.opacity = 0.25; }, 1.5f},
+      {"default_root_bend30",
+       [](FitOptions& o) { o = fit_options(FitSettings{}), o.head.ear_root.min_bend_deg = 30.0; }, 1.5f},
       {"default_snap_o50",
        [](FitOptions& o) { o = fit_options(FitSettings{}), o.landmarks.snap_opacity = 0.5; }, 1.5f},
       // Speed levers for the 10 s target on real captures (issue 13): smaller / fewer views, a coarser
@@ -170,7 +178,36 @@ struct Row {
   std::string contact;  // stderr only: penetration, temple-tip penetration, temple spreads, ok / warnings
   int views_used = 0, views = 0;
   std::string stages, error;
+  // Against the procedural head's anatomical ear rests (synth's ear_rest_l/r, the crease above the
+  // ear's root): the ears, and the frame's turn from the placement that the true nose point and those
+  // rests give (NaN where the dataset has none). ears_from: density / eq23.
+  double ear_l_anat_mm = NAN, ear_r_anat_mm = NAN, rotation_anat_deg = NAN;
+  std::string ears_from;
 };
+
+// synth's anatomical ear rests in the model's frame, when the dataset's ground truth has them.
+struct Anatomy {
+  bool known = false;
+  Eigen::Vector3d ear_l = Eigen::Vector3d::Zero(), ear_r = Eigen::Vector3d::Zero();
+};
+
+Anatomy anatomy_of(const std::string& dataset, const nerf::NerfModel& model) {
+  Anatomy a;
+  std::ifstream in(dataset + "/ground_truth.json");
+  if (!in) return a;
+  nlohmann::json gt = nlohmann::json::parse(in);
+  if (!gt.contains("landmarks") || !gt["landmarks"].contains("ear_rest_l") ||
+      !gt["landmarks"].contains("ear_rest_r"))
+    return a;
+  auto to_model = [&](const nlohmann::json& p) {
+    Eigen::Vector3d v(p.at(0).get<double>(), p.at(1).get<double>(), p.at(2).get<double>());
+    for (int i = 0; i < 3; ++i) v[i] = v[i] * model.normalisation.scale + model.normalisation.offset[i];
+    return v;
+  };
+  a.known = true;
+  a.ear_l = to_model(gt["landmarks"]["ear_rest_l"]), a.ear_r = to_model(gt["landmarks"]["ear_rest_r"]);
+  return a;
+}
 
 double cpu_now() {
   timespec t{};
@@ -180,7 +217,8 @@ double cpu_now() {
 
 // Scores the fit that `fit` runs (with `opt`) against the ground truth (none: timed only).
 Row run_fit(const std::function<FitResult()>& fit, const GlassesInput& g, const GroundTruth* gt_or_none,
-            const FitOptions& opt, const Eigen::Vector3d& scene_up, MeshViewSource* mesh = nullptr) {
+            const FitOptions& opt, const Eigen::Vector3d& scene_up, MeshViewSource* mesh = nullptr,
+            const Anatomy& anat = {}) {
   Row row;
   try {
     const double cpu0 = cpu_now();
@@ -197,9 +235,20 @@ Row run_fit(const std::function<FitResult()>& fit, const GlassesInput& g, const 
     }
     row.views_used = r.views_used;
     row.views = int(r.views.size());
+    const EarRoots& roots = r.ear_roots;
+    row.ears_from = roots.left.found && roots.right.found ? "density" : "eq23";
     if (!gt_or_none) return row;
     const GroundTruth& gt = *gt_or_none;
     row.e = compare_fit(r, gt);
+    if (anat.known) {
+      const double mm = gt.head.mm_per_unit;
+      row.ear_l_anat_mm = (r.ears.f_l - anat.ear_l).norm() * mm;
+      row.ear_r_anat_mm = (r.ears.f_r - anat.ear_r).norm() * mm;
+      PlaceInputs truth{gt.f_c, anat.ear_l, anat.ear_r, gt.points[lm::kTempleL], gt.points[lm::kTempleR], mm};
+      const Placement p = place_glasses(g.ref, truth, opt.place.scale_policy);
+      row.rotation_anat_deg =
+          std::abs(Eigen::AngleAxisd(r.placement.rotation * p.rotation.transpose()).angle()) * 180.0 / M_PI;
+    }
     if (mesh) {
       std::vector<Camera> cams;
       for (const auto& v : r.views) cams.push_back(v.camera);
@@ -272,7 +321,11 @@ void write_rows(const std::string& out, const std::vector<Row>& rows) {
                    e(r.temple_l_fwd_mm, "{:.2f}"),
                    e(r.temple_r_fwd_mm, "{:.2f}"),
                    r.stages,
-                   r.error.empty() ? "ok" : "error: " + r.error.substr(0, 200)});
+                   r.error.empty() ? "ok" : "error: " + r.error.substr(0, 200),
+                   std::isnan(r.ear_l_anat_mm) ? "" : fmt::format("{:.3f}", r.ear_l_anat_mm),
+                   std::isnan(r.ear_r_anat_mm) ? "" : fmt::format("{:.3f}", r.ear_r_anat_mm),
+                   std::isnan(r.rotation_anat_deg) ? "" : fmt::format("{:.3f}", r.rotation_anat_deg),
+                   r.ears_from});
   }
   write_csv(out + "/fit_nerf.csv",
             {"case",
@@ -304,7 +357,11 @@ void write_rows(const std::string& out, const std::vector<Row>& rows) {
              "temple_l_fwd_mm",
              "temple_r_fwd_mm",
              "stages",
-             "status"},
+             "status",
+             "ear_l_anat_mm",
+             "ear_r_anat_mm",
+             "rotation_anat_deg",
+             "ears_from"},
             csv);
   write_charts(out, rows);
 }
@@ -531,6 +588,7 @@ int main(int argc, char** argv) {
       return views;
     };
     auto mesh_src = subject_source(c.dataset, model, prior, studio);
+    const Anatomy anat = anatomy_of(c.dataset, model);
     FitOptions base;
     FitResult ref = fit_glasses(*mesh_src, g, base);
     // Ground truth per jaw-contour view rule: each variant is scored against the mesh under its own
@@ -556,15 +614,16 @@ int main(int argc, char** argv) {
         gt_yaws.size(), gt_pitches.size(), gt.head.mm_per_unit, gt.head.pd_mm);
     FitOptions mesh_opt = base;
     mesh_opt.head.alpha = fit_alpha;
-    Row mesh_row = run_fit([&] { return fit_glasses(*mesh_src, g, mesh_opt); }, g, &gt, mesh_opt, prior.up);
+    Row mesh_row = run_fit([&] { return fit_glasses(*mesh_src, g, mesh_opt); }, g, &gt, mesh_opt, prior.up,
+                           nullptr, anat);
     mesh_row.name = c.name, mesh_row.variant = "mesh";
     rows.push_back(mesh_row);
     std::cerr << fmt::format(
-        "{} mesh (alpha {:.2f}): nose {:.2f} mm, ears {:.2f}/{:.2f} mm, rot {:.2f} deg, head pitch {:.1f} "
-        "deg, "
-        "contact shift {:.2f} mm, {}\n",
+        "{} mesh (alpha {:.2f}): nose {:.2f} mm, ears {:.2f}/{:.2f} mm, rot {:.2f} deg (anatomical: ears "
+        "{:.2f}/{:.2f} rot {:.2f}, {}), head pitch {:.1f} deg, contact shift {:.2f} mm, {}\n",
         c.name, fit_alpha, mesh_row.e.nose_mm, mesh_row.e.ear_l_mm, mesh_row.e.ear_r_mm,
-        mesh_row.e.rotation_deg, mesh_row.head_pitch_deg, mesh_row.contact_shift_mm, mesh_row.contact);
+        mesh_row.e.rotation_deg, mesh_row.ear_l_anat_mm, mesh_row.ear_r_anat_mm, mesh_row.rotation_anat_deg,
+        mesh_row.ears_from, mesh_row.head_pitch_deg, mesh_row.contact_shift_mm, mesh_row.contact);
     if (mesh_only) {
       write_rows(out, rows);
       continue;
@@ -580,15 +639,18 @@ int main(int argc, char** argv) {
         if (!o.debug_dir.empty()) fs::create_directories(o.debug_dir);
         const NerfViewOptions views = nerf_views(v.step_scale, v.min_transmittance);
         Row row = run_fit([&] { return run_fit_job(model, g, o, views).fit; }, g, &gt_for(o), o, prior.up,
-                          mesh_src.get());
+                          mesh_src.get(), anat);
         row.name = c.name, row.variant = v.name, row.repeat = rep;
         std::cerr << fmt::format(
             "{} {} #{}: nose {:.2f} mm ({:+.1f} fwd), ears {:.2f}/{:.2f} mm (temples {:+.1f}/{:+.1f} fwd), "
             "rot "
-            "{:.2f} deg (own views: ears {:.2f}/{:.2f}), {:.2f} s, {:.2f} CPU s [{}] {} {}\n",
+            "{:.2f} deg (own views: ears {:.2f}/{:.2f}; anatomical: ears {:.2f}/{:.2f} rot {:.2f}, {}), "
+            "{:.2f} s, "
+            "{:.2f} CPU s [{}] {} {}\n",
             c.name, v.name, rep, row.e.nose_mm, row.nose_fwd_mm, row.e.ear_l_mm, row.e.ear_r_mm,
             row.temple_l_fwd_mm, row.temple_r_fwd_mm, row.e.rotation_deg, row.own.ear_l_mm, row.own.ear_r_mm,
-            row.seconds, row.cpu_seconds, row.stages, row.contact, row.error.substr(0, 160));
+            row.ear_l_anat_mm, row.ear_r_anat_mm, row.rotation_anat_deg, row.ears_from, row.seconds,
+            row.cpu_seconds, row.stages, row.contact, row.error.substr(0, 160));
         rows.push_back(row);
         write_rows(out, rows);
       }

@@ -1,0 +1,187 @@
+// The ear rests found on the head's density (see ear_root.h).
+#include "fit/ear_root.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <vector>
+
+namespace lorgnette::fit {
+namespace {
+
+constexpr double kMiss = -std::numeric_limits<double>::infinity();
+
+struct Crease {
+  bool found = false;
+  double lateral_mm = 0.0, height_mm = 0.0, bend_deg = 0.0;
+  double top_mm = 0.0;  // the ear's top `span` outside the crease
+};
+
+// A depth's profile (heights along d_eye, inside to outside) bends from the skull's steep side onto
+// the ear's flatter top at the crease: the point where the slope over `span` steps outside it is
+// most above the slope inside it (as angles), by at least min_bend_deg, with the inside falling at
+// least as steeply as max_inner_slope_deg, the outside within outer_slope_deg and the crease within
+// the height band. Both sides must be hits.
+Crease crease_of(const std::vector<double>& h, const std::vector<double>& lateral, int span,
+                 const EarRootOptions& o) {
+  const int n = int(h.size());
+  Crease c;
+  for (int j = span; j + span < n; ++j) {
+    if (h[j - span] == kMiss || h[j] == kMiss || h[j + span] == kMiss) continue;
+    if (h[j] < o.lowest_mm || h[j] > o.highest_mm) continue;
+    const double run = lateral[j + span] - lateral[j];
+    const double in = std::atan((h[j] - h[j - span]) / run) * 180.0 / M_PI,
+                 out = std::atan((h[j + span] - h[j]) / run) * 180.0 / M_PI;
+    if (in > o.max_inner_slope_deg || out < o.outer_slope_deg[0] || out > o.outer_slope_deg[1]) continue;
+    const double bend = out - in;
+    if (bend >= o.min_bend_deg && (!c.found || bend > c.bend_deg)) c = {true, lateral[j], h[j], bend, h[j + span]};
+  }
+  return c;
+}
+
+void check(const EarRootInputs& in, const EarRootOptions& o) {
+  if (!(in.mm_per_unit > 0.0)) throw std::invalid_argument("find_ear_root: mm_per_unit must be positive");
+  if (in.side != 1 && in.side != -1) throw std::invalid_argument("find_ear_root: side must be +1 or -1");
+  for (double s : {o.depth_step_mm, o.lateral_step_mm, o.ray_step_mm})
+    if (!(s > 0.0)) throw std::invalid_argument("find_ear_root: steps must be positive");
+  if (!(o.back_mm + o.front_mm > 0.0 && o.inward_mm + o.outward_mm > 0.0 && o.above_mm + o.below_mm > 0.0))
+    throw std::invalid_argument("find_ear_root: the search window is empty");
+  if (!(o.opacity > 0.0 && o.opacity < 1.0)) throw std::invalid_argument("find_ear_root: opacity must lie in (0, 1)");
+}
+
+std::vector<double> grid(double from, double to, double step) {
+  std::vector<double> v;
+  for (int i = 0; from + i * step <= to + 1e-9; ++i) v.push_back(from + i * step);
+  return v;
+}
+
+}  // namespace
+
+EarRootSide find_ear_root(const DensityFn& density_of, const EarRootInputs& in, const EarRootOptions& o) {
+  check(in, o);
+  const double mpu = in.mm_per_unit;
+  const Eigen::Vector3d out = in.side * in.d_eye.normalized(), up = in.d_up.normalized(),
+                        fwd = in.d_fwd.normalized();
+  const double eye_height = (in.eye_corner - in.temple).dot(up) * mpu;  // mm above the temple
+  const std::vector<double> depths = grid(-o.back_mm, o.front_mm, o.depth_step_mm),
+                            laterals = grid(-o.inward_mm, o.outward_mm, o.lateral_step_mm),
+                            heights = grid(-o.below_mm, o.above_mm, o.ray_step_mm);  // from the eyes
+  const size_t per_ray = heights.size();
+  const int span = std::max(1, int(std::lround(o.bend_span_mm / o.lateral_step_mm)));
+
+  std::vector<Eigen::Vector3f> pts;
+  pts.reserve(depths.size() * laterals.size() * per_ray);
+  for (double f : depths)
+    for (double x : laterals)
+      for (size_t k = per_ray; k-- > 0;)  // from the top down
+        pts.push_back((in.temple + (x * out + f * fwd + (eye_height + heights[k]) * up) / mpu).cast<float>());
+  const std::vector<float> density = density_of(pts);
+  if (density.size() != pts.size()) throw std::runtime_error("find_ear_root: the density returned the wrong number of values");
+
+  // Each ray's height (mm above the eye corners) where its opacity from above reaches the level.
+  const double target = -std::log(1.0 - o.opacity), dt = o.ray_step_mm / mpu;
+  std::vector<Crease> creases(depths.size());
+  std::vector<double> profile(laterals.size());
+  size_t at = 0;
+  for (size_t i = 0; i < depths.size(); ++i) {
+    for (size_t j = 0; j < laterals.size(); ++j, at += per_ray) {
+      double tau = 0.0, hit = kMiss;
+      for (size_t k = 1; k < per_ray; ++k) {
+        const double add = 0.5 * (double(density[at + k - 1]) + double(density[at + k])) * dt;
+        if (tau + add >= target) {
+          const double frac = (target - tau) / add;  // within the step from sample k-1 (above) to k
+          hit = heights[per_ray - k] - frac * o.ray_step_mm;
+          break;
+        }
+        tau += add;
+      }
+      profile[j] = hit;
+    }
+    creases[i] = crease_of(profile, laterals, span, o);
+  }
+
+  // The longest run of consecutive depths holding creases that continue each other; its highest
+  // creases are the rest.
+  int best_start = -1, best_len = 0, found_any = 0;
+  for (int i = 0, n = int(depths.size()); i < n;) {
+    if (!creases[i].found) {
+      ++i;
+      continue;
+    }
+    int j = i + 1;
+    while (j < n && creases[j].found && std::abs(creases[j].lateral_mm - creases[j - 1].lateral_mm) <= o.max_step_mm &&
+           std::abs(creases[j].height_mm - creases[j - 1].height_mm) <= o.max_step_mm)
+      ++j;
+    found_any += j - i;
+    if (j - i > best_len) best_start = i, best_len = j - i;
+    i = j;
+  }
+  EarRootSide r;
+  r.slices = best_len;
+  if (best_len < std::max(1, o.min_slices)) {
+    r.why = found_any == 0
+                ? fmt::format("no crease between skull and ear in {} depths (hair over the ear, or the capture "
+                              "did not see it)",
+                              depths.size())
+                : fmt::format("creases in only {} consecutive depths of {} (need {})", best_len, depths.size(),
+                              o.min_slices);
+    return r;
+  }
+  double highest = kMiss;
+  for (int i = best_start; i < best_start + best_len; ++i) highest = std::max(highest, creases[i].height_mm);
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();  // lateral, height, depth (mm)
+  for (int i = best_start; i < best_start + best_len; ++i)
+    if (creases[i].height_mm >= highest - o.plateau_mm) {
+      sum += Eigen::Vector3d(creases[i].lateral_mm, creases[i].height_mm, depths[i]);
+      r.ear_top.push_back(in.temple + ((creases[i].lateral_mm + o.bend_span_mm) * out + depths[i] * fwd +
+                                       (eye_height + creases[i].top_mm) * up) /
+                                          mpu);
+      r.bend_deg = std::max(r.bend_deg, creases[i].bend_deg);
+      ++r.plateau;
+    }
+  const Eigen::Vector3d c = sum / r.plateau;
+  r.found = true;
+  r.point = in.temple + (c.x() * out + c.z() * fwd + (eye_height + c.y()) * up) / mpu;
+  return r;
+}
+
+std::string EarRoots::summary() const {
+  auto say = [](const char* name, const EarRootSide& s) {
+    return s.found ? fmt::format("{} ear's root found (a {:.0f} deg crease over {} depths, {} at its top)", name,
+                                 s.bend_deg, s.slices, s.plateau)
+                   : fmt::format("{} ear's root not found: {}", name, s.why);
+  };
+  const char* used = left.found && right.found ? "both ears from the density" : "the ears from Eq. 2-3";
+  return fmt::format("{}; {}; {}", say("left", left), say("right", right), used);
+}
+
+EarRoots apply_ear_roots(const DensityFn& density, const EarInputs& in, const Eigen::Vector3d& d_eye,
+                         double mm_per_unit, const EarRootOptions& options, EarPoints& ears, const EarVeto& accept) {
+  EarRoots r;
+  r.left = find_ear_root(density, {in.t_l, in.e_l, d_eye, in.d_up, in.d_fwd, +1, mm_per_unit}, options);
+  r.right = find_ear_root(density, {in.t_r, in.e_r, d_eye, in.d_up, in.d_fwd, -1, mm_per_unit}, options);
+  for (EarRootSide* s : {&r.left, &r.right})
+    if (s->found && accept)
+      if (std::string veto = accept(*s); !veto.empty()) s->found = false, s->why = veto;
+  const Eigen::Vector3d e = d_eye.normalized();
+  auto mirrored = [&](const Eigen::Vector3d& p, const Eigen::Vector3d& from, const Eigen::Vector3d& to) {
+    const Eigen::Vector3d d = p - from;
+    return Eigen::Vector3d(to + d - 2.0 * d.dot(e) * e);
+  };
+  if (r.left.found && r.right.found) {
+    const double apart = (mirrored(r.left.point, in.t_l, in.t_r) - r.right.point).norm() * mm_per_unit;
+    if (apart > options.max_asymmetry_mm) {
+      const std::string why = fmt::format("the two sides' rests lie {:.1f} mm apart, mirrored (over {:.0f})",
+                                          apart, options.max_asymmetry_mm);
+      r.left.found = r.right.found = false;
+      r.left.why = r.right.why = why;
+    }
+  }
+  if (r.left.found && r.right.found) ears.f_l = r.left.point, ears.f_r = r.right.point;
+  return r;
+}
+
+}  // namespace lorgnette::fit

@@ -1,0 +1,98 @@
+// The ear rests found on the head's density: where a temple arm lowered onto the side of the head
+// comes to rest on the ear's root, the crease between the skull and the top of the ear (the
+// otobasion superius; synth's `ear_rest_l/r`). Eq. 2-3 estimate the ear from the temple landmark,
+// the eye height and half the eye-corner distance back. With dlib's temples (0 / 16, already at the
+// ear's root) that lands 21-35 mm behind the ear and 10-12 mm under it on the procedural heads
+// (docs/bench/real-captures.md, "Eq. 3 with dlib temples").
+//
+// The search: a field of vertical rays cast down (along -d_up) beside the head, behind and around
+// the temple. Along d_eye at one depth, the heights where the rays meet the head fall steeply down
+// the skull's side, then turn flatter onto the ear's top (which stands out from the head): the
+// crease is where the slope turns most, by at least `min_bend_deg`. Across depths the creases trace
+// the ear's root, and the rest is the highest of them (the arm rests on the top of the root). Where
+// hair covers the ear, the capture never saw it, or the window holds no crease, the side is not
+// found and the caller keeps Eq. 2-3.
+#pragma once
+#include <Eigen/Core>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "fit/ears.h"
+#include "fit/head_probe.h"
+
+namespace lorgnette::fit {
+
+struct EarRootOptions {
+  bool enabled = true;
+  // The window, in mm from the temple landmark: along d_fwd (negative = behind it), outwards along
+  // the side's d_eye, and along d_up from the outer eye corners' height.
+  double back_mm = 50.0, front_mm = 10.0;
+  double inward_mm = 12.0, outward_mm = 30.0;
+  double above_mm = 50.0, below_mm = 30.0;
+  double depth_step_mm = 2.0, lateral_step_mm = 1.0, ray_step_mm = 0.5;
+  // A ray meets the head where its opacity from above reaches this level (ray_surface.h).
+  double opacity = 0.5;
+  // The crease: where the heights' slope along d_eye turns flatter, from the skull's side onto the
+  // ear's top, by at least this angle, the slopes taken over `bend_span_mm` either side.
+  double min_bend_deg = 20.0, bend_span_mm = 3.0;
+  // (Not bounded above: a skull side falls onto an ear's top at 26-32 deg on the procedural heads,
+  // but where the skull bulges over the ear (the scan) the rays drop off it onto the ear, ~90 deg.)
+  // ... from a skull side that falls at least this steeply (deg; a NeRF's hair and the inside of the
+  // head make bends too, on flatter ground) ...
+  double max_inner_slope_deg = -45.0;
+  // ... onto an ear's top, not off an edge nor against a wall: its slope outwards (deg, + = rising)
+  // within this range.
+  double outer_slope_deg[2] = {-60.0, 30.0};
+  // ... at a height above the outer eye corners within this band (mm): the procedural heads' rests
+  // lie 11-16 mm above them, the scan's 0-5, the demo head's 1-3.
+  double lowest_mm = -5.0, highest_mm = 30.0;
+  // Creases at neighbouring depths belong to one ear's root only when they lie this close (mm, along
+  // d_eye and d_up): an ear's root is a smooth line; hair gives creases that jump.
+  double max_step_mm = 3.0;
+  int min_slices = 3;            // depths (consecutive) that must hold a crease
+  double max_asymmetry_mm = 8.0;  // the two sides' rests, mirrored, may lie this far apart
+  // The rest: the mean of the creases within this of the highest (the top of the root is a plateau
+  // a few depths long; its first slice would bias the rest forward or back).
+  double plateau_mm = 1.0;
+};
+
+struct EarRootSide {
+  bool found = false;
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();  // scene units
+  double bend_deg = 0.0;                            // how sharply the profile turns there
+  int slices = 0;                                   // depths that held a crease (the run chosen)
+  int plateau = 0;                                  // of them, those averaged into the rest
+  std::vector<Eigen::Vector3d> ear_top;  // the plateau's ear top just outside each crease (scene), for the
+                                         // caller's look at its colour (hair is not an ear)
+  std::string why;                                  // when not found: what the window showed
+};
+
+struct EarRootInputs {
+  Eigen::Vector3d temple;                // the side's temple landmark (scene)
+  Eigen::Vector3d eye_corner;            // the side's outer eye corner (scene): the window's height
+  Eigen::Vector3d d_eye, d_up, d_fwd;    // the head frame (unit; d_eye towards the wearer's left)
+  int side = +1;                         // +1 = the wearer's left, -1 = right
+  double mm_per_unit = 0.0;
+};
+
+// Searches one side's window in `density` (scene units; one query for all its rays). Throws on bad inputs (a
+// non-positive scale or step, an empty window).
+EarRootSide find_ear_root(const DensityFn& density, const EarRootInputs& in, const EarRootOptions& options);
+
+struct EarRoots {
+  EarRootSide left, right;
+  std::string summary() const;  // for the log: what each side showed and which ears were used
+};
+
+// Both sides' searches on `ears`' inputs, and the ears they give. `accept` may veto a side found
+// (e.g. its ear top is hair-dark), with a reason. Only when both sides are found, and their rests'
+// offsets from their own temples agree within `max_asymmetry_mm` (mirrored along d_eye), do they
+// replace Eq. 2-3's points: one ear found alone, on a real capture, was hair as often as not, and an
+// ear of each kind would roll and yaw the frame. Otherwise `ears` stays as it is.
+using EarVeto = std::function<std::string(const EarRootSide&)>;  // empty string: accepted
+EarRoots apply_ear_roots(const DensityFn& density, const EarInputs& in, const Eigen::Vector3d& d_eye,
+                         double mm_per_unit, const EarRootOptions& options, EarPoints& ears,
+                         const EarVeto& accept = {});
+
+}  // namespace lorgnette::fit

@@ -1,0 +1,144 @@
+// The ear-root search (fit/ear_root.h) on an analytic head: a sphere for the skull with a flat-topped
+// box for each ear, whose crease with the skull is known exactly; a head without ears; and when
+// the fit may use what it finds (both sides, agreeing, not vetoed).
+#include "fit/ear_root.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace lorgnette::fit {
+namespace {
+
+constexpr double kSkull = 75.0;    // sphere radius (mm; 1 scene unit = 1 mm here)
+constexpr double kEarTop = 10.0;   // the ears' flat tops, above the eye corners (y = 0)
+constexpr double kEarBack = -25.0, kEarFront = 5.0;  // the ears' extent along z (forward)
+
+// Inside the skull, or inside an ear (a box from x = 60 to 90 mm either side, under its top).
+DensityFn head(bool left_ear, bool right_ear) {
+  return [=](const std::vector<Eigen::Vector3f>& pts) {
+    std::vector<float> d(pts.size());
+    for (size_t i = 0; i < pts.size(); ++i) {
+      const Eigen::Vector3d p = pts[i].cast<double>();
+      const bool skull = p.norm() < kSkull;
+      const bool in_ear_box = std::abs(p.x()) > 60.0 && std::abs(p.x()) < 90.0 && p.y() < kEarTop &&
+                              p.y() > -40.0 && p.z() > kEarBack && p.z() < kEarFront;
+      const bool ear = in_ear_box && ((p.x() > 0 && left_ear) || (p.x() < 0 && right_ear));
+      d[i] = skull || ear ? 1e4f : 0.0f;
+    }
+    return d;
+  };
+}
+
+EarInputs inputs() {
+  EarInputs in;
+  in.e_l = {45, 0, 60}, in.e_r = {-45, 0, 60};     // outer eye corners at y = 0
+  in.t_l = {74, -5, 12}, in.t_r = {-74, -5, 12};   // temples in front of the ears' roots
+  in.d_up = {0, 1, 0}, in.d_fwd = {0, 0, 1};
+  return in;
+}
+
+// Where the skull's sphere meets the ear's top at depth z.
+double crease_x(double z) { return std::sqrt(kSkull * kSkull - kEarTop * kEarTop - z * z); }
+
+TEST(EarRoot, FindsTheCreaseBetweenSkullAndEarTop) {
+  const EarInputs in = inputs();
+  EarRootOptions o;
+  const EarRootSide l = find_ear_root(head(true, true), {in.t_l, in.e_l, {1, 0, 0}, in.d_up, in.d_fwd, +1, 1.0}, o);
+  ASSERT_TRUE(l.found) << l.why;
+  // The ear's top is flat: every depth over it holds the crease at its height, so the rest is the
+  // middle of the ear's depth (within a depth step and the window's sampling).
+  EXPECT_NEAR(l.point.y(), kEarTop, 1.0);
+  EXPECT_NEAR(l.point.z(), 0.5 * (kEarBack + kEarFront), 2.0 * o.depth_step_mm);
+  // Laterally at the skull's side, within the slope's span: the crease lies at 69-75 mm over the depths.
+  EXPECT_GT(l.point.x(), crease_x(kEarBack) - o.bend_span_mm);
+  EXPECT_LT(l.point.x(), crease_x(0.0) + o.bend_span_mm);
+  EXPECT_GE(l.slices, int((kEarFront - kEarBack) / o.depth_step_mm) - 2);
+  EXPECT_GT(l.bend_deg, 45.0);  // a near-vertical skull side onto a flat top
+
+  // The right side is the mirror image.
+  const EarRootSide r = find_ear_root(head(true, true), {in.t_r, in.e_r, {1, 0, 0}, in.d_up, in.d_fwd, -1, 1.0}, o);
+  ASSERT_TRUE(r.found) << r.why;
+  EXPECT_LT((r.point - Eigen::Vector3d(-l.point.x(), l.point.y(), l.point.z())).norm(), 1e-6);
+}
+
+TEST(EarRoot, ScaleAndHeightFollowTheInputs) {
+  // The same head in scene units of 2 mm and raised by 6 mm: the same rest, in those units.
+  const double mpu = 2.0;
+  const Eigen::Vector3d lift(0, 6, 0);
+  DensityFn mm_head = head(true, true);
+  DensityFn scaled = [&](const std::vector<Eigen::Vector3f>& pts) {
+    std::vector<Eigen::Vector3f> mm;
+    for (const auto& p : pts) mm.push_back((p.cast<double>() * mpu - lift).cast<float>());
+    return mm_head(mm);
+  };
+  const EarInputs in = inputs();
+  EarRootOptions o;
+  const EarRootSide a = find_ear_root(mm_head, {in.t_l, in.e_l, {1, 0, 0}, in.d_up, in.d_fwd, +1, 1.0}, o);
+  const EarRootSide b = find_ear_root(
+      scaled, {(in.t_l + lift) / mpu, (in.e_l + lift) / mpu, {1, 0, 0}, in.d_up, in.d_fwd, +1, mpu}, o);
+  ASSERT_TRUE(a.found && b.found);
+  EXPECT_LT((b.point * mpu - lift - a.point).norm(), 0.2);
+}
+
+TEST(EarRoot, NoEarNoRest) {
+  const EarInputs in = inputs();
+  const EarRootSide s =
+      find_ear_root(head(false, false), {in.t_l, in.e_l, {1, 0, 0}, in.d_up, in.d_fwd, +1, 1.0}, EarRootOptions{});
+  EXPECT_FALSE(s.found);
+  EXPECT_NE(s.why.find("no crease"), std::string::npos) << s.why;
+}
+
+TEST(EarRoot, ApplyNeedsBothSidesAgreeingAndUnvetoed) {
+  const EarInputs in = inputs();
+  const EarPoints eq23 = ear_points(in);
+  auto apply = [&](const DensityFn& density, const EarVeto& veto = {}) {
+    EarPoints ears = eq23;
+    EarRoots roots = apply_ear_roots(density, in, {1, 0, 0}, 1.0, EarRootOptions{}, ears, veto);
+    return std::make_pair(ears, roots);
+  };
+  auto [both, roots] = apply(head(true, true));
+  ASSERT_TRUE(roots.left.found && roots.right.found) << roots.summary();
+  EXPECT_EQ(both.f_l, roots.left.point);
+  EXPECT_EQ(both.f_r, roots.right.point);
+  EXPECT_NE(roots.summary().find("both ears from the density"), std::string::npos) << roots.summary();
+
+  // One ear alone (hair over the other, say), no ears, or a side vetoed: Eq. 2-3 stand.
+  for (const auto& [ears, r] : {apply(head(true, false)), apply(head(false, false)),
+                                apply(head(true, true), [](const EarRootSide& s) {
+                                  return s.point.x() < 0 ? std::string("hair") : std::string();
+                                })}) {
+    EXPECT_EQ(ears.f_l, eq23.f_l) << r.summary();
+    EXPECT_EQ(ears.f_r, eq23.f_r) << r.summary();
+    EXPECT_NE(r.summary().find("Eq. 2-3"), std::string::npos) << r.summary();
+  }
+  EXPECT_EQ(apply(head(true, true), [](const EarRootSide& s) {
+              return s.point.x() < 0 ? std::string("hair") : std::string();
+            }).second.right.why,
+            "hair");
+
+  // The right temple 12 mm further back than the left: the two rests, each searched from its own
+  // temple over the same ears, no longer mirror each other within 8 mm.
+  EarInputs skewed = in;
+  skewed.t_r.z() -= 12.0;
+  EarPoints ears = eq23;
+  EarRoots r = apply_ear_roots(head(true, true), skewed, {1, 0, 0}, 1.0, EarRootOptions{}, ears);
+  EXPECT_FALSE(r.left.found || r.right.found) << r.summary();
+  EXPECT_NE(r.left.why.find("apart"), std::string::npos) << r.left.why;
+  EXPECT_EQ(ears.f_l, eq23.f_l);
+}
+
+TEST(EarRoot, RejectsBadInputs) {
+  const EarInputs in = inputs();
+  EarRootOptions o;
+  EXPECT_THROW(find_ear_root(head(true, true), {in.t_l, in.e_l, {1, 0, 0}, in.d_up, in.d_fwd, +1, 0.0}, o),
+               std::invalid_argument);
+  EXPECT_THROW(find_ear_root(head(true, true), {in.t_l, in.e_l, {1, 0, 0}, in.d_up, in.d_fwd, 0, 1.0}, o),
+               std::invalid_argument);
+  o.ray_step_mm = 0.0;
+  EXPECT_THROW(find_ear_root(head(true, true), {in.t_l, in.e_l, {1, 0, 0}, in.d_up, in.d_fwd, +1, 1.0}, o),
+               std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace lorgnette::fit
