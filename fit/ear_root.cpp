@@ -37,7 +37,8 @@ Crease crease_of(const std::vector<double>& h, const std::vector<double>& latera
                  out = std::atan((h[j + span] - h[j]) / run) * 180.0 / M_PI;
     if (in > o.max_inner_slope_deg || out < o.outer_slope_deg[0] || out > o.outer_slope_deg[1]) continue;
     const double bend = out - in;
-    if (bend >= o.min_bend_deg && (!c.found || bend > c.bend_deg)) c = {true, lateral[j], h[j], bend, h[j + span]};
+    if (bend >= o.min_bend_deg && (!c.found || bend > c.bend_deg))
+      c = {true, lateral[j], h[j], bend, h[j + span]};
   }
   return c;
 }
@@ -49,7 +50,8 @@ void check(const EarRootInputs& in, const EarRootOptions& o) {
     if (!(s > 0.0)) throw std::invalid_argument("find_ear_root: steps must be positive");
   if (!(o.back_mm + o.front_mm > 0.0 && o.inward_mm + o.outward_mm > 0.0 && o.above_mm + o.below_mm > 0.0))
     throw std::invalid_argument("find_ear_root: the search window is empty");
-  if (!(o.opacity > 0.0 && o.opacity < 1.0)) throw std::invalid_argument("find_ear_root: opacity must lie in (0, 1)");
+  if (!(o.opacity > 0.0 && o.opacity < 1.0))
+    throw std::invalid_argument("find_ear_root: opacity must lie in (0, 1)");
 }
 
 std::vector<double> grid(double from, double to, double step) {
@@ -79,7 +81,8 @@ EarRootSide find_ear_root(const DensityFn& density_of, const EarRootInputs& in, 
       for (size_t k = per_ray; k-- > 0;)  // from the top down
         pts.push_back((in.temple + (x * out + f * fwd + (eye_height + heights[k]) * up) / mpu).cast<float>());
   const std::vector<float> density = density_of(pts);
-  if (density.size() != pts.size()) throw std::runtime_error("find_ear_root: the density returned the wrong number of values");
+  if (density.size() != pts.size())
+    throw std::runtime_error("find_ear_root: the density returned the wrong number of values");
 
   // Each ray's height (mm above the eye corners) where its opacity from above reaches the level.
   const double target = -std::log(1.0 - o.opacity), dt = o.ray_step_mm / mpu;
@@ -112,7 +115,8 @@ EarRootSide find_ear_root(const DensityFn& density_of, const EarRootInputs& in, 
       continue;
     }
     int j = i + 1;
-    while (j < n && creases[j].found && std::abs(creases[j].lateral_mm - creases[j - 1].lateral_mm) <= o.max_step_mm &&
+    while (j < n && creases[j].found &&
+           std::abs(creases[j].lateral_mm - creases[j - 1].lateral_mm) <= o.max_step_mm &&
            std::abs(creases[j].height_mm - creases[j - 1].height_mm) <= o.max_step_mm)
       ++j;
     found_any += j - i;
@@ -123,11 +127,12 @@ EarRootSide find_ear_root(const DensityFn& density_of, const EarRootInputs& in, 
   r.slices = best_len;
   if (best_len < std::max(1, o.min_slices)) {
     r.why = found_any == 0
-                ? fmt::format("no crease between skull and ear in {} depths (hair over the ear, or the capture "
-                              "did not see it)",
-                              depths.size())
-                : fmt::format("creases in only {} consecutive depths of {} (need {})", best_len, depths.size(),
-                              o.min_slices);
+                ? fmt::format(
+                      "no crease between skull and ear in {} depths (hair over the ear, or the capture "
+                      "did not see it)",
+                      depths.size())
+                : fmt::format("creases in only {} consecutive depths of {} (need {})", best_len,
+                              depths.size(), o.min_slices);
     return r;
   }
   double highest = kMiss;
@@ -150,8 +155,8 @@ EarRootSide find_ear_root(const DensityFn& density_of, const EarRootInputs& in, 
 
 std::string EarRoots::summary() const {
   auto say = [](const char* name, const EarRootSide& s) {
-    return s.found ? fmt::format("{} ear's root found (a {:.0f} deg crease over {} depths, {} at its top)", name,
-                                 s.bend_deg, s.slices, s.plateau)
+    return s.found ? fmt::format("{} ear's root found (a {:.0f} deg crease over {} depths, {} at its top)",
+                                 name, s.bend_deg, s.slices, s.plateau)
                    : fmt::format("{} ear's root not found: {}", name, s.why);
   };
   const char* used = left.found && right.found ? "both ears from the density" : "the ears from Eq. 2-3";
@@ -159,23 +164,23 @@ std::string EarRoots::summary() const {
 }
 
 EarRoots apply_ear_roots(const DensityFn& density, const EarInputs& in, const Eigen::Vector3d& d_eye,
-                         double mm_per_unit, const EarRootOptions& options, EarPoints& ears, const EarVeto& accept) {
+                         double mm_per_unit, const EarRootOptions& options, EarPoints& ears,
+                         const EarVeto& accept) {
   EarRoots r;
   r.left = find_ear_root(density, {in.t_l, in.e_l, d_eye, in.d_up, in.d_fwd, +1, mm_per_unit}, options);
   r.right = find_ear_root(density, {in.t_r, in.e_r, d_eye, in.d_up, in.d_fwd, -1, mm_per_unit}, options);
   for (EarRootSide* s : {&r.left, &r.right})
     if (s->found && accept)
       if (std::string veto = accept(*s); !veto.empty()) s->found = false, s->why = veto;
-  const Eigen::Vector3d e = d_eye.normalized();
-  auto mirrored = [&](const Eigen::Vector3d& p, const Eigen::Vector3d& from, const Eigen::Vector3d& to) {
-    const Eigen::Vector3d d = p - from;
-    return Eigen::Vector3d(to + d - 2.0 * d.dot(e) * e);
-  };
   if (r.left.found && r.right.found) {
-    const double apart = (mirrored(r.left.point, in.t_l, in.t_r) - r.right.point).norm() * mm_per_unit;
+    // A head's ears lie at one height and depth: the rests' difference along d_up and d_fwd (the
+    // temples are no reference: their depth errors are what this search avoids).
+    const Eigen::Vector3d d = r.left.point - r.right.point;
+    const double apart = std::hypot(d.dot(in.d_up.normalized()), d.dot(in.d_fwd.normalized())) * mm_per_unit;
     if (apart > options.max_asymmetry_mm) {
-      const std::string why = fmt::format("the two sides' rests lie {:.1f} mm apart, mirrored (over {:.0f})",
-                                          apart, options.max_asymmetry_mm);
+      const std::string why =
+          fmt::format("the two sides' rests lie {:.1f} mm apart in height and depth (over {:.0f})", apart,
+                      options.max_asymmetry_mm);
       r.left.found = r.right.found = false;
       r.left.why = r.right.why = why;
     }

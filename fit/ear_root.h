@@ -50,8 +50,8 @@ struct EarRootOptions {
   // Creases at neighbouring depths belong to one ear's root only when they lie this close (mm, along
   // d_eye and d_up): an ear's root is a smooth line; hair gives creases that jump.
   double max_step_mm = 3.0;
-  int min_slices = 3;            // depths (consecutive) that must hold a crease
-  double max_asymmetry_mm = 8.0;  // the two sides' rests, mirrored, may lie this far apart
+  int min_slices = 3;             // depths (consecutive) that must hold a crease
+  double max_asymmetry_mm = 8.0;  // the two sides' rests may differ this much in height and depth
   // The rest: the mean of the creases within this of the highest (the top of the root is a plateau
   // a few depths long; its first slice would bias the rest forward or back).
   double plateau_mm = 1.0;
@@ -65,14 +65,14 @@ struct EarRootSide {
   int plateau = 0;                                  // of them, those averaged into the rest
   std::vector<Eigen::Vector3d> ear_top;  // the plateau's ear top just outside each crease (scene), for the
                                          // caller's look at its colour (hair is not an ear)
-  std::string why;                                  // when not found: what the window showed
+  std::string why;                       // when not found: what the window showed
 };
 
 struct EarRootInputs {
-  Eigen::Vector3d temple;                // the side's temple landmark (scene)
-  Eigen::Vector3d eye_corner;            // the side's outer eye corner (scene): the window's height
-  Eigen::Vector3d d_eye, d_up, d_fwd;    // the head frame (unit; d_eye towards the wearer's left)
-  int side = +1;                         // +1 = the wearer's left, -1 = right
+  Eigen::Vector3d temple;              // the side's temple landmark (scene)
+  Eigen::Vector3d eye_corner;          // the side's outer eye corner (scene): the window's height
+  Eigen::Vector3d d_eye, d_up, d_fwd;  // the head frame (unit; d_eye towards the wearer's left)
+  int side = +1;                       // +1 = the wearer's left, -1 = right
   double mm_per_unit = 0.0;
 };
 
@@ -86,9 +86,9 @@ struct EarRoots {
 };
 
 // Both sides' searches on `ears`' inputs, and the ears they give. `accept` may veto a side found
-// (e.g. its ear top is hair-dark), with a reason. Only when both sides are found, and their rests'
-// offsets from their own temples agree within `max_asymmetry_mm` (mirrored along d_eye), do they
-// replace Eq. 2-3's points: one ear found alone, on a real capture, was hair as often as not, and an
+// (e.g. its ear top is hair-dark), with a reason. Only when both sides are found, and their rests lie
+// at one height and depth within `max_asymmetry_mm` (along d_up and d_fwd), do they replace Eq.
+// 2-3's points: one ear found alone, on a real capture, was hair as often as not, and an
 // ear of each kind would roll and yaw the frame. Otherwise `ears` stays as it is.
 using EarVeto = std::function<std::string(const EarRootSide&)>;  // empty string: accepted
 EarRoots apply_ear_roots(const DensityFn& density, const EarInputs& in, const Eigen::Vector3d& d_eye,

@@ -10,8 +10,8 @@
 namespace lorgnette::fit {
 namespace {
 
-constexpr double kSkull = 75.0;    // sphere radius (mm; 1 scene unit = 1 mm here)
-constexpr double kEarTop = 10.0;   // the ears' flat tops, above the eye corners (y = 0)
+constexpr double kSkull = 75.0;                      // sphere radius (mm; 1 scene unit = 1 mm here)
+constexpr double kEarTop = 10.0;                     // the ears' flat tops, above the eye corners (y = 0)
 constexpr double kEarBack = -25.0, kEarFront = 5.0;  // the ears' extent along z (forward)
 
 // Inside the skull, or inside an ear (a box from x = 60 to 90 mm either side, under its top).
@@ -32,8 +32,8 @@ DensityFn head(bool left_ear, bool right_ear) {
 
 EarInputs inputs() {
   EarInputs in;
-  in.e_l = {45, 0, 60}, in.e_r = {-45, 0, 60};     // outer eye corners at y = 0
-  in.t_l = {74, -5, 12}, in.t_r = {-74, -5, 12};   // temples in front of the ears' roots
+  in.e_l = {45, 0, 60}, in.e_r = {-45, 0, 60};    // outer eye corners at y = 0
+  in.t_l = {74, -5, 12}, in.t_r = {-74, -5, 12};  // temples in front of the ears' roots
   in.d_up = {0, 1, 0}, in.d_fwd = {0, 0, 1};
   return in;
 }
@@ -44,7 +44,8 @@ double crease_x(double z) { return std::sqrt(kSkull * kSkull - kEarTop * kEarTop
 TEST(EarRoot, FindsTheCreaseBetweenSkullAndEarTop) {
   const EarInputs in = inputs();
   EarRootOptions o;
-  const EarRootSide l = find_ear_root(head(true, true), {in.t_l, in.e_l, {1, 0, 0}, in.d_up, in.d_fwd, +1, 1.0}, o);
+  const EarRootSide l =
+      find_ear_root(head(true, true), {in.t_l, in.e_l, {1, 0, 0}, in.d_up, in.d_fwd, +1, 1.0}, o);
   ASSERT_TRUE(l.found) << l.why;
   // The ear's top is flat: every depth over it holds the crease at its height, so the rest is the
   // middle of the ear's depth (within a depth step and the window's sampling).
@@ -57,7 +58,8 @@ TEST(EarRoot, FindsTheCreaseBetweenSkullAndEarTop) {
   EXPECT_GT(l.bend_deg, 45.0);  // a near-vertical skull side onto a flat top
 
   // The right side is the mirror image.
-  const EarRootSide r = find_ear_root(head(true, true), {in.t_r, in.e_r, {1, 0, 0}, in.d_up, in.d_fwd, -1, 1.0}, o);
+  const EarRootSide r =
+      find_ear_root(head(true, true), {in.t_r, in.e_r, {1, 0, 0}, in.d_up, in.d_fwd, -1, 1.0}, o);
   ASSERT_TRUE(r.found) << r.why;
   EXPECT_LT((r.point - Eigen::Vector3d(-l.point.x(), l.point.y(), l.point.z())).norm(), 1e-6);
 }
@@ -83,8 +85,8 @@ TEST(EarRoot, ScaleAndHeightFollowTheInputs) {
 
 TEST(EarRoot, NoEarNoRest) {
   const EarInputs in = inputs();
-  const EarRootSide s =
-      find_ear_root(head(false, false), {in.t_l, in.e_l, {1, 0, 0}, in.d_up, in.d_fwd, +1, 1.0}, EarRootOptions{});
+  const EarRootSide s = find_ear_root(
+      head(false, false), {in.t_l, in.e_l, {1, 0, 0}, in.d_up, in.d_fwd, +1, 1.0}, EarRootOptions{});
   EXPECT_FALSE(s.found);
   EXPECT_NE(s.why.find("no crease"), std::string::npos) << s.why;
 }
@@ -112,17 +114,20 @@ TEST(EarRoot, ApplyNeedsBothSidesAgreeingAndUnvetoed) {
     EXPECT_EQ(ears.f_r, eq23.f_r) << r.summary();
     EXPECT_NE(r.summary().find("Eq. 2-3"), std::string::npos) << r.summary();
   }
-  EXPECT_EQ(apply(head(true, true), [](const EarRootSide& s) {
-              return s.point.x() < 0 ? std::string("hair") : std::string();
-            }).second.right.why,
+  EXPECT_EQ(apply(head(true, true),
+                  [](const EarRootSide& s) { return s.point.x() < 0 ? std::string("hair") : std::string(); })
+                .second.right.why,
             "hair");
 
-  // The right temple 12 mm further back than the left: the two rests, each searched from its own
-  // temple over the same ears, no longer mirror each other within 8 mm.
-  EarInputs skewed = in;
-  skewed.t_r.z() -= 12.0;
+  // The right ear 12 mm further back than the left: the two rests no longer agree within 8 mm.
+  DensityFn lopsided = [full = head(true, true)](const std::vector<Eigen::Vector3f>& pts) {
+    std::vector<Eigen::Vector3f> moved = pts;
+    for (auto& p : moved)
+      if (p.x() < 0) p.z() += 12.0f;  // the right half of the head, 12 mm back
+    return full(moved);
+  };
   EarPoints ears = eq23;
-  EarRoots r = apply_ear_roots(head(true, true), skewed, {1, 0, 0}, 1.0, EarRootOptions{}, ears);
+  EarRoots r = apply_ear_roots(lopsided, in, {1, 0, 0}, 1.0, EarRootOptions{}, ears);
   EXPECT_FALSE(r.left.found || r.right.found) << r.summary();
   EXPECT_NE(r.left.why.find("apart"), std::string::npos) << r.left.why;
   EXPECT_EQ(ears.f_l, eq23.f_l);
