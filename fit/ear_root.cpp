@@ -106,9 +106,17 @@ EarRootSide find_ear_root(const DensityFn& density_of, const EarRootInputs& in, 
     creases[i] = crease_of(profile, laterals, span, o);
   }
 
-  // The longest run of consecutive depths holding creases that continue each other; its highest
-  // creases are the rest.
-  int best_start = -1, best_len = 0, found_any = 0;
+  // Runs of consecutive depths whose creases continue each other. Along a run, each crease's height
+  // is the median of it and its neighbours (a NeRF's heights scatter by a millimetre or two from
+  // depth to depth). The rest lies on the run (of at least min_slices) that rises highest: a temple
+  // arm lowered onto the ear comes to rest on the highest support.
+  struct Run {
+    int start = 0, len = 0;
+    std::vector<double> smooth;
+    double top = kMiss;
+  };
+  std::vector<Run> runs;
+  int found_any = 0, longest = 0;
   for (int i = 0, n = int(depths.size()); i < n;) {
     if (!creases[i].found) {
       ++i;
@@ -119,27 +127,38 @@ EarRootSide find_ear_root(const DensityFn& density_of, const EarRootInputs& in, 
            std::abs(creases[j].lateral_mm - creases[j - 1].lateral_mm) <= o.max_step_mm &&
            std::abs(creases[j].height_mm - creases[j - 1].height_mm) <= o.max_step_mm)
       ++j;
-    found_any += j - i;
-    if (j - i > best_len) best_start = i, best_len = j - i;
+    found_any += j - i, longest = std::max(longest, j - i);
+    Run run{i, j - i, {}, kMiss};
+    for (int k = 0; k < run.len; ++k) {
+      std::vector<double> near;
+      for (int m = std::max(0, k - 1); m <= std::min(run.len - 1, k + 1); ++m)
+        near.push_back(creases[i + m].height_mm);
+      std::sort(near.begin(), near.end());
+      run.smooth.push_back(near[near.size() / 2]);
+      run.top = std::max(run.top, run.smooth.back());
+    }
+    if (run.len >= std::max(1, o.min_slices)) runs.push_back(std::move(run));
     i = j;
   }
   EarRootSide r;
-  r.slices = best_len;
-  if (best_len < std::max(1, o.min_slices)) {
+  if (runs.empty()) {
+    r.slices = longest;
     r.why = found_any == 0
                 ? fmt::format(
                       "no crease between skull and ear in {} depths (hair over the ear, or the capture "
                       "did not see it)",
                       depths.size())
-                : fmt::format("creases in only {} consecutive depths of {} (need {})", best_len,
-                              depths.size(), o.min_slices);
+                : fmt::format("creases in only {} consecutive depths of {} (need {})", longest, depths.size(),
+                              o.min_slices);
     return r;
   }
-  double highest = kMiss;
-  for (int i = best_start; i < best_start + best_len; ++i) highest = std::max(highest, creases[i].height_mm);
+  const Run& best =
+      *std::max_element(runs.begin(), runs.end(), [](const Run& a, const Run& b) { return a.top < b.top; });
+  r.slices = best.len;
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();  // lateral, height, depth (mm)
-  for (int i = best_start; i < best_start + best_len; ++i)
-    if (creases[i].height_mm >= highest - o.plateau_mm) {
+  for (int k = 0; k < best.len; ++k) {
+    const int i = best.start + k;
+    if (best.smooth[k] >= best.top - o.plateau_mm) {
       sum += Eigen::Vector3d(creases[i].lateral_mm, creases[i].height_mm, depths[i]);
       r.ear_top.push_back(in.temple + ((creases[i].lateral_mm + o.bend_span_mm) * out + depths[i] * fwd +
                                        (eye_height + creases[i].top_mm) * up) /
@@ -147,6 +166,7 @@ EarRootSide find_ear_root(const DensityFn& density_of, const EarRootInputs& in, 
       r.bend_deg = std::max(r.bend_deg, creases[i].bend_deg);
       ++r.plateau;
     }
+  }
   const Eigen::Vector3d c = sum / r.plateau;
   r.found = true;
   r.point = in.temple + (c.x() * out + c.z() * fwd + (eye_height + c.y()) * up) / mpu;

@@ -9,7 +9,8 @@
 // the temple. Along d_eye at one depth, the heights where the rays meet the head fall steeply down
 // the skull's side, then turn flatter onto the ear's top (which stands out from the head): the
 // crease is where the slope turns most, by at least `min_bend_deg`. Across depths the creases trace
-// the ear's root, and the rest is the highest of them (the arm rests on the top of the root). Where
+// the ear's root, and the rest is the top of the highest such line (the arm rests on the top of the
+// root). Where
 // hair covers the ear, the capture never saw it, or the window holds no crease, the side is not
 // found and the caller keeps Eq. 2-3.
 #pragma once
@@ -27,7 +28,8 @@ struct EarRootOptions {
   bool enabled = true;
   // The window, in mm from the temple landmark: along d_fwd (negative = behind it), outwards along
   // the side's d_eye, and along d_up from the outer eye corners' height.
-  double back_mm = 50.0, front_mm = 10.0;
+  // (The rests lie 8-33 mm behind dlib's temples on the procedural, scan and demo heads.)
+  double back_mm = 35.0, front_mm = 10.0;
   double inward_mm = 12.0, outward_mm = 30.0;
   double above_mm = 50.0, below_mm = 30.0;
   double depth_step_mm = 2.0, lateral_step_mm = 1.0, ray_step_mm = 0.5;
@@ -49,20 +51,21 @@ struct EarRootOptions {
   double lowest_mm = -5.0, highest_mm = 30.0;
   // Creases at neighbouring depths belong to one ear's root only when they lie this close (mm, along
   // d_eye and d_up): an ear's root is a smooth line; hair gives creases that jump.
-  double max_step_mm = 3.0;
+  double max_step_mm = 5.0;
   int min_slices = 3;             // depths (consecutive) that must hold a crease
   double max_asymmetry_mm = 8.0;  // the two sides' rests may differ this much in height and depth
-  // The rest: the mean of the creases within this of the highest (the top of the root is a plateau
-  // a few depths long; its first slice would bias the rest forward or back).
-  double plateau_mm = 1.0;
+  // The rest: the mean of the creases whose height (a median over three depths) lies within this of
+  // the highest (the top of the root is a plateau a few depths long; its first slice would bias the
+  // rest forward or back).
+  double plateau_mm = 1.5;
 };
 
 struct EarRootSide {
   bool found = false;
   Eigen::Vector3d point = Eigen::Vector3d::Zero();  // scene units
   double bend_deg = 0.0;                            // how sharply the profile turns there
-  int slices = 0;                                   // depths that held a crease (the run chosen)
-  int plateau = 0;                                  // of them, those averaged into the rest
+  int slices = 0;   // consecutive depths holding the chosen line of creases (or the longest, when too short)
+  int plateau = 0;  // of them, those averaged into the rest
   std::vector<Eigen::Vector3d> ear_top;  // the plateau's ear top just outside each crease (scene), for the
                                          // caller's look at its colour (hair is not an ear)
   std::string why;                       // when not found: what the window showed

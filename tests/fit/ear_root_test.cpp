@@ -119,11 +119,11 @@ TEST(EarRoot, ApplyNeedsBothSidesAgreeingAndUnvetoed) {
                 .second.right.why,
             "hair");
 
-  // The right ear 12 mm further back than the left: the two rests no longer agree within 8 mm.
+  // The right ear 12 mm lower than the left: the two rests no longer agree within 8 mm.
   DensityFn lopsided = [full = head(true, true)](const std::vector<Eigen::Vector3f>& pts) {
     std::vector<Eigen::Vector3f> moved = pts;
     for (auto& p : moved)
-      if (p.x() < 0) p.z() += 12.0f;  // the right half of the head, 12 mm back
+      if (p.x() < 0) p.y() += 12.0f;  // the right half of the head, 12 mm down
     return full(moved);
   };
   EarPoints ears = eq23;
