@@ -205,7 +205,17 @@ EarRoots apply_ear_roots(const DensityFn& density, const EarInputs& in, const Ei
       r.left.why = r.right.why = why;
     }
   }
-  if (r.left.found && r.right.found) ears.f_l = r.left.point, ears.f_r = r.right.point;
+  if (r.left.found && r.right.found) {
+    // One height and depth for both, the mean of the two: a difference within the limit is the
+    // search's scatter along the flat top of the root more than the head's asymmetry, and it would
+    // yaw or roll the frame away from the face's own axes.
+    const Eigen::Vector3d up = in.d_up.normalized(), fwd = in.d_fwd.normalized();
+    const Eigen::Vector3d mid = 0.5 * (r.left.point + r.right.point);
+    auto level = [&](const Eigen::Vector3d& p) -> Eigen::Vector3d {
+      return p + (mid - p).dot(up) * up + (mid - p).dot(fwd) * fwd;
+    };
+    ears.f_l = level(r.left.point), ears.f_r = level(r.right.point);
+  }
   return r;
 }
 

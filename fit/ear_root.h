@@ -52,8 +52,10 @@ struct EarRootOptions {
   // Creases at neighbouring depths belong to one ear's root only when they lie this close (mm, along
   // d_eye and d_up): an ear's root is a smooth line; hair gives creases that jump.
   double max_step_mm = 5.0;
-  int min_slices = 3;             // depths (consecutive) that must hold a crease
-  double max_asymmetry_mm = 8.0;  // the two sides' rests may differ this much in height and depth
+  int min_slices = 3;  // depths (consecutive) that must hold a crease
+  // The two sides' rests may differ this much in height and depth (the exact procedural meshes' own
+  // searches differ by up to 9.5 mm, along the flat top of the ear's root).
+  double max_asymmetry_mm = 15.0;
   // The rest: the mean of the creases whose height (a median over three depths) lies within this of
   // the highest (the top of the root is a plateau a few depths long; its first slice would bias the
   // rest forward or back).
@@ -91,8 +93,9 @@ struct EarRoots {
 // Both sides' searches on `ears`' inputs, and the ears they give. `accept` may veto a side found
 // (e.g. its ear top is hair-dark), with a reason. Only when both sides are found, and their rests lie
 // at one height and depth within `max_asymmetry_mm` (along d_up and d_fwd), do they replace Eq.
-// 2-3's points: one ear found alone, on a real capture, was hair as often as not, and an
-// ear of each kind would roll and yaw the frame. Otherwise `ears` stays as it is.
+// 2-3's points, both at the mean height and depth of the two: one ear found alone, on a real capture, was
+// hair as often as not, and an ear of each kind would roll and yaw the frame. Otherwise `ears` stays as it
+// is.
 using EarVeto = std::function<std::string(const EarRootSide&)>;  // empty string: accepted
 EarRoots apply_ear_roots(const DensityFn& density, const EarInputs& in, const Eigen::Vector3d& d_eye,
                          double mm_per_unit, const EarRootOptions& options, EarPoints& ears,

@@ -101,8 +101,9 @@ TEST(EarRoot, ApplyNeedsBothSidesAgreeingAndUnvetoed) {
   };
   auto [both, roots] = apply(head(true, true));
   ASSERT_TRUE(roots.left.found && roots.right.found) << roots.summary();
-  EXPECT_EQ(both.f_l, roots.left.point);
-  EXPECT_EQ(both.f_r, roots.right.point);
+  // Symmetric ears: the rests are used as found (their mean height and depth is their own).
+  EXPECT_LT((both.f_l - roots.left.point).norm(), 1e-9);
+  EXPECT_LT((both.f_r - roots.right.point).norm(), 1e-9);
   EXPECT_NE(roots.summary().find("both ears from the density"), std::string::npos) << roots.summary();
 
   // One ear alone (hair over the other, say), no ears, or a side vetoed: Eq. 2-3 stand.
@@ -119,15 +120,28 @@ TEST(EarRoot, ApplyNeedsBothSidesAgreeingAndUnvetoed) {
                 .second.right.why,
             "hair");
 
-  // The right ear 12 mm lower than the left: the two rests no longer agree within 8 mm.
-  DensityFn lopsided = [full = head(true, true)](const std::vector<Eigen::Vector3f>& pts) {
-    std::vector<Eigen::Vector3f> moved = pts;
-    for (auto& p : moved)
-      if (p.x() < 0) p.y() += 12.0f;  // the right half of the head, 12 mm down
-    return full(moved);
+  // The right ear 6 mm lower than the left: both rests at the middle height, each at its own width.
+  auto shifted = [full = head(true, true)](float dy) {
+    return DensityFn([=](const std::vector<Eigen::Vector3f>& pts) {
+      std::vector<Eigen::Vector3f> moved = pts;
+      for (auto& p : moved)
+        if (p.x() < 0) p.y() += dy;  // the right half of the head, dy lower (< 0: higher)
+      return full(moved);
+    });
   };
+  {
+    EarPoints lv = eq23;
+    EarRoots six = apply_ear_roots(shifted(6.0f), in, {1, 0, 0}, 1.0, EarRootOptions{}, lv);
+    ASSERT_TRUE(six.left.found && six.right.found) << six.summary();
+    EXPECT_NEAR(six.left.point.y() - six.right.point.y(), 6.0, 1.0);
+    EXPECT_NEAR(lv.f_l.y(), 0.5 * (six.left.point.y() + six.right.point.y()), 1e-9);
+    EXPECT_NEAR(lv.f_r.y(), lv.f_l.y(), 1e-9);
+    EXPECT_NEAR(lv.f_l.x(), six.left.point.x(), 1e-9);
+    EXPECT_NEAR(lv.f_r.x(), six.right.point.x(), 1e-9);
+  }
+  // The right ear 18 mm higher: the two rests no longer agree within the 15 mm allowed.
   EarPoints ears = eq23;
-  EarRoots r = apply_ear_roots(lopsided, in, {1, 0, 0}, 1.0, EarRootOptions{}, ears);
+  EarRoots r = apply_ear_roots(shifted(-18.0f), in, {1, 0, 0}, 1.0, EarRootOptions{}, ears);
   EXPECT_FALSE(r.left.found || r.right.found) << r.summary();
   EXPECT_NE(r.left.why.find("apart"), std::string::npos) << r.left.why;
   EXPECT_EQ(ears.f_l, eq23.f_l);
