@@ -149,6 +149,7 @@ struct FitRun {
     return source.colour(p, d);
   };
   bool skin_read = false;  // r.skin holds the nose line's tone (face_skin)
+  EarPoints eq23_ears;     // Eq. 2-3's ears, kept for ears_back_to_eq23
 };
 
 void load_detector(FitRun& run) {
@@ -286,10 +287,34 @@ void place_on_face(FitRun& run) {
                P[lm::kTempleR].position,
                r.head.d_up,
                r.head.d_fwd};
-  r.ears = ear_points(ei, o.alpha);
+  r.ears = run.eq23_ears = ear_points(ei, o.alpha);
   if (o.ear_root.enabled) ears_from_density(run, ei);
   PlaceInputs pi{r.f_c, r.ears.f_l, r.ears.f_r, ei.t_l, ei.t_r, r.head.mm_per_unit};
   r.placement = place_glasses(run.glasses.ref, pi, run.opt.place.scale_policy);
+}
+
+// The density's ears lie at the ear's root, higher than Eq. 2-3's eye height, and the frame tilts
+// forward with them. Where its front then cannot clear the face within the contact's range (the
+// rims would rest on the cheeks: a small or soft head, a deep frame), Eq. 2-3's ears are used and
+// the frame is placed again.
+void ears_back_to_eq23(FitRun& run) {
+  FitResult& r = run.r;
+  const std::string why = fmt::format(
+      "with them the frame's front still passes {:.2f} mm into the face after the contact search; the ears "
+      "from Eq. 2-3 instead",
+      r.contact.front_penetration_mm);
+  spdlog::info("fit: the density's ears: {}", why);
+  r.ear_roots.left.found = r.ear_roots.right.found = false;
+  r.ear_roots.left.why = r.ear_roots.right.why = why;
+  r.ears = run.eq23_ears;
+  PlaceInputs pi{r.f_c,
+                 r.ears.f_l,
+                 r.ears.f_r,
+                 r.points[lm::kTempleL].position,
+                 r.points[lm::kTempleR].position,
+                 r.head.mm_per_unit};
+  r.placement = place_glasses(run.glasses.ref, pi, run.opt.place.scale_policy);
+  r.temples = {};
 }
 
 bool spreads_temples(const FitRun& run) { return run.opt.temples.enabled && run.glasses.ref.has_hinges; }
@@ -315,8 +340,8 @@ HeadProbe make_head_probe(const FitRun& run) {
       run.glasses.frame_points};
 }
 
-void rest_on_skin(FitRun& run, const HeadProbe& head) {
-  StageTimer t{run.r, "contact", run.opt};
+void rest_on_skin(FitRun& run, const HeadProbe& head, const char* stage = "contact") {
+  StageTimer t{run.r, stage, run.opt};
   run.r.contact = refine_contact(run.r.placement, head, run.r.head.d_fwd);
 }
 
@@ -338,8 +363,8 @@ HeadProbe temple_probe(FitRun& run, const HeadProbe& head) {
 }
 
 // Spreads the temples against the head without its hair, then re-measures the frame on it.
-void spread_temples(FitRun& run, const HeadProbe& head) {
-  StageTimer t{run.r, "temples", run.opt};
+void spread_temples(FitRun& run, const HeadProbe& head, const char* stage = "temples") {
+  StageTimer t{run.r, stage, run.opt};
   FitResult& r = run.r;
   const HeadProbe skin = temple_probe(run, head);
   TempleFitInputs ti{r.placement.transform, run.glasses.ref.hinge_l, run.glasses.ref.hinge_r};
@@ -358,9 +383,17 @@ FitResult fit_glasses(ViewSource& source, const GlassesInput& glasses, const Fit
   plan_detect_and_frame_head(run);
   place_on_face(run);
   if (opt.place.refine_contact && !glasses.frame_points.empty()) {
-    const HeadProbe head = make_head_probe(run);
-    rest_on_skin(run, head);
-    if (spreads_temples(run)) spread_temples(run, head);
+    auto rest_and_spread = [&](const char* contact_stage, const char* temples_stage) {
+      const HeadProbe head = make_head_probe(run);
+      rest_on_skin(run, head, contact_stage);
+      if (spreads_temples(run)) spread_temples(run, head, temples_stage);
+    };
+    rest_and_spread("contact", "temples");
+    if (r.ear_roots.left.found && r.ear_roots.right.found &&
+        r.contact.front_penetration_mm > opt.place.max_penetration_mm) {
+      ears_back_to_eq23(run);
+      rest_and_spread("contact_eq23_ears", "temples_eq23_ears");
+    }
   }
   summarise(r, opt);
   if (!opt.debug_dir.empty()) write_debug_views(opt.debug_dir, r);

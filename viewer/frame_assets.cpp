@@ -231,7 +231,9 @@ std::string fit_stage_label(const std::string& stage) {
       {"triangulate_recentred", "triangulating the re-centred landmarks"},
       {"place", "placing the frame"},
       {"contact", "seating the frame on the skin"},
-      {"temples", "fitting the temples"}};
+      {"temples", "fitting the temples"},
+      {"contact_eq23_ears", "seating the frame again, ears at the eye height"},
+      {"temples_eq23_ears", "fitting the temples again"}};
   auto it = labels.find(stage);
   return it != labels.end() ? it->second : stage;
 }
