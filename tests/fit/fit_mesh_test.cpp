@@ -111,6 +111,16 @@ TEST_F(LeePerrySmith, FitMatchesGroundTruth) {
   // corrects only a volume's soft sides).
   EXPECT_TRUE(source_->hard_surface());
   EXPECT_EQ(r.temple_depth.moved, 0);
+  // The scan shows both ears' roots: the ears come from the density (fit/ear_root.h), in the fit and
+  // in the ground truth alike, and sit behind the temples (the rests lie 8-16 mm behind them).
+  EXPECT_TRUE(r.ear_roots.left.found && r.ear_roots.right.found) << r.ear_roots.summary();
+  EXPECT_TRUE(gt.ear_roots.left.found && gt.ear_roots.right.found) << gt.ear_roots.summary();
+  for (const auto& [ear, temple] : {std::pair{r.ears.f_l, r.points[lm::kTempleL].position},
+                                    std::pair{r.ears.f_r, r.points[lm::kTempleR].position}}) {
+    const double behind_mm = (temple - ear).dot(r.head.d_fwd) * r.head.mm_per_unit;
+    EXPECT_GT(behind_mm, 2.0);
+    EXPECT_LT(behind_mm, 35.0);
+  }
   // The targets: nose <= 2 mm, ears <= 4 mm, rotation <= 2 deg, penetration <= 0.5 mm.
   EXPECT_LT(e.nose_mm, 2.0);
   EXPECT_LT(e.ear_l_mm, 4.0);
