@@ -149,7 +149,7 @@ struct FitRun {
     return source.colour(p, d);
   };
   bool skin_read = false;  // r.skin holds the nose line's tone (face_skin)
-  EarPoints eq23_ears;     // Eq. 2-3's ears, kept for ears_back_to_eq23
+  EarPoints eq23_ears{};   // Eq. 2-3's ears, kept for ears_back_to_eq23
 };
 
 void load_detector(FitRun& run) {
@@ -267,6 +267,18 @@ void ears_from_density(FitRun& run, const EarInputs& ei) {
   spdlog::info("fit: {}", r.ear_roots.summary());
 }
 
+// Eq. 4-5 from the nose point, the ears and the temples as they stand in the result.
+void place_from_points(FitRun& run) {
+  FitResult& r = run.r;
+  PlaceInputs pi{r.f_c,
+                 r.ears.f_l,
+                 r.ears.f_r,
+                 r.points[lm::kTempleL].position,
+                 r.points[lm::kTempleR].position,
+                 r.head.mm_per_unit};
+  r.placement = place_glasses(run.glasses.ref, pi, run.opt.place.scale_policy);
+}
+
 // The nose point, the ears (Eq. 2-3, or the density's, above) and the placement (Eq. 4-5).
 void place_on_face(FitRun& run) {
   StageTimer t{run.r, "place", run.opt};
@@ -289,8 +301,7 @@ void place_on_face(FitRun& run) {
                r.head.d_fwd};
   r.ears = run.eq23_ears = ear_points(ei, o.alpha);
   if (o.ear_root.enabled) ears_from_density(run, ei);
-  PlaceInputs pi{r.f_c, r.ears.f_l, r.ears.f_r, ei.t_l, ei.t_r, r.head.mm_per_unit};
-  r.placement = place_glasses(run.glasses.ref, pi, run.opt.place.scale_policy);
+  place_from_points(run);
 }
 
 // The density's ears lie at the ear's root, higher than Eq. 2-3's eye height, and the frame tilts
@@ -307,13 +318,7 @@ void ears_back_to_eq23(FitRun& run) {
   r.ear_roots.left.found = r.ear_roots.right.found = false;
   r.ear_roots.left.why = r.ear_roots.right.why = why;
   r.ears = run.eq23_ears;
-  PlaceInputs pi{r.f_c,
-                 r.ears.f_l,
-                 r.ears.f_r,
-                 r.points[lm::kTempleL].position,
-                 r.points[lm::kTempleR].position,
-                 r.head.mm_per_unit};
-  r.placement = place_glasses(run.glasses.ref, pi, run.opt.place.scale_policy);
+  place_from_points(run);
   r.temples = {};
 }
 

@@ -185,30 +185,6 @@ struct Row {
   std::string ears_from;
 };
 
-// synth's anatomical ear rests in the model's frame, when the dataset's ground truth has them.
-struct Anatomy {
-  bool known = false;
-  Eigen::Vector3d ear_l = Eigen::Vector3d::Zero(), ear_r = Eigen::Vector3d::Zero();
-};
-
-Anatomy anatomy_of(const std::string& dataset, const nerf::NerfModel& model) {
-  Anatomy a;
-  std::ifstream in(dataset + "/ground_truth.json");
-  if (!in) return a;
-  nlohmann::json gt = nlohmann::json::parse(in);
-  if (!gt.contains("landmarks") || !gt["landmarks"].contains("ear_rest_l") ||
-      !gt["landmarks"].contains("ear_rest_r"))
-    return a;
-  auto to_model = [&](const nlohmann::json& p) {
-    Eigen::Vector3d v(p.at(0).get<double>(), p.at(1).get<double>(), p.at(2).get<double>());
-    for (int i = 0; i < 3; ++i) v[i] = v[i] * model.normalisation.scale + model.normalisation.offset[i];
-    return v;
-  };
-  a.known = true;
-  a.ear_l = to_model(gt["landmarks"]["ear_rest_l"]), a.ear_r = to_model(gt["landmarks"]["ear_rest_r"]);
-  return a;
-}
-
 double cpu_now() {
   timespec t{};
   clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);

@@ -39,7 +39,33 @@ class StudioMeshSource : public MeshViewSource {
   }
 };
 
+// The dataset frame -> the model's (its normalisation: scale, then offset).
+Eigen::Matrix4f dataset_to_model(const nerf::NerfModel& model) {
+  Eigen::Matrix4f to_model = Eigen::Matrix4f::Identity();
+  to_model.topLeftCorner<3, 3>() *= model.normalisation.scale;
+  for (int i = 0; i < 3; ++i) to_model(i, 3) = model.normalisation.offset[i];
+  return to_model;
+}
+
 }  // namespace
+
+Anatomy anatomy_of(const std::string& dataset, const nerf::NerfModel& model) {
+  Anatomy a;
+  std::ifstream in(dataset + "/ground_truth.json");
+  if (!in) return a;
+  const nlohmann::json gt = nlohmann::json::parse(in);
+  if (!gt.contains("landmarks") || !gt["landmarks"].contains("ear_rest_l") ||
+      !gt["landmarks"].contains("ear_rest_r"))
+    return a;
+  const Eigen::Matrix4f to_model = dataset_to_model(model);
+  auto point = [&](const nlohmann::json& p) {
+    Eigen::Vector4f v(p.at(0).get<float>(), p.at(1).get<float>(), p.at(2).get<float>(), 1.0f);
+    return Eigen::Vector3d((to_model * v).head<3>().cast<double>());
+  };
+  a.known = true;
+  a.ear_l = point(gt["landmarks"]["ear_rest_l"]), a.ear_r = point(gt["landmarks"]["ear_rest_r"]);
+  return a;
+}
 
 std::unique_ptr<MeshViewSource> subject_source(const std::string& dataset, const nerf::NerfModel& model,
                                                ViewPrior prior, bool studio) {
@@ -58,10 +84,7 @@ std::unique_ptr<MeshViewSource> subject_source(const std::string& dataset, const
   } else {
     m = mesh::load_mesh(gt.at("source").get<std::string>());
   }
-  Eigen::Matrix4f to_model = Eigen::Matrix4f::Identity();
-  to_model.topLeftCorner<3, 3>() *= model.normalisation.scale;
-  for (int i = 0; i < 3; ++i) to_model(i, 3) = model.normalisation.offset[i];
-  const Eigen::Matrix4f to_scene = to_model * matrix_from_json(gt.at("mesh_to_dataset"));
+  const Eigen::Matrix4f to_scene = dataset_to_model(model) * matrix_from_json(gt.at("mesh_to_dataset"));
   if (studio) return std::make_unique<StudioMeshSource>(std::move(m), to_scene, prior);
   return std::make_unique<MeshViewSource>(std::move(m), to_scene, prior);
 }
