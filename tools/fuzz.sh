@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Fuzzes the file parsers with libFuzzer (clang, ASan + UBSan): transforms.json, .lnerf snapshots,
 # COLMAP text and binary models, placement.json and the glasses loader (the targets: fuzz/).
-# Usage: tools/fuzz.sh [SECONDS_PER_TARGET]   (default 30; tools/test.sh, the CI run, uses 20)
+# Usage: tools/fuzz.sh [SECONDS_PER_TARGET]   (default 30; tools/test.sh, the CI run, uses 10)
 # Environment: FUZZ_REPORT (default docs/bench/fuzz.md) is where the results go;
 # FUZZ_SLOW_IS_FATAL=0 reports inputs that time out or run out of memory without failing (the test
 # command's short run, on a machine whose load makes timeouts a matter of chance); likewise

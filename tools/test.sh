@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Installs the build dependencies (Debian 12), builds Lorgnette and runs every check on the CPU
 # OpenCL device (PoCL): the format check (tools/check-format.sh), a short fuzzing run of the file
-# parsers (tools/fuzz.sh, 20 s per target; its report goes to build-fuzz/, a crash fails), the
+# parsers (tools/fuzz.sh, 10 s per target; its report goes to build-fuzz/, a crash fails), the
 # packaged CLI on its own (tools/standalone-check.sh: the .deb's quick demo with the team data
 # hidden), then the whole test suite (ctest; extra arguments go to ctest). This is the README's
 # test command and what CI runs.
@@ -11,6 +11,6 @@ bash tools/setup-debian.sh
 bash tools/check-format.sh
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release
 cmake --build build -j "$(nproc)"
-FUZZ_REPORT=build-fuzz/fuzz-short-run.md FUZZ_SLOW_IS_FATAL=0 FUZZ_THIRD_PARTY_IS_FATAL=0 bash tools/fuzz.sh 20
+FUZZ_REPORT=build-fuzz/fuzz-short-run.md FUZZ_SLOW_IS_FATAL=0 FUZZ_THIRD_PARTY_IS_FATAL=0 bash tools/fuzz.sh 10
 bash tools/standalone-check.sh build
 ctest --test-dir build --output-on-failure -j "$(nproc)" "$@"

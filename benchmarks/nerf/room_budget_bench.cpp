@@ -2,20 +2,29 @@
 // one capture (model sizes, room model on/off, the room model's sample capacity per step) trained
 // side by side in one process, in alternating chunks of steps (the arms' order rotated every
 // chunk, so machine load hits all alike), each scored every chunk on the held-out views by its face
-// PSNR: sRGB PSNR inside the convex hull of dlib's 68 landmarks on each held-out photo, within the
-// footprint of the subject box (the region benchmarks/capture/region_psnr --face scores on
-// `lorgnette eval` images). Real captures have no true mattes, so only the face is judged.
+// PSNR (sRGB) over three regions of each held-out photo, all within the footprint of the subject box:
+// - face: the convex hull of dlib's 68 landmarks (the region benchmarks/capture/region_psnr --face
+//   scores on `lorgnette eval` images). In views away from the front the jaw line's hull takes in room
+//   beside the cheek and under the chin, which a model that paints the room on its box (`bg=off`)
+//   reproduces and one that keeps only the subject renders clear, so this region favours `off`;
+// - inner: the hull of landmarks 17-67 (brows, eyes, nose, mouth), which lies on skin;
+// - covered (synthetic room captures with true mattes only): the face hull's pixels the subject
+//   covers fully (matte >= 0.999), as host/render/matte_eval.h's face_psnr_subject.
+// Compare arms with and without the room model on `inner` or `covered`.
 // Arms with the room model are scored with their subject region applied to a copy of the occupancy,
 // as `train` saves them.
 //
 // Usage: bench_room_budget DATASET OUT_DIR --arm NAME:KEY=VALUE,... [--arm ...] [--every 100]
 //        [--seed 1337] [--views N] [--save]
-// Keys: bg=on|off (room model; default on), steps=N (default 1200), table=LOG2 (hash table),
+// Keys: bg=on|off (room model; default on), steps=N|default (default 1200; `default`: the budget
+//       `train` gives this arm's size, train_budget.h), table=LOG2 (hash table),
 //       finest=N (finest grid), levels=N, room_batch=X (room model's samples per step relative to the
 //       subject's batch), room_spd=N (room steps per box diagonal), room_spread=0|1 (the room's batch
 //       spread evenly over the step's rays), prior=X (weight of the binary-opacity prior on the
 //       subject's rays; 0 = off).
-// Unset keys keep `train`'s defaults (automatic sizing from the landmark head box, 2^16 samples per step).
+// Each arm is planned as `train` plans it (nerf::plan_training: automatic sizing from the landmark
+// head box, a room capture's table cap, the head volume and its clearing zones, 2^16 samples per
+// step); unset keys keep `train`'s defaults.
 // Writes OUT_DIR/room_budget.csv (a row per arm and checkpoint: steps, training seconds, subject and
 // room samples, rays, face PSNR) and room_budget_seconds.png / room_budget_steps.png (face PSNR
 // against training seconds and against steps). --save: each arm's model after its last step as
@@ -27,7 +36,10 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
+#include <map>
+#include <nlohmann/json.hpp>
 #include <opencv2/imgproc.hpp>
 #include <optional>
 #include <sstream>
@@ -40,6 +52,7 @@
 #include "host/nerf/train_job.h"
 #include "host/render/renderer.h"
 #include "host/util/chart.h"
+#include "synth/matte.h"
 
 using namespace lorgnette;
 namespace fs = std::filesystem;
@@ -50,7 +63,7 @@ namespace {
 struct ArmSpec {
   std::string name;
   bool background = true;
-  uint64_t steps = 1200;
+  uint64_t steps = 1200;  // 0: the product's default budget for the arm's size
   std::optional<uint32_t> table, finest, levels, room_spd;
   float room_batch = 0.0f;  // 0: BackgroundOptions' default
   std::optional<bool> room_spread;
@@ -73,7 +86,7 @@ ArmSpec parse_arm(const std::string& arg) {
       if (v != "on" && v != "off") throw std::runtime_error("--arm " + arg + ": bg must be on or off");
       a.background = v == "on";
     } else if (k == "steps") {
-      a.steps = std::stoull(v);
+      a.steps = v == "default" ? 0 : std::stoull(v);
     } else if (k == "table") {
       a.table = uint32_t(std::stoul(v));
     } else if (k == "finest") {
@@ -97,10 +110,14 @@ ArmSpec parse_arm(const std::string& arg) {
   return a;
 }
 
+// The scored regions of a held-out view, in its crop.
+enum Region { kFace, kInner, kCovered, kRegions };
+const char* const kRegionNames[kRegions] = {"face", "inner", "covered"};
+
 struct HeldOut {
   const dataset::Frame* frame = nullptr;
-  std::vector<uint8_t> face;  // width x height, 1 = judged
-  long pixels = 0;
+  std::vector<uint8_t> mask;  // width x height of the crop, bit r = judged for region r
+  long pixels[kRegions] = {0, 0, 0};
   Camera crop{};  // the holdout camera cropped to the face's bounding rectangle (renders only that)
   int x0 = 0, y0 = 0;
 };
@@ -115,33 +132,59 @@ bool ray_hits_box(const fit::Ray& r, const nerf::Aabb& box) {
   return t0 <= t1;
 }
 
-// The face hull of dlib's landmarks on the photo, within the box's footprint.
-HeldOut face_region(const dataset::Frame& f, const nerf::Aabb& box, const fit::LandmarkDetector& det) {
+cv::Mat hull_mask(const std::vector<Eigen::Vector2d>& points, int width, int height,
+                  std::vector<cv::Point>& hull) {
+  std::vector<cv::Point> pts;
+  for (const auto& p : points) pts.emplace_back(int(std::lround(p.x() - 0.5)), int(std::lround(p.y() - 0.5)));
+  cv::convexHull(pts, hull);
+  cv::Mat m(height, width, CV_8U, cv::Scalar(0));
+  cv::fillConvexPoly(m, hull, cv::Scalar(1));
+  return m;
+}
+
+// The regions of one held-out photo (see the header) from dlib's landmarks on it and, when given, its
+// true matte; within the box's footprint.
+HeldOut face_region(const dataset::Frame& f, const nerf::Aabb& box, const fit::LandmarkDetector& det,
+                    const Image* matte) {
   HeldOut h;
   h.frame = &f;
   const Image& img = f.image;
   fit::FaceDetection d = det.detect(img);
   if (!d.found) return h;
-  std::vector<cv::Point> pts, hull;
-  for (const auto& p : d.points)
-    pts.emplace_back(int(std::lround(p.x() - 0.5)), int(std::lround(p.y() - 0.5)));
-  cv::convexHull(pts, hull);
-  cv::Mat m(img.height, img.width, CV_8U, cv::Scalar(0));
-  cv::fillConvexPoly(m, hull, cv::Scalar(1));
+  std::vector<cv::Point> hull, inner_hull;
+  const cv::Mat face = hull_mask(d.points, img.width, img.height, hull);
+  const cv::Mat inner = hull_mask({d.points.begin() + 17, d.points.end()}, img.width, img.height, inner_hull);
   const cv::Rect r = cv::boundingRect(hull) & cv::Rect(0, 0, img.width, img.height);
   h.x0 = r.x, h.y0 = r.y;
   h.crop = f.camera;  // a pixel-exact crop: the principal point moves, the distortion is unchanged
   h.crop.cx -= float(r.x), h.crop.cy -= float(r.y);
   h.crop.width = unsigned(r.width), h.crop.height = unsigned(r.height);
-  h.face.assign(size_t(r.width) * r.height, 0);
+  h.mask.assign(size_t(r.width) * r.height, 0);
   for (int y = 0; y < r.height; ++y)
-    for (int x = 0; x < r.width; ++x)
-      if (m.at<uint8_t>(y + r.y, x + r.x) &&
-          ray_hits_box(fit::camera_ray(f.camera, {x + r.x + 0.5, y + r.y + 0.5}), box)) {
-        h.face[size_t(y) * r.width + x] = 1;
-        ++h.pixels;
-      }
+    for (int x = 0; x < r.width; ++x) {
+      const int px = x + r.x, py = y + r.y;
+      if (!face.at<uint8_t>(py, px) || !ray_hits_box(fit::camera_ray(f.camera, {px + 0.5, py + 0.5}), box))
+        continue;
+      uint8_t bits = 1u << kFace;
+      if (inner.at<uint8_t>(py, px)) bits |= 1u << kInner;
+      if (matte && matte->at(px, py, 0) >= 0.999f) bits |= 1u << kCovered;
+      h.mask[size_t(y) * r.width + x] = bits;
+      for (int k = 0; k < kRegions; ++k) h.pixels[k] += (bits >> k) & 1;
+    }
   return h;
+}
+
+// The true mattes of a synthetic room capture's frames (`synth --room` writes eval_matte_path), by
+// image stem; empty for any other dataset.
+std::map<std::string, std::string> true_mattes(const std::string& data) {
+  std::map<std::string, std::string> by_stem;
+  const fs::path tj = fs::path(data) / "transforms.json";
+  if (!fs::is_regular_file(tj)) return by_stem;
+  const nlohmann::json j = nlohmann::json::parse(std::ifstream(tj));
+  for (const auto& f : j.value("frames", nlohmann::json::array()))
+    if (f.contains("eval_matte_path"))
+      by_stem[fs::path(f.value("file_path", "")).stem().string()] = f["eval_matte_path"].get<std::string>();
+  return by_stem;
 }
 
 struct Arm {
@@ -152,43 +195,54 @@ struct Arm {
   ChartSeries by_seconds, by_steps;
 };
 
-// Mean over views of each view's face PSNR (sRGB), the subject region applied when `region`.
-double face_psnr(nerf::NerfModel& model, bool region, const std::vector<HeldOut>& held,
-                 render::Renderer& renderer) {
+struct FacePsnr {
+  double db[kRegions] = {0.0, 0.0, 0.0};  // mean over the views that have the region
+};
+
+// Each region's mean over views of the view's PSNR (sRGB), the subject region applied when `region`.
+FacePsnr face_psnr(nerf::NerfModel& model, bool region, const std::vector<HeldOut>& held,
+                   render::Renderer& renderer) {
   const nerf::OccupancyGrid saved = model.occupancy();
   if (region) {
     nerf::OccupancyGrid g = saved;
     if (nerf::keep_central_region(g).found) model.set_occupancy(std::move(g));
   }
-  double sum = 0.0;
-  int views = 0;
+  double sum[kRegions] = {0.0, 0.0, 0.0};
+  int views[kRegions] = {0, 0, 0};
   for (const HeldOut& h : held) {
-    if (h.pixels == 0) continue;
+    if (h.pixels[kFace] == 0) continue;
     const Image pred = renderer.render(model, h.crop, nullptr, render::RenderOptions{}).rgba;
     const Image& truth = h.frame->image;
-    double se = 0.0;
+    double se[kRegions] = {0.0, 0.0, 0.0};
     for (int y = 0; y < pred.height; ++y)
       for (int x = 0; x < pred.width; ++x)
-        if (h.face[size_t(y) * pred.width + x])
+        if (const uint8_t bits = h.mask[size_t(y) * pred.width + x])
           for (int c = 0; c < 3; ++c) {
             const double e =
                 linear_to_srgb(pred.at(x, y, c)) - linear_to_srgb(truth.at(x + h.x0, y + h.y0, c));
-            se += e * e;
+            for (int k = 0; k < kRegions; ++k)
+              if ((bits >> k) & 1) se[k] += e * e;
           }
-    sum += -10.0 * std::log10(std::max(se / (3.0 * double(h.pixels)), 1e-12));
-    ++views;
+    for (int k = 0; k < kRegions; ++k)
+      if (h.pixels[k] > 0) {
+        sum[k] += -10.0 * std::log10(std::max(se[k] / (3.0 * double(h.pixels[k])), 1e-12));
+        ++views[k];
+      }
   }
   model.set_occupancy(saved);
-  return views ? sum / views : 0.0;
+  FacePsnr out;
+  for (int k = 0; k < kRegions; ++k) out.db[k] = views[k] ? sum[k] / views[k] : 0.0;
+  return out;
 }
 
-void write_charts(const std::string& out, const std::vector<Arm>& arms) {
+// Charts of the `shown` region's PSNR.
+void write_charts(const std::string& out, const std::vector<Arm>& arms, Region shown) {
   std::vector<ChartSeries> s1, s2;
   for (const Arm& a : arms) s1.push_back(a.by_seconds), s2.push_back(a.by_steps);
+  const std::string what = fmt::format("Face PSNR ({}) on held-out views", kRegionNames[shown]);
   write_chart(out + "/room_budget_seconds.png",
-              {"Face PSNR on held-out views against training time (same load)", "training s", "dB"}, s1);
-  write_chart(out + "/room_budget_steps.png", {"Face PSNR on held-out views against steps", "step", "dB"},
-              s2);
+              {what + " against training time (same load)", "training s", "dB"}, s1);
+  write_chart(out + "/room_budget_steps.png", {what + " against steps", "step", "dB"}, s2);
 }
 
 }  // namespace
@@ -222,9 +276,7 @@ int main(int argc, char** argv) {
         return std::cerr << "unknown argument " << argv[i] << "\n", 2;
     }
     if (specs.empty()) return std::cerr << "give at least one --arm\n", 2;
-    for (const ArmSpec& s : specs)
-      if (every == 0 || s.steps % every)
-        return std::cerr << "arm " << s.name << ": steps must be a multiple of --every (> 0)\n", 2;
+    if (every == 0) return std::cerr << "--every must be > 0\n", 2;
     if (fs::exists(out + "/room_budget.csv"))
       return std::cerr << out << "/room_budget.csv exists: choose another OUT_DIR\n", 1;
     fs::create_directories(out);
@@ -232,39 +284,53 @@ int main(int argc, char** argv) {
     dataset::Dataset ds = dataset::load_dataset(data, {});
     nerf::TrainJob job;
     capture::apply_subject_box(ds, capture::BoxSource::Auto, true, job);
-    job.sizing.aabb_scale = ds.aabb_scale;
+    job.train.seed = seed;
+    job.train.progress = false;
+    job.batch_log2 = 16;
     std::vector<nerf::View> views = nerf::training_views(ds);
-    const nerf::ModelSizing base = nerf::choose_model_size(views, job.sizing);
+    std::vector<nerf::TrainPlan> plans;
+    for (ArmSpec& a : specs) {
+      nerf::TrainJob j = job;
+      j.background = a.background ? "on" : "off";
+      if (a.table) j.sizing.log2_table_size = *a.table;
+      if (a.finest) j.sizing.finest_resolution = *a.finest;
+      if (a.levels) j.sizing.levels = *a.levels;
+      j.train.steps = a.steps;
+      nerf::BackgroundOptions& bo = j.train.background;
+      if (a.room_batch > 0.0f) bo.batch_scale = a.room_batch;
+      if (a.room_spd) bo.steps_per_diagonal = *a.room_spd;
+      if (a.room_spread) bo.spread_over_rays = *a.room_spread;
+      if (a.prior) bo.opacity_prior = *a.prior;
+      plans.push_back(nerf::plan_training(rt, ds, views, j));
+      a.steps = plans.back().train.steps;
+      if (a.steps % every)
+        return std::cerr << "arm " << a.name << ": " << a.steps << " steps are not a multiple of --every\n",
+               2;
+    }
+    const nerf::Aabb box = plans.front().sizing.aabb;
 
     fit::LandmarkDetector det;
+    const std::map<std::string, std::string> mattes = true_mattes(data);
     std::vector<HeldOut> held;
     for (const dataset::Frame* f : ds.require_split(dataset::Split::Holdout)) {
       if (max_views && held.size() >= max_views) break;
-      held.push_back(face_region(*f, base.aabb, det));
-      std::cerr << fmt::format("held-out {}: {} face pixels\n", f->image_path, held.back().pixels);
+      std::optional<Image> matte;
+      if (auto it = mattes.find(fs::path(f->image_path).stem().string()); it != mattes.end())
+        matte = synth::read_matte(data + "/" + it->second);
+      held.push_back(face_region(*f, box, det, matte ? &*matte : nullptr));
+      const HeldOut& h = held.back();
+      std::cerr << fmt::format("held-out {}: {} face pixels, {} inner, {} covered by the true matte\n",
+                               f->image_path, h.pixels[kFace], h.pixels[kInner], h.pixels[kCovered]);
     }
 
     std::vector<Arm> arms(specs.size());
     for (size_t k = 0; k < specs.size(); ++k) {
       Arm& a = arms[k];
       a.spec = specs[k];
-      nerf::SizingOverrides ov = job.sizing;
-      if (a.spec.table) ov.log2_table_size = *a.spec.table;
-      if (a.spec.finest) ov.finest_resolution = *a.spec.finest;
-      if (a.spec.levels) ov.levels = *a.spec.levels;
-      const nerf::ModelSizing sz = nerf::choose_model_size(views, ov);
-      a.model = std::make_unique<nerf::NerfModel>(rt, sz.field, sz.aabb, sz.occupancy_resolution, sz.step,
-                                                  1u << 16, seed, false);
-      nerf::TrainOptions to;
-      to.steps = a.spec.steps;
-      to.seed = seed;
-      to.progress = false;
-      to.background.enabled = a.spec.background;
-      if (a.spec.room_batch > 0.0f) to.background.batch_scale = a.spec.room_batch;
-      if (a.spec.room_spd) to.background.steps_per_diagonal = *a.spec.room_spd;
-      if (a.spec.room_spread) to.background.spread_over_rays = *a.spec.room_spread;
-      if (a.spec.prior) to.background.opacity_prior = *a.spec.prior;
-      a.trainer = std::make_unique<nerf::Trainer>(*a.model, views, to, sz.occupancy_mask);
+      const nerf::TrainPlan& plan = plans[k];
+      const nerf::ModelSizing& sz = plan.sizing;
+      a.model = std::make_unique<nerf::NerfModel>(nerf::planned_model(rt, ds, views, plan, job));
+      a.trainer = std::make_unique<nerf::Trainer>(*a.model, views, plan.train, sz.occupancy_mask);
       std::cerr << fmt::format("arm {}: {:.1f} M parameters ({} levels up to {}, 2^{} table), {} steps{}\n",
                                a.spec.name, double(sz.field.param_count()) / 1e6, sz.field.levels,
                                sz.field.finest_resolution, sz.field.log2_table_size, a.spec.steps,
@@ -273,8 +339,10 @@ int main(int argc, char** argv) {
     }
     render::Renderer renderer(rt);
     std::vector<std::vector<std::string>> rows;
-    const std::vector<std::string> header = {"arm",          "step", "train_seconds", "subject_samples",
-                                             "room_samples", "rays", "face_psnr_db"};
+    const std::vector<std::string> header = {
+        "arm",  "step",         "train_seconds",      "subject_samples",     "room_samples",
+        "rays", "face_psnr_db", "inner_face_psnr_db", "covered_face_psnr_db"};
+    const Region shown = mattes.empty() ? kInner : kCovered;
     for (uint64_t round = 0;; ++round) {
       bool any = false;
       for (size_t j = 0; j < arms.size(); ++j) {
@@ -287,23 +355,26 @@ int main(int argc, char** argv) {
           a.trainer->step();
         }
         a.seconds += std::chrono::duration<double>(Clock::now() - t0).count();
-        const double psnr = face_psnr(*a.model, a.spec.background, held, renderer);
+        const FacePsnr psnr = face_psnr(*a.model, a.spec.background, held, renderer);
         const uint64_t at = a.trainer->steps_done();
         const uint64_t room = a.trainer->background() ? a.trainer->background()->samples_done() : 0;
         std::cerr << fmt::format(
-            "{} step {}: face PSNR {:.2f} dB, {:.1f} s training ({:.3f} s/step), subject {:.1f} M samples, "
-            "room {:.1f} M, {:.0f} rays/step\n",
-            a.spec.name, at, psnr, a.seconds, a.seconds / double(at), a.trainer->samples_done() / 1e6,
-            room / 1e6, double(a.trainer->rays_done()) / double(at));
+            "{} step {}: face PSNR {:.2f} dB (inner {:.2f}, covered {:.2f}), {:.1f} s training ({:.3f} "
+            "s/step), "
+            "subject {:.1f} M samples, room {:.1f} M, {:.0f} rays/step\n",
+            a.spec.name, at, psnr.db[kFace], psnr.db[kInner], psnr.db[kCovered], a.seconds,
+            a.seconds / double(at), a.trainer->samples_done() / 1e6, room / 1e6,
+            double(a.trainer->rays_done()) / double(at));
         rows.push_back({a.spec.name, std::to_string(at), fmt::format("{:.2f}", a.seconds),
                         std::to_string(a.trainer->samples_done()), std::to_string(room),
-                        std::to_string(a.trainer->rays_done()), fmt::format("{:.3f}", psnr)});
-        a.by_seconds.x.push_back(a.seconds), a.by_seconds.y.push_back(psnr);
-        a.by_steps.x.push_back(double(at)), a.by_steps.y.push_back(psnr);
+                        std::to_string(a.trainer->rays_done()), fmt::format("{:.3f}", psnr.db[kFace]),
+                        fmt::format("{:.3f}", psnr.db[kInner]), fmt::format("{:.3f}", psnr.db[kCovered])});
+        a.by_seconds.x.push_back(a.seconds), a.by_seconds.y.push_back(psnr.db[shown]);
+        a.by_steps.x.push_back(double(at)), a.by_steps.y.push_back(psnr.db[shown]);
       }
       if (!any) break;
       write_csv(out + "/room_budget.csv", header, rows);
-      write_charts(out, arms);  // every round: a run stopped early keeps its charts
+      write_charts(out, arms, shown);  // every round: a run stopped early keeps its charts
     }
     for (Arm& a : arms) {
       if (!save) break;

@@ -1,14 +1,14 @@
 // What the room model costs (issue 13): on one synthetic room capture (`lorgnette synth --room`),
 // two models of the same size, box and seed are trained side by side in one process, with the room
-// model (`train --background on`) and without it (`off`, the head box alone: training before issue
-// 13), in alternating chunks of steps (the order swapped every chunk) so that machine load hits both
-// alike. After each chunk both are scored on the held-out views against the true mattes
-// (host/render/matte_eval.h: face PSNR, IoU, leak; the room model's subject region applied to a
-// copy). Reports seconds per step of each, their ratio, and how many steps "on" needs to reach the
-// face PSNR "off" ends with (linear between checkpoints), hence the training time at equal face
-// quality.
-// 2^16 samples per step (the CPU default of `train`).
-// Usage: bench_room_cost DATASET OUT_DIR [--steps 1200] [--every 100] [--seed 1337] [--save-on MODEL]
+// model (`train --background on`, planned as `train` plans it: nerf::plan_training, with the head
+// volume and its clearing zones) and without it (`off`, the head box alone: training before issue
+// 13) at the same hash-table size, in alternating chunks of steps (the order swapped every chunk) so that
+// machine load hits both alike. After each chunk both are scored on the held-out views against the true
+// mattes (host/render/matte_eval.h: face PSNR, IoU, leak; the room model's subject region applied to a copy).
+// Reports seconds per step of each, their ratio, and how many steps "on" needs to reach the face PSNR "off"
+// ends with (linear between checkpoints), hence the training time at equal face quality. 2^16 samples per
+// step (the CPU default of `train`). Usage: bench_room_cost DATASET OUT_DIR [--steps 1200] [--every 100]
+// [--seed 1337] [--save-on MODEL]
 // --save-on keeps the model trained with the room model (its subject region applied, as `train` does).
 // Writes OUT_DIR/room_cost.csv (a row per model and checkpoint), room_cost_summary.csv and
 // room_cost.png (face PSNR against steps).
@@ -95,10 +95,18 @@ int main(int argc, char** argv) {
   dataset::Dataset ds = dataset::load_dataset(data, {});
   nerf::TrainJob job;
   capture::apply_subject_box(ds, capture::BoxSource::Auto, true, job);
-  job.sizing.aabb_scale = ds.aabb_scale;
+  job.train.steps = steps;
+  job.train.seed = seed;
+  job.train.progress = false;
+  job.batch_log2 = 16;
   std::vector<nerf::View> views = nerf::training_views(ds);
-  nerf::ModelSizing sizing = nerf::choose_model_size(views, job.sizing);
-  std::cerr << sizing.summary() << "\n";
+  nerf::TrainPlan plans[2];
+  for (int k = 0; k < 2; ++k) {
+    nerf::TrainJob j = job;
+    j.background = k == 0 ? "on" : "off";
+    if (k == 1) j.sizing.log2_table_size = plans[0].sizing.field.log2_table_size;  // the same size
+    plans[k] = nerf::plan_training(rt, ds, views, j);
+  }
 
   // Held-out views with their true mattes, subject depth and the 68 landmarks (face region).
   nlohmann::json tj = nlohmann::json::parse(std::ifstream(data + "/transforms.json"));
@@ -125,14 +133,9 @@ int main(int argc, char** argv) {
   Arm arms[2];
   for (int k = 0; k < 2; ++k) {
     arms[k].name = k == 0 ? "on" : "off";
-    arms[k].model = std::make_unique<nerf::NerfModel>(
-        rt, sizing.field, sizing.aabb, sizing.occupancy_resolution, sizing.step, 1u << 16, seed, false);
-    nerf::TrainOptions to;
-    to.steps = steps;
-    to.seed = seed;
-    to.progress = false;
-    to.background.enabled = k == 0;
-    arms[k].trainer = std::make_unique<nerf::Trainer>(*arms[k].model, views, to, sizing.occupancy_mask);
+    arms[k].model = std::make_unique<nerf::NerfModel>(nerf::planned_model(rt, ds, views, plans[k], job));
+    arms[k].trainer = std::make_unique<nerf::Trainer>(*arms[k].model, views, plans[k].train,
+                                                      plans[k].sizing.occupancy_mask);
   }
   render::Renderer renderer(rt);
   std::vector<std::vector<std::string>> rows;

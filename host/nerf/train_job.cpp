@@ -39,8 +39,8 @@ ViewRange training_view_range(const std::vector<View>& views, const Aabb& box,
   return view_range_from_cameras(cams, box.center());
 }
 
-TrainJobResult train_on_dataset(cl::Runtime& rt, const dataset::Dataset& ds, TrainJob job) {
-  std::vector<View> views = training_views(ds);
+TrainPlan plan_training(cl::Runtime& rt, const dataset::Dataset& ds, const std::vector<View>& views,
+                        TrainJob job) {
   job.sizing.aabb_scale = job.aabb_scale > 0.0f ? job.aabb_scale : ds.aabb_scale;
   if (!job.sizing.aabb && ds.aabb) {  // the subject's box recorded with the dataset (e.g. by capture)
     Aabb box;
@@ -51,7 +51,9 @@ TrainJobResult train_on_dataset(cl::Runtime& rt, const dataset::Dataset& ds, Tra
   }
   if (job.background != "auto" && job.background != "on" && job.background != "off")
     throw std::invalid_argument("background must be auto, on or off, not '" + job.background + "'");
-  ModelSizing sizing = choose_model_size(views, job.sizing);
+  TrainPlan plan;
+  plan.sizing = choose_model_size(views, job.sizing);
+  ModelSizing& sizing = plan.sizing;
   const bool from_cameras = sizing.from.find("cameras") != std::string::npos;
   const bool background =
       job.background == "on" || (job.background == "auto" && !ds.has_alpha && !from_cameras);
@@ -76,13 +78,33 @@ TrainJobResult train_on_dataset(cl::Runtime& rt, const dataset::Dataset& ds, Tra
     sizing.occupancy_mask = std::move(mask);
     job.train.background.subject = job.subject;
   }
-  if (job.batch_log2 == 0) {
-    job.batch_log2 = device_batch_log2(rt.device());
-    spdlog::info("batch: 2^{} samples per step (the default for a {})", job.batch_log2,
+  plan.batch_log2 = job.batch_log2;
+  if (plan.batch_log2 == 0) {
+    plan.batch_log2 = device_batch_log2(rt.device());
+    spdlog::info("batch: 2^{} samples per step (the default for a {})", plan.batch_log2,
                  rt.device().type_name());
   }
+  const bool defaulted = job.train.steps == 0 && !(job.train.seconds > 0.0);
+  StepBudget budget;
+  if (defaulted) {
+    budget = background ? default_training_steps(sizing.field.param_count(), plan.batch_log2,
+                                                 kRoomCaptureSamplesPerParameter)
+                        : default_training_steps(sizing.field.param_count(), plan.batch_log2);
+    if (background) budget.why += " (a capture with a room model: train_budget.h)";
+    job.train.steps = budget.steps;
+  }
+  plan.budget = describe_budget(job.train.steps, job.train.seconds, defaulted, budget.why);
+  job.train.background.enabled = background;
+  plan.background = background;
+  plan.train = job.train;
+  return plan;
+}
+
+NerfModel planned_model(cl::Runtime& rt, const dataset::Dataset& ds, const std::vector<View>& views,
+                        const TrainPlan& plan, const TrainJob& job) {
+  const ModelSizing& sizing = plan.sizing;
   NerfModel model(rt, sizing.field, sizing.aabb, sizing.occupancy_resolution, sizing.step,
-                  1u << job.batch_log2, job.train.seed, job.deterministic);
+                  1u << plan.batch_log2, plan.train.seed, job.deterministic);
   model.metadata.dataset_path = std::filesystem::absolute(ds.root).string();
   model.metadata.dataset_hash = dataset_fingerprint(ds);
   model.metadata.device = rt.device().name;
@@ -90,25 +112,22 @@ TrainJobResult train_on_dataset(cl::Runtime& rt, const dataset::Dataset& ds, Tra
   model.view_range = training_view_range(views, sizing.aabb, model.normalisation);
   spdlog::info("captured directions: {}", model.view_range->summary());
   if (std::string advice = coverage_advice(*model.view_range); !advice.empty()) spdlog::warn("{}", advice);
-  const bool defaulted = job.train.steps == 0 && !(job.train.seconds > 0.0);
-  StepBudget budget;
-  if (defaulted) {
-    budget = background ? default_training_steps(sizing.field.param_count(), job.batch_log2,
-                                                 kRoomCaptureSamplesPerParameter)
-                        : default_training_steps(sizing.field.param_count(), job.batch_log2);
-    if (background) budget.why += " (a capture with a room model: train_budget.h)";
-    job.train.steps = budget.steps;
-  }
-  std::string budget_text = describe_budget(job.train.steps, job.train.seconds, defaulted, budget.why);
-  spdlog::info("training budget: {}", budget_text);
-  job.train.background.enabled = background;
+  return model;
+}
+
+TrainJobResult train_on_dataset(cl::Runtime& rt, const dataset::Dataset& ds, TrainJob job) {
+  std::vector<View> views = training_views(ds);
+  TrainPlan plan = plan_training(rt, ds, views, job);
+  NerfModel model = planned_model(rt, ds, views, plan, job);
+  spdlog::info("training budget: {}", plan.budget);
+  const bool background = plan.background;
   spdlog::info("background: {}",
                background ? "a room model behind the subject (mask-less capture, subject box)"
                           : (ds.has_alpha ? "none (the images' alpha masks separate the subject)" : "none"));
   std::string region;
   {
-    Trainer trainer(model, views, job.train, sizing.occupancy_mask);
-    std::string snapshot = job.train.snapshot_path;
+    Trainer trainer(model, views, plan.train, plan.sizing.occupancy_mask);
+    std::string snapshot = plan.train.snapshot_path;
     TrainResult result = trainer.run();
     if (background) {
       OccupancyGrid grid = model.occupancy();
@@ -128,8 +147,9 @@ TrainJobResult train_on_dataset(cl::Runtime& rt, const dataset::Dataset& ds, Tra
         if (!snapshot.empty()) model.save(snapshot);
       }
     }
-    return {std::move(model),       std::move(sizing), std::move(result),
-            std::move(budget_text), background,        region};
+    return {std::move(model),  std::move(plan.sizing),
+            std::move(result), std::move(plan.budget),
+            background,        region};
   }
 }
 

@@ -57,6 +57,25 @@ std::string dataset_fingerprint(const dataset::Dataset& ds);
 ViewRange training_view_range(const std::vector<View>& views, const Aabb& box,
                               const SceneNormalisation& normalisation = {});
 
+// What train_on_dataset decides before the first step, logged as it goes: the model's size (a room
+// capture's table cap and the subject volume's occupancy mask applied), the batch, whether a room
+// model runs and the step budget. Benchmarks build their arms from it, so they train what `train`
+// trains.
+struct TrainPlan {
+  ModelSizing sizing;
+  TrainOptions train;  // the job's, with the budget's steps when it gave none and the room model's flags
+  uint32_t batch_log2 = 16;
+  bool background = false;  // a room model runs
+  std::string budget;       // which budget applied and why (train_budget.h)
+};
+TrainPlan plan_training(cl::Runtime& rt, const dataset::Dataset& ds, const std::vector<View>& views,
+                        TrainJob job);
+
+// A fresh model of `plan`'s size with the dataset's metadata (path, fingerprint, device, captured
+// directions; the job's subject problem) and its coverage advice logged.
+NerfModel planned_model(cl::Runtime& rt, const dataset::Dataset& ds, const std::vector<View>& views,
+                        const TrainPlan& plan, const TrainJob& job);
+
 // Sizes, builds and trains a model on `ds`'s training split; logs the chosen size.
 TrainJobResult train_on_dataset(cl::Runtime& rt, const dataset::Dataset& ds, TrainJob job);
 
