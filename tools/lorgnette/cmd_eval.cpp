@@ -86,12 +86,17 @@ nlohmann::json matte_scores(nerf::NerfModel& model, const dataset::Dataset& ds,
   render::MatteScore m = render::mean_score(scores);
   nlohmann::json per = nlohmann::json::array();
   for (const auto& s : scores)
-    per.push_back(
-        {{"iou", s.iou}, {"leak", s.leak}, {"leak_excess", s.leak_excess}, {"face_psnr", s.face_psnr}});
+    per.push_back({{"iou", s.iou},
+                   {"leak", s.leak},
+                   {"leak_excess", s.leak_excess},
+                   {"face_psnr", s.face_psnr},
+                   {"face_psnr_covered", s.face_psnr_subject}});
   return {{"iou", m.iou},
           {"leak", m.leak},
           {"leak_excess", m.leak_excess},
           {"face_psnr", m.face_psnr},
+          // over the face hull's pixels the subject covers fully: the whole hull's rim holds room
+          {"face_psnr_covered", m.face_psnr_subject},
           {"views", scores.size()},
           {"region", "subject inside the model's box (head to neck); opacity >= 0.5 vs matte >= 0.5"},
           {"per_view", per}};
@@ -143,9 +148,11 @@ void run_eval(const EvalArgs& a, GlobalOptions& global) {
     if (!mattes.is_null())
       std::cout << fmt::format(
           "true mattes ({} views, head to neck inside the model's box): IoU {:.4f}, leak {:.2f} % "
-          "of the subject's area ({:.2f} % beyond the matte's own coverage), face PSNR {:.2f} dB\n",
+          "of the subject's area ({:.2f} % beyond the matte's own coverage), face PSNR {:.2f} dB "
+          "({:.2f} dB where the subject covers the face's pixels fully)\n",
           mattes["views"].get<int>(), mattes["iou"].get<double>(), 100.0 * mattes["leak"].get<double>(),
-          100.0 * mattes["leak_excess"].get<double>(), mattes["face_psnr"].get<double>());
+          100.0 * mattes["leak_excess"].get<double>(), mattes["face_psnr"].get<double>(),
+          mattes["face_psnr_covered"].get<double>());
   }
   if (!a.output.empty()) spdlog::info("prediction | truth | error images in '{}'", a.output);
   // The scores judge the pixels, not whether the subject was separated: say so when it was not.
