@@ -26,8 +26,9 @@
 // head box, a room capture's table cap, the head volume and its clearing zones, 2^16 samples per
 // step); unset keys keep `train`'s defaults.
 // Writes OUT_DIR/room_budget.csv (a row per arm and checkpoint: steps, training seconds, subject and
-// room samples, rays, face PSNR) and room_budget_seconds.png / room_budget_steps.png (face PSNR
-// against training seconds and against steps). --save: each arm's model after its last step as
+// room samples, rays, face PSNR over each region) and room_budget_seconds.png /
+// room_budget_steps.png (face PSNR against training seconds and against steps; `covered` where the
+// dataset has true mattes, else `inner`). --save: each arm's model after its last step as
 // OUT_DIR/<arm>.lnerf, with the room model the subject region applied as `train` saves it (to score
 // the arms' mattes with bench_room_matte on a synthetic room capture).
 #include <fmt/format.h>
@@ -150,7 +151,8 @@ HeldOut face_region(const dataset::Frame& f, const nerf::Aabb& box, const fit::L
   h.frame = &f;
   const Image& img = f.image;
   fit::FaceDetection d = det.detect(img);
-  if (!d.found) return h;
+  if (!d.found || d.points.size() != 68) return h;
+  if (matte && (matte->width != img.width || matte->height != img.height)) matte = nullptr;  // downscaled
   std::vector<cv::Point> hull, inner_hull;
   const cv::Mat face = hull_mask(d.points, img.width, img.height, hull);
   const cv::Mat inner = hull_mask({d.points.begin() + 17, d.points.end()}, img.width, img.height, inner_hull);
