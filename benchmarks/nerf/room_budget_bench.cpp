@@ -7,7 +7,9 @@
 //   scores on `lorgnette eval` images). In views away from the front the jaw line's hull takes in room
 //   beside the cheek and under the chin, which a model that paints the room on its box (`bg=off`)
 //   reproduces and one that keeps only the subject renders clear, so this region favours `off`;
-// - inner: the hull of landmarks 17-67 (brows, eyes, nose, mouth), which lies on skin;
+// - inner: the hull of landmarks 17-67 (brows, eyes, nose, mouth), mostly on skin. In views turned
+//   away it can still cross the far side's outline (on p_r1_y40 at +-40 deg: up to 133 of a view's
+//   3485 pixels, which the room decides), so it favours `off` less than `face` but still does;
 // - covered (synthetic room captures with true mattes only): the face hull's pixels the subject
 //   covers fully (matte >= 0.999), as host/render/matte_eval.h's face_psnr_subject.
 // Compare arms with and without the room model on `inner` or `covered`.
@@ -33,6 +35,7 @@
 // the arms' mattes with bench_room_matte on a synthetic room capture).
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -321,8 +324,15 @@ int main(int argc, char** argv) {
         matte = synth::read_matte(data + "/" + it->second);
       held.push_back(face_region(*f, box, det, matte ? &*matte : nullptr));
       const HeldOut& h = held.back();
-      std::cerr << fmt::format("held-out {}: {} face pixels, {} inner, {} covered by the true matte\n",
-                               f->image_path, h.pixels[kFace], h.pixels[kInner], h.pixels[kCovered]);
+      const long inner_uncovered =
+          matte ? std::count_if(h.mask.begin(), h.mask.end(),
+                                [](uint8_t b) { return (b >> kInner & 1) && !(b >> kCovered & 1); })
+                : 0;
+      std::cerr << fmt::format(
+          "held-out {}: {} face pixels, {} inner ({} of them not fully covered by the subject), {} covered "
+          "by "
+          "the true matte\n",
+          f->image_path, h.pixels[kFace], h.pixels[kInner], inner_uncovered, h.pixels[kCovered]);
     }
 
     std::vector<Arm> arms(specs.size());
