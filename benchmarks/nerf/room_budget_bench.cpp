@@ -10,6 +10,9 @@
 // - inner: the hull of landmarks 17-67 (brows, eyes, nose, mouth), mostly on skin. In views turned
 //   away it can still cross the far side's outline (on p_r1_y40 at +-40 deg: up to 133 of a view's
 //   3485 pixels, which the room decides), so it favours `off` less than `face` but still does;
+// - core: the inner hull shrunk by 8 % of the face's width on every side, for real captures,
+//   which have no mattes: away from the outline (on p_r1_y40 and p_r2_y40 the true matte covers all
+//   of it; checked by the counts this bench prints);
 // - covered (synthetic room captures with true mattes only): the face hull's pixels the subject
 //   covers fully (matte >= 0.999), as host/render/matte_eval.h's face_psnr_subject.
 // Compare arms with and without the room model on `inner` or `covered`.
@@ -30,7 +33,7 @@
 // Writes OUT_DIR/room_budget.csv (a row per arm and checkpoint: steps, training seconds, subject and
 // room samples, rays, face PSNR over each region) and room_budget_seconds.png /
 // room_budget_steps.png (face PSNR against training seconds and against steps; `covered` where the
-// dataset has true mattes, else `inner`). --save: each arm's model after its last step as
+// dataset has true mattes, else `core`). --save: each arm's model after its last step as
 // OUT_DIR/<arm>.lnerf, with the room model the subject region applied as `train` saves it (to score
 // the arms' mattes with bench_room_matte on a synthetic room capture).
 #include <fmt/format.h>
@@ -115,13 +118,13 @@ ArmSpec parse_arm(const std::string& arg) {
 }
 
 // The scored regions of a held-out view, in its crop.
-enum Region { kFace, kInner, kCovered, kRegions };
-const char* const kRegionNames[kRegions] = {"face", "inner", "covered"};
+enum Region { kFace, kInner, kCovered, kCore, kRegions };
+const char* const kRegionNames[kRegions] = {"face", "inner", "covered", "core"};
 
 struct HeldOut {
   const dataset::Frame* frame = nullptr;
   std::vector<uint8_t> mask;  // width x height of the crop, bit r = judged for region r
-  long pixels[kRegions] = {0, 0, 0};
+  long pixels[kRegions] = {0, 0, 0, 0};
   Camera crop{};  // the holdout camera cropped to the face's bounding rectangle (renders only that)
   int x0 = 0, y0 = 0;
 };
@@ -160,6 +163,11 @@ HeldOut face_region(const dataset::Frame& f, const nerf::Aabb& box, const fit::L
   const cv::Mat face = hull_mask(d.points, img.width, img.height, hull);
   const cv::Mat inner = hull_mask({d.points.begin() + 17, d.points.end()}, img.width, img.height, inner_hull);
   const cv::Rect r = cv::boundingRect(hull) & cv::Rect(0, 0, img.width, img.height);
+  // The inner hull shrunk by 8 % of the face's width on every side (at least 2 px): off the outline.
+  const int shrink = std::max(2, int(std::lround(0.08 * r.width)));
+  cv::Mat core;
+  cv::erode(inner, core,
+            cv::getStructuringElement(cv::MORPH_ELLIPSE, cv::Size(2 * shrink + 1, 2 * shrink + 1)));
   h.x0 = r.x, h.y0 = r.y;
   h.crop = f.camera;  // a pixel-exact crop: the principal point moves, the distortion is unchanged
   h.crop.cx -= float(r.x), h.crop.cy -= float(r.y);
@@ -172,6 +180,7 @@ HeldOut face_region(const dataset::Frame& f, const nerf::Aabb& box, const fit::L
         continue;
       uint8_t bits = 1u << kFace;
       if (inner.at<uint8_t>(py, px)) bits |= 1u << kInner;
+      if (core.at<uint8_t>(py, px)) bits |= 1u << kCore;
       if (matte && matte->at(px, py, 0) >= 0.999f) bits |= 1u << kCovered;
       h.mask[size_t(y) * r.width + x] = bits;
       for (int k = 0; k < kRegions; ++k) h.pixels[k] += (bits >> k) & 1;
@@ -201,7 +210,7 @@ struct Arm {
 };
 
 struct FacePsnr {
-  double db[kRegions] = {0.0, 0.0, 0.0};  // mean over the views that have the region
+  double db[kRegions] = {0.0, 0.0, 0.0, 0.0};  // mean over the views that have the region
 };
 
 // Each region's mean over views of the view's PSNR (sRGB), the subject region applied when `region`.
@@ -212,13 +221,13 @@ FacePsnr face_psnr(nerf::NerfModel& model, bool region, const std::vector<HeldOu
     nerf::OccupancyGrid g = saved;
     if (nerf::keep_central_region(g).found) model.set_occupancy(std::move(g));
   }
-  double sum[kRegions] = {0.0, 0.0, 0.0};
-  int views[kRegions] = {0, 0, 0};
+  double sum[kRegions] = {0.0, 0.0, 0.0, 0.0};
+  int views[kRegions] = {0, 0, 0, 0};
   for (const HeldOut& h : held) {
     if (h.pixels[kFace] == 0) continue;
     const Image pred = renderer.render(model, h.crop, nullptr, render::RenderOptions{}).rgba;
     const Image& truth = h.frame->image;
-    double se[kRegions] = {0.0, 0.0, 0.0};
+    double se[kRegions] = {0.0, 0.0, 0.0, 0.0};
     for (int y = 0; y < pred.height; ++y)
       for (int x = 0; x < pred.width; ++x)
         if (const uint8_t bits = h.mask[size_t(y) * pred.width + x])
@@ -328,11 +337,16 @@ int main(int argc, char** argv) {
           matte ? std::count_if(h.mask.begin(), h.mask.end(),
                                 [](uint8_t b) { return (b >> kInner & 1) && !(b >> kCovered & 1); })
                 : 0;
+      const long core_uncovered =
+          matte ? std::count_if(h.mask.begin(), h.mask.end(),
+                                [](uint8_t b) { return (b >> kCore & 1) && !(b >> kCovered & 1); })
+                : 0;
       std::cerr << fmt::format(
           "held-out {}: {} face pixels, {} inner ({} of them not fully covered by the subject), {} covered "
           "by "
-          "the true matte\n",
-          f->image_path, h.pixels[kFace], h.pixels[kInner], inner_uncovered, h.pixels[kCovered]);
+          "the true matte, {} core ({} not fully covered)\n",
+          f->image_path, h.pixels[kFace], h.pixels[kInner], inner_uncovered, h.pixels[kCovered],
+          h.pixels[kCore], core_uncovered);
     }
 
     std::vector<Arm> arms(specs.size());
@@ -352,9 +366,9 @@ int main(int argc, char** argv) {
     render::Renderer renderer(rt);
     std::vector<std::vector<std::string>> rows;
     const std::vector<std::string> header = {
-        "arm",  "step",         "train_seconds",      "subject_samples",     "room_samples",
-        "rays", "face_psnr_db", "inner_face_psnr_db", "covered_face_psnr_db"};
-    const Region shown = mattes.empty() ? kInner : kCovered;
+        "arm",  "step",         "train_seconds",      "subject_samples",      "room_samples",
+        "rays", "face_psnr_db", "inner_face_psnr_db", "covered_face_psnr_db", "core_face_psnr_db"};
+    const Region shown = mattes.empty() ? kCore : kCovered;
     for (uint64_t round = 0;; ++round) {
       bool any = false;
       for (size_t j = 0; j < arms.size(); ++j) {
@@ -374,13 +388,14 @@ int main(int argc, char** argv) {
             "{} step {}: face PSNR {:.2f} dB (inner {:.2f}, covered {:.2f}), {:.1f} s training ({:.3f} "
             "s/step), "
             "subject {:.1f} M samples, room {:.1f} M, {:.0f} rays/step\n",
-            a.spec.name, at, psnr.db[kFace], psnr.db[kInner], psnr.db[kCovered], a.seconds,
+            a.spec.name, at, psnr.db[kFace], psnr.db[kInner], psnr.db[kCovered], psnr.db[kCore], a.seconds,
             a.seconds / double(at), a.trainer->samples_done() / 1e6, room / 1e6,
             double(a.trainer->rays_done()) / double(at));
         rows.push_back({a.spec.name, std::to_string(at), fmt::format("{:.2f}", a.seconds),
                         std::to_string(a.trainer->samples_done()), std::to_string(room),
                         std::to_string(a.trainer->rays_done()), fmt::format("{:.3f}", psnr.db[kFace]),
-                        fmt::format("{:.3f}", psnr.db[kInner]), fmt::format("{:.3f}", psnr.db[kCovered])});
+                        fmt::format("{:.3f}", psnr.db[kInner]), fmt::format("{:.3f}", psnr.db[kCovered]),
+                        fmt::format("{:.3f}", psnr.db[kCore])});
         a.by_seconds.x.push_back(a.seconds), a.by_seconds.y.push_back(psnr.db[shown]);
         a.by_steps.x.push_back(double(at)), a.by_steps.y.push_back(psnr.db[shown]);
       }
