@@ -385,9 +385,8 @@ int main(int argc, char** argv) {
         const uint64_t at = a.trainer->steps_done();
         const uint64_t room = a.trainer->background() ? a.trainer->background()->samples_done() : 0;
         std::cerr << fmt::format(
-            "{} step {}: face PSNR {:.2f} dB (inner {:.2f}, covered {:.2f}), {:.1f} s training ({:.3f} "
-            "s/step), "
-            "subject {:.1f} M samples, room {:.1f} M, {:.0f} rays/step\n",
+            "{} step {}: face PSNR {:.2f} dB (inner {:.2f}, covered {:.2f}, core {:.2f}), "
+            "{:.1f} s training ({:.3f} s/step), subject {:.1f} M samples, room {:.1f} M, {:.0f} rays/step\n",
             a.spec.name, at, psnr.db[kFace], psnr.db[kInner], psnr.db[kCovered], psnr.db[kCore], a.seconds,
             a.seconds / double(at), a.trainer->samples_done() / 1e6, room / 1e6,
             double(a.trainer->rays_done()) / double(at));
