@@ -5,6 +5,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
 #include <stdexcept>
 
 namespace lorgnette::synth {
@@ -24,6 +27,20 @@ Image read_matte(const std::string& path) {
     for (int x = 0; x < in.width; ++x)
       out.at(x, y, 0) = std::clamp(linear_to_srgb(in.at(x, y, 0)), 0.0f, 1.0f);
   return out;
+}
+
+std::map<std::string, EvalFiles> eval_files_by_stem(const std::string& dataset_dir) {
+  namespace fs = std::filesystem;
+  std::map<std::string, EvalFiles> by_stem;
+  std::ifstream in(fs::path(dataset_dir) / "transforms.json");
+  if (!in) return by_stem;
+  const nlohmann::json tj = nlohmann::json::parse(in, nullptr, false);
+  if (tj.is_discarded() || !tj.contains("frames") || !tj["frames"].is_array()) return by_stem;
+  for (const auto& f : tj["frames"])
+    if (f.is_object() && f.contains("eval_matte_path") && f["eval_matte_path"].is_string())
+      by_stem[fs::path(f.value("file_path", "")).stem().string()] = {f["eval_matte_path"].get<std::string>(),
+                                                                     f.value("depth_path", "")};
+  return by_stem;
 }
 
 }  // namespace lorgnette::synth

@@ -43,10 +43,8 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <map>
-#include <nlohmann/json.hpp>
 #include <opencv2/imgproc.hpp>
 #include <optional>
 #include <sstream>
@@ -188,19 +186,6 @@ HeldOut face_region(const dataset::Frame& f, const nerf::Aabb& box, const fit::L
   return h;
 }
 
-// The true mattes of a synthetic room capture's frames (`synth --room` writes eval_matte_path), by
-// image stem; empty for any other dataset.
-std::map<std::string, std::string> true_mattes(const std::string& data) {
-  std::map<std::string, std::string> by_stem;
-  const fs::path tj = fs::path(data) / "transforms.json";
-  if (!fs::is_regular_file(tj)) return by_stem;
-  const nlohmann::json j = nlohmann::json::parse(std::ifstream(tj));
-  for (const auto& f : j.value("frames", nlohmann::json::array()))
-    if (f.contains("eval_matte_path"))
-      by_stem[fs::path(f.value("file_path", "")).stem().string()] = f["eval_matte_path"].get<std::string>();
-  return by_stem;
-}
-
 struct Arm {
   ArmSpec spec;
   std::unique_ptr<nerf::NerfModel> model;
@@ -324,13 +309,13 @@ int main(int argc, char** argv) {
     const nerf::Aabb box = plans.front().sizing.aabb;
 
     fit::LandmarkDetector det;
-    const std::map<std::string, std::string> mattes = true_mattes(data);
+    const std::map<std::string, synth::EvalFiles> mattes = synth::eval_files_by_stem(data);
     std::vector<HeldOut> held;
     for (const dataset::Frame* f : ds.require_split(dataset::Split::Holdout)) {
       if (max_views && held.size() >= max_views) break;
       std::optional<Image> matte;
       if (auto it = mattes.find(fs::path(f->image_path).stem().string()); it != mattes.end())
-        matte = synth::read_matte(data + "/" + it->second);
+        matte = synth::read_matte(data + "/" + it->second.matte);
       held.push_back(face_region(*f, box, det, matte ? &*matte : nullptr));
       const HeldOut& h = held.back();
       const long inner_uncovered =

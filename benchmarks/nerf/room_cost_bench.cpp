@@ -114,12 +114,8 @@ int main(int argc, char** argv) {
   }
 
   // Held-out views with their true mattes, subject depth and the 68 landmarks (face region).
-  nlohmann::json tj = nlohmann::json::parse(std::ifstream(data + "/transforms.json"));
   nlohmann::json gt = nlohmann::json::parse(std::ifstream(data + "/ground_truth.json"));
-  std::map<std::string, std::pair<std::string, std::string>> by_stem;
-  for (const auto& f : tj.at("frames"))
-    if (f.contains("eval_matte_path"))
-      by_stem[fs::path(f.value("file_path", "")).stem().string()] = {f["eval_matte_path"], f["depth_path"]};
+  const std::map<std::string, synth::EvalFiles> by_stem = synth::eval_files_by_stem(data);
   if (by_stem.empty()) return std::cerr << data << " has no true mattes: make it with synth --room\n", 1;
   std::vector<Eigen::Vector3f> face;
   for (const auto& p : gt.at("ibug68"))
@@ -132,7 +128,7 @@ int main(int argc, char** argv) {
   std::vector<HeldOut> held;
   for (const dataset::Frame* f : ds.require_split(dataset::Split::Holdout)) {
     auto it = by_stem.at(fs::path(f->image_path).stem().string());
-    held.push_back({f, synth::read_matte(data + "/" + it.first), read_image(data + "/" + it.second)});
+    held.push_back({f, synth::read_matte(data + "/" + it.matte), read_image(data + "/" + it.depth)});
   }
 
   Arm arms[2];

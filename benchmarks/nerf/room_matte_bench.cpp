@@ -224,12 +224,8 @@ int main(int argc, char** argv) {
     dataset::LoadOptions lo;
     lo.splits = {dataset::Split::Holdout};
     dataset::Dataset ds = dataset::load_dataset(c.dataset, lo);
-    nlohmann::json tj = nlohmann::json::parse(std::ifstream(c.dataset + "/transforms.json"));
     nlohmann::json gt = nlohmann::json::parse(std::ifstream(c.dataset + "/ground_truth.json"));
-    std::map<std::string, std::pair<std::string, std::string>> by_stem;
-    for (const auto& f : tj.at("frames"))
-      if (f.contains("eval_matte_path"))
-        by_stem[fs::path(f.value("file_path", "")).stem().string()] = {f["eval_matte_path"], f["depth_path"]};
+    const std::map<std::string, synth::EvalFiles> by_stem = synth::eval_files_by_stem(c.dataset);
     if (by_stem.empty())
       throw std::runtime_error(c.dataset + " has no true mattes: make it with synth --room");
     std::vector<Eigen::Vector3f> face;
@@ -239,7 +235,7 @@ int main(int argc, char** argv) {
     for (const dataset::Frame* f : ds.require_split(dataset::Split::Holdout)) {
       auto it = by_stem.at(fs::path(f->image_path).stem().string());
       held.push_back(
-          {f, synth::read_matte(c.dataset + "/" + it.first), read_image(c.dataset + "/" + it.second)});
+          {f, synth::read_matte(c.dataset + "/" + it.matte), read_image(c.dataset + "/" + it.depth)});
     }
     const nerf::OccupancyGrid saved = model.occupancy();
     for (float alpha : alphas) {

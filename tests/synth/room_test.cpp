@@ -140,6 +140,15 @@ TEST(Room, DatasetHasNoAlphaAndAMattePerFrame) {
     for (float v : m.pixels) cover += v;
     EXPECT_GT(cover, 0.1 * m.pixels.size());
   }
+  // The evaluation files as eval and the benchmarks read them: every frame, by image stem.
+  const auto files = eval_files_by_stem(dir.string());
+  ASSERT_EQ(files.size(), tj["frames"].size());
+  for (const auto& f : tj["frames"]) {
+    const EvalFiles& e = files.at(fs::path(f["file_path"].get<std::string>()).stem().string());
+    EXPECT_EQ(e.matte, f["eval_matte_path"].get<std::string>());
+    EXPECT_EQ(e.depth, f.value("depth_path", ""));
+  }
+  EXPECT_TRUE(eval_files_by_stem((dir / "no-such-folder").string()).empty());
   dataset::Dataset ds = dataset::load_dataset(dir.string(), {});
   EXPECT_FALSE(ds.has_alpha);
   nlohmann::json gt = nlohmann::json::parse(std::ifstream(dir / "ground_truth.json"));

@@ -49,15 +49,7 @@ nlohmann::json matte_scores(nerf::NerfModel& model, const dataset::Dataset& ds,
                             const std::vector<const dataset::Frame*>& frames) {
   namespace fs = std::filesystem;
   fs::path root = fs::is_directory(ds.root) ? fs::path(ds.root) : fs::path(ds.root).parent_path();
-  std::ifstream tf(root / "transforms.json");
-  if (!tf) return nullptr;
-  nlohmann::json tj = nlohmann::json::parse(tf, nullptr, false);
-  if (tj.is_discarded() || !tj.contains("frames")) return nullptr;
-  std::map<std::string, std::pair<std::string, std::string>> by_stem;  // image stem -> (matte, depth)
-  for (const auto& f : tj["frames"])
-    if (f.contains("eval_matte_path"))
-      by_stem[fs::path(f.value("file_path", "")).stem().string()] = {f["eval_matte_path"],
-                                                                     f.value("depth_path", "")};
+  const std::map<std::string, synth::EvalFiles> by_stem = synth::eval_files_by_stem(root.string());
   if (by_stem.empty()) return nullptr;
   std::vector<Eigen::Vector3f> face;
   std::ifstream gf(root / "ground_truth.json");
@@ -73,10 +65,10 @@ nlohmann::json matte_scores(nerf::NerfModel& model, const dataset::Dataset& ds,
   for (const dataset::Frame* f : frames) {
     auto it = by_stem.find(fs::path(f->image_path).stem().string());
     if (it == by_stem.end()) continue;
-    Image matte = synth::read_matte((root / it->second.first).string());
+    Image matte = synth::read_matte((root / it->second.matte).string());
     Image depth;
-    if (!it->second.second.empty() && fs::exists(root / it->second.second))
-      depth = read_image((root / it->second.second).string());
+    if (!it->second.depth.empty() && fs::exists(root / it->second.depth))
+      depth = read_image((root / it->second.depth).string());
     if (matte.width != int(f->camera.width) || matte.height != int(f->camera.height)) continue;  // downscaled
     Image pred = renderer.render(model, f->camera, nullptr, ro).rgba;
     render::MatteView v{f->camera, &pred, &f->image, &matte, depth.empty() ? nullptr : &depth, face};
