@@ -1,6 +1,8 @@
 // The head's volume in its landmark box; see head_volume.h.
 #include "capture/head_volume.h"
 
+#include <algorithm>
+
 namespace lorgnette::capture {
 namespace {
 
@@ -53,10 +55,16 @@ nerf::SubjectVolume head_parts_mm(const fit::HeadExtents& e, double side, double
   nerf::SubjectVolume v;
   // Skull with hair and ears: from the back of the hair to in front of the glabella, from chin level
   // to the top of the hair, as wide as the box (head breadth + the ears' and side hair's margin),
-  // and loose hair beyond that.
-  v.parts.push_back(span(OrientedShape::Kind::Ellipsoid,
-                         {-half_x - side, -e.chin_below_eyes_mm - loose, -back - loose},
-                         {half_x + side, top + loose, e.glabella_ahead_mm + e.front_margin_mm}));
+  // and loose hair beyond that. More hair than the standard (train --hair: a bun, a hat) adds a
+  // second, longer ellipsoid: stretching the first would narrow it at the ears and the jaw.
+  const double standard_hair = std::min(e.hair_mm, fit::HeadExtents{}.hair_mm);
+  for (double hair : {standard_hair, e.hair_mm}) {
+    if (hair == standard_hair && !v.parts.empty()) break;
+    const double extra = e.hair_mm - hair;  // the skull's top and back with this hair
+    v.parts.push_back(span(OrientedShape::Kind::Ellipsoid,
+                           {-half_x - side, -e.chin_below_eyes_mm - loose, -back + extra - loose},
+                           {half_x + side, top - extra + loose, e.glabella_ahead_mm + e.front_margin_mm}));
+  }
   // Face and jaw: the front half of the head, head-breadth wide, from below the chin (beard) to the
   // forehead, to the front of the box (nose tip and margin).
   v.parts.push_back(

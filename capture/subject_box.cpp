@@ -132,8 +132,9 @@ SubjectBoxChoice choose_subject_box(const dataset::Dataset& ds, BoxSource reques
   }
 }
 
-void apply_subject_box(dataset::Dataset& ds, BoxSource requested, bool masks_allowed, nerf::TrainJob& job) {
-  SubjectBoxChoice c = choose_subject_box(ds, requested, masks_allowed);
+void apply_subject_box(dataset::Dataset& ds, BoxSource requested, bool masks_allowed, nerf::TrainJob& job,
+                       const fit::HeadBoxOptions& head_options) {
+  SubjectBoxChoice c = choose_subject_box(ds, requested, masks_allowed, head_options);
   spdlog::info("subject box: {}", c.why);
   if (!c.problem.empty()) spdlog::warn("{}", c.problem);
   job.subject_problem = c.problem;

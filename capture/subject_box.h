@@ -51,7 +51,8 @@ SubjectBoxChoice choose_subject_box(const dataset::Dataset& ds, BoxSource reques
 // or the dataset's aabb removed so the sizing carves the mask hull or builds the camera box. Logs
 // the choice (and the problem, as a warning, into job.subject_problem); throws when the box is
 // empty.
-void apply_subject_box(dataset::Dataset& ds, BoxSource requested, bool masks_allowed, nerf::TrainJob& job);
+void apply_subject_box(dataset::Dataset& ds, BoxSource requested, bool masks_allowed, nerf::TrainJob& job,
+                       const fit::HeadBoxOptions& head_options = {});
 
 // The dataset's training frames as posed photos for fit::estimate_head_box (pointers into `ds`).
 std::vector<fit::PosedPhoto> posed_photos(const dataset::Dataset& ds);

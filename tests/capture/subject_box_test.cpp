@@ -94,6 +94,24 @@ TEST(SubjectBox, AutoUsesTheHeadBoxWhenFacesAreFound) {
   EXPECT_LT(allowed, 32u * 32u * 32u);
 }
 
+// The head box's extents reach the choice (train --hair): more hair makes a taller box, holding the
+// default one.
+TEST(SubjectBox, HeadOptionsSizeTheHeadBox) {
+  fit::HeadBoxOptions tall;
+  tall.extents.hair_mm = 150.0;
+  SubjectBoxChoice c = choose_subject_box(face_dataset(), BoxSource::Head);
+  SubjectBoxChoice t = choose_subject_box(face_dataset(), BoxSource::Head, true, tall);
+  ASSERT_TRUE(c.aabb && t.aabb);
+  double volume = 1.0, tall_volume = 1.0;
+  for (int a = 0; a < 3; ++a) {
+    EXPECT_LE((*t.aabb)[0][a], (*c.aabb)[0][a] + 1e-6f) << a;
+    EXPECT_GE((*t.aabb)[1][a], (*c.aabb)[1][a] - 1e-6f) << a;
+    volume *= (*c.aabb)[1][a] - (*c.aabb)[0][a];
+    tall_volume *= (*t.aabb)[1][a] - (*t.aabb)[0][a];
+  }
+  EXPECT_GT(tall_volume, 1.3 * volume);  // 120 mm more above and behind a ~250 x 300 x 400 mm box
+}
+
 TEST(SubjectBox, ForcedSourcesThatDoNotApplyFailClearly) {
   dataset::Dataset ds = blank_dataset();
   EXPECT_THROW(choose_subject_box(ds, BoxSource::Dataset), std::runtime_error);

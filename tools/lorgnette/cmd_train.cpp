@@ -27,6 +27,7 @@ struct TrainArgs {
   uint32_t max_side = 0;
   float step = 0.0f, lr = 1e-2f, aabb_scale = 0.0f;
   nerf::BackgroundOptions room;  // the room model's prior and clearing options (defaults shown in --help)
+  fit::HeadBoxOptions head;      // the head box's extents (--hair)
   double snapshot_every = 120.0;
   bool deterministic = false, force = false, no_masks = false, linear_loss = false;
 };
@@ -66,7 +67,7 @@ void run_train(const TrainArgs& a, GlobalOptions& global) {
   if (job.sizing.aabb)
     spdlog::info("subject box: --aabb (given on the command line)");
   else
-    capture::apply_subject_box(ds, capture::box_source_from_string(a.box), !a.no_masks, job);
+    capture::apply_subject_box(ds, capture::box_source_from_string(a.box), !a.no_masks, job, a.head);
   if (a.finest) job.sizing.finest_resolution = a.finest;
   if (a.log2_table) job.sizing.log2_table_size = a.log2_table;
   if (a.levels) job.sizing.levels = a.levels;
@@ -117,6 +118,12 @@ void add_train(CLI::App& app, GlobalOptions& global) {
                   "subject box: auto (dataset aabb, else mask hull, else head box from landmarks, else "
                   "cameras), dataset, masks, head or cameras (default auto; --aabb overrides)")
       ->check(CLI::IsMember({"auto", "dataset", "masks", "head", "cameras"}));  // before loading the data
+  cmd->add_option(
+         "--hair", a->head.extents.hair_mm,
+         "head box: millimetres of hair (or a hat) above and behind a large skull; the subject is cut "
+         "where it stands out further (about 40 mm more). Raise it for a bun, tall hair or a hat")
+      ->check(CLI::Range(0.0, 300.0))
+      ->capture_default_str();
   cmd->add_option("--background", a->background,
                   "room model behind the subject, then keep the subject's connected region: auto (mask-less "
                   "datasets with a subject box), on or off")
