@@ -46,25 +46,33 @@ Span loose_hair_span(const fit::HeadExtents& e, double side = kLooseHairMm, doub
   return s;
 }
 
+// The skull with `hair` mm of hair above and behind it and the ears: from the back of the hair to in
+// front of the glabella, from chin level to the top of the hair, as wide as the box (head breadth +
+// the ears' and side hair's margin), and `side` / `loose` mm of loose hair beyond that.
+OrientedShape skull_mm(const fit::HeadExtents& e, double hair, double side, double loose) {
+  fit::HeadExtents with = e;
+  with.hair_mm = hair;
+  const Span box = head_box_span(with);
+  return span(OrientedShape::Kind::Ellipsoid,
+              {box.lo.x() - side, -e.chin_below_eyes_mm - loose, box.lo.z() - loose},
+              {box.hi.x() + side, box.hi.y() + loose, e.glabella_ahead_mm + e.front_margin_mm});
+}
+
+// Hair beyond the standard allowance (HeadExtents' default; train --hair: a bun, a hat).
+double declared_hair_mm(const fit::HeadExtents& e) {
+  return std::max(0.0, e.hair_mm - fit::HeadExtents{}.hair_mm);
+}
+
 // The head's parts (skull, face, neck) for extents `e` with loose hair around the skull: `side` mm
 // sideways, `loose` mm behind, above and below it.
 nerf::SubjectVolume head_parts_mm(const fit::HeadExtents& e, double side, double loose) {
   const Span box = head_box_span(e);
-  const double half_x = box.hi.x(), back = -box.lo.z(), top = box.hi.y(), bottom = -box.lo.y();
-  const double front = box.hi.z();
+  const double bottom = -box.lo.y(), front = box.hi.z();
   nerf::SubjectVolume v;
-  // Skull with hair and ears: from the back of the hair to in front of the glabella, from chin level
-  // to the top of the hair, as wide as the box (head breadth + the ears' and side hair's margin),
-  // and loose hair beyond that. More hair than the standard (train --hair: a bun, a hat) adds a
-  // second, longer ellipsoid: stretching the first would narrow it at the ears and the jaw.
-  const double standard_hair = std::min(e.hair_mm, fit::HeadExtents{}.hair_mm);
-  for (double hair : {standard_hair, e.hair_mm}) {
-    if (hair == standard_hair && !v.parts.empty()) break;
-    const double extra = e.hair_mm - hair;  // the skull's top and back with this hair
-    v.parts.push_back(span(OrientedShape::Kind::Ellipsoid,
-                           {-half_x - side, -e.chin_below_eyes_mm - loose, -back + extra - loose},
-                           {half_x + side, top - extra + loose, e.glabella_ahead_mm + e.front_margin_mm}));
-  }
+  // The skull with at most the standard hair; more hair adds a second, longer ellipsoid (stretching
+  // the first would narrow it at the ears and the jaw).
+  v.parts.push_back(skull_mm(e, e.hair_mm - declared_hair_mm(e), side, loose));
+  if (declared_hair_mm(e) > 0.0) v.parts.push_back(skull_mm(e, e.hair_mm, side, loose));
   // Face and jaw: the front half of the head, head-breadth wide, from below the chin (beard) to the
   // forehead, to the front of the box (nose tip and margin).
   v.parts.push_back(
@@ -103,7 +111,12 @@ nerf::SubjectVolume head_clear_core_mm(const fit::HeadExtents& e) {
   bare.hair_mm = 0.0;
   // As wide as the head volume (the ears and what stands out beside them stay in the core).
   nerf::SubjectVolume v = head_parts_mm(bare, kLooseHairMm, 0.0);
-  const Span box = loose_hair_span(bare, kLooseHairMm, 0.0);  // the neck's ellipsoid ends at its bottom
+  // Hair declared beyond the standard (a bun, a hat) is the subject's, not a margin: it joins the
+  // core, and only the standard margin beyond it leans towards the room.
+  fit::HeadExtents declared = e;
+  declared.hair_mm = declared_hair_mm(e);
+  if (declared.hair_mm > 0.0) v.parts.push_back(skull_mm(declared, declared.hair_mm, kLooseHairMm, 0.0));
+  const Span box = loose_hair_span(declared, kLooseHairMm, 0.0);  // the neck's ellipsoid ends at its bottom
   v.clip = span(OrientedShape::Kind::Box, box.lo, box.hi);
   v.what = "the bare head (skull, face and neck without the hair behind and above; capture/head_volume.h)";
   return v;

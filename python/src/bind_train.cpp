@@ -20,7 +20,7 @@ namespace {
 struct TrainArgs {
   std::string data, output, box = "auto", background = "auto";
   uint64_t steps = 0;
-  double seconds = 0.0;
+  double seconds = 0.0, hair_mm = fit::HeadExtents{}.hair_mm;
   uint32_t seed = 1337, batch_log2 = 0, max_side = 0, downscale = 1;
   bool deterministic = false, force = false, show_progress = false;
   pyb::object progress;
@@ -59,6 +59,9 @@ pyb::object run_train(const TrainArgs& a) {
                              "' exists: pass force=True to overwrite it or choose another output");
   if (a.batch_log2 != 0 && (a.batch_log2 < 10 || a.batch_log2 > 22))
     throw pyb::value_error("batch_log2 must be 0 (by device: 18 on a GPU, 16 otherwise) or within 10..22");
+  if (!(a.hair_mm >= 0.0 && a.hair_mm <= 300.0))
+    throw pyb::value_error(
+        "hair_mm must be within 0..300 (millimetres of hair or hat above and behind the skull)");
   if (!std::filesystem::exists(a.data)) require_file(a.data, "dataset");
   auto model = std::make_shared<Model>();
   model->device = device_for(a.device);
@@ -75,7 +78,9 @@ pyb::object run_train(const TrainArgs& a) {
     lo.splits = {dataset::Split::Train};
     dataset::Dataset ds = dataset::load_dataset(a.data, lo);
     nerf::TrainJob job;
-    capture::apply_subject_box(ds, capture::box_source_from_string(a.box), true, job);
+    fit::HeadBoxOptions head;
+    head.extents.hair_mm = a.hair_mm;
+    capture::apply_subject_box(ds, capture::box_source_from_string(a.box), true, job, head);
     job.batch_log2 = a.batch_log2;
     job.deterministic = a.deterministic;
     job.background = a.background;
@@ -121,13 +126,13 @@ void bind_train(pyb::module_& m) {
       [](const std::string& data, const std::string& output, uint64_t steps, double seconds,
          pyb::object progress, uint32_t seed, uint32_t batch_log2, const std::string& box,
          const std::string& background, bool deterministic, uint32_t max_side, uint32_t downscale, bool force,
-         bool show_progress, const std::string& device) {
+         bool show_progress, const std::string& device, double hair_mm) {
         TrainArgs a;
         a.data = data, a.output = output, a.steps = steps, a.seconds = seconds, a.progress = progress,
         a.seed = seed;
         a.batch_log2 = batch_log2, a.box = box, a.background = background, a.deterministic = deterministic;
         a.max_side = max_side, a.downscale = downscale, a.force = force, a.show_progress = show_progress;
-        a.device = device;
+        a.device = device, a.hair_mm = hair_mm;
         return run_train(a);
       },
       pyb::arg("dataset"), pyb::arg("output"), pyb::arg("steps") = 0, pyb::arg("seconds") = 0.0,
@@ -135,9 +140,11 @@ void bind_train(pyb::module_& m) {
       pyb::arg("box") = "auto", pyb::arg("background") = "auto", pyb::arg("deterministic") = false,
       pyb::arg("max_side") = 0, pyb::arg("downscale") = 1, pyb::arg("force") = false,
       pyb::arg("show_progress") = false, pyb::arg("device") = "",
+      pyb::arg("hair_mm") = fit::HeadExtents{}.hair_mm,
       "`lorgnette train DATASET -o OUTPUT`: trains and saves the snapshot, returns the Model (its "
       "`train_info` dict: steps, seconds, final_loss, stopped, budget, loss_curve). steps=0 and "
-      "seconds=0: the size-based default budget. progress(step, seconds, loss) is called after every step "
+      "seconds=0: the size-based default budget. hair_mm: `--hair`, the head box's hair (or hat) above and "
+      "behind the skull on a mask-less capture. progress(step, seconds, loss) is called after every step "
       "(GIL held only then); returning False stops cleanly (the snapshot is saved, train_info['stopped']).");
 }
 

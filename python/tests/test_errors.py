@@ -68,6 +68,8 @@ def test_bad_arguments(model, tmp_path):
         lorgnette.use_device("no-such-device-anywhere")
     with pytest.raises(lorgnette.Error):
         lorgnette.Camera.look_at(eye=(0, 0, 0), target=(0, 0, 0))
+    with pytest.raises(ValueError, match="hair_mm"):
+        lorgnette.train(str(tmp_path), str(tmp_path / "m.lnerf"), steps=1, hair_mm=-5)
 
 
 def test_devices():
