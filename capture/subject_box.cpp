@@ -137,9 +137,10 @@ void apply_subject_box(dataset::Dataset& ds, BoxSource requested, bool masks_all
   SubjectBoxChoice c = choose_subject_box(ds, requested, masks_allowed, head_options);
   spdlog::info("subject box: {}", c.why);
   if (c.source != BoxSource::Head && head_options.extents.hair_mm != fit::HeadExtents{}.hair_mm)
-    spdlog::warn("the hair allowance (--hair) sizes only the landmark head box, and this box is {}: it is "
-                 "not used (--box head forces the head box)",
-                 to_string(c.source));
+    spdlog::warn(
+        "the hair allowance (--hair) sizes only the landmark head box, and this box is {}: it is "
+        "not used (--box head forces the head box)",
+        to_string(c.source));
   if (!c.problem.empty()) spdlog::warn("{}", c.problem);
   job.subject_problem = c.problem;
   ds.aabb.reset();
