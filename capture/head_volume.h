@@ -5,7 +5,9 @@
 // jaw in front of it, and the neck below it down to the box's bottom. Every part is sized from the
 // p99 extents plus their margins, so ears, hair and neck stay in; what it removes is the box's
 // corners behind and below the skull, where a wall close behind the subject otherwise gets
-// rebuilt as part of the subject (docs/bench/real-captures.md, "The head volume").
+// rebuilt as part of the subject (docs/bench/real-captures.md, "The head volume"). Hair beyond
+// the standard HeadExtents::hair_mm (train --hair: a bun, a hat) adds a longer skull ellipsoid and
+// joins the clearing's core (docs/bench/real-captures.md, "hats, buns and tall hair").
 #pragma once
 #include "fit/head_box.h"
 #include "host/nerf/subject_volume.h"
