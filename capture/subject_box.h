@@ -41,6 +41,10 @@ struct SubjectBoxChoice {
 // True when any training image has a transparent pixel (Image::has_transparency, the sizing's test).
 bool has_alpha_masks(const dataset::Dataset& ds);
 
+// The most hair (or hat) above and behind the skull that `train --hair` and Python's
+// train(hair_mm=) accept for the head box (fit::HeadExtents::hair_mm), in millimetres.
+inline constexpr double kMaxHairMm = 300.0;
+
 // Chooses the box for training on `ds`'s training frames. `masks_allowed` = false ignores alpha
 // (train --no-masks). Throws when a forced source does not apply (no aabb, no masks, no faces).
 SubjectBoxChoice choose_subject_box(const dataset::Dataset& ds, BoxSource requested,

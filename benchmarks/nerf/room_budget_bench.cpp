@@ -318,14 +318,13 @@ int main(int argc, char** argv) {
         matte = synth::read_matte(data + "/" + it->second.matte);
       held.push_back(face_region(*f, box, det, matte ? &*matte : nullptr));
       const HeldOut& h = held.back();
-      const long inner_uncovered =
-          matte ? std::count_if(h.mask.begin(), h.mask.end(),
-                                [](uint8_t b) { return (b >> kInner & 1) && !(b >> kCovered & 1); })
-                : 0;
-      const long core_uncovered =
-          matte ? std::count_if(h.mask.begin(), h.mask.end(),
-                                [](uint8_t b) { return (b >> kCore & 1) && !(b >> kCovered & 1); })
-                : 0;
+      // A region's pixels that the true matte does not cover fully.
+      auto uncovered = [&](Region r) -> long {
+        if (!matte) return 0;
+        return std::count_if(h.mask.begin(), h.mask.end(),
+                             [r](uint8_t b) { return (b >> r & 1) && !(b >> kCovered & 1); });
+      };
+      const long inner_uncovered = uncovered(kInner), core_uncovered = uncovered(kCore);
       std::cerr << fmt::format(
           "held-out {}: {} face pixels, {} inner ({} of them not fully covered by the subject), {} covered "
           "by "

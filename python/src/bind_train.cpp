@@ -59,9 +59,10 @@ pyb::object run_train(const TrainArgs& a) {
                              "' exists: pass force=True to overwrite it or choose another output");
   if (a.batch_log2 != 0 && (a.batch_log2 < 10 || a.batch_log2 > 22))
     throw pyb::value_error("batch_log2 must be 0 (by device: 18 on a GPU, 16 otherwise) or within 10..22");
-  if (!(a.hair_mm >= 0.0 && a.hair_mm <= 300.0))
+  if (!(a.hair_mm >= 0.0 && a.hair_mm <= capture::kMaxHairMm))
     throw pyb::value_error(
-        "hair_mm must be within 0..300 (millimetres of hair or hat above and behind the skull)");
+        fmt::format("hair_mm must be within 0..{} (millimetres of hair or hat above and behind the skull)",
+                    capture::kMaxHairMm));
   if (!std::filesystem::exists(a.data)) require_file(a.data, "dataset");
   auto model = std::make_shared<Model>();
   model->device = device_for(a.device);

@@ -122,7 +122,7 @@ void add_train(CLI::App& app, GlobalOptions& global) {
          "--hair", a->head.extents.hair_mm,
          "head box: millimetres of hair (or a hat) above and behind a large skull; the subject is cut "
          "where it stands out further (about 40 mm more). Raise it for a bun, tall hair or a hat")
-      ->check(CLI::Range(0.0, 300.0))
+      ->check(CLI::Range(0.0, capture::kMaxHairMm))
       ->capture_default_str();
   cmd->add_option("--background", a->background,
                   "room model behind the subject, then keep the subject's connected region: auto (mask-less "
