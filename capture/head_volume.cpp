@@ -18,6 +18,13 @@ constexpr double kLooseHairMm = 40.0;
 // the mean face, against 135 mm).
 constexpr double kChinAboveP99Mm = 20.0;
 
+// The cut rim (head_cut_rim): the volume's outer 6 mm (about one occupancy cell of a head's model),
+// from 20 mm above the eyes (above the brows: ears, face and neck stay out of it) up, and behind the
+// eyes: in front of them the volume's face box ends 55 mm ahead of the eyes, and the two real
+// captures' foreheads reach it (their depth is loosest there), while hats, buns and tall hair stand
+// out above and behind (docs/bench/real-captures.md, "a subject cut by the head volume").
+constexpr double kCutRimMm = 6.0, kCutRimAboveEyesMm = 20.0;
+
 // An axis-aligned shape of the head frame spanning [lo, hi] (mm).
 OrientedShape span(OrientedShape::Kind kind, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
   OrientedShape s;
@@ -131,6 +138,23 @@ nerf::SubjectVolume head_clear_keep_mm(const fit::HeadExtents& e) {
   v.parts.push_back(span(OrientedShape::Kind::Box, keep.lo, keep.hi));
   v.what = "the head box below the chin (the neck; capture/head_volume.h)";
   return v;
+}
+
+nerf::SubjectRim head_cut_rim_mm(const fit::HeadExtents& e) {
+  nerf::SubjectRim rim;
+  rim.inner = head_volume_mm(e).grown(-float(kCutRimMm));
+  const Span box = loose_hair_span(e);
+  const double reach = 1000.0;  // beyond the volume above, behind and beside it
+  rim.watch.parts.push_back(span(OrientedShape::Kind::Box,
+                                 {box.lo.x() - reach, kCutRimAboveEyesMm, box.lo.z() - reach},
+                                 {box.hi.x() + reach, box.hi.y() + reach, 0.0}));
+  rim.watch.what = "the head volume's rim above the brows and behind the eyes (capture/head_volume.h)";
+  return rim;
+}
+
+nerf::SubjectRim head_cut_rim(const fit::HeadBox& box) {
+  const nerf::SubjectRim mm = head_cut_rim_mm(box.extents);
+  return {to_scene(mm.inner, box), to_scene(mm.watch, box)};
 }
 
 nerf::SubjectVolume to_scene(const nerf::SubjectVolume& mm, const fit::HeadBox& box) {

@@ -38,6 +38,14 @@ nerf::SubjectVolume head_clear_keep(const fit::HeadBox& box);
 nerf::SubjectVolume head_clear_core_mm(const fit::HeadExtents& extents);
 nerf::SubjectVolume head_clear_core(const fit::HeadBox& box);
 
+// Where a subject cut by the head volume shows the cut (nerf::SubjectRim, host/nerf/subject_cut.h): the
+// head volume's outer 6 mm from 20 mm above the eyes up, behind the eyes. A hat, a bun or hair that stands
+// out further than `--hair` allows is cut flat there; a head inside the volume leaves it empty (the hair
+// allowance and the loose hair lie between the skull and the rim). In the head frame (mm) and in the
+// scene.
+nerf::SubjectRim head_cut_rim_mm(const fit::HeadExtents& extents);
+nerf::SubjectRim head_cut_rim(const fit::HeadBox& box);
+
 // A head-frame (mm) volume mapped to the scene by the frame of `box`.
 nerf::SubjectVolume to_scene(const nerf::SubjectVolume& mm, const fit::HeadBox& box);
 

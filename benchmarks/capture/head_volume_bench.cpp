@@ -12,11 +12,16 @@
 // (each held-out view: grey head, red box_not_head, blue corners, mixed by their weights; white
 // where nothing is seen) and <case>_side.png / _top.png (the densest cell along the head's x / y,
 // coloured alike, with the oriented box in black and the head volume's middle section in green).
+// Also runs the check `train` ends with (host/nerf/subject_cut.h) on the training views: the share of
+// the seen opacity in the head volume's rim above the brows and behind the eyes (rim_share in
+// head_volume.csv); --hair
+// sizes the head box as `train --hair` did.
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <functional>
@@ -27,6 +32,7 @@
 #include "fit/camera_math.h"
 #include "host/nerf/model.h"
 #include "host/nerf/snapshot.h"
+#include "host/nerf/subject_cut.h"
 #include "host/util/chart.h"
 #include "host/util/image_io.h"
 
@@ -231,6 +237,9 @@ int main(int argc, char** argv) {
   size_t max_views = 4;
   app.add_option("--stride", stride, "held-out pixels: every N-th in x and y (default 4)");
   app.add_option("--views", max_views, "held-out views marched (default 4)");
+  fit::HeadBoxOptions head_options;
+  app.add_option("--hair", head_options.extents.hair_mm,
+                 "the head box's hair allowance (mm), as train --hair (default 30)");
   CLI11_PARSE(app, argc, argv);
   cl::Runtime rt;
   if (case_args.empty() || case_args.size() % 3) {
@@ -242,7 +251,7 @@ int main(int argc, char** argv) {
   for (size_t k = 0; k + 2 < case_args.size(); k += 3) {
     Case cs{case_args[k], case_args[k + 1], case_args[k + 2]};
     dataset::Dataset ds = dataset::load_dataset(cs.data, {});
-    fit::HeadBox b = fit::estimate_head_box(capture::posed_photos(ds));
+    fit::HeadBox b = fit::estimate_head_box(capture::posed_photos(ds), head_options);
     Grid g;
     g.snap = nerf::read_snapshot(cs.model);
     const uint32_t res = g.snap.occ.res;
@@ -299,12 +308,26 @@ int main(int argc, char** argv) {
         "{}: held-out views see opacity {:.4f} in the head, {:.4f} in the box outside it, {:.4f} in "
         "the corners (mean per ray)",
         cs.name, seen[0], seen[1], seen[2]);
-    for (int r = 0; r < 3; ++r) rows[rows.size() - 3 + r].push_back(fmt::format("{:.4f}", seen[r]));
+    std::vector<Camera> train_cameras;
+    for (const dataset::Frame* fr : ds.require_split(dataset::Split::Train))
+      train_cameras.push_back(fr->camera);
+    nerf::NerfModel model = nerf::NerfModel::load(rt, cs.model);
+    const auto t0 = std::chrono::steady_clock::now();
+    const nerf::SubjectCutReport cut =
+        nerf::check_subject_cut(model, train_cameras, capture::head_cut_rim(b));
+    spdlog::info("{}: {} ({:.2f} s)", cs.name, cut.summary(),
+                 std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    for (int r = 0; r < 3; ++r) {
+      rows[rows.size() - 3 + r].push_back(fmt::format("{:.4f}", seen[r]));
+      rows[rows.size() - 3 + r].push_back(fmt::format("{:.5f}", cut.rim_share));
+    }
     write_view((fs::path(out) / (cs.name + "_side.png")).string(), g, b, box, head, 2, 1, 0);
     write_view((fs::path(out) / (cs.name + "_top.png")).string(), g, b, box, head, 0, 2, 1);
   }
-  write_csv((fs::path(out) / "head_volume.csv").string(),
-            {"case", "region", "cells", "occupied", "solid", "opacity_sum", "seen_opacity_per_ray"}, rows);
+  write_csv(
+      (fs::path(out) / "head_volume.csv").string(),
+      {"case", "region", "cells", "occupied", "solid", "opacity_sum", "seen_opacity_per_ray", "rim_share"},
+      rows);
   write_csv((fs::path(out) / "head_volume_seen_depth.csv").string(),
             {"case", "depth_mm", "seen_head", "seen_box_not_head", "seen_corners"}, seen_rows);
   write_csv((fs::path(out) / "head_volume_depth.csv").string(),

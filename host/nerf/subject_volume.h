@@ -43,6 +43,16 @@ struct SubjectVolume {
   SubjectVolume grown(float d) const;
 };
 
+// Where a subject that stands out of its volume is cut flat: points outside `inner` (the volume shrunk
+// by a few mm; beyond the volume the mask leaves no density) and inside `watch` (for a head: above the
+// brows and behind the eyes, where hats, buns and tall hair stand out). A subject inside the volume
+// leaves it empty; one cut by the volume shows the cut there (host/nerf/subject_cut.h).
+struct SubjectRim {
+  SubjectVolume inner, watch;
+  bool empty() const { return watch.empty(); }
+  bool contains(const Vec3f& p) const { return watch.contains(p) && !inner.contains(p); }
+};
+
 // A subject's volume with the zones of the room model's clearing inside it (background_field.h;
 // capture/head_volume.h builds all three from a landmark head box). Empty zones do not apply.
 struct SubjectZones {
@@ -54,6 +64,8 @@ struct SubjectZones {
   // The bare subject (a head without the hair margins behind and above the skull): in `volume`
   // outside it, the clearing leans towards the room (BackgroundOptions::lean_gate).
   SubjectVolume core;
+  // Not a clearing zone: where training checks, once done, whether the volume cut the subject.
+  SubjectRim rim;
 };
 
 // The occupancy mask of `volume` over `box` at res^3 cells (occ_word_count(res) words, the grid's

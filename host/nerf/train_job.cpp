@@ -6,6 +6,7 @@
 
 #include <filesystem>
 
+#include "host/nerf/subject_cut.h"
 #include "host/nerf/subject_region.h"
 
 namespace lorgnette::nerf {
@@ -124,7 +125,7 @@ TrainJobResult train_on_dataset(cl::Runtime& rt, const dataset::Dataset& ds, Tra
   spdlog::info("background: {}",
                background ? "a room model behind the subject (mask-less capture, subject box)"
                           : (ds.has_alpha ? "none (the images' alpha masks separate the subject)" : "none"));
-  std::string region;
+  std::string region, cut_summary;
   {
     Trainer trainer(model, views, plan.train, plan.sizing.occupancy_mask);
     std::string snapshot = plan.train.snapshot_path;
@@ -138,6 +139,14 @@ TrainJobResult train_on_dataset(cl::Runtime& rt, const dataset::Dataset& ds, Tra
         if (!snapshot.empty()) model.save(snapshot);
       }
       spdlog::info("{}", region);
+      if (rep.found && job.subject && !job.subject->rim.empty()) {
+        std::vector<Camera> cameras;
+        for (const View& v : views) cameras.push_back(v.camera);
+        const SubjectCutReport cut = check_subject_cut(model, cameras, job.subject->rim);
+        spdlog::info("{}", cut.summary());
+        if (cut.cut) spdlog::warn("{}", cut.advice());
+        cut_summary = cut.summary();
+      }
       if (!rep.found) {
         model.metadata.subject_problem =
             "the subject could not be separated from the room: nothing was reconstructed in the middle of "
@@ -149,7 +158,8 @@ TrainJobResult train_on_dataset(cl::Runtime& rt, const dataset::Dataset& ds, Tra
     }
     return {std::move(model),  std::move(plan.sizing),
             std::move(result), std::move(plan.budget),
-            background,        region};
+            background,        region,
+            cut_summary};
   }
 }
 

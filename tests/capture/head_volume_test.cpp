@@ -21,6 +21,15 @@ namespace {
 
 nerf::Vec3f vec(const Eigen::Vector3d& p) { return {float(p.x()), float(p.y()), float(p.z())}; }
 
+// The mean face's anchor as the volumes use it: its eye corners' centroid at the inner corners' depth.
+Eigen::Vector3d mean_face_anchor(const fit::Face68& face) {
+  Eigen::Vector3d anchor = Eigen::Vector3d::Zero();
+  for (int k : {fit::lm::kEyeOuterR, fit::lm::kEyeInnerR, fit::lm::kEyeInnerL, fit::lm::kEyeOuterL})
+    anchor += 0.25 * face[k];
+  anchor.z() = 0.5 * (face[fit::lm::kEyeInnerR].z() + face[fit::lm::kEyeInnerL].z());
+  return anchor;
+}
+
 // The head box of a procedural subject from its true head frame (rotated by `rot` in the scene),
 // anchored as fit::estimate_head_box anchors it (the eye corners' centroid, at the inner corners'
 // depth), and the subject's vertices in that scene.
@@ -167,12 +176,9 @@ TEST(HeadVolume, ClearCoreIsTheBareHead) {
   auto in = [](const nerf::SubjectVolume& v, double x, double y, double z) {
     return v.contains({float(x), float(y), float(z)});
   };
-  // The mean face about the volumes' anchor (its eye corners' centroid at the inner corners' depth).
+  // The mean face about the volumes' anchor.
   const fit::Face68& face = fit::builtin_mean_face();
-  Eigen::Vector3d anchor = Eigen::Vector3d::Zero();
-  for (int k : {fit::lm::kEyeOuterR, fit::lm::kEyeInnerR, fit::lm::kEyeInnerL, fit::lm::kEyeOuterL})
-    anchor += 0.25 * face[k];
-  anchor.z() = 0.5 * (face[fit::lm::kEyeInnerR].z() + face[fit::lm::kEyeInnerL].z());
+  const Eigen::Vector3d anchor = mean_face_anchor(face);
   int core_points = 0, lean_points = 0;
   for (double x = -300; x <= 300; x += 10)
     for (double y = -300; y <= 300; y += 10)
@@ -239,11 +245,63 @@ TEST(HeadVolume, HairAllowanceRaisesTheTopAndTheBack) {
   for (double x = -200; x <= 200; x += 20)
     for (double y = -300; y <= 300; y += 20)
       for (double z = -400; z <= 150; z += 20) {
-        if (in(core, x, y, z)) EXPECT_TRUE(in(tall_core, x, y, z)) << x << " " << y << " " << z;
+        if (in(core, x, y, z)) {
+          EXPECT_TRUE(in(tall_core, x, y, z)) << x << " " << y << " " << z;
+        }
         // Below the eyes and in front of the skull's middle the volume is unchanged.
-        if (y < 0 && z > -100)
+        if (y < 0 && z > -100) {
           EXPECT_EQ(in(vol, x, y, z), in(tall_vol, x, y, z)) << x << " " << y << " " << z;
+        }
       }
+}
+
+// The cut rim (head_cut_rim_mm): the head volume's outer 6 mm from 20 mm above the eyes up, behind the
+// eyes, so a crown cut at the volume's top lies in it, while the skull, the hair within the allowance,
+// the face, the ears and the neck do not; with `--hair` it follows the larger volume.
+TEST(HeadVolume, CutRimIsTheVolumesTopEdge) {
+  const fit::HeadExtents e;
+  fit::HeadExtents tall;
+  tall.hair_mm = 150.0;
+  const nerf::SubjectRim rim = head_cut_rim_mm(e), tall_rim = head_cut_rim_mm(tall);
+  const nerf::SubjectVolume vol = head_volume_mm(e);
+  auto in = [](const nerf::SubjectRim& r, double x, double y, double z) {
+    return r.contains({float(x), float(y), float(z)});
+  };
+  // The volume's top above the crown: its last mm are rim; 10 mm further in are not.
+  double top = e.vertex_above_eyes_mm;
+  while (vol.contains({0.0f, float(top + 1), -80.0f})) top += 1;
+  EXPECT_GT(top, e.vertex_above_eyes_mm + e.hair_mm);  // hair and loose hair above the p99 skull
+  EXPECT_TRUE(in(rim, 0, top - 2, -80));
+  EXPECT_FALSE(in(rim, 0, top - 10, -80));
+  EXPECT_FALSE(in(tall_rim, 0, top - 2, -80));  // 150 mm of hair: well inside
+  // A p99 head with its 30 mm of hair is not rim: the top and back of the hair, the skull's sides
+  // above the brows, the forehead, and the 68 points of the mean face.
+  const double back = e.head_length_mm - e.glabella_ahead_mm, half = 0.5 * e.head_breadth_mm;
+  for (const Eigen::Vector3d& p :
+       {Eigen::Vector3d(0, e.vertex_above_eyes_mm + e.hair_mm, -80),
+        Eigen::Vector3d(0, 40, -back - e.hair_mm), Eigen::Vector3d(half, 40, -90),
+        Eigen::Vector3d(-half, 40, -90), Eigen::Vector3d(0, 40, e.glabella_ahead_mm)})
+    EXPECT_FALSE(in(rim, p.x(), p.y(), p.z())) << p.transpose();
+  const fit::Face68& face = fit::builtin_mean_face();
+  const Eigen::Vector3d anchor = mean_face_anchor(face);
+  for (int k = 0; k < 68; ++k) {
+    const Eigen::Vector3d p = face[k] - anchor;
+    EXPECT_FALSE(in(rim, p.x(), p.y(), p.z())) << "landmark " << k;
+  }
+  // Below the brows the volume's edge is not rim: the side of the head at ear height, the neck's end.
+  double side = 0.5 * e.head_breadth_mm;
+  while (vol.contains({float(side + 1), -30.0f, -90.0f})) side += 1;
+  EXPECT_FALSE(in(rim, side - 2, -30, -90));
+  EXPECT_FALSE(in(rim, 0, -(e.chin_below_eyes_mm + e.neck_mm) + 2, -90));
+  // Nor is the face box's front above the brows, which frontal captures' foreheads reach.
+  double front = 0.0;
+  while (vol.contains({0.0f, 40.0f, float(front + 1)})) front += 1;
+  EXPECT_GT(front, e.glabella_ahead_mm);
+  EXPECT_FALSE(in(rim, 0, 40, front - 2));
+  // Its side above the brows is.
+  double upper_side = 0.5 * e.head_breadth_mm;
+  while (vol.contains({float(upper_side + 1), 60.0f, -90.0f})) upper_side += 1;
+  EXPECT_TRUE(in(rim, upper_side - 2, 60, -90));
 }
 
 }  // namespace

@@ -1,0 +1,123 @@
+// The seen opacity in a zone, marched on the host (the few rays of a check do not need the marcher's
+// kernels); the densities come in batches from the field.
+#include "host/nerf/subject_cut.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace lorgnette::nerf {
+namespace {
+constexpr size_t kCheckViews = 12;
+constexpr uint32_t kCheckRays = 64;
+}  // namespace
+
+SeenOpacity seen_opacity(const std::vector<Camera>& cameras, const Aabb& box, const SceneNormalisation& norm,
+                         float step, const OccupancyGrid& occ, uint32_t stride, const DensityAt& density,
+                         const std::function<bool(const Vec3f&)>& in_zone) {
+  SeenOpacity seen;
+  if (stride == 0 || !(step > 0.0f) || occ.res == 0) return seen;
+  struct Sample {
+    uint32_t ray;
+    bool zone;
+  };
+  for (const Camera& cam : cameras) {
+    const uint32_t w = cam.width / stride, h = cam.height / stride;
+    std::vector<Sample> samples;
+    std::vector<Vec3f> points;
+    for (uint32_t y = 0; y < h; ++y)
+      for (uint32_t x = 0; x < w; ++x) {
+        const LgnVec3 o0 = camera_origin(&cam), d = camera_ray_dir(&cam, (x + 0.5f) * stride, (y + 0.5f) * stride);
+        const float dir[3] = {d.x, d.y, d.z};
+        const float o[3] = {o0.x * norm.scale + norm.offset[0], o0.y * norm.scale + norm.offset[1],
+                            o0.z * norm.scale + norm.offset[2]};
+        float t0 = 0.0f, t1 = 1e30f;
+        for (int a = 0; a < 3; ++a) {
+          const float inv = 1.0f / dir[a], ta = (box.min[a] - o[a]) * inv, tb = (box.max[a] - o[a]) * inv;
+          t0 = std::max(t0, std::min(ta, tb)), t1 = std::min(t1, std::max(ta, tb));
+        }
+        for (float t = t0 + 0.5f * step; t < t1; t += step) {
+          Vec3f q, scene;
+          uint32_t cell[3];
+          for (int a = 0; a < 3; ++a) {
+            const float p = o[a] + t * dir[a];
+            q[a] = std::clamp((p - box.min[a]) / box.extent(a), 0.0f, 0.999999f);
+            cell[a] = std::min(uint32_t(q[a] * float(occ.res)), occ.res - 1);
+            scene[a] = (p - norm.offset[a]) / norm.scale;
+          }
+          const uint64_t c = cell[0] + uint64_t(occ.res) * (cell[1] + uint64_t(occ.res) * cell[2]);
+          if (!((occ.bits[c >> 5] >> (c & 31u)) & 1u)) continue;
+          samples.push_back({y * w + x, in_zone(scene)});
+          points.push_back(q);
+        }
+      }
+    std::vector<float> sigma;
+    if (!points.empty()) density(points, sigma);
+    std::vector<float> T(size_t(w) * h, 1.0f);
+    for (size_t i = 0; i < samples.size(); ++i) {  // in ray order, near to far
+      const float s = std::isfinite(sigma[i]) ? std::max(sigma[i], 0.0f) : 0.0f;
+      const float a = 1.0f - std::exp(-s * step);
+      const double wgt = double(T[samples[i].ray]) * a;
+      seen.total += wgt;
+      if (samples[i].zone) seen.in_zone += wgt;
+      T[samples[i].ray] *= 1.0f - a;
+    }
+    seen.rays += size_t(w) * h;
+  }
+  return seen;
+}
+
+std::string SubjectCutReport::summary() const {
+  if (!checked) return "subject cut: not checked";
+  return fmt::format("subject volume's edge: {:.3f} % of the opacity the views see lies in its rim above and behind "
+                     "the head ({} the {:.1f} % that warns)",
+                     100.0 * rim_share, cut ? "over" : "under", 100.0 * kSubjectCutShare);
+}
+
+std::string SubjectCutReport::advice() const {
+  if (!cut) return "";
+  return fmt::format(
+      "the head's volume cut the subject above or behind the head ({:.2f} % of what the views see lies in the "
+      "volume's outer 6 mm there): a hat, a bun or hair that stands out further than the volume allows is cut "
+      "flat. Train again with a larger hair allowance to keep it (`lorgnette train ... --hair 100`, up to 300 "
+      "mm; the renders show how much is cut)",
+      100.0 * rim_share);
+}
+
+SubjectCutReport check_subject_cut(NerfModel& model, const std::vector<Camera>& cameras, const SubjectRim& rim) {
+  SubjectCutReport r;
+  if (rim.empty() || cameras.empty()) return r;
+  field::Field& f = model.field();
+  cl::Runtime& rt = model.runtime();
+  const uint32_t batch = f.max_batch();
+  cl::Buffer<float> pos(rt, size_t(3) * batch), sig(rt, batch);
+  DensityAt density = [&](const std::vector<Vec3f>& points, std::vector<float>& sigma) {
+    sigma.assign(points.size(), 0.0f);
+    std::vector<float> soa(size_t(3) * batch, 0.0f);
+    for (size_t s0 = 0; s0 < points.size(); s0 += batch) {
+      const uint32_t n = uint32_t(std::min<size_t>(batch, points.size() - s0));
+      for (uint32_t i = 0; i < n; ++i)
+        for (int a = 0; a < 3; ++a) soa[size_t(a) * batch + i] = points[s0 + i][a];
+      pos.write(rt, soa);
+      f.density(pos, n, sig);
+      const std::vector<float> out = sig.read(rt, n);
+      std::copy(out.begin(), out.end(), sigma.begin() + long(s0));
+    }
+  };
+  // At most kCheckViews views, evenly spread over the capture, and about kCheckRays rays across each
+  // view's longer side: about a second on two CPU cores.
+  std::vector<Camera> picked;
+  const size_t n = std::min(cameras.size(), kCheckViews);
+  for (size_t i = 0; i < n; ++i) picked.push_back(cameras[i * cameras.size() / n]);
+  const uint32_t longest = std::max(picked.front().width, picked.front().height);
+  const uint32_t stride = std::max(1u, longest / kCheckRays);
+  const SeenOpacity seen = seen_opacity(picked, model.aabb(), model.normalisation, model.step(), model.occupancy(),
+                                        stride, density, [&](const Vec3f& p) { return rim.contains(p); });
+  r.checked = seen.total > 0.0;
+  r.rim_share = seen.share();
+  r.cut = r.checked && r.rim_share >= kSubjectCutShare;
+  return r;
+}
+
+}  // namespace lorgnette::nerf
