@@ -149,12 +149,21 @@ nerf::SubjectRim head_cut_rim_mm(const fit::HeadExtents& e) {
                                  {box.lo.x() - reach, kCutRimAboveEyesMm, box.lo.z() - reach},
                                  {box.hi.x() + reach, box.hi.y() + reach, 0.0}));
   rim.watch.what = "the head volume's rim above the brows and behind the eyes (capture/head_volume.h)";
+  // Its sides: beyond the head box's sides (breadth and side margin), where --hair moves nothing.
+  const Span head = head_box_span(e);
+  for (double sign : {-1.0, 1.0}) {
+    const double x0 = sign * head.hi.x(), x1 = sign * (head.hi.x() + reach);
+    rim.fixed.parts.push_back(span(OrientedShape::Kind::Box,
+                                   {std::min(x0, x1), kCutRimAboveEyesMm, box.lo.z() - reach},
+                                   {std::max(x0, x1), box.hi.y() + reach, 0.0}));
+  }
+  rim.fixed.what = "the rim's sides (capture/head_volume.h)";
   return rim;
 }
 
 nerf::SubjectRim head_cut_rim(const fit::HeadBox& box) {
   const nerf::SubjectRim mm = head_cut_rim_mm(box.extents);
-  return {to_scene(mm.inner, box), to_scene(mm.watch, box)};
+  return {to_scene(mm.inner, box), to_scene(mm.watch, box), to_scene(mm.fixed, box)};
 }
 
 nerf::SubjectVolume to_scene(const nerf::SubjectVolume& mm, const fit::HeadBox& box) {

@@ -41,8 +41,8 @@ nerf::SubjectVolume head_clear_core(const fit::HeadBox& box);
 // Where a subject cut by the head volume shows the cut (nerf::SubjectRim, host/nerf/subject_cut.h): the
 // head volume's outer 6 mm from 20 mm above the eyes up, behind the eyes. A hat, a bun or hair that stands
 // out further than `--hair` allows is cut flat there; a head inside the volume leaves it empty (the hair
-// allowance and the loose hair lie between the skull and the rim). In the head frame (mm) and in the
-// scene.
+// allowance and the loose hair lie between the skull and the rim). Its fixed part is beyond the head
+// box's sides, which `--hair` does not move. In the head frame (mm) and in the scene.
 nerf::SubjectRim head_cut_rim_mm(const fit::HeadExtents& extents);
 nerf::SubjectRim head_cut_rim(const fit::HeadBox& box);
 

@@ -13,8 +13,8 @@
 // where nothing is seen) and <case>_side.png / _top.png (the densest cell along the head's x / y,
 // coloured alike, with the oriented box in black and the head volume's middle section in green).
 // Also runs the check `train` ends with (host/nerf/subject_cut.h) on the training views: the share of
-// the seen opacity in the head volume's rim above the brows and behind the eyes (rim_share in
-// head_volume.csv); --hair
+// the seen opacity in the head volume's rim above the brows and behind the eyes, at its top and back
+// and at its sides (rim_share, rim_sides_share in head_volume.csv); --hair
 // sizes the head box as `train --hair` did.
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
@@ -320,14 +320,15 @@ int main(int argc, char** argv) {
     for (int r = 0; r < 3; ++r) {
       rows[rows.size() - 3 + r].push_back(fmt::format("{:.4f}", seen[r]));
       rows[rows.size() - 3 + r].push_back(fmt::format("{:.5f}", cut.rim_share));
+      rows[rows.size() - 3 + r].push_back(fmt::format("{:.5f}", cut.fixed_share));
     }
     write_view((fs::path(out) / (cs.name + "_side.png")).string(), g, b, box, head, 2, 1, 0);
     write_view((fs::path(out) / (cs.name + "_top.png")).string(), g, b, box, head, 0, 2, 1);
   }
-  write_csv(
-      (fs::path(out) / "head_volume.csv").string(),
-      {"case", "region", "cells", "occupied", "solid", "opacity_sum", "seen_opacity_per_ray", "rim_share"},
-      rows);
+  write_csv((fs::path(out) / "head_volume.csv").string(),
+            {"case", "region", "cells", "occupied", "solid", "opacity_sum", "seen_opacity_per_ray",
+             "rim_share", "rim_sides_share"},
+            rows);
   write_csv((fs::path(out) / "head_volume_seen_depth.csv").string(),
             {"case", "depth_mm", "seen_head", "seen_box_not_head", "seen_corners"}, seen_rows);
   write_csv((fs::path(out) / "head_volume_depth.csv").string(),

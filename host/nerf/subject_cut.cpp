@@ -15,12 +15,13 @@ constexpr uint32_t kCheckRays = 64;
 
 SeenOpacity seen_opacity(const std::vector<Camera>& cameras, const Aabb& box, const SceneNormalisation& norm,
                          float step, const OccupancyGrid& occ, uint32_t stride, const DensityAt& density,
-                         const std::function<bool(const Vec3f&)>& in_zone) {
+                         int zones, const std::function<int(const Vec3f&)>& zone_of) {
   SeenOpacity seen;
+  seen.in_zone.assign(size_t(std::max(zones, 0)), 0.0);
   if (stride == 0 || !(step > 0.0f) || occ.res == 0) return seen;
   struct Sample {
     uint32_t ray;
-    bool zone;
+    int zone;
   };
   for (const Camera& cam : cameras) {
     const uint32_t w = cam.width / stride, h = cam.height / stride;
@@ -28,7 +29,8 @@ SeenOpacity seen_opacity(const std::vector<Camera>& cameras, const Aabb& box, co
     std::vector<Vec3f> points;
     for (uint32_t y = 0; y < h; ++y)
       for (uint32_t x = 0; x < w; ++x) {
-        const LgnVec3 o0 = camera_origin(&cam), d = camera_ray_dir(&cam, (x + 0.5f) * stride, (y + 0.5f) * stride);
+        const LgnVec3 o0 = camera_origin(&cam),
+                      d = camera_ray_dir(&cam, (x + 0.5f) * stride, (y + 0.5f) * stride);
         const float dir[3] = {d.x, d.y, d.z};
         const float o[3] = {o0.x * norm.scale + norm.offset[0], o0.y * norm.scale + norm.offset[1],
                             o0.z * norm.scale + norm.offset[2]};
@@ -48,7 +50,8 @@ SeenOpacity seen_opacity(const std::vector<Camera>& cameras, const Aabb& box, co
           }
           const uint64_t c = cell[0] + uint64_t(occ.res) * (cell[1] + uint64_t(occ.res) * cell[2]);
           if (!((occ.bits[c >> 5] >> (c & 31u)) & 1u)) continue;
-          samples.push_back({y * w + x, in_zone(scene)});
+          const int zone = zone_of(scene);
+          samples.push_back({y * w + x, zone >= 1 && zone <= zones ? zone : 0});
           points.push_back(q);
         }
       }
@@ -60,7 +63,7 @@ SeenOpacity seen_opacity(const std::vector<Camera>& cameras, const Aabb& box, co
       const float a = 1.0f - std::exp(-s * step);
       const double wgt = double(T[samples[i].ray]) * a;
       seen.total += wgt;
-      if (samples[i].zone) seen.in_zone += wgt;
+      if (samples[i].zone) seen.in_zone[size_t(samples[i].zone - 1)] += wgt;
       T[samples[i].ray] *= 1.0f - a;
     }
     seen.rays += size_t(w) * h;
@@ -69,23 +72,36 @@ SeenOpacity seen_opacity(const std::vector<Camera>& cameras, const Aabb& box, co
 }
 
 std::string SubjectCutReport::summary() const {
-  if (!checked) return "subject cut: not checked";
-  return fmt::format("subject volume's edge: {:.3f} % of the opacity the views see lies in its rim above and behind "
-                     "the head ({} the {:.1f} % that warns)",
-                     100.0 * rim_share, cut ? "over" : "under", 100.0 * kSubjectCutShare);
+  if (!checked) return "subject volume's edge: not checked";
+  return fmt::format(
+      "subject volume's edge: {:.3f} % of the opacity the views see lies in its rim above and behind "
+      "the head, {:.3f} % at its sides ({} the {:.1f} % that warns)",
+      100.0 * rim_share, 100.0 * fixed_share, cut() ? "over" : "under", 100.0 * kSubjectCutShare);
 }
 
 std::string SubjectCutReport::advice() const {
-  if (!cut) return "";
-  return fmt::format(
-      "the head's volume cut the subject above or behind the head ({:.2f} % of what the views see lies in the "
-      "volume's outer 6 mm there): a hat, a bun or hair that stands out further than the volume allows is cut "
-      "flat. Train again with a larger hair allowance to keep it (`lorgnette train ... --hair 100`, up to 300 "
-      "mm; the renders show how much is cut)",
-      100.0 * rim_share);
+  if (!cut()) return "";
+  std::string s = "the head's volume cut the subject";
+  if (rim_share >= kSubjectCutShare)
+    s += fmt::format(
+        " above or behind the head ({:.2f} % of what the views see lies in the volume's outer 6 mm there): a "
+        "hat, a "
+        "bun or hair that stands out further than the volume allows is cut flat. Train again with a larger "
+        "hair "
+        "allowance to keep it (`lorgnette train ... --hair 100`, up to 300 mm; the renders show how much is "
+        "cut)",
+        100.0 * rim_share);
+  if (fixed_share >= kSubjectCutShare)
+    s += fmt::format(
+        "{} at the sides above the ears ({:.2f} % of what the views see): the subject is wider there "
+        "than the head's volume (a wide hat or hair), and `--hair` raises only the volume's top and "
+        "back, so the sides stay cut",
+        rim_share >= kSubjectCutShare ? ";" : "", 100.0 * fixed_share);
+  return s;
 }
 
-SubjectCutReport check_subject_cut(NerfModel& model, const std::vector<Camera>& cameras, const SubjectRim& rim) {
+SubjectCutReport check_subject_cut(NerfModel& model, const std::vector<Camera>& cameras,
+                                   const SubjectRim& rim) {
   SubjectCutReport r;
   if (rim.empty() || cameras.empty()) return r;
   field::Field& f = model.field();
@@ -112,11 +128,12 @@ SubjectCutReport check_subject_cut(NerfModel& model, const std::vector<Camera>& 
   for (size_t i = 0; i < n; ++i) picked.push_back(cameras[i * cameras.size() / n]);
   const uint32_t longest = std::max(picked.front().width, picked.front().height);
   const uint32_t stride = std::max(1u, longest / kCheckRays);
-  const SeenOpacity seen = seen_opacity(picked, model.aabb(), model.normalisation, model.step(), model.occupancy(),
-                                        stride, density, [&](const Vec3f& p) { return rim.contains(p); });
+  const SeenOpacity seen =
+      seen_opacity(picked, model.aabb(), model.normalisation, model.step(), model.occupancy(), stride,
+                   density, 2, [&](const Vec3f& p) { return rim.zone(p); });
   r.checked = seen.total > 0.0;
-  r.rim_share = seen.share();
-  r.cut = r.checked && r.rim_share >= kSubjectCutShare;
+  r.rim_share = seen.share(1);
+  r.fixed_share = seen.share(2);
   return r;
 }
 

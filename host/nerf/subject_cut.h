@@ -20,35 +20,41 @@ namespace lorgnette::nerf {
 using DensityAt = std::function<void(const std::vector<Vec3f>& points, std::vector<float>& sigma)>;
 
 struct SeenOpacity {
-  double in_zone = 0.0, total = 0.0;  // compositing weight (T * alpha) summed over the rays
+  // Compositing weight (T * alpha) summed over the rays: in each zone (zone k at in_zone[k - 1]), and
+  // in all.
+  std::vector<double> in_zone;
+  double total = 0.0;
   size_t rays = 0;
-  double share() const { return total > 0.0 ? in_zone / total : 0.0; }
+  double share(int zone) const { return total > 0.0 ? in_zone[size_t(zone - 1)] / total : 0.0; }
 };
 
 // The opacity the cameras see: every `stride`-th pixel's ray (scene frame, mapped into the model's
 // box by `norm`) marched at `step` through the box's occupied cells of `occ`, the samples' densities
-// from `density`, each sample's weight T * (1 - exp(-sigma * step)) added to `total` and, where
-// `in_zone` holds for the sample's scene-frame position, to `in_zone`.
+// from `density`, each sample's weight T * (1 - exp(-sigma * step)) added to `total` and to the zone
+// `zone_of` gives the sample's scene-frame position (1..zones; 0: none).
 SeenOpacity seen_opacity(const std::vector<Camera>& cameras, const Aabb& box, const SceneNormalisation& norm,
                          float step, const OccupancyGrid& occ, uint32_t stride, const DensityAt& density,
-                         const std::function<bool(const Vec3f&)>& in_zone);
-
-struct SubjectCutReport {
-  bool checked = false;  // a rim was given and the views saw the subject
-  double rim_share = 0.0;
-  bool cut = false;  // rim_share >= kSubjectCutShare
-  std::string summary() const;
-  // What to do when cut (train again with a larger --hair); "" otherwise.
-  std::string advice() const;
-};
+                         int zones, const std::function<int(const Vec3f&)>& zone_of);
 
 // The rim's share of the seen opacity at or above which the subject counts as cut. Measured (27 Nov):
 // the Nefertiti bust's crown, cut by the default volume, 0.67 %; in2n-face (curls) 0.016 %,
 // fangzhou-frontal 0.001 %, the procedural head and the scan 0.000 %. 0.1 % lies ~6x from both sides.
 constexpr double kSubjectCutShare = 0.001;
 
-// seen_opacity of `model` from up to 12 of `cameras` (evenly spread, ~64 rays across each) with the
-// rim as the zone.
-SubjectCutReport check_subject_cut(NerfModel& model, const std::vector<Camera>& cameras, const SubjectRim& rim);
+struct SubjectCutReport {
+  bool checked = false;  // a rim was given and the views saw the subject
+  // Shares of the seen opacity in the rim outside its fixed part (a head's top and back), and in its
+  // fixed part (a head's sides).
+  double rim_share = 0.0, fixed_share = 0.0;
+  bool cut() const { return checked && (rim_share >= kSubjectCutShare || fixed_share >= kSubjectCutShare); }
+  std::string summary() const;
+  // What to do when cut ("" otherwise): a larger --hair for the top and back; the sides it cannot move.
+  std::string advice() const;
+};
+
+// seen_opacity of `model` from up to 12 of `cameras` (evenly spread, ~64 rays across each), the rim
+// outside its fixed part as zone 1 and its fixed part as zone 2.
+SubjectCutReport check_subject_cut(NerfModel& model, const std::vector<Camera>& cameras,
+                                   const SubjectRim& rim);
 
 }  // namespace lorgnette::nerf

@@ -46,11 +46,17 @@ struct SubjectVolume {
 // Where a subject that stands out of its volume is cut flat: points outside `inner` (the volume shrunk
 // by a few mm; beyond the volume the mask leaves no density) and inside `watch` (for a head: above the
 // brows and behind the eyes, where hats, buns and tall hair stand out). A subject inside the volume
-// leaves it empty; one cut by the volume shows the cut there (host/nerf/subject_cut.h).
+// leaves it empty; one cut by the volume shows the cut there (host/nerf/subject_cut.h). `fixed` is the
+// part of it that the volume's allowance does not move (a head's sides: `train --hair` raises only
+// its top and back).
 struct SubjectRim {
-  SubjectVolume inner, watch;
+  SubjectVolume inner, watch, fixed;
   bool empty() const { return watch.empty(); }
-  bool contains(const Vec3f& p) const { return watch.contains(p) && !inner.contains(p); }
+  // 0: not in the rim; 1: in the rim, outside `fixed`; 2: in `fixed`.
+  int zone(const Vec3f& p) const {
+    if (!watch.contains(p) || inner.contains(p)) return 0;
+    return fixed.contains(p) ? 2 : 1;
+  }
 };
 
 // A subject's volume with the zones of the room model's clearing inside it (background_field.h;

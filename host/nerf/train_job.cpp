@@ -144,7 +144,7 @@ TrainJobResult train_on_dataset(cl::Runtime& rt, const dataset::Dataset& ds, Tra
         for (const View& v : views) cameras.push_back(v.camera);
         const SubjectCutReport cut = check_subject_cut(model, cameras, job.subject->rim);
         spdlog::info("{}", cut.summary());
-        if (cut.cut) spdlog::warn("{}", cut.advice());
+        if (cut.cut()) spdlog::warn("{}", cut.advice());
         cut_summary = cut.summary();
       }
       if (!rep.found) {

@@ -265,7 +265,7 @@ TEST(HeadVolume, CutRimIsTheVolumesTopEdge) {
   const nerf::SubjectRim rim = head_cut_rim_mm(e), tall_rim = head_cut_rim_mm(tall);
   const nerf::SubjectVolume vol = head_volume_mm(e);
   auto in = [](const nerf::SubjectRim& r, double x, double y, double z) {
-    return r.contains({float(x), float(y), float(z)});
+    return r.zone({float(x), float(y), float(z)}) != 0;
   };
   // The volume's top above the crown: its last mm are rim; 10 mm further in are not.
   double top = e.vertex_above_eyes_mm;
@@ -298,10 +298,14 @@ TEST(HeadVolume, CutRimIsTheVolumesTopEdge) {
   while (vol.contains({0.0f, 40.0f, float(front + 1)})) front += 1;
   EXPECT_GT(front, e.glabella_ahead_mm);
   EXPECT_FALSE(in(rim, 0, 40, front - 2));
-  // Its side above the brows is.
+  // Its side above the brows is, in the fixed part (beyond the head box's sides); the top is not.
   double upper_side = 0.5 * e.head_breadth_mm;
   while (vol.contains({float(upper_side + 1), 60.0f, -90.0f})) upper_side += 1;
   EXPECT_TRUE(in(rim, upper_side - 2, 60, -90));
+  EXPECT_EQ(rim.zone({float(upper_side - 2), 60.0f, -90.0f}), 2);
+  EXPECT_EQ(rim.zone({float(-(upper_side - 2)), 60.0f, -90.0f}), 2);
+  EXPECT_EQ(rim.zone({0.0f, float(top - 2), -80.0f}), 1);
+  EXPECT_EQ(rim.zone({0.0f, 0.0f, -80.0f}), 0);
 }
 
 }  // namespace
