@@ -125,7 +125,7 @@ TrainJobResult train_on_dataset(cl::Runtime& rt, const dataset::Dataset& ds, Tra
   spdlog::info("background: {}",
                background ? "a room model behind the subject (mask-less capture, subject box)"
                           : (ds.has_alpha ? "none (the images' alpha masks separate the subject)" : "none"));
-  std::string region, cut_summary;
+  std::string region;
   {
     Trainer trainer(model, views, plan.train, plan.sizing.occupancy_mask);
     std::string snapshot = plan.train.snapshot_path;
@@ -145,7 +145,6 @@ TrainJobResult train_on_dataset(cl::Runtime& rt, const dataset::Dataset& ds, Tra
         const SubjectCutReport cut = check_subject_cut(model, cameras, job.subject->rim);
         spdlog::info("{}", cut.summary());
         if (cut.cut()) spdlog::warn("{}", cut.advice());
-        cut_summary = cut.summary();
       }
       if (!rep.found) {
         model.metadata.subject_problem =
@@ -158,8 +157,7 @@ TrainJobResult train_on_dataset(cl::Runtime& rt, const dataset::Dataset& ds, Tra
     }
     return {std::move(model),  std::move(plan.sizing),
             std::move(result), std::move(plan.budget),
-            background,        region,
-            cut_summary};
+            background,        region};
   }
 }
 

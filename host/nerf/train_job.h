@@ -43,7 +43,6 @@ struct TrainJobResult {
   std::string budget;       // which budget applied and why (train_budget.h)
   bool background = false;  // trained with a room model
   std::string region;       // the subject region's summary ("" without a room model)
-  std::string subject_cut;  // whether the subject volume cut the subject (subject_cut.h; "" unchecked)
 };
 
 // The training split's views (pointers into `ds`, which must outlive them). Throws a clear error
