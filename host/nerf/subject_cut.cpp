@@ -84,12 +84,10 @@ std::string SubjectCutReport::advice() const {
   std::string s = "the head's volume cut the subject";
   if (rim_share >= kSubjectCutShare)
     s += fmt::format(
-        " above or behind the head ({:.2f} % of what the views see lies in the volume's outer 6 mm there): a "
-        "hat, a "
-        "bun or hair that stands out further than the volume allows is cut flat. Train again with a larger "
-        "hair "
-        "allowance to keep it (`lorgnette train ... --hair 100`, up to 300 mm; the renders show how much is "
-        "cut)",
+        " above or behind the head ({:.2f} % of what the views see lies in the volume's outer 6 mm "
+        "there): a hat, a bun or hair that stands out further than the volume allows is cut flat. "
+        "Train again with a larger hair allowance to keep it (`lorgnette train ... --hair 100`, up to "
+        "300 mm; the renders show how much is cut)",
         100.0 * rim_share);
   if (fixed_share >= kSubjectCutShare)
     s += fmt::format(
