@@ -60,7 +60,7 @@ struct SubjectRim {
 };
 
 // A subject's volume with the zones of the room model's clearing inside it (background_field.h;
-// capture/head_volume.h builds all three from a landmark head box). Empty zones do not apply.
+// capture/head_volume.h builds them from a landmark head box). Empty zones do not apply.
 struct SubjectZones {
   // Where the subject may be: its permanent occupancy mask and the room model's cutout.
   SubjectVolume volume;
