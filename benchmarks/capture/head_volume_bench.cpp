@@ -131,12 +131,11 @@ void write_view(const std::string& path, const Grid& g, const fit::HeadBox& b, c
 // compositing weight (T * alpha) added to its region. Returns the mean weight per ray in each region
 // and writes one picture per view: white where nothing is seen, else the regions' colours
 // (grey: head, red: box but not head, blue: corners) mixed by their weights.
-std::array<double, 3> seen_opacity(cl::Runtime& rt, const std::string& model_path, const dataset::Dataset& ds,
+std::array<double, 3> seen_opacity(cl::Runtime& rt, nerf::NerfModel& model, const dataset::Dataset& ds,
                                    const nerf::SubjectVolume& box, const nerf::SubjectVolume& head,
                                    const std::function<double(const Eigen::Vector3d&)>& head_z_mm,
                                    const std::string& picture_prefix, int stride, size_t max_views,
                                    std::map<int, std::array<double, 3>>* seen_depth) {
-  nerf::NerfModel model = nerf::NerfModel::load(rt, model_path);
   const nerf::Aabb& bb = model.aabb();
   const nerf::OccupancyGrid& occ = model.occupancy();
   const float step = model.step();
@@ -293,13 +292,13 @@ int main(int argc, char** argv) {
     for (const auto& [bin, n] : depth)
       depth_rows.push_back({cs.name, std::to_string(bin * 10), std::to_string(n[0]), std::to_string(n[1]),
                             std::to_string(n[2])});
+    nerf::NerfModel model = nerf::NerfModel::load(rt, cs.model);
     std::map<int, std::array<double, 3>> seen_depth;
     auto head_z = [&](const Eigen::Vector3d& p) {
       return b.head.d_fwd.dot(p - b.anchor) * b.head.mm_per_unit;
     };
-    std::array<double, 3> seen =
-        seen_opacity(rt, cs.model, ds, box, head, head_z, (fs::path(out) / cs.name).string(), stride,
-                     max_views, &seen_depth);
+    std::array<double, 3> seen = seen_opacity(
+        rt, model, ds, box, head, head_z, (fs::path(out) / cs.name).string(), stride, max_views, &seen_depth);
     for (auto& [bin, v] : seen_depth) {
       seen_rows.push_back({cs.name, std::to_string(bin * 10), fmt::format("{:.5f}", v[0]),
                            fmt::format("{:.5f}", v[1]), fmt::format("{:.5f}", v[2])});
@@ -311,7 +310,6 @@ int main(int argc, char** argv) {
     std::vector<Camera> train_cameras;
     for (const dataset::Frame* fr : ds.require_split(dataset::Split::Train))
       train_cameras.push_back(fr->camera);
-    nerf::NerfModel model = nerf::NerfModel::load(rt, cs.model);
     const auto t0 = std::chrono::steady_clock::now();
     const nerf::SubjectCutReport cut =
         nerf::check_subject_cut(model, train_cameras, capture::head_cut_rim(b));
