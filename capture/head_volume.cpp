@@ -36,18 +36,11 @@ OrientedShape span(OrientedShape::Kind kind, const Eigen::Vector3d& lo, const Ei
 
 // The oriented head box in the head frame (mm), as fit::head_box_from_frame places it, and the same
 // grown by loose hair: `side` mm sideways, `loose` mm upwards and backwards (the volumes' clips).
-struct Span {
-  Eigen::Vector3d lo, hi;
-};
-Span head_box_span(const fit::HeadExtents& e) {
-  const double half_x = 0.5 * e.head_breadth_mm + e.side_margin_mm;
-  const double back = e.head_length_mm - e.glabella_ahead_mm + e.hair_mm;  // behind the anchor
-  const double top = e.vertex_above_eyes_mm + e.hair_mm, bottom = e.chin_below_eyes_mm + e.neck_mm;
-  const double front = e.nose_ahead_mm + e.front_margin_mm;
-  return {{-half_x, -bottom, -back}, {half_x, top, front}};
-}
+using Span = fit::HeadSpanMm;
+using fit::declared_hair_mm;
+using fit::head_box_span_mm;
 Span loose_hair_span(const fit::HeadExtents& e, double side = kLooseHairMm, double loose = kLooseHairMm) {
-  Span s = head_box_span(e);
+  Span s = head_box_span_mm(e);
   s.lo.x() -= side, s.hi.x() += side;
   s.lo.z() -= loose, s.hi.y() += loose;
   return s;
@@ -55,25 +48,21 @@ Span loose_hair_span(const fit::HeadExtents& e, double side = kLooseHairMm, doub
 
 // The skull with `hair` mm of hair above and behind it and the ears: from the back of the hair to in
 // front of the glabella, from chin level to the top of the hair, as wide as the box (head breadth +
-// the ears' and side hair's margin), and `side` / `loose` mm of loose hair beyond that.
+// the ears' and side hair's margin, + the declared hair's share), and `side` / `loose` mm of loose
+// hair beyond that.
 OrientedShape skull_mm(const fit::HeadExtents& e, double hair, double side, double loose) {
   fit::HeadExtents with = e;
   with.hair_mm = hair;
-  const Span box = head_box_span(with);
+  const Span box = head_box_span_mm(with);
   return span(OrientedShape::Kind::Ellipsoid,
               {box.lo.x() - side, -e.chin_below_eyes_mm - loose, box.lo.z() - loose},
               {box.hi.x() + side, box.hi.y() + loose, e.glabella_ahead_mm + e.front_margin_mm});
 }
 
-// Hair beyond the standard allowance (HeadExtents' default; train --hair: a bun, a hat).
-double declared_hair_mm(const fit::HeadExtents& e) {
-  return std::max(0.0, e.hair_mm - fit::HeadExtents{}.hair_mm);
-}
-
 // The head's parts (skull, face, neck) for extents `e` with loose hair around the skull: `side` mm
 // sideways, `loose` mm behind, above and below it.
 nerf::SubjectVolume head_parts_mm(const fit::HeadExtents& e, double side, double loose) {
-  const Span box = head_box_span(e);
+  const Span box = head_box_span_mm(e);
   const double bottom = -box.lo.y(), front = box.hi.z();
   nerf::SubjectVolume v;
   // The skull with at most the standard hair; more hair adds a second, longer ellipsoid (stretching
@@ -100,7 +89,7 @@ nerf::SubjectVolume head_parts_mm(const fit::HeadExtents& e, double side, double
 
 nerf::SubjectVolume head_volume_mm(const fit::HeadExtents& e, HeadVolumeShape shape) {
   if (shape == HeadVolumeShape::OrientedBox) {
-    const Span box = head_box_span(e);
+    const Span box = head_box_span_mm(e);
     nerf::SubjectVolume v;
     v.parts.push_back(span(OrientedShape::Kind::Box, box.lo, box.hi));
     v.what = "the oriented head box";
@@ -122,6 +111,8 @@ nerf::SubjectVolume head_clear_core_mm(const fit::HeadExtents& e) {
   // core, and only the standard margin beyond it leans towards the room.
   fit::HeadExtents declared = e;
   declared.hair_mm = declared_hair_mm(e);
+  // As wide as the volume's declared skull: its sides grew by the whole declared hair's share.
+  declared.side_margin_mm += fit::kSideHairShare * (declared_hair_mm(e) - declared_hair_mm(declared));
   if (declared.hair_mm > 0.0) v.parts.push_back(skull_mm(declared, declared.hair_mm, kLooseHairMm, 0.0));
   const Span box = loose_hair_span(declared, kLooseHairMm, 0.0);  // the neck's ellipsoid ends at its bottom
   v.clip = span(OrientedShape::Kind::Box, box.lo, box.hi);
@@ -149,21 +140,21 @@ nerf::SubjectRim head_cut_rim_mm(const fit::HeadExtents& e) {
                                  {box.lo.x() - reach, kCutRimAboveEyesMm, box.lo.z() - reach},
                                  {box.hi.x() + reach, box.hi.y() + reach, 0.0}));
   rim.watch.what = "the head volume's rim above the brows and behind the eyes (capture/head_volume.h)";
-  // Its sides: beyond the head box's sides (breadth and side margin), where --hair moves nothing.
-  const Span head = head_box_span(e);
+  // Its sides: beyond the head box's sides (breadth, side margin and the declared hair's share).
+  const Span head = head_box_span_mm(e);
   for (double sign : {-1.0, 1.0}) {
     const double x0 = sign * head.hi.x(), x1 = sign * (head.hi.x() + reach);
-    rim.fixed.parts.push_back(span(OrientedShape::Kind::Box,
+    rim.sides.parts.push_back(span(OrientedShape::Kind::Box,
                                    {std::min(x0, x1), kCutRimAboveEyesMm, box.lo.z() - reach},
                                    {std::max(x0, x1), box.hi.y() + reach, 0.0}));
   }
-  rim.fixed.what = "the rim's sides (capture/head_volume.h)";
+  rim.sides.what = "the rim's sides (capture/head_volume.h)";
   return rim;
 }
 
 nerf::SubjectRim head_cut_rim(const fit::HeadBox& box) {
   const nerf::SubjectRim mm = head_cut_rim_mm(box.extents);
-  return {to_scene(mm.inner, box), to_scene(mm.watch, box), to_scene(mm.fixed, box)};
+  return {to_scene(mm.inner, box), to_scene(mm.watch, box), to_scene(mm.sides, box)};
 }
 
 nerf::SubjectVolume to_scene(const nerf::SubjectVolume& mm, const fit::HeadBox& box) {

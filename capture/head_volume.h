@@ -6,8 +6,8 @@
 // p99 extents plus their margins, so ears, hair and neck stay in; what it removes is the box's
 // corners behind and below the skull, where a wall close behind the subject otherwise gets
 // rebuilt as part of the subject (docs/bench/real-captures.md, "The head volume"). Hair beyond
-// the standard HeadExtents::hair_mm (train --hair: a bun, a hat) adds a longer skull ellipsoid and
-// joins the clearing's core (docs/bench/real-captures.md, "hats, buns and tall hair").
+// the standard HeadExtents::hair_mm (train --hair: a bun, a hat) adds a longer and wider skull
+// ellipsoid and joins the clearing's core (docs/bench/real-captures.md, "hats, buns and tall hair").
 #pragma once
 #include "fit/head_box.h"
 #include "host/nerf/subject_volume.h"
@@ -41,8 +41,9 @@ nerf::SubjectVolume head_clear_core(const fit::HeadBox& box);
 // Where a subject cut by the head volume shows the cut (nerf::SubjectRim, host/nerf/subject_cut.h): the
 // head volume's outer 6 mm from 20 mm above the eyes up, behind the eyes. A hat, a bun or hair that stands
 // out further than `--hair` allows is cut flat there; a head inside the volume leaves it empty (the hair
-// allowance and the loose hair lie between the skull and the rim). Its fixed part is beyond the head
-// box's sides, which `--hair` does not move. In the head frame (mm) and in the scene.
+// allowance and the loose hair lie between the skull and the rim). Its sides (beyond the head box's
+// sides, which `--hair` widens by fit::kSideHairShare of the declared hair) are reported apart. In the
+// head frame (mm) and in the scene.
 nerf::SubjectRim head_cut_rim_mm(const fit::HeadExtents& extents);
 nerf::SubjectRim head_cut_rim(const fit::HeadBox& box);
 

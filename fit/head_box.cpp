@@ -82,14 +82,21 @@ std::vector<size_t> even_subset(size_t n, size_t count) {
   return out;
 }
 
+double declared_hair_mm(const HeadExtents& e) { return std::max(0.0, e.hair_mm - HeadExtents{}.hair_mm); }
+
+HeadSpanMm head_box_span_mm(const HeadExtents& e) {
+  const double half_x = 0.5 * e.head_breadth_mm + e.side_margin_mm + kSideHairShare * declared_hair_mm(e);
+  return {
+      {-half_x, -(e.chin_below_eyes_mm + e.neck_mm), -(e.head_length_mm - e.glabella_ahead_mm + e.hair_mm)},
+      {half_x, e.vertex_above_eyes_mm + e.hair_mm, e.nose_ahead_mm + e.front_margin_mm}};
+}
+
 HeadBox head_box_from_frame(const HeadFrame& head, const Eigen::Vector3d& anchor, const HeadExtents& e) {
   if (!(head.mm_per_unit > 0.0) || !std::isfinite(head.mm_per_unit))
     throw std::runtime_error("head box: the head frame has no valid scale (mm per unit)");
   // Oriented box in head-frame millimetres relative to the anchor (x left, y up, z forward).
-  double half_x = 0.5 * e.head_breadth_mm + e.side_margin_mm;
-  Eigen::Vector3d lo(-half_x, -(e.chin_below_eyes_mm + e.neck_mm),
-                     -(e.head_length_mm - e.glabella_ahead_mm + e.hair_mm));
-  Eigen::Vector3d hi(half_x, e.vertex_above_eyes_mm + e.hair_mm, e.nose_ahead_mm + e.front_margin_mm);
+  const HeadSpanMm span = head_box_span_mm(e);
+  const Eigen::Vector3d &lo = span.lo, &hi = span.hi;
   HeadBox b;
   b.head = head;
   b.axes.col(0) = head.d_eye;

@@ -50,6 +50,22 @@ struct HeadExtents {
   double neck_mm = 40.0;          // neck kept below the chin (the rest is cut off by the box)
 };
 
+// Hair beyond the standard allowance (HeadExtents{}.hair_mm; train --hair: a bun, a hat, a crown):
+// 0 for the standard extents.
+double declared_hair_mm(const HeadExtents& e);
+
+// Declared hair widens the box's sides by this share of itself on each side: hats, buns and crowns
+// stand out less sideways than upwards (the Nefertiti bust's crown: docs/bench/real-captures.md,
+// "--hair widens the sides"). The standard side margin already holds ordinary side hair and ears.
+inline constexpr double kSideHairShare = 0.5;
+
+// The oriented head box in head-frame millimetres from the anchor (x left, y up, z forward):
+// head_box_from_frame's box before it is placed in the scene.
+struct HeadSpanMm {
+  Eigen::Vector3d lo, hi;
+};
+HeadSpanMm head_box_span_mm(const HeadExtents& e);
+
 struct HeadBoxOptions {
   int max_photos = 24;        // photos tried, evenly spaced over the list (dlib costs ~0.1-0.3 s each)
   int min_faces = 3;          // photos with a face needed to triangulate

@@ -30,6 +30,7 @@
 #include "capture/head_volume.h"
 #include "capture/subject_box.h"
 #include "fit/camera_math.h"
+#include "host/field/density_at.h"
 #include "host/nerf/model.h"
 #include "host/nerf/snapshot.h"
 #include "host/nerf/subject_cut.h"
@@ -139,9 +140,6 @@ std::array<double, 3> seen_opacity(cl::Runtime& rt, nerf::NerfModel& model, cons
   const nerf::Aabb& bb = model.aabb();
   const nerf::OccupancyGrid& occ = model.occupancy();
   const float step = model.step();
-  field::Field& f = model.field();
-  const uint32_t batch = f.max_batch();
-  cl::Buffer<float> pos(rt, 3u * batch), sigma(rt, batch);
   std::array<double, 3> total{0, 0, 0};
   size_t rays_total = 0, views = 0;
   for (const dataset::Frame* fr : ds.require_split(dataset::Split::Holdout)) {
@@ -184,17 +182,9 @@ std::array<double, 3> seen_opacity(cl::Runtime& rt, nerf::NerfModel& model, cons
                              int16_t(std::floor(z_mm / 10.0)), q});
         }
       }
-    std::vector<float> sig(samples.size());
-    for (size_t s0 = 0; s0 < samples.size(); s0 += batch) {
-      const uint32_t n = uint32_t(std::min<size_t>(batch, samples.size() - s0));
-      std::vector<float> soa(3u * batch, 0.0f);
-      for (uint32_t i = 0; i < n; ++i)
-        for (int a = 0; a < 3; ++a) soa[a * batch + i] = samples[s0 + i].q[a];
-      pos.write(rt, soa);
-      f.density(pos, n, sigma);
-      std::vector<float> out = sigma.read(rt, n);
-      std::copy(out.begin(), out.end(), sig.begin() + s0);
-    }
+    std::vector<nerf::Vec3f> points(samples.size());
+    for (size_t i = 0; i < samples.size(); ++i) points[i] = samples[i].q;
+    const std::vector<float> sig = field::density_at(model.field(), rt, points);
     std::vector<std::array<float, 3>> per_ray(size_t(w) * h, {0, 0, 0});
     std::vector<float> T(size_t(w) * h, 1.0f);
     for (size_t i = 0; i < samples.size(); ++i) {  // samples are in ray order, near to far
@@ -318,7 +308,7 @@ int main(int argc, char** argv) {
     for (int r = 0; r < 3; ++r) {
       rows[rows.size() - 3 + r].push_back(fmt::format("{:.4f}", seen[r]));
       rows[rows.size() - 3 + r].push_back(fmt::format("{:.5f}", cut.rim_share));
-      rows[rows.size() - 3 + r].push_back(fmt::format("{:.5f}", cut.fixed_share));
+      rows[rows.size() - 3 + r].push_back(fmt::format("{:.5f}", cut.sides_share));
     }
     write_view((fs::path(out) / (cs.name + "_side.png")).string(), g, b, box, head, 2, 1, 0);
     write_view((fs::path(out) / (cs.name + "_top.png")).string(), g, b, box, head, 0, 2, 1);

@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "host/field/density_at.h"
+
 namespace lorgnette::nerf {
 namespace {
 constexpr size_t kCheckViews = 12;
@@ -76,48 +78,32 @@ std::string SubjectCutReport::summary() const {
   return fmt::format(
       "subject volume's edge: {:.3f} % of the opacity the views see lies in its rim above and behind "
       "the head, {:.3f} % at its sides ({} the {:.1f} % that warns)",
-      100.0 * rim_share, 100.0 * fixed_share, cut() ? "over" : "under", 100.0 * kSubjectCutShare);
+      100.0 * rim_share, 100.0 * sides_share, cut() ? "over" : "under", 100.0 * kSubjectCutShare);
 }
 
 std::string SubjectCutReport::advice() const {
   if (!cut()) return "";
-  std::string s = "the head's volume cut the subject";
+  std::string where;
   if (rim_share >= kSubjectCutShare)
-    s += fmt::format(
-        " above or behind the head ({:.2f} % of what the views see lies in the volume's outer 6 mm "
-        "there): a hat, a bun or hair that stands out further than the volume allows is cut flat. "
-        "Train again with a larger hair allowance to keep it (`lorgnette train ... --hair 100`, up to "
-        "300 mm; the renders show how much is cut)",
+    where = fmt::format(
+        "above or behind the head ({:.2f} % of what the views see lies in the volume's outer 6 mm there)",
         100.0 * rim_share);
-  if (fixed_share >= kSubjectCutShare)
-    s += fmt::format(
-        "{} at the sides above the ears ({:.2f} % of what the views see): the subject is wider there "
-        "than the head's volume (a wide hat or hair), and `--hair` raises only the volume's top and "
-        "back, so the sides stay cut",
-        rim_share >= kSubjectCutShare ? ";" : "", 100.0 * fixed_share);
-  return s;
+  if (sides_share >= kSubjectCutShare)
+    where += fmt::format("{}at its sides above the ears ({:.2f} %)", where.empty() ? "" : " and ",
+                         100.0 * sides_share);
+  return "the head's volume cut the subject " + where +
+         ": a hat, a bun or hair that stands out further than the volume allows is cut flat. Train again "
+         "with a larger hair allowance to keep it (`lorgnette train ... --hair 100`, up to 300 mm: it raises "
+         "the volume's top and back by that much and widens its sides by half as much beyond the standard "
+         "30 mm; the renders show how much is cut)";
 }
 
 SubjectCutReport check_subject_cut(NerfModel& model, const std::vector<Camera>& cameras,
                                    const SubjectRim& rim) {
   SubjectCutReport r;
   if (rim.empty() || cameras.empty()) return r;
-  field::Field& f = model.field();
-  cl::Runtime& rt = model.runtime();
-  const uint32_t batch = f.max_batch();
-  cl::Buffer<float> pos(rt, size_t(3) * batch), sig(rt, batch);
   DensityAt density = [&](const std::vector<Vec3f>& points, std::vector<float>& sigma) {
-    sigma.assign(points.size(), 0.0f);
-    std::vector<float> soa(size_t(3) * batch, 0.0f);
-    for (size_t s0 = 0; s0 < points.size(); s0 += batch) {
-      const uint32_t n = uint32_t(std::min<size_t>(batch, points.size() - s0));
-      for (uint32_t i = 0; i < n; ++i)
-        for (int a = 0; a < 3; ++a) soa[size_t(a) * batch + i] = points[s0 + i][a];
-      pos.write(rt, soa);
-      f.density(pos, n, sig);
-      const std::vector<float> out = sig.read(rt, n);
-      std::copy(out.begin(), out.end(), sigma.begin() + long(s0));
-    }
+    sigma = field::density_at(model.field(), model.runtime(), points);
   };
   // At most kCheckViews views, evenly spread over the capture, and about kCheckRays rays across each
   // view's longer side: about a second on two CPU cores.
@@ -131,7 +117,7 @@ SubjectCutReport check_subject_cut(NerfModel& model, const std::vector<Camera>& 
                    density, 2, [&](const Vec3f& p) { return rim.zone(p); });
   r.checked = seen.total > 0.0;
   r.rim_share = seen.share(1);
-  r.fixed_share = seen.share(2);
+  r.sides_share = seen.share(2);
   return r;
 }
 

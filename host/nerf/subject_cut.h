@@ -43,17 +43,16 @@ constexpr double kSubjectCutShare = 0.001;
 
 struct SubjectCutReport {
   bool checked = false;  // a rim was given and the views saw the subject
-  // Shares of the seen opacity in the rim outside its fixed part (a head's top and back), and in its
-  // fixed part (a head's sides).
-  double rim_share = 0.0, fixed_share = 0.0;
-  bool cut() const { return checked && (rim_share >= kSubjectCutShare || fixed_share >= kSubjectCutShare); }
+  // Shares of the seen opacity in the rim outside its sides (a head's top and back), and in its sides.
+  double rim_share = 0.0, sides_share = 0.0;
+  bool cut() const { return checked && (rim_share >= kSubjectCutShare || sides_share >= kSubjectCutShare); }
   std::string summary() const;
-  // What to do when cut ("" otherwise): a larger --hair for the top and back; the sides it cannot move.
+  // What to do when cut ("" otherwise): where the cut lies, and a larger --hair, which moves both.
   std::string advice() const;
 };
 
 // seen_opacity of `model` from up to 12 of `cameras` (evenly spread, ~64 rays across each), the rim
-// outside its fixed part as zone 1 and its fixed part as zone 2.
+// outside its sides as zone 1 and its sides as zone 2.
 SubjectCutReport check_subject_cut(NerfModel& model, const std::vector<Camera>& cameras,
                                    const SubjectRim& rim);
 

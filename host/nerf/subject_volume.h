@@ -46,16 +46,16 @@ struct SubjectVolume {
 // Where a subject that stands out of its volume is cut flat: points outside `inner` (the volume shrunk
 // by a few mm; beyond the volume the mask leaves no density) and inside `watch` (for a head: above the
 // brows and behind the eyes, where hats, buns and tall hair stand out). A subject inside the volume
-// leaves it empty; one cut by the volume shows the cut there (host/nerf/subject_cut.h). `fixed` is the
-// part of it that the volume's allowance does not move (a head's sides: `train --hair` raises only
-// its top and back).
+// leaves it empty; one cut by the volume shows the cut there (host/nerf/subject_cut.h). `sides` is the
+// part of it reported apart (a head's sides, which `train --hair` widens by half as much as it raises
+// the top and back).
 struct SubjectRim {
-  SubjectVolume inner, watch, fixed;
+  SubjectVolume inner, watch, sides;
   bool empty() const { return watch.empty(); }
-  // 0: not in the rim; 1: in the rim, outside `fixed`; 2: in `fixed`.
+  // 0: not in the rim; 1: in the rim, outside `sides`; 2: in `sides`.
   int zone(const Vec3f& p) const {
     if (!watch.contains(p) || inner.contains(p)) return 0;
-    return fixed.contains(p) ? 2 : 1;
+    return sides.contains(p) ? 2 : 1;
   }
 };
 

@@ -215,9 +215,10 @@ TEST(HeadVolume, ClearCoreIsTheBareHead) {
 }
 
 // `train --hair MM` (a bun, tall hair, a hat): the volume and its clip reach that much further above
-// and behind the skull; below the eyes and in front of the skull's middle nothing moves. The declared
-// hair beyond the standard 30 mm joins the bare head (the clearing's core), so only the standard
-// margin beyond it leans towards the room.
+// and behind the skull, and half the declared hair (beyond the standard 30 mm) further sideways; in
+// front of the skull's middle, below the eyes and within the face's breadth, nothing moves. The
+// declared hair joins the bare head (the clearing's core), so only the standard margin beyond it leans
+// towards the room.
 TEST(HeadVolume, HairAllowanceRaisesTheTopAndTheBack) {
   fit::HeadExtents tall;
   tall.hair_mm = 150.0;
@@ -242,14 +243,29 @@ TEST(HeadVolume, HairAllowanceRaisesTheTopAndTheBack) {
   // Still bounded: 150 mm of hair and the 40 mm of loose hair, not more.
   EXPECT_FALSE(in(tall_vol, 0, top + 200, -80));
   EXPECT_FALSE(in(tall_vol, 0, 20, -back - 200));
+  // The sides above the ears: the default volume ends at the box's side and its loose hair; the tall
+  // one reaches half the declared 120 mm further, and is in the core there too, and not further.
+  const double side = 0.5 * e.head_breadth_mm + e.side_margin_mm + 40.0;  // box side + loose hair
+  EXPECT_TRUE(in(vol, side - 5, 40, -90));
+  EXPECT_FALSE(in(vol, side + 5, 40, -90));
+  // (at the tall skull's mid-depth, where its ellipsoid is widest)
+  EXPECT_TRUE(in(tall_vol, side + 50, 40, -170));
+  EXPECT_TRUE(in(tall_vol, -(side + 50), 40, -170));
+  EXPECT_TRUE(in(tall_core, side + 50, 40, -170));
+  EXPECT_FALSE(in(vol, side + 50, 40, -170));
+  EXPECT_FALSE(in(tall_vol, side + 70, 40, -170));
   for (double x = -200; x <= 200; x += 20)
     for (double y = -300; y <= 300; y += 20)
       for (double z = -400; z <= 150; z += 20) {
         if (in(core, x, y, z)) {
           EXPECT_TRUE(in(tall_core, x, y, z)) << x << " " << y << " " << z;
         }
-        // Below the eyes and in front of the skull's middle the volume is unchanged.
-        if (y < 0 && z > -100) {
+        // More hair only adds; below the eyes, in front of the skull's middle and within the face's
+        // breadth the volume is unchanged.
+        if (in(vol, x, y, z)) {
+          EXPECT_TRUE(in(tall_vol, x, y, z)) << x << " " << y << " " << z;
+        }
+        if (y < 0 && z > -100 && std::abs(x) <= 0.5 * e.head_breadth_mm) {
           EXPECT_EQ(in(vol, x, y, z), in(tall_vol, x, y, z)) << x << " " << y << " " << z;
         }
       }

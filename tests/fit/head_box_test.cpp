@@ -93,6 +93,19 @@ TEST(HeadBox, OrientedBoxFromAFrameIsExact) {
   EXPECT_NEAR(b.min.y(), 2 - (e.chin_below_eyes_mm + e.neck_mm) / 100, 1e-12);
   EXPECT_NEAR(b.max.z(), 3 + half_x / 100, 1e-12);
   EXPECT_NEAR(b.min.z(), 3 - half_x / 100, 1e-12);
+  // Declared hair (train --hair 150: 120 mm beyond the standard 30) raises the top and the back by
+  // all of it and widens each side by kSideHairShare of it; the front and the bottom stay.
+  HeadExtents tall;
+  tall.hair_mm = 150.0;
+  EXPECT_DOUBLE_EQ(declared_hair_mm(tall), 120.0);
+  EXPECT_DOUBLE_EQ(declared_hair_mm(e), 0.0);
+  const HeadBox t = head_box_from_frame(f, anchor, tall);
+  EXPECT_NEAR(t.max.y() - b.max.y(), 1.2, 1e-12);
+  EXPECT_NEAR(b.min.x() - t.min.x(), 1.2, 1e-12);
+  EXPECT_NEAR(t.max.x(), b.max.x(), 1e-12);
+  EXPECT_NEAR(t.min.y(), b.min.y(), 1e-12);
+  EXPECT_NEAR(t.max.z() - b.max.z(), kSideHairShare * 1.2, 1e-12);
+  EXPECT_NEAR(b.min.z() - t.min.z(), kSideHairShare * 1.2, 1e-12);
   f.mm_per_unit = 0.0;
   EXPECT_THROW(head_box_from_frame(f, anchor, e), std::runtime_error);
 }

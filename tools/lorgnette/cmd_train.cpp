@@ -120,8 +120,9 @@ void add_train(CLI::App& app, GlobalOptions& global) {
       ->check(CLI::IsMember({"auto", "dataset", "masks", "head", "cameras"}));  // before loading the data
   cmd->add_option(
          "--hair", a->head.extents.hair_mm,
-         "head box: millimetres of hair (or a hat) above and behind a large skull; the subject is cut "
-         "where it stands out further (about 40 mm more). Raise it for a bun, tall hair or a hat")
+         "head box: millimetres of hair (or a hat) above and behind a large skull, and half of what "
+         "exceeds the default 30 at its sides; the subject is cut where it stands out further (about "
+         "40 mm more). Raise it for a bun, tall hair or a hat")
       ->check(CLI::Range(0.0, capture::kMaxHairMm))
       ->capture_default_str();
   cmd->add_option("--background", a->background,

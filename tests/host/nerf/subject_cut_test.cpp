@@ -106,23 +106,29 @@ TEST(SubjectCut, HiddenZoneAndEmptyCellsSeeNothing) {
   EXPECT_EQ(none.share(1), 0.0);
 }
 
-// The advice names the remedy that applies: --hair for the top and back, none for the sides.
+// The advice says where the cut lies and names the remedy, --hair, for the top and back and for the
+// sides alike (it widens the sides by half as much as it raises the top).
 TEST(SubjectCut, AdviceFollowsWhereTheCutIs) {
   SubjectCutReport r;
   EXPECT_FALSE(r.cut());
   EXPECT_EQ(r.advice(), "");
   r.checked = true;
-  r.rim_share = r.fixed_share = 0.5 * kSubjectCutShare;
+  r.rim_share = r.sides_share = 0.5 * kSubjectCutShare;
   EXPECT_FALSE(r.cut());
   EXPECT_EQ(r.advice(), "");
   r.rim_share = 2.0 * kSubjectCutShare;
   EXPECT_TRUE(r.cut());
   EXPECT_NE(r.advice().find("--hair 100"), std::string::npos);
-  EXPECT_EQ(r.advice().find("sides stay cut"), std::string::npos);
-  r.rim_share = 0.0, r.fixed_share = 2.0 * kSubjectCutShare;
+  EXPECT_NE(r.advice().find("above or behind"), std::string::npos);
+  EXPECT_EQ(r.advice().find("at its sides"), std::string::npos);
+  r.rim_share = 0.0, r.sides_share = 2.0 * kSubjectCutShare;
   EXPECT_TRUE(r.cut());
-  EXPECT_EQ(r.advice().find("--hair 100"), std::string::npos);
-  EXPECT_NE(r.advice().find("sides stay cut"), std::string::npos);
+  EXPECT_NE(r.advice().find("--hair 100"), std::string::npos);
+  EXPECT_EQ(r.advice().find("above or behind"), std::string::npos);
+  EXPECT_NE(r.advice().find("at its sides"), std::string::npos);
+  r.rim_share = 2.0 * kSubjectCutShare;
+  EXPECT_NE(r.advice().find("behind the head (0.20 %"), std::string::npos);
+  EXPECT_NE(r.advice().find(" and at its sides above the ears (0.20 %)"), std::string::npos);
 }
 
 }  // namespace
