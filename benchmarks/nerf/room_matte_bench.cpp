@@ -13,8 +13,11 @@
 // --min-alpha a,b,...: also score the model with every occupancy cell whose density gives less than
 // that opacity over one marching step cleared (the subject region's threshold at extraction; 0 =
 // the model as saved), to see which threshold the metric supports.
+// --judge-box MODEL.lnerf: judge every case in that model's box instead of its own (score_matte judges
+// only the matte pixels whose subject point lies in the box), so arms whose boxes differ (train --hair)
+// are scored over one region; a model whose box is smaller then pays for what it cut.
 // Usage: bench_room_matte OUT_DIR --case NAME MODEL.lnerf DATASET [--case ...] [--min-alpha 0,0.1]
-//        [--sheet-views N]
+//        [--sheet-views N] [--judge-box MODEL.lnerf]
 // Writes OUT_DIR/room_matte.csv (one row per case and threshold), OUT_DIR/room_matte_profile.csv
 // and .png (opacity by distance from the outline) and OUT_DIR/<case>_sheet.png
 // (per held-out view: prediction over white | photo | opacity error: red = opacity where the
@@ -193,13 +196,14 @@ void threshold_occupancy(nerf::NerfModel& model, const nerf::OccupancyGrid& save
 int main(int argc, char** argv) {
   if (argc < 4) {
     std::cerr << "usage: bench_room_matte OUT_DIR --case NAME MODEL DATASET [...] [--min-alpha 0,0.1] "
-                 "[--sheet-views N]\n";
+                 "[--sheet-views N] [--judge-box MODEL.lnerf]\n";
     return 2;
   }
   const std::string out = argv[1];
   std::vector<Case> cases;
   std::vector<float> alphas = {0.0f};
   int sheet_views = 2;
+  std::string judge_model;
   for (int i = 2; i < argc; ++i) {
     if (std::strcmp(argv[i], "--case") == 0 && i + 3 < argc)
       cases.push_back({argv[i + 1], argv[i + 2], argv[i + 3]}), i += 3;
@@ -209,11 +213,15 @@ int main(int argc, char** argv) {
         alphas.push_back(std::strtof(tok, nullptr));
     } else if (std::strcmp(argv[i], "--sheet-views") == 0 && i + 1 < argc)
       sheet_views = std::atoi(argv[++i]);
+    else if (std::strcmp(argv[i], "--judge-box") == 0 && i + 1 < argc)
+      judge_model = argv[++i];
     else
       return std::cerr << "unknown argument " << argv[i] << "\n", 2;
   }
   fs::create_directories(out);
   cl::Runtime rt;
+  std::optional<nerf::Aabb> judge_box;
+  if (!judge_model.empty()) judge_box = nerf::NerfModel::load(rt, judge_model).aabb();
   render::Renderer renderer(rt);
   std::unique_ptr<fit::LandmarkDetector> dlib;  // loaded for the first case without true landmarks
   std::vector<std::vector<std::string>> csv, profile_csv;
@@ -221,6 +229,7 @@ int main(int argc, char** argv) {
   ChartSeries matte_series{"true matte (first case)", {}, {}};
   for (const Case& c : cases) {
     nerf::NerfModel model = nerf::NerfModel::load(rt, c.model);
+    const nerf::Aabb box = judge_box ? *judge_box : model.aabb();  // the judged region
     dataset::LoadOptions lo;
     lo.splits = {dataset::Split::Holdout};
     dataset::Dataset ds = dataset::load_dataset(c.dataset, lo);
@@ -251,17 +260,17 @@ int main(int argc, char** argv) {
         render::RenderOptions ro;
         Image pred = renderer.render(model, h.frame->camera, nullptr, ro).rgba;
         render::MatteView v{h.frame->camera, &pred, &h.frame->image, &h.matte, &h.depth, face};
-        scores.push_back(render::score_matte(v, model.aabb()));
+        scores.push_back(render::score_matte(v, box));
         if (face.empty())
           if (auto f = detected_face_psnr(pred, h.frame->image, h.matte, *dlib))
             dlib_psnr += f->face_psnr, dlib_psnr_subject += f->face_psnr_subject, ++dlib_faces;
-        LeakSplit s = split_leak(pred, h, model.aabb(), face, scores.back().subject_pixels, profile);
+        LeakSplit s = split_leak(pred, h, box, face, scores.back().subject_pixels, profile);
         const double k = 1.0 / double(held.size());
         leak.edge += k * s.edge, leak.below += k * s.below, leak.other += k * s.other;
         leak.outline += k * s.outline, leak.ring += k * s.ring, leak.floor += k * s.floor;
         leak.excess_edge += k * s.excess_edge, leak.excess_far += k * s.excess_far;
         if (int(rows.size()) < sheet_views && alpha == alphas.front())
-          rows.push_back(sheet_row(pred, h, model.aabb()));
+          rows.push_back(sheet_row(pred, h, box));
       }
       render::MatteScore m = render::mean_score(scores);
       if (face.empty()) {

@@ -7,7 +7,8 @@
 
 namespace lorgnette::field {
 
-std::vector<float> density_at(Field& field, cl::Runtime& rt, const std::vector<std::array<float, 3>>& unit_points) {
+std::vector<float> density_at(Field& field, cl::Runtime& rt,
+                              const std::vector<std::array<float, 3>>& unit_points) {
   std::vector<float> sigma(unit_points.size(), 0.0f);
   if (unit_points.empty()) return sigma;
   const uint32_t batch = field.max_batch();

@@ -13,6 +13,7 @@ namespace lorgnette::field {
 // sigma[i] = the field's density at unit_points[i] (positions in the field's unit cube, [0, 1]^3,
 // as Field::density takes them), in batches of the field's max_batch(): one upload, one launch and
 // one read per batch.
-std::vector<float> density_at(Field& field, cl::Runtime& rt, const std::vector<std::array<float, 3>>& unit_points);
+std::vector<float> density_at(Field& field, cl::Runtime& rt,
+                              const std::vector<std::array<float, 3>>& unit_points);
 
 }  // namespace lorgnette::field
