@@ -47,16 +47,28 @@ Span loose_hair_span(const fit::HeadExtents& e, double side = kLooseHairMm, doub
 }
 
 // The skull with `hair` mm of hair above and behind it and the ears: from the back of the hair to in
-// front of the glabella, from chin level to the top of the hair, as wide as the box (head breadth +
-// the ears' and side hair's margin, + the declared hair's share), and `side` / `loose` mm of loose
-// hair beyond that.
+// front of the glabella, from chin level to the top of the hair, as wide as the standard box (head
+// breadth + the ears' and side hair's margin) and `side` mm beyond that, and `loose` mm of loose hair
+// above, behind and below.
 OrientedShape skull_mm(const fit::HeadExtents& e, double hair, double side, double loose) {
-  fit::HeadExtents with = e;
-  with.hair_mm = hair;
-  const Span box = head_box_span_mm(with);
-  return span(OrientedShape::Kind::Ellipsoid,
-              {box.lo.x() - side, -e.chin_below_eyes_mm - loose, box.lo.z() - loose},
-              {box.hi.x() + side, box.hi.y() + loose, e.glabella_ahead_mm + e.front_margin_mm});
+  const double half_x = 0.5 * e.head_breadth_mm + e.side_margin_mm + side;
+  const double back = e.head_length_mm - e.glabella_ahead_mm + hair, top = e.vertex_above_eyes_mm + hair;
+  return span(OrientedShape::Kind::Ellipsoid, {-half_x, -e.chin_below_eyes_mm - loose, -back - loose},
+              {half_x, top + loose, e.glabella_ahead_mm + e.front_margin_mm});
+}
+
+// How much further the declared hair (beyond the standard) widens each side (fit::head_box_span_mm).
+double side_hair_mm(const fit::HeadExtents& e) { return fit::kSideHairShare * declared_hair_mm(e); }
+
+// The skull with `hair` mm of hair (skull_mm) in two parts: as wide as the standard skull below the
+// eyes, and wider by the declared hair's side share from eye level up. Hats, buns and crowns flare
+// above the brows; beside the jaw and the neck a frontal capture's room stays out.
+void add_declared_skull(nerf::SubjectVolume& v, const fit::HeadExtents& e, double hair, double side,
+                        double loose) {
+  v.parts.push_back(skull_mm(e, hair, side, loose));
+  OrientedShape wide = skull_mm(e, hair, side + side_hair_mm(e), loose);
+  wide.y_from = -wide.center[1] / wide.half[1];  // eye level (head-frame y = 0) up
+  v.parts.push_back(wide);
 }
 
 // The head's parts (skull, face, neck) for extents `e` with loose hair around the skull: `side` mm
@@ -65,10 +77,10 @@ nerf::SubjectVolume head_parts_mm(const fit::HeadExtents& e, double side, double
   const Span box = head_box_span_mm(e);
   const double bottom = -box.lo.y(), front = box.hi.z();
   nerf::SubjectVolume v;
-  // The skull with at most the standard hair; more hair adds a second, longer ellipsoid (stretching
-  // the first would narrow it at the ears and the jaw).
+  // The skull with at most the standard hair; more hair adds a longer ellipsoid, and a wider one above
+  // the eyes (stretching the first would narrow it at the ears and the jaw).
   v.parts.push_back(skull_mm(e, e.hair_mm - declared_hair_mm(e), side, loose));
-  if (declared_hair_mm(e) > 0.0) v.parts.push_back(skull_mm(e, e.hair_mm, side, loose));
+  if (declared_hair_mm(e) > 0.0) add_declared_skull(v, e, e.hair_mm, side, loose);
   // Face and jaw: the front half of the head, head-breadth wide, from below the chin (beard) to the
   // forehead, to the front of the box (nose tip and margin).
   v.parts.push_back(
@@ -109,12 +121,12 @@ nerf::SubjectVolume head_clear_core_mm(const fit::HeadExtents& e) {
   nerf::SubjectVolume v = head_parts_mm(bare, kLooseHairMm, 0.0);
   // Hair declared beyond the standard (a bun, a hat) is the subject's, not a margin: it joins the
   // core, and only the standard margin beyond it leans towards the room.
-  fit::HeadExtents declared = e;
-  declared.hair_mm = declared_hair_mm(e);
-  // As wide as the volume's declared skull: its sides grew by the whole declared hair's share.
-  declared.side_margin_mm += fit::kSideHairShare * (declared_hair_mm(e) - declared_hair_mm(declared));
-  if (declared.hair_mm > 0.0) v.parts.push_back(skull_mm(declared, declared.hair_mm, kLooseHairMm, 0.0));
-  const Span box = loose_hair_span(declared, kLooseHairMm, 0.0);  // the neck's ellipsoid ends at its bottom
+  const double declared = declared_hair_mm(e), standard = e.hair_mm - declared;
+  if (declared > 0.0) add_declared_skull(v, e, declared, kLooseHairMm, 0.0);
+  // The volume's clip without the standard hair above and behind (the neck's ellipsoid ends at its
+  // bottom).
+  Span box = loose_hair_span(e, kLooseHairMm, 0.0);
+  box.hi.y() -= standard, box.lo.z() += standard;
   v.clip = span(OrientedShape::Kind::Box, box.lo, box.hi);
   v.what = "the bare head (skull, face and neck without the hair behind and above; capture/head_volume.h)";
   return v;

@@ -301,6 +301,53 @@ void read_ground_truth(Dataset& ds) {
   }
 }
 
+// `opt` with max_side lowered so that the frames' images, as loaded, hold at most
+// opt.max_image_bytes (their headers read for their sizes); `opt` itself when they fit already.
+LoadOptions within_image_budget(const std::vector<FrameSpec>& specs, const LoadOptions& opt) {
+  if (!opt.load_images || opt.max_image_bytes == 0) return opt;
+  std::vector<std::pair<int, int>> sizes;
+  for (const FrameSpec& spec : specs) {
+    if (spec.image_path.empty()) continue;  // a missing image: load_frame says so
+    try {
+      const detail::ImageHeader hdr = detail::read_image_header(spec.image_path);
+      sizes.emplace_back(hdr.width, hdr.height);
+    } catch (const std::runtime_error& e) {
+      throw std::runtime_error(
+          fmt::format("{}: {}; replace the file or remove the frame from the json", spec.where, e.what()));
+    }
+  }
+  int longest = 0;
+  auto bytes_at = [&](int max_side) {
+    uint64_t bytes = 0;
+    longest = 0;
+    for (const auto& [w, h] : sizes) {
+      int nw, nh;
+      detail::scaled_size(w, h, opt.downscale, max_side, &nw, &nh);
+      bytes += uint64_t(nw) * uint64_t(nh) * 4u * sizeof(float);
+      longest = std::max({longest, nw, nh});
+    }
+    return bytes;
+  };
+  const uint64_t full = bytes_at(opt.max_side);
+  if (full <= opt.max_image_bytes) return opt;
+  const int full_longest = longest;
+  LoadOptions shrunk = opt;
+  uint64_t bytes = full;
+  // Lowering max_side by a factor s shrinks every image by s or less (the largest most), so repeat
+  // until the sum fits; each round lowers it, and 16 px is the floor.
+  while (bytes > opt.max_image_bytes && shrunk.max_side != 16) {
+    const double s = std::sqrt(double(opt.max_image_bytes) / double(bytes)) * 0.995;
+    shrunk.max_side = std::max(16, std::min(longest - 1, int(std::floor(longest * s))));
+    bytes = bytes_at(shrunk.max_side);
+  }
+  spdlog::warn(
+      "the {} images would hold {:.1f} GB in memory, up to {} px on the longer side (linear float "
+      "RGBA): shrinking them to at most {} px ({:.2f} GB; the budget is {:.2f} GB). Give --max-side or "
+      "--downscale to choose the size yourself",
+      sizes.size(), full / 1e9, full_longest, shrunk.max_side, bytes / 1e9, opt.max_image_bytes / 1e9);
+  return shrunk;
+}
+
 }  // namespace
 
 Dataset load_dataset(const std::string& path, const LoadOptions& options) {
@@ -317,8 +364,9 @@ Dataset load_dataset(const std::string& path, const LoadOptions& options) {
   if (specs.empty())
     throw std::runtime_error(
         fmt::format("dataset '{}' has no frames to load for the requested splits", ds.root));
+  const LoadOptions sized = within_image_budget(specs, options);
   ds.frames.reserve(specs.size());
-  for (const auto& spec : specs) ds.frames.push_back(load_frame(spec, options, &ds.has_alpha));
+  for (const auto& spec : specs) ds.frames.push_back(load_frame(spec, sized, &ds.has_alpha));
   read_ground_truth(ds);
   size_t bytes = 0;
   for (const Frame& f : ds.frames) bytes += f.image.pixels.size() * sizeof(float);

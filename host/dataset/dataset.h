@@ -44,9 +44,14 @@ Split split_from_string(const std::string& name);
 constexpr size_t kMinFramesLeft = 3;
 
 struct LoadOptions {
-  int downscale = 1;        // integer factor >= 1 applied to every image (and its intrinsics)
-  int max_side = 0;         // > 0: further shrink so that max(width, height) <= max_side
-  int max_frames = 0;       // > 0: keep at most this many frames PER SPLIT, evenly spaced
+  int downscale = 1;   // integer factor >= 1 applied to every image (and its intrinsics)
+  int max_side = 0;    // > 0: further shrink so that max(width, height) <= max_side
+  int max_frames = 0;  // > 0: keep at most this many frames PER SPLIT, evenly spaced
+  // > 0: when the images, as loaded (linear float RGBA, 16 bytes a pixel, after downscale and
+  // max_side), would hold more than this many bytes, shrink them all by one factor (as a smaller
+  // max_side would) until they fit, and log it. A phone capture of 300 1080p frames holds 10 GB;
+  // training uploads them to the device in one buffer.
+  uint64_t max_image_bytes = 0;
   bool load_images = true;  // false: cameras only (image headers are still read to check sizes)
   // Splits to load (empty = all). NeRF-synthetic: only the needed json files are read. For a plain
   // transforms.json the train/holdout assignment is always made on the full list first.

@@ -17,6 +17,7 @@ Vec3f OrientedShape::local(const Vec3f& p) const {
 
 bool OrientedShape::contains(const Vec3f& p) const {
   const Vec3f q = local(p);
+  if (q[1] < y_from * half[1]) return false;
   if (kind == Kind::Box)
     return std::fabs(q[0]) <= half[0] && std::fabs(q[1]) <= half[1] && std::fabs(q[2]) <= half[2];
   float s = 0.0f;

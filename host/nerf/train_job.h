@@ -16,6 +16,12 @@
 
 namespace lorgnette::nerf {
 
+// The most image memory a training loads (dataset::LoadOptions::max_image_bytes for `lorgnette train`
+// and Python's train): the training views go to the device in one buffer, and PoCL on the team's
+// machines allocates at most 2 GiB at once. 1.5 GB is ~94 M pixels: 45 full 1080p frames, or 300
+// at about 0.55x, more than a head model trained in minutes resolves (docs/bench/dataset.md).
+inline constexpr uint64_t kTrainImageBytes = 1'500'000'000;
+
 struct TrainJob {
   SizingOverrides sizing;   // its aabb_scale is replaced by `aabb_scale` below
   float aabb_scale = 0.0f;  // box size factor for mask-less datasets; 0 = the dataset's own hint

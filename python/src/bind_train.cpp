@@ -76,6 +76,7 @@ pyb::object run_train(const TrainArgs& a) {
     dataset::LoadOptions lo;
     lo.downscale = int(a.downscale);
     lo.max_side = int(a.max_side);
+    lo.max_image_bytes = nerf::kTrainImageBytes;
     lo.splits = {dataset::Split::Train};
     dataset::Dataset ds = dataset::load_dataset(a.data, lo);
     nerf::TrainJob job;

@@ -57,6 +57,7 @@ void run_train(const TrainArgs& a, GlobalOptions& global) {
   dataset::LoadOptions lo;
   lo.downscale = int(a.downscale);
   lo.max_side = int(a.max_side);
+  lo.max_image_bytes = nerf::kTrainImageBytes;
   lo.splits = {dataset::Split::Train};
   dataset::Dataset ds = dataset::load_dataset(a.data, lo);
   spdlog::info("dataset: {} ({}), {} frames", a.data, ds.format, ds.frames.size());
@@ -161,7 +162,10 @@ void add_train(CLI::App& app, GlobalOptions& global) {
   cmd->add_option("--occ-res", a->occ_res, "occupancy grid resolution (8..512)")->check(CLI::Range(8u, 512u));
   cmd->add_option("--step", a->step, "marching step in scene units");
   cmd->add_option("--downscale", a->downscale, "integer image downscale factor");
-  cmd->add_option("--max-side", a->max_side, "shrink images so the longer side is at most this");
+  cmd->add_option("--max-side", a->max_side,
+                  fmt::format("shrink images so the longer side is at most this (images that would hold "
+                              "more than {:.1f} GB in memory shrink on their own, with a warning)",
+                              nerf::kTrainImageBytes / 1e9));
   cmd->add_flag("--no-masks", a->no_masks, "ignore alpha masks when sizing the box");
   cmd->add_flag("--linear-loss", a->linear_loss, "L2 on linear instead of sRGB colour");
   cmd->add_option("--snapshot-every", a->snapshot_every, "seconds between snapshots (0: only at the end)");

@@ -152,5 +152,37 @@ TEST(SubjectVolume, UnionClipAndGrowth) {
   EXPECT_FALSE(SubjectVolume{}.contains({0.0f, 0.0f, 0.0f}));
 }
 
+// A part that starts part-way up its second axis (y_from): a rotated ellipsoid cut at 0.3 of its
+// half height holds the points of the whole one whose local y is at or above that plane, and nothing
+// below it, on both sides of the plane; growing keeps the cut where it is relative to the half size.
+TEST(SubjectVolume, PartFromAPlaneAcrossItsSecondAxis) {
+  OrientedShape whole;
+  whole.kind = OrientedShape::Kind::Ellipsoid;
+  whole.center = {0.1f, -0.2f, 0.3f};
+  whole.axes = rotation_rows(0.4, -0.2, 0.7);
+  whole.half = {0.5f, 0.6f, 0.4f};
+  OrientedShape cut = whole;
+  cut.y_from = 0.3f;
+  int above = 0, below = 0;
+  for (double x = -0.55; x <= 0.55; x += 0.05)
+    for (double y = -0.65; y <= 0.65; y += 0.05)
+      for (double z = -0.45; z <= 0.45; z += 0.05) {
+        Vec3f p = whole.center;  // local (x, y, z) in scene coordinates
+        for (int k = 0; k < 3; ++k)
+          p[k] += float(x * whole.axes[0][k] + y * whole.axes[1][k] + z * whole.axes[2][k]);
+        const float ly = whole.local(p)[1];
+        if (std::fabs(ly - 0.3f * whole.half[1]) < 1e-4f) continue;  // on the plane: rounding decides
+        EXPECT_EQ(cut.contains(p), whole.contains(p) && ly >= 0.3f * whole.half[1])
+            << x << " " << y << " " << z;
+        if (whole.contains(p)) (ly >= 0.3f * whole.half[1] ? above : below) += 1;
+      }
+  EXPECT_GT(above, 100);
+  EXPECT_GT(below, 1000);
+  const OrientedShape g = cut.grown(0.1f);
+  EXPECT_FLOAT_EQ(g.y_from, 0.3f);
+  EXPECT_FALSE(g.contains(whole.center));  // the centre lies below the cut
+  EXPECT_TRUE(whole.contains(whole.center));
+}
+
 }  // namespace
 }  // namespace lorgnette::nerf
