@@ -32,7 +32,14 @@ DeviceViews::DeviceViews(cl::Runtime& rt, const std::vector<View>& views, bool w
   cameras_ = cl::Buffer<Camera>(rt, host_cameras_);
   offsets_ = cl::Buffer<uint32_t>(rt, offsets);
   if (with_pixels) {
-    pixels_ = cl::Buffer<float>(rt, total_pixels_ * 4);
+    try {
+      pixels_ = cl::Buffer<float>(rt, total_pixels_ * 4);
+    } catch (const cl::Error& e) {  // the images, not the model: say what to shrink
+      throw cl::Error(fmt::format("the {} images hold {:.0f} MB as linear float RGBA, more than {} "
+                                  "allocates at once: shrink them (--max-side 1024, or --downscale 2)",
+                                  views.size(), total_pixels_ * 16 / 1e6, rt.device().name),
+                      e.code());
+    }
     for (size_t i = 0; i < views.size(); ++i)
       pixels_.write(rt, views[i].image->pixels, size_t(offsets[i]) * 4);
   } else {

@@ -65,7 +65,7 @@ TEST(DatasetBudget, ImagesOverTheBudgetShrinkToFitIt) {
     EXPECT_EQ(f.camera.width, uint32_t(f.image.width));
     EXPECT_EQ(f.camera.height, uint32_t(f.image.height));
     EXPECT_NEAR(f.camera.fx, 200.0 * f.image.width / kW, 1e-3);  // intrinsics follow the size
-    EXPECT_NEAR(f.image.pixels[0], 0.5f, 0.01f);                  // resampled (8-bit sRGB file), not cropped
+    EXPECT_NEAR(f.image.pixels[0], 0.5f, 0.01f);                 // resampled (8-bit sRGB file), not cropped
   }
   EXPECT_LT(ds.frames[0].image.width, kW * 0.6);
   EXPECT_GT(ds.frames[0].image.width, kW * 0.5);
