@@ -53,7 +53,15 @@ std::string FramingReport::advice() const {
 
 FramingReport check_head_framing(const fit::HeadBox& box, const std::vector<Camera>& cameras) {
   FramingReport r;
-  std::vector<Eigen::Vector3d> pts = head_points(box);
+  // The head, not the hair declared beyond the standard (train --hair: a hat or a bun may leave the
+  // frame, and its larger box would put the average head's sides and top beyond a well framed one's).
+  fit::HeadBox head = box;
+  if (fit::declared_hair_mm(box.extents) > 0.0 && box.head.mm_per_unit > 0.0) {
+    fit::HeadExtents standard = box.extents;
+    standard.hair_mm -= fit::declared_hair_mm(standard);
+    head = fit::head_box_from_frame(box.head, box.anchor, standard);
+  }
+  std::vector<Eigen::Vector3d> pts = head_points(head);
   for (const Camera& cam : cameras) {
     ++r.frames;
     r.touching += crosses_edge(cam, pts);

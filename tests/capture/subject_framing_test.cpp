@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
 #include <cmath>
 
 #include "host/nerf/snapshot.h"
@@ -58,6 +59,33 @@ TEST(SubjectFraming, ArmsLengthOrSomeGoodFramesPass) {
   EXPECT_EQ(r.advice(), "");
   // A camera inside the head's extent counts as touching (nothing around the head can be seen).
   EXPECT_EQ(check_head_framing(head(), {phone(0.05, 0)}).touching, 1u);
+}
+
+// Hair declared beyond the standard (train --hair 150: a taller, longer and wider box) is not the
+// head: a capture that frames the head well passes with it as without, and one that overflows the
+// frames overflows them as it does without.
+TEST(SubjectFraming, DeclaredHairIsNotTheHead) {
+  fit::HeadFrame f;  // facing +z, 1 unit = 1 m
+  f.d_fwd = Eigen::Vector3d::UnitZ(), f.d_up = Eigen::Vector3d::UnitY();
+  f.d_eye = f.d_up.cross(f.d_fwd);
+  f.mm_per_unit = 1000.0;
+  const Eigen::Vector3d eyes = head().center;
+  fit::HeadExtents tall;
+  tall.hair_mm = 150.0;
+  const fit::HeadBox standard = fit::head_box_from_frame(f, eyes, {});
+  const fit::HeadBox hair = fit::head_box_from_frame(f, eyes, tall);
+  std::vector<Camera> near;  // 36 cm: the head fills the frame, with room beside it
+  for (double yaw = -40; yaw <= 40; yaw += 10) near.push_back(phone(0.36, yaw));
+  EXPECT_EQ(check_head_framing(standard, near).touching, 0u);
+  EXPECT_EQ(check_head_framing(hair, near).touching, 0u);
+  // Its box as the head (what the check used before) overflows 6 of those 9 frames.
+  fit::HeadBox grown = hair;
+  grown.extents = fit::HeadExtents{};
+  EXPECT_GE(check_head_framing(grown, near).touching, 6u);
+  std::vector<Camera> close;
+  for (double yaw = -40; yaw <= 40; yaw += 10) close.push_back(phone(0.18, yaw));
+  EXPECT_GE(check_head_framing(hair, close).touching, 8u);  // 18 cm: 8 of 9 overflow, as without hair
+  EXPECT_EQ(check_head_framing(hair, close).touching, check_head_framing(standard, close).touching);
 }
 
 TEST(SubjectFraming, TheModelKeepsTheProblemSoNoFitPassesItAsGood) {
