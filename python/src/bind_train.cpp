@@ -146,9 +146,10 @@ void bind_train(pyb::module_& m) {
       "`lorgnette train DATASET -o OUTPUT`: trains and saves the snapshot, returns the Model (its "
       "`train_info` dict: steps, seconds, final_loss, stopped, budget, loss_curve). steps=0 and "
       "seconds=0: the size-based default budget. hair_mm: `--hair`, the head box's hair (or hat) above and "
-      "behind the skull on a mask-less capture (the sides widen by half of what exceeds 30). progress(step, "
-      "seconds, loss) is called after every step "
-      "(GIL held only then); returning False stops cleanly (the snapshot is saved, train_info['stopped']).");
+      "behind the skull on a mask-less capture (the sides widen by half of what exceeds 30). Images that "
+      "would hold more than 1.5 GB in memory are shrunk to fit (a warning says to what; max_side sets it). "
+      "progress(step, seconds, loss) is called after every step (GIL held only then); returning False "
+      "stops cleanly (the snapshot is saved, train_info['stopped']).");
 }
 
 }  // namespace lorgnette::py
