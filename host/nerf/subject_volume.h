@@ -26,7 +26,7 @@ struct OrientedShape {
   std::array<Vec3f, 3> axes{{{1.0f, 0.0f, 0.0f}, {0.0f, 1.0f, 0.0f}, {0.0f, 0.0f, 1.0f}}};
   Vec3f half{0.0f, 0.0f, 0.0f};
   // The part holds only points whose local y is at least y_from * half[1] (-1: the whole shape), so
-  // a part can end at a plane across its second axis (a head's hat brim above the eyes).
+  // a part can end at a plane across its second axis (a head's wider hair from eye level up).
   float y_from = -1.0f;
 
   Vec3f local(const Vec3f& p) const;  // p in the shape's axes, relative to its centre
