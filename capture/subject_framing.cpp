@@ -56,7 +56,7 @@ FramingReport check_head_framing(const fit::HeadBox& box, const std::vector<Came
   // The head, not the hair declared beyond the standard (train --hair: a hat or a bun may leave the
   // frame, and its larger box would put the average head's sides and top beyond a well framed one's).
   fit::HeadBox head = box;
-  if (fit::declared_hair_mm(box.extents) > 0.0 && box.head.mm_per_unit > 0.0) {
+  if (fit::declared_hair_mm(box.extents) > 0.0) {
     fit::HeadExtents standard = box.extents;
     standard.hair_mm -= fit::declared_hair_mm(standard);
     head = fit::head_box_from_frame(box.head, box.anchor, standard);

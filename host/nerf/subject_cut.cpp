@@ -8,6 +8,7 @@
 #include <cmath>
 
 #include "host/field/density_at.h"
+#include "kernels/march/march_math.h"
 
 namespace lorgnette::nerf {
 namespace {
@@ -36,22 +37,18 @@ SeenOpacity seen_opacity(const std::vector<Camera>& cameras, const Aabb& box, co
         const float dir[3] = {d.x, d.y, d.z};
         const float o[3] = {o0.x * norm.scale + norm.offset[0], o0.y * norm.scale + norm.offset[1],
                             o0.z * norm.scale + norm.offset[2]};
-        float t0 = 0.0f, t1 = 1e30f;
-        for (int a = 0; a < 3; ++a) {
-          const float inv = 1.0f / dir[a], ta = (box.min[a] - o[a]) * inv, tb = (box.max[a] - o[a]) * inv;
-          t0 = std::max(t0, std::min(ta, tb)), t1 = std::min(t1, std::max(ta, tb));
-        }
+        float t0 = 0.0f, t1 = 0.0f;
+        if (!march_clip_aabb(box.min.data(), box.max.data(), o[0], o[1], o[2], dir[0], dir[1], dir[2], &t0,
+                             &t1))
+          continue;
         for (float t = t0 + 0.5f * step; t < t1; t += step) {
           Vec3f q, scene;
-          uint32_t cell[3];
           for (int a = 0; a < 3; ++a) {
             const float p = o[a] + t * dir[a];
-            q[a] = std::clamp((p - box.min[a]) / box.extent(a), 0.0f, 0.999999f);
-            cell[a] = std::min(uint32_t(q[a] * float(occ.res)), occ.res - 1);
+            q[a] = (p - box.min[a]) / box.extent(a);
             scene[a] = (p - norm.offset[a]) / norm.scale;
           }
-          const uint64_t c = cell[0] + uint64_t(occ.res) * (cell[1] + uint64_t(occ.res) * cell[2]);
-          if (!((occ.bits[c >> 5] >> (c & 31u)) & 1u)) continue;
+          if (!occ_test(occ.bits.data(), occ.res, q[0], q[1], q[2])) continue;
           const int zone = zone_of(scene);
           samples.push_back({y * w + x, zone >= 1 && zone <= zones ? zone : 0});
           points.push_back(q);

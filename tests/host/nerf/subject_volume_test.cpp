@@ -75,12 +75,20 @@ Counts check_mask(const OrientedShape& shape, const Aabb& box, uint32_t res, Ins
   return n;
 }
 
-TEST(SubjectVolume, RotatedBoxMask) {
+// A shape of `kind` at `center`, turned by rotation_rows(a, b, c), with half sizes `half`.
+OrientedShape shape(OrientedShape::Kind kind, const Vec3f& center, double a, double b, double c,
+                    const Vec3f& half) {
   OrientedShape s;
-  s.kind = OrientedShape::Kind::Box;
-  s.center = {0.1f, -0.2f, 0.05f};
-  s.axes = rotation_rows(0.4, -0.7, 1.1);
-  s.half = {0.5f, 0.3f, 0.2f};
+  s.kind = kind;
+  s.center = center;
+  s.axes = rotation_rows(a, b, c);
+  s.half = half;
+  return s;
+}
+
+TEST(SubjectVolume, RotatedBoxMask) {
+  const OrientedShape s =
+      shape(OrientedShape::Kind::Box, {0.1f, -0.2f, 0.05f}, 0.4, -0.7, 1.1, {0.5f, 0.3f, 0.2f});
   Aabb box;
   box.min = {-1.0f, -1.0f, -1.0f}, box.max = {1.0f, 1.0f, 1.0f};
   auto in = [&](const std::array<double, 3>& l, double g) {
@@ -106,11 +114,8 @@ TEST(SubjectVolume, RotatedBoxMask) {
 }
 
 TEST(SubjectVolume, RotatedEllipsoidMask) {
-  OrientedShape s;
-  s.kind = OrientedShape::Kind::Ellipsoid;
-  s.center = {-0.15f, 0.1f, 0.2f};
-  s.axes = rotation_rows(-0.3, 0.5, 2.0);
-  s.half = {0.7f, 0.45f, 0.3f};
+  const OrientedShape s =
+      shape(OrientedShape::Kind::Ellipsoid, {-0.15f, 0.1f, 0.2f}, -0.3, 0.5, 2.0, {0.7f, 0.45f, 0.3f});
   Aabb box;  // not a cube: cells are not cubes either
   box.min = {-1.0f, -0.8f, -0.6f}, box.max = {1.0f, 0.9f, 1.0f};
   auto in = [&](const std::array<double, 3>& l, double g) {
@@ -156,11 +161,8 @@ TEST(SubjectVolume, UnionClipAndGrowth) {
 // half height holds the points of the whole one whose local y is at or above that plane, and nothing
 // below it, on both sides of the plane; growing keeps the cut where it is relative to the half size.
 TEST(SubjectVolume, PartFromAPlaneAcrossItsSecondAxis) {
-  OrientedShape whole;
-  whole.kind = OrientedShape::Kind::Ellipsoid;
-  whole.center = {0.1f, -0.2f, 0.3f};
-  whole.axes = rotation_rows(0.4, -0.2, 0.7);
-  whole.half = {0.5f, 0.6f, 0.4f};
+  const OrientedShape whole =
+      shape(OrientedShape::Kind::Ellipsoid, {0.1f, -0.2f, 0.3f}, 0.4, -0.2, 0.7, {0.5f, 0.6f, 0.4f});
   OrientedShape cut = whole;
   cut.y_from = 0.3f;
   int above = 0, below = 0;
