@@ -169,18 +169,24 @@ EarRootSide find_ear_root(const DensityFn& density_of, const EarRootInputs& in, 
   }
   const Eigen::Vector3d c = sum / r.plateau;
   r.found = true;
+  r.height_mm = c.y(), r.depth_mm = c.z(), r.lateral_mm = c.x();
   r.point = in.temple + (c.x() * out + c.z() * fwd + (eye_height + c.y()) * up) / mpu;
   return r;
 }
 
 std::string EarRoots::summary() const {
   auto say = [](const char* name, const EarRootSide& s) {
-    return s.found ? fmt::format("{} ear's root found (a {:.0f} deg crease over {} depths, {} at its top)",
-                                 name, s.bend_deg, s.slices, s.plateau)
+    return s.found ? fmt::format(
+                         "{} ear's root found (a {:.0f} deg crease over {} depths, {} at its top; {:+.1f} mm "
+                         "above the eye corner, {:+.1f} mm forward of the temple)",
+                         name, s.bend_deg, s.slices, s.plateau, s.height_mm, s.depth_mm)
                    : fmt::format("{} ear's root not found: {}", name, s.why);
   };
-  const char* used = left.found && right.found ? "both ears from the density" : "the ears from Eq. 2-3";
-  return fmt::format("{}; {}; {}", say("left", left), say("right", right), used);
+  const char* used = use == Use::kBoth       ? "both ears from the density"
+                     : use == Use::kMirrored ? "one ear from the density, mirrored onto the other side"
+                                             : "the ears from Eq. 2-3";
+  return fmt::format("{}; {}; {}{}", say("left", left), say("right", right), note.empty() ? "" : note + "; ",
+                     used);
 }
 
 EarRoots apply_ear_roots(const DensityFn& density, const EarInputs& in, const Eigen::Vector3d& d_eye,
@@ -191,30 +197,49 @@ EarRoots apply_ear_roots(const DensityFn& density, const EarInputs& in, const Ei
   r.right = find_ear_root(density, {in.t_r, in.e_r, d_eye, in.d_up, in.d_fwd, -1, mm_per_unit}, options);
   for (EarRootSide* s : {&r.left, &r.right})
     if (s->found && accept)
-      if (std::string veto = accept(*s); !veto.empty()) s->found = false, s->why = veto;
+      if (std::string veto = accept(*s); !veto.empty()) s->found = false, s->vetoed = true, s->why = veto;
+  const Eigen::Vector3d up = in.d_up.normalized(), fwd = in.d_fwd.normalized();
   if (r.left.found && r.right.found) {
-    // A head's ears lie at one height and depth: the rests' difference along d_up and d_fwd (the
-    // temples are no reference: their depth errors are what this search avoids).
-    const Eigen::Vector3d d = r.left.point - r.right.point;
-    const double apart = std::hypot(d.dot(in.d_up.normalized()), d.dot(in.d_fwd.normalized())) * mm_per_unit;
-    if (apart > options.max_asymmetry_mm) {
-      const std::string why =
-          fmt::format("the two sides' rests lie {:.1f} mm apart in height and depth (over {:.0f})", apart,
-                      options.max_asymmetry_mm);
+    // A head's ears lie at one height: the rests' difference along d_up (the temples are no
+    // reference: their errors are what this search avoids).
+    const double gap = std::abs((r.left.point - r.right.point).dot(up)) * mm_per_unit;
+    if (gap > options.max_height_gap_mm) {
+      const std::string why = fmt::format(
+          "the two sides' rests lie {:.1f} mm apart in height (over {:.0f}; left {:+.1f} mm above its eye "
+          "corner, right {:+.1f})",
+          gap, options.max_height_gap_mm, r.left.height_mm, r.right.height_mm);
       r.left.found = r.right.found = false;
       r.left.why = r.right.why = why;
     }
   }
+  // Each rest moved to `height_and_depth`'s height and depth (along d_up, d_fwd), at its own width.
+  auto level = [&](const Eigen::Vector3d& p, const Eigen::Vector3d& height_and_depth) -> Eigen::Vector3d {
+    return p + (height_and_depth - p).dot(up) * up + (height_and_depth - p).dot(fwd) * fwd;
+  };
   if (r.left.found && r.right.found) {
     // One height and depth for both, the mean of the two: a difference within the limit is the
     // search's scatter along the flat top of the root more than the head's asymmetry, and it would
     // yaw or roll the frame away from the face's own axes.
-    const Eigen::Vector3d up = in.d_up.normalized(), fwd = in.d_fwd.normalized();
     const Eigen::Vector3d mid = 0.5 * (r.left.point + r.right.point);
-    auto level = [&](const Eigen::Vector3d& p) -> Eigen::Vector3d {
-      return p + (mid - p).dot(up) * up + (mid - p).dot(fwd) * fwd;
-    };
-    ears.f_l = level(r.left.point), ears.f_r = level(r.right.point);
+    ears.f_l = level(r.left.point, mid), ears.f_r = level(r.right.point, mid);
+    r.use = EarRoots::Use::kBoth;
+    return r;
+  }
+  const EarRootSide* lone = r.left.found ? &r.left : r.right.found ? &r.right : nullptr;
+  const EarRootSide* other = lone == &r.left ? &r.right : &r.left;
+  if (lone && !other->vetoed && lone->height_mm <= options.lone_highest_mm) {
+    const bool left = lone == &r.left;
+    const Eigen::Vector3d out_other = (left ? -1.0 : 1.0) * d_eye.normalized();
+    const Eigen::Vector3d beside = (left ? in.t_r : in.t_l) + lone->lateral_mm * out_other / mm_per_unit;
+    (left ? ears.f_l : ears.f_r) = lone->point;
+    (left ? ears.f_r : ears.f_l) = level(beside, lone->point);
+    r.use = EarRoots::Use::kMirrored;
+  } else if (lone) {
+    r.note = other->vetoed ? "the other side is vetoed, so the found one is not mirrored"
+                           : fmt::format(
+                                 "the found one lies {:.1f} mm above its eye corner, over the {:.0f} "
+                                 "allowed for one side alone",
+                                 lone->height_mm, options.lone_highest_mm);
   }
   return r;
 }

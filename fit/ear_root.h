@@ -53,9 +53,17 @@ struct EarRootOptions {
   // d_eye and d_up): an ear's root is a smooth line; hair gives creases that jump.
   double max_step_mm = 5.0;
   int min_slices = 3;  // depths (consecutive) that must hold a crease
-  // The two sides' rests may differ this much in height and depth (the exact procedural meshes' own
-  // searches differ by up to 9.5 mm, along the flat top of the ear's root).
-  double max_asymmetry_mm = 15.0;
+  // The two sides' rests may differ this much in height (the ears' heights set the frame's pitch).
+  // Their depths are averaged whatever their gap: the rest's depth along the flat top of the root is
+  // loosely defined (the exact procedural meshes' own searches differ by up to 9.5 mm there, a NeRF's
+  // by 20 mm on s_r2_y20), it moves the frame little, and the mean of two depths in the window lies
+  // nearer either than Eq. 2-3's point, ~45 mm behind the temple and outside the window.
+  double max_height_gap_mm = 15.0;
+  // One side found, the other showing no crease (a narrow arc that saw one ear better, or a ray field
+  // that missed it) and not vetoed: the found rest is mirrored onto the other side when it lies at
+  // most this high above its eye corner (the rests of every head we know lie -5..+16 mm above them;
+  // the creases found in in2n-face's curls ~30 mm). A vetoed side (hair over it) keeps Eq. 2-3 for both.
+  double lone_highest_mm = 20.0;
   // The rest: the mean of the creases whose height (a median over three depths) lies within this of
   // the highest (the top of the root is a plateau a few depths long; its first slice would bias the
   // rest forward or back).
@@ -65,7 +73,11 @@ struct EarRootOptions {
 struct EarRootSide {
   bool found = false;
   Eigen::Vector3d point = Eigen::Vector3d::Zero();  // scene units
-  double bend_deg = 0.0;                            // how sharply the profile turns there
+  double height_mm = 0.0;                           // the rest above the side's outer eye corner (along d_up)
+  double depth_mm = 0.0;    // along d_fwd from the temple landmark (negative: behind it)
+  double lateral_mm = 0.0;  // and outwards from it along the side's d_eye
+  bool vetoed = false;      // found, then refused by the caller's veto (`why` says why)
+  double bend_deg = 0.0;    // how sharply the profile turns there
   int slices = 0;   // consecutive depths holding the chosen line of creases (or the longest, when too short)
   int plateau = 0;  // of them, those averaged into the rest
   std::vector<Eigen::Vector3d> ear_top;  // the plateau's ear top just outside each crease (scene), for the
@@ -87,15 +99,20 @@ EarRootSide find_ear_root(const DensityFn& density, const EarRootInputs& in, con
 
 struct EarRoots {
   EarRootSide left, right;
+  // Which ears `apply_ear_roots` put in place: Eq. 2-3's, both sides' rests, or one side's mirrored.
+  enum class Use { kEq23, kBoth, kMirrored } use = Use::kEq23;
+  bool from_density() const { return use != Use::kEq23; }
+  std::string note;             // why one side found alone was not mirrored
   std::string summary() const;  // for the log: what each side showed and which ears were used
 };
 
 // Both sides' searches on `ears`' inputs, and the ears they give. `accept` may veto a side found
-// (e.g. its ear top is hair-dark), with a reason. Only when both sides are found, and their rests lie
-// at one height and depth within `max_asymmetry_mm` (along d_up and d_fwd), do they replace Eq.
-// 2-3's points, both at the mean height and depth of the two: one ear found alone, on a real capture, was
-// hair as often as not, and an ear of each kind would roll and yaw the frame. Otherwise `ears` stays as it
-// is.
+// (e.g. its ear top is hair-dark), with a reason. When both sides are found and their rests lie at
+// one height within `max_height_gap_mm`, they replace Eq. 2-3's points, both at the mean height and
+// depth of the two (an ear of each kind would roll and yaw the frame). When one side is found, lies
+// no higher than `lone_highest_mm`, and the other side showed no ear (not vetoed), the found rest
+// stands for both: the other side's rest lies at its height and depth, as far out from that side's
+// temple as the found one. Otherwise `ears` stays as it is.
 using EarVeto = std::function<std::string(const EarRootSide&)>;  // empty string: accepted
 EarRoots apply_ear_roots(const DensityFn& density, const EarInputs& in, const Eigen::Vector3d& d_eye,
                          double mm_per_unit, const EarRootOptions& options, EarPoints& ears,

@@ -317,6 +317,7 @@ void ears_back_to_eq23(FitRun& run) {
   spdlog::info("fit: the density's ears: {}", why);
   r.ear_roots.left.found = r.ear_roots.right.found = false;
   r.ear_roots.left.why = r.ear_roots.right.why = why;
+  r.ear_roots.use = EarRoots::Use::kEq23;
   r.ears = run.eq23_ears;
   place_from_points(run);
   r.temples = {};
@@ -394,8 +395,7 @@ FitResult fit_glasses(ViewSource& source, const GlassesInput& glasses, const Fit
       if (spreads_temples(run)) spread_temples(run, head, temples_stage);
     };
     rest_and_spread("contact", "temples");
-    if (r.ear_roots.left.found && r.ear_roots.right.found &&
-        r.contact.front_penetration_mm > opt.place.max_penetration_mm) {
+    if (r.ear_roots.from_density() && r.contact.front_penetration_mm > opt.place.max_penetration_mm) {
       ears_back_to_eq23(run);
       rest_and_spread("contact_eq23_ears", "temples_eq23_ears");
     }

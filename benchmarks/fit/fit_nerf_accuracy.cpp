@@ -78,7 +78,7 @@ struct Row {
   std::string stages, error;
   // Against the procedural head's anatomical ear rests (synth's ear_rest_l/r, the crease above the
   // ear's root): the ears, and the frame's turn from the placement that the true nose point and those
-  // rests give (NaN where the dataset has none). ears_from: density / eq23.
+  // rests give (NaN where the dataset has none). ears_from: density / mirrored / eq23.
   double ear_l_anat_mm = NAN, ear_r_anat_mm = NAN, rotation_anat_deg = NAN;
   std::string ears_from;
 };
@@ -110,7 +110,9 @@ Row run_fit(const std::function<FitResult()>& fit, const GlassesInput& g, const 
     row.views_used = r.views_used;
     row.views = int(r.views.size());
     const EarRoots& roots = r.ear_roots;
-    row.ears_from = roots.left.found && roots.right.found ? "density" : "eq23";
+    row.ears_from = roots.use == EarRoots::Use::kBoth       ? "density"
+                    : roots.use == EarRoots::Use::kMirrored ? "mirrored"
+                                                            : "eq23";
     if (!gt_or_none) return row;
     const GroundTruth& gt = *gt_or_none;
     row.e = compare_fit(r, gt);

@@ -1,6 +1,7 @@
 // The ear-root search (fit/ear_root.h) on an analytic head: a sphere for the skull with a flat-topped
 // box for each ear, whose crease with the skull is known exactly; a head without ears; and when
-// the fit may use what it finds (both sides, agreeing, not vetoed).
+// the fit may use what it finds (both sides at one height, or one side mirrored where the other shows
+// nothing and nothing is vetoed).
 #include "fit/ear_root.h"
 
 #include <gtest/gtest.h>
@@ -91,7 +92,7 @@ TEST(EarRoot, NoEarNoRest) {
   EXPECT_NE(s.why.find("no crease"), std::string::npos) << s.why;
 }
 
-TEST(EarRoot, ApplyNeedsBothSidesAgreeingAndUnvetoed) {
+TEST(EarRoot, ApplyNeedsAgreeingHeightsOrOneUnopposedSide) {
   const EarInputs in = inputs();
   const EarPoints eq23 = ear_points(in);
   auto apply = [&](const DensityFn& density, const EarVeto& veto = {}) {
@@ -106,19 +107,42 @@ TEST(EarRoot, ApplyNeedsBothSidesAgreeingAndUnvetoed) {
   EXPECT_LT((both.f_r - roots.right.point).norm(), 1e-9);
   EXPECT_NE(roots.summary().find("both ears from the density"), std::string::npos) << roots.summary();
 
-  // One ear alone (hair over the other, say), no ears, or a side vetoed: Eq. 2-3 stand.
-  for (const auto& [ears, r] : {apply(head(true, false)), apply(head(false, false)),
-                                apply(head(true, true), [](const EarRootSide& s) {
+  // No ears, or a side vetoed (hair over it, say): Eq. 2-3 stand, even where the other side is found.
+  for (const auto& [ears, r] : {apply(head(false, false)), apply(head(true, true), [](const EarRootSide& s) {
                                   return s.point.x() < 0 ? std::string("hair") : std::string();
                                 })}) {
     EXPECT_EQ(ears.f_l, eq23.f_l) << r.summary();
     EXPECT_EQ(ears.f_r, eq23.f_r) << r.summary();
+    EXPECT_FALSE(r.from_density());
     EXPECT_NE(r.summary().find("Eq. 2-3"), std::string::npos) << r.summary();
   }
   EXPECT_EQ(apply(head(true, true),
                   [](const EarRootSide& s) { return s.point.x() < 0 ? std::string("hair") : std::string(); })
                 .second.right.why,
             "hair");
+
+  // One ear shown, the other side empty (not vetoed): the found rest stands for both, mirrored. The
+  // inputs are symmetric, so the right rest is the left one's mirror image.
+  {
+    auto [ears, r] = apply(head(true, false));
+    ASSERT_TRUE(r.left.found && !r.right.found) << r.summary();
+    EXPECT_EQ(r.use, EarRoots::Use::kMirrored);
+    EXPECT_NE(r.summary().find("mirrored"), std::string::npos) << r.summary();
+    EXPECT_LT((ears.f_l - r.left.point).norm(), 1e-9);
+    EXPECT_NEAR(ears.f_r.x(), -ears.f_l.x(), 1e-9);
+    EXPECT_NEAR(ears.f_r.y(), ears.f_l.y(), 1e-9);
+    EXPECT_NEAR(ears.f_r.z(), ears.f_l.z(), 1e-9);
+  }
+  // ... but not when it lies higher than one side alone may (hair makes creases high on the head).
+  {
+    EarRootOptions low;
+    low.lone_highest_mm = kEarTop - 5.0;
+    EarPoints ears = eq23;
+    EarRoots r = apply_ear_roots(head(true, false), in, {1, 0, 0}, 1.0, low, ears);
+    EXPECT_FALSE(r.from_density()) << r.summary();
+    EXPECT_NE(r.summary().find("allowed for one side alone"), std::string::npos) << r.summary();
+    EXPECT_EQ(ears.f_r, eq23.f_r);
+  }
 
   // The right ear 6 mm lower than the left: both rests at the middle height, each at its own width.
   auto shifted = [full = head(true, true)](float dy) {
@@ -138,6 +162,25 @@ TEST(EarRoot, ApplyNeedsBothSidesAgreeingAndUnvetoed) {
     EXPECT_NEAR(lv.f_r.y(), lv.f_l.y(), 1e-9);
     EXPECT_NEAR(lv.f_l.x(), six.left.point.x(), 1e-9);
     EXPECT_NEAR(lv.f_r.x(), six.right.point.x(), 1e-9);
+  }
+  // The right ear 16 mm further forward: the depths are averaged (along the root's flat top a depth
+  // is loosely defined), each rest at its own width.
+  auto moved_forward = [full = head(true, true)](float dz) {
+    return DensityFn([=](const std::vector<Eigen::Vector3f>& pts) {
+      std::vector<Eigen::Vector3f> moved = pts;
+      for (auto& p : moved)
+        if (p.x() < 0) p.z() -= dz;  // the right half of the head, dz further forward
+      return full(moved);
+    });
+  };
+  {
+    EarPoints lv = eq23;
+    EarRoots fwd = apply_ear_roots(moved_forward(16.0f), in, {1, 0, 0}, 1.0, EarRootOptions{}, lv);
+    ASSERT_TRUE(fwd.left.found && fwd.right.found) << fwd.summary();
+    EXPECT_NEAR(fwd.right.point.z() - fwd.left.point.z(), 16.0, 2.0);
+    EXPECT_NEAR(lv.f_l.z(), 0.5 * (fwd.left.point.z() + fwd.right.point.z()), 1e-9);
+    EXPECT_NEAR(lv.f_r.z(), lv.f_l.z(), 1e-9);
+    EXPECT_EQ(fwd.use, EarRoots::Use::kBoth);
   }
   // The right ear 18 mm higher: the two rests no longer agree within the 15 mm allowed.
   EarPoints ears = eq23;
