@@ -62,7 +62,8 @@ std::vector<double> grid(double from, double to, double step) {
 
 }  // namespace
 
-EarRootSide find_ear_root(const DensityFn& density_of, const EarRootInputs& in, const EarRootOptions& o) {
+std::vector<EarRootSide> find_ear_root_lines(const DensityFn& density_of, const EarRootInputs& in,
+                                             const EarRootOptions& o) {
   check(in, o);
   const double mpu = in.mm_per_unit;
   const Eigen::Vector3d out = in.side * in.d_eye.normalized(), up = in.d_up.normalized(),
@@ -140,8 +141,8 @@ EarRootSide find_ear_root(const DensityFn& density_of, const EarRootInputs& in, 
     if (run.len >= std::max(1, o.min_slices)) runs.push_back(std::move(run));
     i = j;
   }
-  EarRootSide r;
   if (runs.empty()) {
+    EarRootSide r;
     r.slices = longest;
     r.why = found_any == 0
                 ? fmt::format(
@@ -150,37 +151,48 @@ EarRootSide find_ear_root(const DensityFn& density_of, const EarRootInputs& in, 
                       depths.size())
                 : fmt::format("creases in only {} consecutive depths of {} (need {})", longest, depths.size(),
                               o.min_slices);
-    return r;
+    return {r};
   }
-  const Run& best =
-      *std::max_element(runs.begin(), runs.end(), [](const Run& a, const Run& b) { return a.top < b.top; });
-  r.slices = best.len;
-  Eigen::Vector3d sum = Eigen::Vector3d::Zero();  // lateral, height, depth (mm)
-  for (int k = 0; k < best.len; ++k) {
-    const int i = best.start + k;
-    if (best.smooth[k] >= best.top - o.plateau_mm) {
-      sum += Eigen::Vector3d(creases[i].lateral_mm, creases[i].height_mm, depths[i]);
-      r.ear_top.push_back(in.temple + ((creases[i].lateral_mm + o.bend_span_mm) * out + depths[i] * fwd +
-                                       (eye_height + creases[i].top_mm) * up) /
-                                          mpu);
-      r.bend_deg = std::max(r.bend_deg, creases[i].bend_deg);
-      ++r.plateau;
+  std::stable_sort(runs.begin(), runs.end(), [](const Run& a, const Run& b) { return a.top > b.top; });
+  std::vector<EarRootSide> found;
+  for (const Run& run : runs) {
+    EarRootSide r;
+    r.slices = run.len;
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();  // lateral, height, depth (mm)
+    for (int k = 0; k < run.len; ++k) {
+      const int i = run.start + k;
+      if (run.smooth[k] >= run.top - o.plateau_mm) {
+        sum += Eigen::Vector3d(creases[i].lateral_mm, creases[i].height_mm, depths[i]);
+        r.ear_top.push_back(in.temple + ((creases[i].lateral_mm + o.bend_span_mm) * out + depths[i] * fwd +
+                                         (eye_height + creases[i].top_mm) * up) /
+                                            mpu);
+        r.bend_deg = std::max(r.bend_deg, creases[i].bend_deg);
+        ++r.plateau;
+      }
     }
+    const Eigen::Vector3d c = sum / r.plateau;
+    r.found = true;
+    r.height_mm = c.y(), r.depth_mm = c.z(), r.lateral_mm = c.x();
+    r.point = in.temple + (c.x() * out + c.z() * fwd + (eye_height + c.y()) * up) / mpu;
+    found.push_back(std::move(r));
   }
-  const Eigen::Vector3d c = sum / r.plateau;
-  r.found = true;
-  r.height_mm = c.y(), r.depth_mm = c.z(), r.lateral_mm = c.x();
-  r.point = in.temple + (c.x() * out + c.z() * fwd + (eye_height + c.y()) * up) / mpu;
-  return r;
+  return found;
+}
+
+EarRootSide find_ear_root(const DensityFn& density, const EarRootInputs& in, const EarRootOptions& options) {
+  return find_ear_root_lines(density, in, options).front();
 }
 
 std::string EarRoots::summary() const {
   auto say = [](const char* name, const EarRootSide& s) {
-    return s.found ? fmt::format(
-                         "{} ear's root found (a {:.0f} deg crease over {} depths, {} at its top; {:+.1f} mm "
-                         "above the eye corner, {:+.1f} mm forward of the temple)",
-                         name, s.bend_deg, s.slices, s.plateau, s.height_mm, s.depth_mm)
-                   : fmt::format("{} ear's root not found: {}", name, s.why);
+    return s.found
+               ? fmt::format(
+                     "{} ear's root found (a {:.0f} deg crease over {} depths, {} at its top; {:+.1f} mm "
+                     "above the eye corner, {:+.1f} mm forward of the temple{})",
+                     name, s.bend_deg, s.slices, s.plateau, s.height_mm, s.depth_mm,
+                     s.higher_vetoed > 0 ? fmt::format("; under {} higher line(s) vetoed", s.higher_vetoed)
+                                         : "")
+               : fmt::format("{} ear's root not found: {}", name, s.why);
   };
   const char* used = use == Use::kBoth       ? "both ears from the density"
                      : use == Use::kMirrored ? "one ear from the density, mirrored onto the other side"
@@ -193,11 +205,41 @@ EarRoots apply_ear_roots(const DensityFn& density, const EarInputs& in, const Ei
                          double mm_per_unit, const EarRootOptions& options, EarPoints& ears,
                          const EarVeto& accept) {
   EarRoots r;
-  r.left = find_ear_root(density, {in.t_l, in.e_l, d_eye, in.d_up, in.d_fwd, +1, mm_per_unit}, options);
-  r.right = find_ear_root(density, {in.t_r, in.e_r, d_eye, in.d_up, in.d_fwd, -1, mm_per_unit}, options);
-  for (EarRootSide* s : {&r.left, &r.right})
-    if (s->found && accept)
-      if (std::string veto = accept(*s); !veto.empty()) s->found = false, s->vetoed = true, s->why = veto;
+  // Each side's highest line of creases that the veto accepts: hair over the top of the ear makes
+  // a higher line at the hair's edge, above the ear's own.
+  auto side = [&](const Eigen::Vector3d& t, const Eigen::Vector3d& e, int sign) {
+    std::vector<EarRootSide> lines =
+        find_ear_root_lines(density, {t, e, d_eye, in.d_up, in.d_fwd, sign, mm_per_unit}, options);
+    if (!lines.front().found || !accept) return lines.front();
+    std::string first_veto, next_veto;
+    for (EarRootSide& line : lines) {
+      const int higher = int(&line - lines.data());
+      std::string veto = accept(line);
+      // Under hair a line must lie where ears do: hair's own lower edges make creases too.
+      if (veto.empty() && higher > 0 && line.height_mm > options.plausible_highest_mm)
+        veto = fmt::format(
+            "it lies under hair and {:.1f} mm above the eye corner, over the {:.0f} allowed there",
+            line.height_mm, options.plausible_highest_mm);
+      if (veto.empty()) {
+        line.higher_vetoed = higher;
+        return line;
+      }
+      if (first_veto.empty())
+        first_veto =
+            fmt::format("{} (a crease {:+.1f} mm above the eye corner, {:+.1f} mm forward of the temple)",
+                        veto, line.height_mm, line.depth_mm);
+      else if (next_veto.empty())
+        next_veto = veto;
+    }
+    EarRootSide s = lines.front();
+    s.found = false, s.vetoed = true;
+    s.why = lines.size() == 1 ? first_veto
+                              : fmt::format("{}; and the {} lower line(s) of creases too (the highest: {})",
+                                            first_veto, lines.size() - 1, next_veto);
+    return s;
+  };
+  r.left = side(in.t_l, in.e_l, +1);
+  r.right = side(in.t_r, in.e_r, -1);
   const Eigen::Vector3d up = in.d_up.normalized(), fwd = in.d_fwd.normalized();
   if (r.left.found && r.right.found) {
     // A head's ears lie at one height: the rests' difference along d_up (the temples are no
@@ -227,7 +269,7 @@ EarRoots apply_ear_roots(const DensityFn& density, const EarInputs& in, const Ei
   }
   const EarRootSide* lone = r.left.found ? &r.left : r.right.found ? &r.right : nullptr;
   const EarRootSide* other = lone == &r.left ? &r.right : &r.left;
-  if (lone && !other->vetoed && lone->height_mm <= options.lone_highest_mm) {
+  if (lone && !other->vetoed && lone->height_mm <= options.plausible_highest_mm) {
     const bool left = lone == &r.left;
     const Eigen::Vector3d out_other = (left ? -1.0 : 1.0) * d_eye.normalized();
     const Eigen::Vector3d beside = (left ? in.t_r : in.t_l) + lone->lateral_mm * out_other / mm_per_unit;
@@ -239,7 +281,7 @@ EarRoots apply_ear_roots(const DensityFn& density, const EarInputs& in, const Ei
                            : fmt::format(
                                  "the found one lies {:.1f} mm above its eye corner, over the {:.0f} "
                                  "allowed for one side alone",
-                                 lone->height_mm, options.lone_highest_mm);
+                                 lone->height_mm, options.plausible_highest_mm);
   }
   return r;
 }

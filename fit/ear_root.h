@@ -29,7 +29,7 @@ struct EarRootOptions {
   // The window, in mm from the temple landmark: along d_fwd (negative = behind it), outwards along
   // the side's d_eye, and along d_up from the outer eye corners' height.
   // (The rests lie 8-33 mm behind dlib's temples on the procedural, scan and demo heads.)
-  double back_mm = 35.0, front_mm = 10.0;
+  double back_mm = 35.0, front_mm = 0.0;
   double inward_mm = 12.0, outward_mm = 30.0;
   double above_mm = 50.0, below_mm = 30.0;
   double depth_step_mm = 2.0, lateral_step_mm = 1.0, ray_step_mm = 0.5;
@@ -59,11 +59,13 @@ struct EarRootOptions {
   // by 20 mm on s_r2_y20), it moves the frame little, and the mean of two depths in the window lies
   // nearer either than Eq. 2-3's point, ~45 mm behind the temple and outside the window.
   double max_height_gap_mm = 15.0;
-  // One side found, the other showing no crease (a narrow arc that saw one ear better, or a ray field
-  // that missed it) and not vetoed: the found rest is mirrored onto the other side when it lies at
-  // most this high above its eye corner (the rests of every head we know lie -5..+16 mm above them;
-  // the creases found in in2n-face's curls ~30 mm). A vetoed side (hair over it) keeps Eq. 2-3 for both.
-  double lone_highest_mm = 20.0;
+  // Where a rest has no second witness, it must lie at most this high above its eye corner (the rests
+  // of every head we know lie -5..+16 mm above them; the creases found in in2n-face's curls 29-30
+  // mm): one side found, the other showing no crease (a narrow arc that saw one ear better, or a ray
+  // field that missed it) and not vetoed, whose rest is then mirrored onto the other side; and a
+  // line of creases under a higher one that the veto refused (hair's lower edge makes creases too).
+  // A side vetoed outright (hair over it) keeps Eq. 2-3 for both.
+  double plausible_highest_mm = 20.0;
   // The rest: the mean of the creases whose height (a median over three depths) lies within this of
   // the highest (the top of the root is a plateau a few depths long; its first slice would bias the
   // rest forward or back).
@@ -77,6 +79,7 @@ struct EarRootSide {
   double depth_mm = 0.0;    // along d_fwd from the temple landmark (negative: behind it)
   double lateral_mm = 0.0;  // and outwards from it along the side's d_eye
   bool vetoed = false;      // found, then refused by the caller's veto (`why` says why)
+  int higher_vetoed = 0;    // higher lines of creases on this side that the veto refused
   double bend_deg = 0.0;    // how sharply the profile turns there
   int slices = 0;   // consecutive depths holding the chosen line of creases (or the longest, when too short)
   int plateau = 0;  // of them, those averaged into the rest
@@ -94,8 +97,11 @@ struct EarRootInputs {
 };
 
 // Searches one side's window in `density` (scene units; one query for all its rays). Throws on bad inputs (a
-// non-positive scale or step, an empty window).
+// non-positive scale or step, an empty window). The rest on the highest line of creases.
 EarRootSide find_ear_root(const DensityFn& density, const EarRootInputs& in, const EarRootOptions& options);
+// Every line of creases long enough, highest first (each `found`); or one side not found, with why.
+std::vector<EarRootSide> find_ear_root_lines(const DensityFn& density, const EarRootInputs& in,
+                                             const EarRootOptions& options);
 
 struct EarRoots {
   EarRootSide left, right;
@@ -106,11 +112,12 @@ struct EarRoots {
   std::string summary() const;  // for the log: what each side showed and which ears were used
 };
 
-// Both sides' searches on `ears`' inputs, and the ears they give. `accept` may veto a side found
-// (e.g. its ear top is hair-dark), with a reason. When both sides are found and their rests lie at
+// Both sides' searches on `ears`' inputs, and the ears they give. `accept` may veto a line of creases
+// (e.g. its ear top is hair-dark), with a reason: a side takes its highest line accepted, and is
+// vetoed when it has lines and none is accepted. When both sides are found and their rests lie at
 // one height within `max_height_gap_mm`, they replace Eq. 2-3's points, both at the mean height and
 // depth of the two (an ear of each kind would roll and yaw the frame). When one side is found, lies
-// no higher than `lone_highest_mm`, and the other side showed no ear (not vetoed), the found rest
+// no higher than `plausible_highest_mm`, and the other side showed no ear (not vetoed), the found rest
 // stands for both: the other side's rest lies at its height and depth, as far out from that side's
 // temple as the found one. Otherwise `ears` stays as it is.
 using EarVeto = std::function<std::string(const EarRootSide&)>;  // empty string: accepted

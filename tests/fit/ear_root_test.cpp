@@ -116,10 +116,11 @@ TEST(EarRoot, ApplyNeedsAgreeingHeightsOrOneUnopposedSide) {
     EXPECT_FALSE(r.from_density());
     EXPECT_NE(r.summary().find("Eq. 2-3"), std::string::npos) << r.summary();
   }
-  EXPECT_EQ(apply(head(true, true),
-                  [](const EarRootSide& s) { return s.point.x() < 0 ? std::string("hair") : std::string(); })
-                .second.right.why,
-            "hair");
+  const EarRootSide vetoed = apply(head(true, true), [](const EarRootSide& s) {
+                               return s.point.x() < 0 ? std::string("hair") : std::string();
+                             }).second.right;
+  EXPECT_TRUE(vetoed.vetoed);
+  EXPECT_EQ(vetoed.why.rfind("hair (a crease ", 0), 0u) << vetoed.why;  // the veto, then where the crease was
 
   // One ear shown, the other side empty (not vetoed): the found rest stands for both, mirrored. The
   // inputs are symmetric, so the right rest is the left one's mirror image.
@@ -136,7 +137,7 @@ TEST(EarRoot, ApplyNeedsAgreeingHeightsOrOneUnopposedSide) {
   // ... but not when it lies higher than one side alone may (hair makes creases high on the head).
   {
     EarRootOptions low;
-    low.lone_highest_mm = kEarTop - 5.0;
+    low.plausible_highest_mm = kEarTop - 5.0;
     EarPoints ears = eq23;
     EarRoots r = apply_ear_roots(head(true, false), in, {1, 0, 0}, 1.0, low, ears);
     EXPECT_FALSE(r.from_density()) << r.summary();
@@ -175,7 +176,9 @@ TEST(EarRoot, ApplyNeedsAgreeingHeightsOrOneUnopposedSide) {
   };
   {
     EarPoints lv = eq23;
-    EarRoots fwd = apply_ear_roots(moved_forward(16.0f), in, {1, 0, 0}, 1.0, EarRootOptions{}, lv);
+    EarRootOptions wide;  // a window reaching 10 mm in front of the temples, to hold the moved ear whole
+    wide.front_mm = 10.0;
+    EarRoots fwd = apply_ear_roots(moved_forward(16.0f), in, {1, 0, 0}, 1.0, wide, lv);
     ASSERT_TRUE(fwd.left.found && fwd.right.found) << fwd.summary();
     EXPECT_NEAR(fwd.right.point.z() - fwd.left.point.z(), 16.0, 2.0);
     EXPECT_NEAR(lv.f_l.z(), 0.5 * (fwd.left.point.z() + fwd.right.point.z()), 1e-9);
@@ -188,6 +191,53 @@ TEST(EarRoot, ApplyNeedsAgreeingHeightsOrOneUnopposedSide) {
   EXPECT_FALSE(r.left.found || r.right.found) << r.summary();
   EXPECT_NE(r.left.why.find("apart"), std::string::npos) << r.left.why;
   EXPECT_EQ(ears.f_l, eq23.f_l);
+}
+
+// A higher ledge in front of each ear (hair standing out over the temple, say: from the ears' front to
+// the temple, its top 8 mm over theirs) makes a second, higher line of creases. A veto that refuses it
+// leaves the ear's own line, under it; and that line must then lie where ears do.
+TEST(EarRoot, TakesTheHighestLineTheVetoAccepts) {
+  const EarInputs in = inputs();
+  constexpr double kLedgeTop = kEarTop + 8.0;
+  const DensityFn ears = head(true, true);
+  const DensityFn with_ledge = [&](const std::vector<Eigen::Vector3f>& pts) {
+    std::vector<float> d = ears(pts);
+    for (size_t i = 0; i < pts.size(); ++i) {
+      const Eigen::Vector3d p = pts[i].cast<double>();
+      if (std::abs(p.x()) > 60.0 && std::abs(p.x()) < 85.0 && p.y() < kLedgeTop && p.y() > -40.0 &&
+          p.z() >= kEarFront && p.z() < 13.0)
+        d[i] = 1e4f;
+    }
+    return d;
+  };
+  const EarRootSide highest =
+      find_ear_root(with_ledge, {in.t_l, in.e_l, {1, 0, 0}, in.d_up, in.d_fwd, +1, 1.0}, EarRootOptions{});
+  ASSERT_TRUE(highest.found) << highest.why;
+  EXPECT_NEAR(highest.point.y(), kLedgeTop, 1.0);  // without a veto: the ledge, the highest line
+
+  const EarVeto ledge_is_hair = [&](const EarRootSide& s) {
+    return s.point.y() > kEarTop + 4.0 ? std::string("hair") : std::string();
+  };
+  EarPoints points = ear_points(in);
+  EarRoots r = apply_ear_roots(with_ledge, in, {1, 0, 0}, 1.0, EarRootOptions{}, points, ledge_is_hair);
+  ASSERT_EQ(r.use, EarRoots::Use::kBoth) << r.summary();
+  EXPECT_NEAR(r.left.point.y(), kEarTop, 1.0);
+  EXPECT_LT(r.left.point.z(), kEarFront);
+  EXPECT_EQ(r.left.higher_vetoed, 1);
+  EXPECT_NE(r.summary().find("higher line(s) vetoed"), std::string::npos) << r.summary();
+
+  // Ears allowed no higher than 5 mm over the eye corners: the line under the hair is refused too,
+  // and with it the side.
+  EarRootOptions low;
+  low.plausible_highest_mm = kEarTop - 5.0;
+  EarPoints eq23 = ear_points(in), kept = eq23;
+  r = apply_ear_roots(with_ledge, in, {1, 0, 0}, 1.0, low, kept, ledge_is_hair);
+  EXPECT_FALSE(r.from_density()) << r.summary();
+  EXPECT_TRUE(r.left.vetoed && r.right.vetoed);
+  EXPECT_NE(r.left.why.find("the 1 lower line(s) of creases too (the highest: it lies under hair"),
+            std::string::npos)
+      << r.left.why;
+  EXPECT_EQ(kept.f_l, eq23.f_l);
 }
 
 TEST(EarRoot, RejectsBadInputs) {
