@@ -5,14 +5,14 @@
 // ear's root) that lands 21-35 mm behind the ear and 10-12 mm under it on the procedural heads
 // (docs/bench/real-captures.md, "Eq. 3 with dlib temples").
 //
-// The search: a field of vertical rays cast down (along -d_up) beside the head, behind and around
-// the temple. Along d_eye at one depth, the heights where the rays meet the head fall steeply down
-// the skull's side, then turn flatter onto the ear's top (which stands out from the head): the
-// crease is where the slope turns most, by at least `min_bend_deg`. Across depths the creases trace
-// the ear's root, and the rest is the top of the highest such line (the arm rests on the top of the
-// root). Where
-// hair covers the ear, the capture never saw it, or the window holds no crease, the side is not
-// found and the caller keeps Eq. 2-3.
+// The search: a field of vertical rays cast down (along -d_up) beside the head, behind the temple.
+// Along d_eye at one depth, the heights where the rays meet the head fall steeply down the skull's
+// side, then turn flatter onto the ear's top (which stands out from the head): the crease is where
+// the slope turns most, by at least `min_bend_deg`. Across depths the creases trace the ear's root,
+// and the rest is the top of the highest such line that the caller's hair veto accepts (the arm
+// rests on the top of the root). Where hair covers the ear, the capture never saw it, or the window
+// holds no crease, the side is not found; the caller mirrors the other side's rest or keeps Eq. 2-3
+// (apply_ear_roots).
 #pragma once
 #include <Eigen/Core>
 #include <functional>
@@ -28,7 +28,10 @@ struct EarRootOptions {
   bool enabled = true;
   // The window, in mm from the temple landmark: along d_fwd (negative = behind it), outwards along
   // the side's d_eye, and along d_up from the outer eye corners' height.
-  // (The rests lie 8-33 mm behind dlib's temples on the procedural, scan and demo heads.)
+  // (The rests lie 7-33 mm behind dlib's temples on the procedural, scan and demo heads, meshes and
+  // NeRFs; dlib's temple lies at the ear's front, and a line of creases in front of it was the edge
+  // of hair over the temple: docs/bench/real-captures.md, "the fit's ears where the density search
+  // falls short".)
   double back_mm = 35.0, front_mm = 0.0;
   double inward_mm = 12.0, outward_mm = 30.0;
   double above_mm = 50.0, below_mm = 30.0;
