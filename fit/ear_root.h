@@ -63,7 +63,7 @@ struct EarRootOptions {
   // nearer either than Eq. 2-3's point, ~45 mm behind the temple and outside the window.
   double max_height_gap_mm = 15.0;
   // Where a rest has no second witness, it must lie at most this high above its eye corner (the rests
-  // of every head we know lie -5..+16 mm above them; the creases found in in2n-face's curls 29-30
+  // of every head we know lie -5..+17 mm above them; the creases found in in2n-face's curls 29-30
   // mm): one side found, the other showing no crease (a narrow arc that saw one ear better, or a ray
   // field that missed it) and not vetoed, whose rest is then mirrored onto the other side; and a
   // line of creases under a higher one that the veto refused (hair's lower edge makes creases too).
