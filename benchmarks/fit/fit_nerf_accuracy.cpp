@@ -70,6 +70,9 @@ struct Row {
   double pd_mm = 0, slide_mm = 0;
   // Signed offsets along the ground truth's d_fwd (mm, + = in front): the nose point, the temples.
   double nose_fwd_mm = 0, temple_l_fwd_mm = 0, temple_r_fwd_mm = 0;
+  // The ears' error split along the ground truth's d_up (+ = above; it pitches the frame) and d_fwd
+  // (+ = in front; along the ear root's flat top, where the rest is loosely defined).
+  double ear_l_up_mm = NAN, ear_l_fwd_mm = NAN, ear_r_up_mm = NAN, ear_r_fwd_mm = NAN;
   bool timed_only = false;                          // no ground truth: the error columns stay empty
   double contact_shift_mm = 0, head_pitch_deg = 0;  // slide along d_fwd; d_fwd against the scene's horizontal
   double temple_r_mm = 0, temple_l_mm = 0, eye_r_mm = 0, eye_l_mm = 0;  // diagnostics: inputs of Eq. 1-3
@@ -154,6 +157,11 @@ Row run_fit(const std::function<FitResult()>& fit, const GlassesInput& g, const 
     row.nose_fwd_mm = fwd(r.f_c, gt.f_c);
     row.temple_l_fwd_mm = fwd(r.points[lm::kTempleL].position, gt.points[lm::kTempleL]);
     row.temple_r_fwd_mm = fwd(r.points[lm::kTempleR].position, gt.points[lm::kTempleR]);
+    auto up = [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+      return (a - b).dot(gt.head.d_up.normalized()) * gt.head.mm_per_unit;
+    };
+    row.ear_l_up_mm = up(r.ears.f_l, gt.ears.f_l), row.ear_l_fwd_mm = fwd(r.ears.f_l, gt.ears.f_l);
+    row.ear_r_up_mm = up(r.ears.f_r, gt.ears.f_r), row.ear_r_fwd_mm = fwd(r.ears.f_r, gt.ears.f_r);
   } catch (const std::exception& ex) {
     row.error = ex.what();
   }
@@ -201,7 +209,11 @@ void write_rows(const std::string& out, const std::vector<Row>& rows) {
                    std::isnan(r.ear_l_anat_mm) ? "" : fmt::format("{:.3f}", r.ear_l_anat_mm),
                    std::isnan(r.ear_r_anat_mm) ? "" : fmt::format("{:.3f}", r.ear_r_anat_mm),
                    std::isnan(r.rotation_anat_deg) ? "" : fmt::format("{:.3f}", r.rotation_anat_deg),
-                   r.ears_from});
+                   r.ears_from,
+                   e(r.ear_l_up_mm, "{:.2f}"),
+                   e(r.ear_l_fwd_mm, "{:.2f}"),
+                   e(r.ear_r_up_mm, "{:.2f}"),
+                   e(r.ear_r_fwd_mm, "{:.2f}")});
   }
   write_csv(out + "/fit_nerf.csv",
             {"case",
@@ -237,7 +249,11 @@ void write_rows(const std::string& out, const std::vector<Row>& rows) {
              "ear_l_anat_mm",
              "ear_r_anat_mm",
              "rotation_anat_deg",
-             "ears_from"},
+             "ears_from",
+             "ear_l_up_mm",
+             "ear_l_fwd_mm",
+             "ear_r_up_mm",
+             "ear_r_fwd_mm"},
             csv);
   write_charts(out, rows);
 }
