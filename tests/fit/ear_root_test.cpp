@@ -146,17 +146,19 @@ TEST(EarRoot, ApplyNeedsAgreeingHeightsOrOneUnopposedSide) {
   }
 
   // The right ear 6 mm lower than the left: both rests at the middle height, each at its own width.
-  auto shifted = [full = head(true, true)](float dy) {
+  // The right half of the head (skull and ear) moved by `by` (mm; y up, z forward).
+  auto right_half_moved = [full = head(true, true)](const Eigen::Vector3f& by) {
     return DensityFn([=](const std::vector<Eigen::Vector3f>& pts) {
       std::vector<Eigen::Vector3f> moved = pts;
       for (auto& p : moved)
-        if (p.x() < 0) p.y() += dy;  // the right half of the head, dy lower (< 0: higher)
+        if (p.x() < 0) p -= by;
       return full(moved);
     });
   };
   {
     EarPoints lv = eq23;
-    EarRoots six = apply_ear_roots(shifted(6.0f), in, {1, 0, 0}, 1.0, EarRootOptions{}, lv);
+    EarRoots six =
+        apply_ear_roots(right_half_moved({0.0f, -6.0f, 0.0f}), in, {1, 0, 0}, 1.0, EarRootOptions{}, lv);
     ASSERT_TRUE(six.left.found && six.right.found) << six.summary();
     EXPECT_NEAR(six.left.point.y() - six.right.point.y(), 6.0, 1.0);
     EXPECT_NEAR(lv.f_l.y(), 0.5 * (six.left.point.y() + six.right.point.y()), 1e-9);
@@ -166,19 +168,11 @@ TEST(EarRoot, ApplyNeedsAgreeingHeightsOrOneUnopposedSide) {
   }
   // The right ear 16 mm further forward: the depths are averaged (along the root's flat top a depth
   // is loosely defined), each rest at its own width.
-  auto moved_forward = [full = head(true, true)](float dz) {
-    return DensityFn([=](const std::vector<Eigen::Vector3f>& pts) {
-      std::vector<Eigen::Vector3f> moved = pts;
-      for (auto& p : moved)
-        if (p.x() < 0) p.z() -= dz;  // the right half of the head, dz further forward
-      return full(moved);
-    });
-  };
   {
     EarPoints lv = eq23;
     EarRootOptions wide;  // a window reaching 10 mm in front of the temples, to hold the moved ear whole
     wide.front_mm = 10.0;
-    EarRoots fwd = apply_ear_roots(moved_forward(16.0f), in, {1, 0, 0}, 1.0, wide, lv);
+    EarRoots fwd = apply_ear_roots(right_half_moved({0.0f, 0.0f, 16.0f}), in, {1, 0, 0}, 1.0, wide, lv);
     ASSERT_TRUE(fwd.left.found && fwd.right.found) << fwd.summary();
     EXPECT_NEAR(fwd.right.point.z() - fwd.left.point.z(), 16.0, 2.0);
     EXPECT_NEAR(lv.f_l.z(), 0.5 * (fwd.left.point.z() + fwd.right.point.z()), 1e-9);
@@ -187,7 +181,8 @@ TEST(EarRoot, ApplyNeedsAgreeingHeightsOrOneUnopposedSide) {
   }
   // The right ear 18 mm higher: the two rests no longer agree within the 15 mm allowed.
   EarPoints ears = eq23;
-  EarRoots r = apply_ear_roots(shifted(-18.0f), in, {1, 0, 0}, 1.0, EarRootOptions{}, ears);
+  EarRoots r =
+      apply_ear_roots(right_half_moved({0.0f, 18.0f, 0.0f}), in, {1, 0, 0}, 1.0, EarRootOptions{}, ears);
   EXPECT_FALSE(r.left.found || r.right.found) << r.summary();
   EXPECT_NE(r.left.why.find("apart"), std::string::npos) << r.left.why;
   EXPECT_EQ(ears.f_l, eq23.f_l);
