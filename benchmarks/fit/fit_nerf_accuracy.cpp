@@ -360,7 +360,7 @@ void profile(const Case& c, ViewSource& src, const std::vector<ViewRecord>& view
 
 }  // namespace
 
-int main(int argc, char** argv) {
+static int run(int argc, char** argv) {
   if (argc < 2) {
     std::cerr
         << "usage: bench_fit_nerf OUT_DIR --case NAME MODEL DATASET [...] [--variants a,b] [--repeats N] "
@@ -563,4 +563,14 @@ int main(int argc, char** argv) {
   }
   write_rows(out, rows);
   return 0;
+}
+
+int main(int argc, char** argv) {
+  // A missing model, dataset or glasses file is a message and exit status 1, not an abort.
+  try {
+    return run(argc, argv);
+  } catch (const std::exception& e) {
+    std::cerr << "bench_fit_nerf: " << e.what() << "\n";
+    return 1;
+  }
 }

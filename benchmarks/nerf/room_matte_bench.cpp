@@ -193,7 +193,7 @@ void threshold_occupancy(nerf::NerfModel& model, const nerf::OccupancyGrid& save
 
 }  // namespace
 
-int main(int argc, char** argv) {
+static int run(int argc, char** argv) {
   if (argc < 4) {
     std::cerr << "usage: bench_room_matte OUT_DIR --case NAME MODEL DATASET [...] [--min-alpha 0,0.1] "
                  "[--sheet-views N] [--judge-box MODEL.lnerf]\n";
@@ -365,4 +365,14 @@ int main(int argc, char** argv) {
                 profile_series);
   }
   return 0;
+}
+
+int main(int argc, char** argv) {
+  // A missing model, dataset or glasses file is a message and exit status 1, not an abort.
+  try {
+    return run(argc, argv);
+  } catch (const std::exception& e) {
+    std::cerr << "bench_room_matte: " << e.what() << "\n";
+    return 1;
+  }
 }

@@ -7,6 +7,9 @@
 // charts the scaling. Writes <out>/training_kernels.csv and, with --threads, one such folder per
 // count (<out>/threads-N) and <out>/training_scaling.csv, training_scaling.png (M samples/s by
 // stage) and training_speedup.png (wall-clock speedup by stage against the ideal).
+// --as-train trains what `lorgnette train` trains on the dataset (on a mask-less capture: the room
+// model too, whose launches add to the same kernels' rows); --float-add cas times the hash
+// backward's compare-and-swap add where the device has its own (NVIDIA), for the side by side.
 #include <fmt/format.h>
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
@@ -22,9 +25,11 @@
 #include <map>
 #include <sstream>
 
+#include "capture/subject_box.h"
 #include "host/cl/launch_log.h"
 #include "host/dataset/dataset.h"
 #include "host/nerf/sizing.h"
+#include "host/nerf/train_job.h"
 #include "host/nerf/trainer.h"
 #include "host/util/chart.h"
 
@@ -69,9 +74,9 @@ double cpu_seconds() {
 }
 
 struct Options {
-  std::string data, out = "bench-out/training", device, variant = "auto", threads;
+  std::string data, out = "bench-out/training", device, variant = "auto", threads, float_add = "native";
   uint32_t batch_log2 = 16, max_side = 0, warmup = 40, steps = 12;
-  bool deterministic = false;
+  bool deterministic = false, as_train = false;
 };
 
 struct KernelRow {
@@ -85,21 +90,38 @@ int run_once(const Options& o) {
   dataset::LoadOptions lo;
   lo.max_side = int(o.max_side);
   dataset::Dataset ds = dataset::load_dataset(o.data, lo);
-  std::vector<nerf::View> train;
-  for (const auto* f : ds.split(dataset::Split::Train)) train.push_back({f->camera, &f->image});
-  nerf::SizingOverrides ov;
-  ov.aabb_scale = ds.aabb_scale;
-  nerf::ModelSizing sizing = nerf::choose_model_size(train, ov);
-  cl::Runtime rt({o.device, "", true});
+  cl::RuntimeOptions ro;
+  ro.device = o.device;
+  ro.profiling = true;
+  ro.native_float_add = o.float_add == "native";
+  cl::Runtime rt(ro);
   const field::KernelVariant variant = o.variant == "gpu"   ? field::KernelVariant::Gpu
                                        : o.variant == "cpu" ? field::KernelVariant::Cpu
                                                             : field::KernelVariant::Auto;
+  // The model `train` would build: --as-train plans it as train does (the subject box from the
+  // dataset, masks or landmarks; on a mask-less capture the room model and the head's volume), else
+  // automatic sizing alone, as before.
+  nerf::TrainJob job;
+  job.batch_log2 = o.batch_log2;
+  job.deterministic = o.deterministic;
+  job.train.steps = o.warmup + o.steps;
+  job.train.seed = 1337;
+  job.train.progress = false;
+  std::vector<nerf::View> train = nerf::training_views(ds);
+  nerf::TrainPlan plan;
+  if (o.as_train) {
+    capture::apply_subject_box(ds, capture::BoxSource::Auto, true, job);
+    plan = nerf::plan_training(rt, ds, train, job);
+  } else {
+    nerf::SizingOverrides ov;
+    ov.aabb_scale = ds.aabb_scale;
+    plan.sizing = nerf::choose_model_size(train, ov);
+    plan.train = job.train;
+  }
+  const nerf::ModelSizing& sizing = plan.sizing;
   nerf::NerfModel model(rt, sizing.field, sizing.aabb, sizing.occupancy_resolution, sizing.step,
                         1u << o.batch_log2, 1337, o.deterministic, variant);
-  nerf::TrainOptions to;
-  to.steps = o.warmup + o.steps;
-  to.progress = false;
-  nerf::Trainer trainer(model, train, to, sizing.occupancy_mask);
+  nerf::Trainer trainer(model, train, plan.train, sizing.occupancy_mask);
   for (uint32_t s = 0; s < o.warmup; ++s) trainer.advance();
   rt.finish();
 
@@ -132,8 +154,12 @@ int run_once(const Options& o) {
     kernel_total.push_back(total);
   }
   const double n = median(samples), step_wall = median(wall);
-  std::printf("device: %s  variant: %s  POCL_MAX_PTHREAD_COUNT=%s\n", rt.device().summary().c_str(),
-              o.variant.c_str(),
+  std::printf("device: %s  variant: %s  float add: %s  room model: %s  POCL_MAX_PTHREAD_COUNT=%s\n",
+              rt.device().summary().c_str(), o.variant.c_str(),
+              rt.native_float_add() && rt.device().platform_name.find("NVIDIA") != std::string::npos
+                  ? "native"
+                  : "compare-and-swap",
+              plan.train.background.enabled ? "yes" : "no",
               getenv("POCL_MAX_PTHREAD_COUNT") ? getenv("POCL_MAX_PTHREAD_COUNT") : "(unset)");
   std::printf("%-26s %-14s %8s %9s %9s %10s %12s\n", "kernel", "stage", "launches", "groups", "ms/step",
               "share", "Msamples/s");
@@ -273,6 +299,13 @@ int main(int argc, char** argv) {
   app.add_option("--warmup", o.warmup, "training steps before timing (the occupancy grid settles)");
   app.add_option("--steps", o.steps, "timed steps (medians reported)")->check(CLI::PositiveNumber);
   app.add_flag("--deterministic", o.deterministic, "deterministic reductions (as train --deterministic)");
+  app.add_option("--float-add", o.float_add,
+                 "atomic float add of the hash backward: native (the device's own where known: NVIDIA) "
+                 "or cas (compare-and-swap everywhere)")
+      ->check(CLI::IsMember({"native", "cas"}));
+  app.add_flag("--as-train", o.as_train,
+               "plan the model as `lorgnette train` does (subject box; the room model on mask-less "
+               "captures); its room model's launches join the same kernels' rows");
   app.add_option("--threads", o.threads, "PoCL thread counts, e.g. 1,2: one run each and a scaling chart");
   CLI11_PARSE(app, argc, argv);
   spdlog::set_default_logger(spdlog::stderr_color_mt("bench"));

@@ -50,13 +50,16 @@ void log_release_failure(const char* what, cl_int code) {
   spdlog::warn("releasing an OpenCL {} failed: {} ({})", what, error_name(code), code);
 }
 
-std::string default_build_options(const DeviceInfo& device) {
+std::string default_build_options(const DeviceInfo& device, bool native_float_add) {
   std::string opts = "-cl-std=CL1.2";
   opts += device.is_gpu ? " -DLGN_DEVICE_GPU=1" : " -DLGN_DEVICE_GPU=0";
+  if (native_float_add && device.platform_name.find("NVIDIA") != std::string::npos)
+    opts += " -DLGN_FLOAT_ADD_PTX=1";
   return opts;
 }
 
-Runtime::Runtime(const RuntimeOptions& options) : device_(select_device(options.device)) {
+Runtime::Runtime(const RuntimeOptions& options)
+    : device_(select_device(options.device)), native_float_add_(options.native_float_add) {
   cl_int err = CL_SUCCESS;
   cl_context_properties props[] = {CL_CONTEXT_PLATFORM,
                                    reinterpret_cast<cl_context_properties>(device_.platform), 0};
@@ -81,7 +84,8 @@ Runtime::Runtime(const RuntimeOptions& options) : device_(select_device(options.
 void Runtime::finish() const { LGN_CL_CHECK(clFinish(queue_.get())); }
 
 cl_program Runtime::program(const std::string& root_file, const std::string& options) {
-  std::string full_options = default_build_options(device_) + " " + options;
+  const std::string defaults = default_build_options(device_, native_float_add_);
+  std::string full_options = defaults + " " + options;
   AssembledSource source = assemble_kernel_source_mapped(root_file);
   std::string memo_key = root_file + "\n" + full_options;
   if (auto it = programs_.find(memo_key); it != programs_.end()) return it->second.get();
@@ -102,7 +106,16 @@ cl_program Runtime::program(const std::string& root_file, const std::string& opt
     }
   }
   if (!prog) {
-    prog = build_from_source(source, full_options);
+    try {
+      prog = build_from_source(source, full_options);
+    } catch (const Error& e) {
+      // A compiler that refuses the inline PTX float add: the compare-and-swap loop from now on.
+      if (defaults == default_build_options(device_, false)) throw;
+      spdlog::warn("{}'s compiler refused the native float add (PTX red.add); using compare-and-swap: {}",
+                   device_.name, e.what());
+      native_float_add_ = false;
+      return program(root_file, options);
+    }
     ++compiled_;
     if (!path.empty()) store_binary(prog.get(), path);
   }

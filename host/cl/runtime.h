@@ -17,6 +17,10 @@ struct RuntimeOptions {
   std::string cache_dir;   // "" = $LORGNETTE_KERNEL_CACHE, else $XDG_CACHE_HOME/lorgnette/kernels,
                            // else ~/.cache/lorgnette/kernels; "off" disables the disk cache
   bool profiling = false;  // queue with CL_QUEUE_PROFILING_ENABLE
+  // Float atomic adds with the device's own instruction where the kernels know one (NVIDIA's
+  // OpenCL: PTX red.global.add.f32, -DLGN_FLOAT_ADD_PTX=1); false, or a compiler that refuses it:
+  // the portable compare-and-swap loop. Benchmarks set it false to compare the two.
+  bool native_float_add = true;
 };
 
 class Runtime {
@@ -34,6 +38,8 @@ class Runtime {
   // (e.g. "-DHASH_LEVELS=16"). On a compile error throws with the build log (file:line).
   cl_program program(const std::string& root_file, const std::string& options = "");
 
+  // Whether programs are built with the device's own float atomic add (RuntimeOptions).
+  bool native_float_add() const { return native_float_add_; }
   // Where binaries are cached ("" when disabled).
   const std::string& cache_dir() const { return cache_dir_; }
   // Counts for tests: how many programs were compiled from source vs loaded from disk.
@@ -46,6 +52,7 @@ class Runtime {
   void store_binary(cl_program program, const std::string& path);
 
   DeviceInfo device_;
+  bool native_float_add_ = true;
   ContextHandle context_;
   QueueHandle queue_;
   std::string cache_dir_;
@@ -55,6 +62,7 @@ class Runtime {
 };
 
 // Default build options for every program (fast math is NOT used: tests compare with the host).
-std::string default_build_options(const DeviceInfo& device);
+// native_float_add: -DLGN_FLOAT_ADD_PTX=1 on NVIDIA's platform (RuntimeOptions::native_float_add).
+std::string default_build_options(const DeviceInfo& device, bool native_float_add = false);
 
 }  // namespace lorgnette::cl

@@ -3,7 +3,8 @@
 // branch or loop); the table reads are gathers. Backward is deterministic and free of float
 // atomics: one work-item per level (CPU) or per (level, feature) (GPU variant) owns that slice of
 // the gradient table and scans the samples in order. On GPUs the forward runs one work-item per
-// (sample, level) and the optional non-deterministic backward uses a compare-and-swap float add.
+// (sample, level) and the optional non-deterministic backward uses a float atomic add (the
+// hardware's on NVIDIA, else compare-and-swap).
 #include "hashgrid/hashgrid_block16.h"
 
 // The variant follows the device type unless the host forces one (tests run both on a CPU).
@@ -104,7 +105,18 @@ __kernel void hashgrid_backward(const HashgridParams p, __global const float* re
   }
 }
 
+#ifndef LGN_FLOAT_ADD_PTX
+#define LGN_FLOAT_ADD_PTX 0
+#endif
+
+// Float add to global memory from many work-items. NVIDIA (-DLGN_FLOAT_ADD_PTX=1, host/cl/runtime.h):
+// the hardware's reduction, resolved in L2 without a read back; elsewhere a compare-and-swap loop,
+// which retries under contention (the coarse levels, where every sample of a batch meets a few
+// hundred entries).
 inline void hashgrid_atomic_add(volatile __global float* addr, float v) {
+#if LGN_FLOAT_ADD_PTX
+  __asm__ __volatile__("red.global.add.f32 [%0], %1;" : : "l"(addr), "f"(v) : "memory");
+#else
   union {
     uint u;
     float f;
@@ -113,6 +125,7 @@ inline void hashgrid_atomic_add(volatile __global float* addr, float v) {
     old.f = *addr;
     next.f = old.f + v;
   } while (atomic_cmpxchg((volatile __global uint*)addr, old.u, next.u) != old.u);
+#endif
 }
 
 // Non-deterministic GPU path: one work-item per (sample, level), CAS float adds.

@@ -153,3 +153,22 @@ TEST(Runtime, CompileErrorReportsFileAndLine) {
     EXPECT_NE(msg.find("undefined_name_xyz"), std::string::npos) << msg;
   }
 }
+
+TEST(Runtime, NativeFloatAddOnlyOnNvidiasPlatform) {
+  // The hash backward's PTX float add (-DLGN_FLOAT_ADD_PTX=1) is asked of NVIDIA's compiler alone,
+  // and only while the runtime allows it; every other device keeps the compare-and-swap loop.
+  cl::DeviceInfo nvidia;
+  nvidia.platform_name = "NVIDIA CUDA";
+  nvidia.is_gpu = true;
+  cl::DeviceInfo pocl;
+  pocl.platform_name = "Portable Computing Language";
+  pocl.is_cpu = true;
+  const std::string ptx = "-DLGN_FLOAT_ADD_PTX=1";
+  EXPECT_NE(cl::default_build_options(nvidia, true).find(ptx), std::string::npos);
+  EXPECT_EQ(cl::default_build_options(nvidia, false).find(ptx), std::string::npos);
+  EXPECT_EQ(cl::default_build_options(pocl, true).find(ptx), std::string::npos);
+  cl::RuntimeOptions cas;
+  cas.native_float_add = false;
+  EXPECT_TRUE(cl::Runtime(cl::RuntimeOptions{}).native_float_add());
+  EXPECT_FALSE(cl::Runtime(cas).native_float_add());
+}
