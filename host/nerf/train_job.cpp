@@ -89,7 +89,7 @@ TrainPlan plan_training(cl::Runtime& rt, const dataset::Dataset& ds, const std::
   StepBudget budget;
   if (defaulted) {
     budget = background ? default_training_steps(sizing.field.param_count(), plan.batch_log2,
-                                                 kRoomCaptureSamplesPerParameter)
+                                                 kRoomCaptureSamplesPerParameter, kRoomCaptureMinSteps)
                         : default_training_steps(sizing.field.param_count(), plan.batch_log2);
     if (background) budget.why += " (a capture with a room model: train_budget.h)";
     job.train.steps = budget.steps;

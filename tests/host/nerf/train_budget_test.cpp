@@ -27,6 +27,18 @@ TEST(TrainBudget, RoomCapturesTrainFewerSamplesPerParameter) {
             std::string::npos);
 }
 
+TEST(TrainBudget, RoomCapturesTrainAtLeastTheirMinimumOnAGpuBatch) {
+  // On a GPU's 2^18 batch the samples rule gives a 5.5 M-parameter room capture 17 * 5.5e6 / 262144 =
+  // 356.7 -> 400 steps; the room capture's minimum raises it to 1000 and says so.
+  const StepBudget gpu =
+      default_training_steps(5500000, 18, kRoomCaptureSamplesPerParameter, kRoomCaptureMinSteps);
+  EXPECT_EQ(gpu.steps, kRoomCaptureMinSteps);
+  EXPECT_NE(gpu.why.find("raised to the minimum 1000"), std::string::npos) << gpu.why;
+  // The CPU's 2^16 batch is above it and unchanged (17 * 6.1e6 / 65536 -> 1600).
+  EXPECT_EQ(default_training_steps(6100000, 16, kRoomCaptureSamplesPerParameter, kRoomCaptureMinSteps).steps,
+            1600u);
+}
+
 TEST(TrainBudget, ClampedAndSaysSo) {
   StepBudget small = default_training_steps(1000, 16);
   EXPECT_EQ(small.steps, kMinSteps);
