@@ -156,9 +156,7 @@ int run_once(const Options& o) {
   const double n = median(samples), step_wall = median(wall);
   std::printf("device: %s  variant: %s  float add: %s  room model: %s  POCL_MAX_PTHREAD_COUNT=%s\n",
               rt.device().summary().c_str(), o.variant.c_str(),
-              rt.native_float_add() && rt.device().platform_name.find("NVIDIA") != std::string::npos
-                  ? "native"
-                  : "compare-and-swap",
+              rt.native_float_add() ? "native" : "compare-and-swap",
               plan.train.background.enabled ? "yes" : "no",
               getenv("POCL_MAX_PTHREAD_COUNT") ? getenv("POCL_MAX_PTHREAD_COUNT") : "(unset)");
   std::printf("%-26s %-14s %8s %9s %9s %10s %12s\n", "kernel", "stage", "launches", "groups", "ms/step",

@@ -50,16 +50,20 @@ void log_release_failure(const char* what, cl_int code) {
   spdlog::warn("releasing an OpenCL {} failed: {} ({})", what, error_name(code), code);
 }
 
+bool has_native_float_add(const DeviceInfo& device) {
+  return device.platform_name.find("NVIDIA") != std::string::npos;
+}
+
 std::string default_build_options(const DeviceInfo& device, bool native_float_add) {
   std::string opts = "-cl-std=CL1.2";
   opts += device.is_gpu ? " -DLGN_DEVICE_GPU=1" : " -DLGN_DEVICE_GPU=0";
-  if (native_float_add && device.platform_name.find("NVIDIA") != std::string::npos)
-    opts += " -DLGN_FLOAT_ADD_PTX=1";
+  if (native_float_add && has_native_float_add(device)) opts += " -DLGN_FLOAT_ADD_PTX=1";
   return opts;
 }
 
 Runtime::Runtime(const RuntimeOptions& options)
-    : device_(select_device(options.device)), native_float_add_(options.native_float_add) {
+    : device_(select_device(options.device)),
+      native_float_add_(options.native_float_add && has_native_float_add(device_)) {
   cl_int err = CL_SUCCESS;
   cl_context_properties props[] = {CL_CONTEXT_PLATFORM,
                                    reinterpret_cast<cl_context_properties>(device_.platform), 0};
@@ -109,12 +113,14 @@ cl_program Runtime::program(const std::string& root_file, const std::string& opt
     try {
       prog = build_from_source(source, full_options);
     } catch (const Error& e) {
-      // A compiler that refuses the inline PTX float add: the compare-and-swap loop from now on.
-      if (defaults == default_build_options(device_, false)) throw;
+      // A compiler that refuses the inline PTX float add: the compare-and-swap loop from now on. A
+      // source that fails without it too throws its own error from the second build.
+      if (!native_float_add_) throw;
+      native_float_add_ = false;
+      cl_program fallback = program(root_file, options);
       spdlog::warn("{}'s compiler refused the native float add (PTX red.add); using compare-and-swap: {}",
                    device_.name, e.what());
-      native_float_add_ = false;
-      return program(root_file, options);
+      return fallback;
     }
     ++compiled_;
     if (!path.empty()) store_binary(prog.get(), path);

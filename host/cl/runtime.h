@@ -38,7 +38,8 @@ class Runtime {
   // (e.g. "-DHASH_LEVELS=16"). On a compile error throws with the build log (file:line).
   cl_program program(const std::string& root_file, const std::string& options = "");
 
-  // Whether programs are built with the device's own float atomic add (RuntimeOptions).
+  // Whether programs are built with the device's own float atomic add: asked for (RuntimeOptions),
+  // known for this device (has_native_float_add) and not refused by its compiler.
   bool native_float_add() const { return native_float_add_; }
   // Where binaries are cached ("" when disabled).
   const std::string& cache_dir() const { return cache_dir_; }
@@ -52,7 +53,7 @@ class Runtime {
   void store_binary(cl_program program, const std::string& path);
 
   DeviceInfo device_;
-  bool native_float_add_ = true;
+  bool native_float_add_ = false;
   ContextHandle context_;
   QueueHandle queue_;
   std::string cache_dir_;
@@ -60,6 +61,9 @@ class Runtime {
   int compiled_ = 0;
   int disk_hits_ = 0;
 };
+
+// Whether the kernels know a float atomic add of the device's own (NVIDIA's platform: PTX).
+bool has_native_float_add(const DeviceInfo& device);
 
 // Default build options for every program (fast math is NOT used: tests compare with the host).
 // native_float_add: -DLGN_FLOAT_ADD_PTX=1 on NVIDIA's platform (RuntimeOptions::native_float_add).

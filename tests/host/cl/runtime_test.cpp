@@ -167,8 +167,13 @@ TEST(Runtime, NativeFloatAddOnlyOnNvidiasPlatform) {
   EXPECT_NE(cl::default_build_options(nvidia, true).find(ptx), std::string::npos);
   EXPECT_EQ(cl::default_build_options(nvidia, false).find(ptx), std::string::npos);
   EXPECT_EQ(cl::default_build_options(pocl, true).find(ptx), std::string::npos);
+  EXPECT_TRUE(cl::has_native_float_add(nvidia));
+  EXPECT_FALSE(cl::has_native_float_add(pocl));
+  // The runtime reports what its programs use: the native add only where the device has one and the
+  // options ask for it (PoCL here: never).
   cl::RuntimeOptions cas;
   cas.native_float_add = false;
-  EXPECT_TRUE(cl::Runtime(cl::RuntimeOptions{}).native_float_add());
+  cl::Runtime rt(cl::RuntimeOptions{});
+  EXPECT_EQ(rt.native_float_add(), cl::has_native_float_add(rt.device()));
   EXPECT_FALSE(cl::Runtime(cas).native_float_add());
 }
