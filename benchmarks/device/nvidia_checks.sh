@@ -14,7 +14,9 @@
 #            product's defaults, fit glasses-01), timed;
 #   lego     lego-400 held-out PSNR after 5, 15 and 60 s of training (issue 17's targets; the
 #            product's sizing and GPU batch of 2^18), all 200 test views;
-#   demo     `lorgnette demo`, timed.
+#   demo     `lorgnette demo`, timed;
+#   pocl     issue 17's PoCL scaling on the machine's CPU cores (its image has PoCL: device 0 there),
+#            bench_training on lego over 1, 2, 4, 8 and 16 threads at 2^16 (the CPU's batch).
 # Usage: benchmarks/device/nvidia_checks.sh DATA_DIR WORK_DIR OUT_DIR [SECTION...]
 #   DATA_DIR holds lego-400/, p_r1_y40/ (room_matrix.sh's synth command, seed 1), in2n-face/,
 #   fangzhou-frontal/, glasses-01/ and glasses-06/; lorgnette, nerf_quality_bench, bench_training,
@@ -28,7 +30,7 @@ fi
 data=$1 work=$2 out=$3
 shift 3
 sections=("$@")
-[ ${#sections[@]} -gt 0 ] || sections=(tests kernels room real lego demo)
+[ ${#sections[@]} -gt 0 ] || sections=(tests kernels room real lego demo pocl)
 mkdir -p "$work" "$out"
 echo "step,rc,seconds" >"$out/steps.csv"
 # step NAME LIMIT_S COMMAND...: runs COMMAND under a time limit, logs it, records rc and seconds.
@@ -93,10 +95,15 @@ demo() {
   cp "$work/demo/"*.json "$out/" 2>/dev/null || true
 }
 
+pocl() {
+  step pocl_scaling 300 bench_training --data "$data/lego-400" --out "$out/pocl_scaling" --device Portable \
+    --batch-log2 16 --threads 1,2,4,8,16
+}
+
 for section in "${sections[@]}"; do
   case $section in
-    tests | kernels | room | real | lego | demo) "$section" ;;
-    *) echo "unknown section '$section' (tests, kernels, room, real, lego, demo)" >&2 ;;
+    tests | kernels | room | real | lego | demo | pocl) "$section" ;;
+    *) echo "unknown section '$section' (tests, kernels, room, real, lego, demo, pocl)" >&2 ;;
   esac
 done
 cat "$out/steps.csv"
