@@ -26,17 +26,14 @@ done
 cd "$root"
 grep -qx '/.gpudata/' .git/info/exclude 2>/dev/null || echo '/.gpudata/' >>.git/info/exclude
 out=$root/.gpudata
-rm -rf "$out" && mkdir -p "$out/d" "$out/stage"
+rm -rf "$out" && mkdir -p "$out/stage"
 
 echo "pack_lease.sh: libraries and binaries (gpu-bundle; minutes on 2 cores)" >&2
 extra=()
 for b in "${bins[@]:1}"; do extra+=("$build/$b"); done
 "$root/../shared/tools/gpu-bundle" "$build" "${extra[@]}" >&2
 cat .gpu/libs-*/part >"$out/stage/libs.tar.xz"
-mkdir -p "$out/stage/bin.d/bin"
-for b in "${bins[@]}"; do cp "$build/$b" "$out/stage/bin.d/bin/"; done
-tar -C "$out/stage/bin.d" -cJf "$out/stage/bin.tar.xz" bin
-rm -rf "$out/stage/bin.d"
+cp .gpu/bin/bin.tar.xz "$out/stage/"  # gpu-bundle's own: the CLI and the extra binaries under bin/
 
 echo "pack_lease.sh: dlib's landmark model" >&2
 xz -T0 -6 -c "$model" >"$out/stage/dlib.dat.xz"
@@ -50,7 +47,7 @@ cp -r "$data/heads/in2n-face" "$data/heads/fangzhou-frontal" "$data/glasses/glas
   --pitch-range -10 10 --seed 1 -o "$out/stage/d/p_r1_y40"
 
 tar -C "$out/stage" -cf "$out/all.tar" libs.tar.xz dlib.dat.xz d bin.tar.xz
-rm -rf "$out/stage" "$out/d"
+rm -rf "$out/stage"
 # Parts of equal size, each under the 64 MiB a call carries less the repository's tracked files.
 tracked=$(git ls-files -z | xargs -0 du -cb 2>/dev/null | tail -1 | cut -f1)
 room=$((64 * 1024 * 1024 - tracked - 2 * 1024 * 1024))
