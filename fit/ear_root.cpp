@@ -131,9 +131,11 @@ std::vector<EarRootSide> find_ear_root_lines(const DensityFn& density_of, const 
     found_any += j - i, longest = std::max(longest, j - i);
     Run run{i, j - i, {}, kMiss};
     for (int k = 0; k < run.len; ++k) {
+      // The three nearest depths of the run (at its ends, the end and the two inside it: a median of
+      // two would take the higher).
+      const int from = std::clamp(k - 1, 0, std::max(0, run.len - 3)), to = std::min(run.len - 1, from + 2);
       std::vector<double> near;
-      for (int m = std::max(0, k - 1); m <= std::min(run.len - 1, k + 1); ++m)
-        near.push_back(creases[i + m].height_mm);
+      for (int m = from; m <= to; ++m) near.push_back(creases[i + m].height_mm);
       std::sort(near.begin(), near.end());
       run.smooth.push_back(near[near.size() / 2]);
       run.top = std::max(run.top, run.smooth.back());
@@ -158,9 +160,14 @@ std::vector<EarRootSide> find_ear_root_lines(const DensityFn& density_of, const 
   for (const Run& run : runs) {
     EarRootSide r;
     r.slices = run.len;
-    Eigen::Vector3d sum = Eigen::Vector3d::Zero();  // lateral, height, depth (mm)
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();    // lateral, height, depth (mm)
+    Eigen::Vector2d where = Eigen::Vector2d::Zero();  // lateral, depth (mm), weighted
+    double weights = 0.0;
     for (int k = 0; k < run.len; ++k) {
       const int i = run.start + k;
+      const double w = run.smooth[k] - (run.top - o.depth_window_mm);
+      if (o.depth_window_mm > 0.0 && w > 0.0)
+        where += w * Eigen::Vector2d(creases[i].lateral_mm, depths[i]), weights += w;
       if (run.smooth[k] >= run.top - o.plateau_mm) {
         sum += Eigen::Vector3d(creases[i].lateral_mm, creases[i].height_mm, depths[i]);
         r.ear_top.push_back(in.temple + ((creases[i].lateral_mm + o.bend_span_mm) * out + depths[i] * fwd +
@@ -170,7 +177,8 @@ std::vector<EarRootSide> find_ear_root_lines(const DensityFn& density_of, const 
         ++r.plateau;
       }
     }
-    const Eigen::Vector3d c = sum / r.plateau;
+    Eigen::Vector3d c = sum / r.plateau;
+    if (weights > 0.0) c.x() = where.x() / weights, c.z() = where.y() / weights;
     r.found = true;
     r.height_mm = c.y(), r.depth_mm = c.z(), r.lateral_mm = c.x();
     r.point = in.temple + (c.x() * out + c.z() * fwd + (eye_height + c.y()) * up) / mpu;

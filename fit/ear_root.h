@@ -69,10 +69,16 @@ struct EarRootOptions {
   // line of creases under a higher one that the veto refused (hair's lower edge makes creases too).
   // A side vetoed outright (hair over it) keeps Eq. 2-3 for both.
   double plausible_highest_mm = 20.0;
-  // The rest: the mean of the creases whose height (a median over three depths) lies within this of
-  // the highest (the top of the root is a plateau a few depths long; its first slice would bias the
-  // rest forward or back).
+  // The rest's height: the mean of the creases whose height (a median over three depths) lies within
+  // this of the highest (the top of the root is a plateau a few depths long; its first slice would
+  // bias the rest forward or back).
   double plateau_mm = 1.5;
+  // The rest's depth and width: the middle of the root's top, each crease weighted by how far its
+  // (median) height lies above the highest minus this (mm). Along the flat top a NeRF's heights
+  // scatter by a millimetre or two, so the hard plateau above picked a few depths anywhere along it
+  // (p_r1_y40: 1 of 13 depths, at the run's front end); the soft weights keep the whole top. 0: the
+  // plateau's mean, as the height.
+  double depth_window_mm = 4.0;
 };
 
 struct EarRootSide {

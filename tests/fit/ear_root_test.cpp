@@ -84,6 +84,38 @@ TEST(EarRoot, ScaleAndHeightFollowTheInputs) {
   EXPECT_LT((b.point * mpu - lift - a.point).norm(), 0.2);
 }
 
+TEST(EarRoot, TheRestsDepthIsTheMiddleOfTheRootsTopNotItsHighestRidge) {
+  // The ear's flat top with a ridge 2 mm higher over its front 6 mm (two depths): a NeRF's heights
+  // scatter by a millimetre or two along the top, and a hard plateau (the creases within
+  // plateau_mm of the highest) kept only the ridge, at the run's front end.
+  constexpr double kRidgeFrom = kEarFront - 6.0, kRidge = 2.0;
+  const DensityFn base = head(true, true);
+  const DensityFn ridged = [&](const std::vector<Eigen::Vector3f>& pts) {
+    std::vector<float> d = base(pts);
+    for (size_t i = 0; i < pts.size(); ++i) {
+      const Eigen::Vector3d p = pts[i].cast<double>();
+      if (std::abs(p.x()) > 60.0 && std::abs(p.x()) < 90.0 && p.y() >= kEarTop && p.y() < kEarTop + kRidge &&
+          p.z() > kRidgeFrom && p.z() < kEarFront)
+        d[i] = 1e4f;
+    }
+    return d;
+  };
+  const EarInputs in = inputs();
+  const EarRootInputs left{in.t_l, in.e_l, {1, 0, 0}, in.d_up, in.d_fwd, +1, 1.0};
+  EarRootOptions o;
+  const EarRootSide soft = find_ear_root(ridged, left, o);
+  ASSERT_TRUE(soft.found) << soft.why;
+  // The height is the top's (the ridge), the depth the middle of the top (the ridge weighs twice a
+  // flat depth: 4 mm above the cut-off against 2): within two depth steps of the ear's middle.
+  EXPECT_NEAR(soft.point.y(), kEarTop + kRidge, 1.0);
+  EXPECT_NEAR(soft.point.z(), 0.5 * (kEarBack + kEarFront), 2.0 * o.depth_step_mm);
+  // The hard plateau's depth (depth_window_mm 0) lies on the ridge.
+  o.depth_window_mm = 0.0;
+  const EarRootSide hard = find_ear_root(ridged, left, o);
+  ASSERT_TRUE(hard.found) << hard.why;
+  EXPECT_GT(hard.point.z(), kRidgeFrom - o.depth_step_mm);
+}
+
 TEST(EarRoot, NoEarNoRest) {
   const EarInputs in = inputs();
   const EarRootSide s = find_ear_root(
