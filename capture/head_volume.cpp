@@ -25,6 +25,18 @@ constexpr double kChinAboveP99Mm = 20.0;
 // out above and behind (docs/bench/real-captures.md, "a subject cut by the head volume").
 constexpr double kCutRimMm = 6.0, kCutRimAboveEyesMm = 20.0;
 
+// The nape: the space under the back of the skull and behind the neck, which side views see only
+// against the wall. The bare head (head_clear_core) and the neck's keep zone (head_clear_keep) end in
+// front of it: behind this share of the head's length from the glabella (156 mm behind the eyes for
+// the p99 head's 214 mm; the procedural heads' throats lie ~46 mm behind them), and for the skull
+// below this depth under the eyes. A side view's wall stayed there as a grey ghost: the keep zone
+// gives it the binary prior only, and in the core the gate stays shut until the room model has learnt
+// the wall behind it. In the nape the clearing leans towards the room, as in the hair margins: a
+// real nape or hair there stays where its colour differs from the room's (docs/bench/real-captures.md,
+// "the nape").
+constexpr double kNapeShare = 0.8, kNapeBelowEyesMm = 40.0;
+double nape_z_mm(const fit::HeadExtents& e) { return e.glabella_ahead_mm - kNapeShare * e.head_length_mm; }
+
 // An axis-aligned shape of the head frame spanning [lo, hi] (mm).
 OrientedShape span(OrientedShape::Kind kind, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
   OrientedShape s;
@@ -119,6 +131,19 @@ nerf::SubjectVolume head_clear_core_mm(const fit::HeadExtents& e) {
   bare.hair_mm = 0.0;
   // As wide as the head volume (the ears and what stands out beside them stay in the core).
   nerf::SubjectVolume v = head_parts_mm(bare, kLooseHairMm, 0.0);
+  // Without the nape: the neck ends at its depth, and below kNapeBelowEyesMm so does the skull (the
+  // full skull above that height, a shorter copy of it below).
+  const double nape = nape_z_mm(e);
+  OrientedShape& neck = v.parts.back();
+  const double neck_front = double(neck.center[2] + neck.half[2]);
+  neck.center[2] = float(0.5 * (nape + neck_front)), neck.half[2] = float(0.5 * (neck_front - nape));
+  OrientedShape& skull = v.parts.front();
+  OrientedShape skull_front = skull;
+  const double skull_front_z = double(skull.center[2] + skull.half[2]);
+  skull_front.center[2] = float(0.5 * (nape + skull_front_z)),
+  skull_front.half[2] = float(0.5 * (skull_front_z - nape));
+  skull.y_from = float((-kNapeBelowEyesMm - skull.center[1]) / skull.half[1]);
+  v.parts.push_back(skull_front);
   // Hair declared beyond the standard (a bun, a hat) is the subject's, not a margin: it joins the
   // core, and only the standard margin beyond it leans towards the room.
   const double declared = declared_hair_mm(e), standard = e.hair_mm - declared;
@@ -128,7 +153,9 @@ nerf::SubjectVolume head_clear_core_mm(const fit::HeadExtents& e) {
   Span box = loose_hair_span(e, kLooseHairMm, 0.0);
   box.hi.y() -= standard, box.lo.z() += standard;
   v.clip = span(OrientedShape::Kind::Box, box.lo, box.hi);
-  v.what = "the bare head (skull, face and neck without the hair behind and above; capture/head_volume.h)";
+  v.what =
+      "the bare head (skull, face and neck without the hair behind and above, nor the nape; "
+      "capture/head_volume.h)";
   return v;
 }
 
@@ -137,9 +164,10 @@ nerf::SubjectVolume head_clear_keep_mm(const fit::HeadExtents& e) {
   // below the average one: keeping a long face's chin costs only its clearing there).
   Span keep = loose_hair_span(e);
   keep.hi.y() = -(e.chin_below_eyes_mm - kChinAboveP99Mm);
+  keep.lo.z() = std::max(keep.lo.z(), nape_z_mm(e));  // not the nape
   nerf::SubjectVolume v;
   v.parts.push_back(span(OrientedShape::Kind::Box, keep.lo, keep.hi));
-  v.what = "the head box below the chin (the neck; capture/head_volume.h)";
+  v.what = "the head box below the chin, in front of the nape (the neck; capture/head_volume.h)";
   return v;
 }
 

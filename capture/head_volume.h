@@ -25,15 +25,16 @@ nerf::SubjectVolume head_volume_mm(const fit::HeadExtents& extents,
 nerf::SubjectVolume head_volume(const fit::HeadBox& box, HeadVolumeShape shape = HeadVolumeShape::Head);
 
 // The part of the head box below the chin (from the average chin down to the box's bottom, the box's
-// full width and depth with loose hair), in the head frame (mm) and in the scene: the neck, which
-// the body in the room model lies right behind, so the room's colour can match it without the neck
-// being a backdrop. The room-explained clearing (nerf::SubjectZones::keep) leaves it out.
+// full width with loose hair, in front of the nape), in the head frame (mm) and in the scene: the
+// neck, which the body in the room model lies right behind, so the room's colour can match it
+// without the neck being a backdrop. The room-explained clearing (nerf::SubjectZones::keep) leaves it out.
 nerf::SubjectVolume head_clear_keep_mm(const fit::HeadExtents& extents);
 nerf::SubjectVolume head_clear_keep(const fit::HeadBox& box);
 
 // The bare head: the head volume's skull, face and neck at their p99 extents without the hair
 // behind and above the skull (hair_mm and the loose hair there), as wide as the head volume (ears),
-// in the head frame (mm) and in the scene. Outside it the clearing leans towards the room
+// without the nape (under the back of the skull, behind the neck: head_volume.cpp), in the head frame
+// (mm) and in the scene. Outside it the clearing leans towards the room
 // (nerf::SubjectZones::core).
 nerf::SubjectVolume head_clear_core_mm(const fit::HeadExtents& extents);
 nerf::SubjectVolume head_clear_core(const fit::HeadBox& box);

@@ -214,6 +214,30 @@ TEST(HeadVolume, ClearCoreIsTheBareHead) {
       }
 }
 
+// The nape (under the back of the skull, behind the neck) is in the head volume but in neither
+// clearing zone: the keep zone and the core end 0.8 head lengths behind the glabella, the core's skull
+// 40 mm below the eyes. In front of it the neck stays in both, and above it the back of the skull
+// stays in the core.
+TEST(HeadVolume, ClearZonesLeaveOutTheNape) {
+  const fit::HeadExtents e;
+  const nerf::SubjectVolume vol = head_volume_mm(e), core = head_clear_core_mm(e),
+                            keep = head_clear_keep_mm(e);
+  auto in = [](const nerf::SubjectVolume& v, double x, double y, double z) {
+    return v.contains({float(x), float(y), float(z)});
+  };
+  const double nape = e.glabella_ahead_mm - 0.8 * e.head_length_mm;  // 156 mm behind the eyes
+  const double back = e.head_length_mm - e.glabella_ahead_mm;        // the p99 skull's back, 199 mm
+  const double under_chin = -(e.chin_below_eyes_mm + 10);
+  for (double y : {-60.0, -90.0, under_chin}) {
+    EXPECT_TRUE(in(vol, 0, y, nape - 15)) << y;    // the volume keeps the nape
+    EXPECT_FALSE(in(core, 0, y, nape - 15)) << y;  // the core does not hold it
+    EXPECT_TRUE(in(core, 0, y, nape + 15)) << y;   // nor the neck in front of it
+  }
+  EXPECT_FALSE(in(keep, 0, under_chin, nape - 15));
+  EXPECT_TRUE(in(keep, 0, under_chin, nape + 15));
+  EXPECT_TRUE(in(core, 0, -30, -back + 10));  // the back of the skull above the nape
+}
+
 // `train --hair MM` (a bun, tall hair, a hat): the volume and its clip reach that much further above
 // and behind the skull, and from eye level up half the declared hair (beyond the standard 30 mm)
 // further sideways; below the eyes and in front of the skull's middle nothing moves. The declared hair
