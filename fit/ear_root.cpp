@@ -277,7 +277,9 @@ EarRoots apply_ear_roots(const DensityFn& density, const EarInputs& in, const Ei
   }
   const EarRootSide* lone = r.left.found ? &r.left : r.right.found ? &r.right : nullptr;
   const EarRootSide* other = lone == &r.left ? &r.right : &r.left;
-  if (lone && !other->vetoed && lone->height_mm <= options.plausible_highest_mm) {
+  // Opposite a side vetoed as hair too: the found side passed the same veto, so it is not that hair,
+  // and an ear at the height where ears lie is nearer the truth than Eq. 2-3's point (20-40 mm off).
+  if (lone && lone->height_mm <= options.plausible_highest_mm) {
     const bool left = lone == &r.left;
     const Eigen::Vector3d out_other = (left ? -1.0 : 1.0) * d_eye.normalized();
     const Eigen::Vector3d beside = (left ? in.t_r : in.t_l) + lone->lateral_mm * out_other / mm_per_unit;
@@ -285,11 +287,9 @@ EarRoots apply_ear_roots(const DensityFn& density, const EarInputs& in, const Ei
     (left ? ears.f_r : ears.f_l) = level(beside, lone->point);
     r.use = EarRoots::Use::kMirrored;
   } else if (lone) {
-    r.note = other->vetoed ? "the other side is vetoed, so the found one is not mirrored"
-                           : fmt::format(
-                                 "the found one lies {:.1f} mm above its eye corner, over the {:.0f} "
-                                 "allowed for one side alone",
-                                 lone->height_mm, options.plausible_highest_mm);
+    r.note = fmt::format(
+        "the found one lies {:.1f} mm above its eye corner, over the {:.0f} allowed for one side alone",
+        lone->height_mm, options.plausible_highest_mm);
   }
   return r;
 }

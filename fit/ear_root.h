@@ -65,9 +65,9 @@ struct EarRootOptions {
   // Where a rest has no second witness, it must lie at most this high above its eye corner (the rests
   // of every head we know lie -5..+17 mm above them; the creases found in in2n-face's curls 29-30
   // mm): one side found, the other showing no crease (a narrow arc that saw one ear better, or a ray
-  // field that missed it) and not vetoed, whose rest is then mirrored onto the other side; and a
-  // line of creases under a higher one that the veto refused (hair's lower edge makes creases too).
-  // A side vetoed outright (hair over it) keeps Eq. 2-3 for both.
+  // field that missed it) or vetoed (hair over that ear; the found side passed the same veto), whose
+  // rest is then mirrored onto the other side; and a line of creases under a higher one that the veto
+  // refused (hair's lower edge makes creases too).
   double plausible_highest_mm = 20.0;
   // The rest's height: the mean of the creases whose height (a median over three depths) lies within
   // this of the highest (the top of the root is a plateau a few depths long; its first slice would
@@ -126,9 +126,9 @@ struct EarRoots {
 // vetoed when it has lines and none is accepted. When both sides are found and their rests lie at
 // one height within `max_height_gap_mm`, they replace Eq. 2-3's points, both at the mean height and
 // depth of the two (an ear of each kind would roll and yaw the frame). When one side is found, lies
-// no higher than `plausible_highest_mm`, and the other side showed no ear (not vetoed), the found rest
-// stands for both: the other side's rest lies at its height and depth, as far out from that side's
-// temple as the found one. Otherwise `ears` stays as it is.
+// no higher than `plausible_highest_mm`, and the other side showed no ear (no line of creases, or
+// every line vetoed), the found rest stands for both: the other side's rest lies at its height and
+// depth, as far out from that side's temple as the found one. Otherwise `ears` stays as it is.
 using EarVeto = std::function<std::string(const EarRootSide&)>;  // empty string: accepted
 EarRoots apply_ear_roots(const DensityFn& density, const EarInputs& in, const Eigen::Vector3d& d_eye,
                          double mm_per_unit, const EarRootOptions& options, EarPoints& ears,

@@ -1,7 +1,7 @@
 // The ear-root search (fit/ear_root.h) on an analytic head: a sphere for the skull with a flat-topped
 // box for each ear, whose crease with the skull is known exactly; a head without ears; and when
 // the fit may use what it finds (both sides at one height, or one side mirrored where the other shows
-// nothing and nothing is vetoed).
+// nothing or is vetoed).
 #include "fit/ear_root.h"
 
 #include <gtest/gtest.h>
@@ -139,20 +139,31 @@ TEST(EarRoot, ApplyNeedsAgreeingHeightsOrOneUnopposedSide) {
   EXPECT_LT((both.f_r - roots.right.point).norm(), 1e-9);
   EXPECT_NE(roots.summary().find("both ears from the density"), std::string::npos) << roots.summary();
 
-  // No ears, or a side vetoed (hair over it, say): Eq. 2-3 stand, even where the other side is found.
-  for (const auto& [ears, r] : {apply(head(false, false)), apply(head(true, true), [](const EarRootSide& s) {
-                                  return s.point.x() < 0 ? std::string("hair") : std::string();
+  // No ears, or both sides vetoed (hair over them, say): Eq. 2-3 stand.
+  for (const auto& [ears, r] : {apply(head(false, false)), apply(head(true, true), [](const EarRootSide&) {
+                                  return std::string("hair");
                                 })}) {
     EXPECT_EQ(ears.f_l, eq23.f_l) << r.summary();
     EXPECT_EQ(ears.f_r, eq23.f_r) << r.summary();
     EXPECT_FALSE(r.from_density());
     EXPECT_NE(r.summary().find("Eq. 2-3"), std::string::npos) << r.summary();
   }
-  const EarRootSide vetoed = apply(head(true, true), [](const EarRootSide& s) {
-                               return s.point.x() < 0 ? std::string("hair") : std::string();
-                             }).second.right;
-  EXPECT_TRUE(vetoed.vetoed);
-  EXPECT_EQ(vetoed.why.rfind("hair (a crease ", 0), 0u) << vetoed.why;  // the veto, then where the crease was
+  // One side vetoed (hair over that ear): the other side passed the same veto, so its rest stands
+  // for both, mirrored.
+  {
+    auto [ears, r] = apply(head(true, true), [](const EarRootSide& s) {
+      return s.point.x() < 0 ? std::string("hair") : std::string();
+    });
+    EXPECT_TRUE(r.right.vetoed);
+    EXPECT_EQ(r.right.why.rfind("hair (a crease ", 0), 0u)
+        << r.right.why;  // the veto, then where the crease was
+    ASSERT_TRUE(r.left.found) << r.summary();
+    EXPECT_EQ(r.use, EarRoots::Use::kMirrored) << r.summary();
+    EXPECT_LT((ears.f_l - r.left.point).norm(), 1e-9);
+    EXPECT_NEAR(ears.f_r.x(), -ears.f_l.x(), 1e-9);
+    EXPECT_NEAR(ears.f_r.y(), ears.f_l.y(), 1e-9);
+    EXPECT_NEAR(ears.f_r.z(), ears.f_l.z(), 1e-9);
+  }
 
   // One ear shown, the other side empty (not vetoed): the found rest stands for both, mirrored. The
   // inputs are symmetric, so the right rest is the left one's mirror image.
