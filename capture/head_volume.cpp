@@ -27,9 +27,9 @@ constexpr double kCutRimMm = 6.0, kCutRimAboveEyesMm = 20.0;
 
 // The nape: the space under the back of the skull and behind the neck, which side views see only
 // against the wall. The bare head (head_clear_core) and the neck's keep zone (head_clear_keep) end in
-// front of it: behind this share of the head's length from the glabella (156 mm behind the eyes for
+// front of it: behind kNapeShare of the head's length from the glabella (156 mm behind the eyes for
 // the p99 head's 214 mm; the procedural heads' throats lie ~46 mm behind them), and for the skull
-// below this depth under the eyes. A side view's wall stayed there as a grey ghost: the keep zone
+// only below kNapeBelowEyesMm under the eyes. A side view's wall stayed there as a grey ghost: the keep zone
 // gives it the binary prior only, and in the core the gate stays shut until the room model has learnt
 // the wall behind it. In the nape the clearing leans towards the room, as in the hair margins: a
 // real nape or hair there stays where its colour differs from the room's (docs/bench/real-captures.md,
@@ -140,7 +140,7 @@ nerf::SubjectVolume head_clear_core_mm(const fit::HeadExtents& e) {
   OrientedShape& skull = v.parts.front();
   OrientedShape skull_front = skull;
   const double skull_front_z = double(skull.center[2] + skull.half[2]);
-  skull_front.center[2] = float(0.5 * (nape + skull_front_z)),
+  skull_front.center[2] = float(0.5 * (nape + skull_front_z));
   skull_front.half[2] = float(0.5 * (skull_front_z - nape));
   skull.y_from = float((-kNapeBelowEyesMm - skull.center[1]) / skull.half[1]);
   v.parts.push_back(skull_front);

@@ -27,7 +27,8 @@ nerf::SubjectVolume head_volume(const fit::HeadBox& box, HeadVolumeShape shape =
 // The part of the head box below the chin (from the average chin down to the box's bottom, the box's
 // full width with loose hair, in front of the nape), in the head frame (mm) and in the scene: the
 // neck, which the body in the room model lies right behind, so the room's colour can match it
-// without the neck being a backdrop. The room-explained clearing (nerf::SubjectZones::keep) leaves it out.
+// without the neck being a backdrop. The room-explained clearing (nerf::SubjectZones::keep) leaves
+// it out.
 nerf::SubjectVolume head_clear_keep_mm(const fit::HeadExtents& extents);
 nerf::SubjectVolume head_clear_keep(const fit::HeadBox& box);
 

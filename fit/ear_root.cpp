@@ -276,7 +276,6 @@ EarRoots apply_ear_roots(const DensityFn& density, const EarInputs& in, const Ei
     return r;
   }
   const EarRootSide* lone = r.left.found ? &r.left : r.right.found ? &r.right : nullptr;
-  const EarRootSide* other = lone == &r.left ? &r.right : &r.left;
   // Opposite a side vetoed as hair too: the found side passed the same veto, so it is not that hair,
   // and an ear at the height where ears lie is nearer the truth than Eq. 2-3's point (20-40 mm off).
   if (lone && lone->height_mm <= options.plausible_highest_mm) {
