@@ -83,15 +83,30 @@ void add_declared_skull(nerf::SubjectVolume& v, const fit::HeadExtents& e, doubl
   v.parts.push_back(wide);
 }
 
+// `s` with its back (its lowest z) moved to `back`, its front kept.
+OrientedShape with_back_at(OrientedShape s, double back) {
+  const double front = double(s.center[2] + s.half[2]);
+  s.center[2] = float(0.5 * (back + front)), s.half[2] = float(0.5 * (front - back));
+  return s;
+}
+
 // The head's parts (skull, face, neck) for extents `e` with loose hair around the skull: `side` mm
-// sideways, `loose` mm behind, above and below it.
-nerf::SubjectVolume head_parts_mm(const fit::HeadExtents& e, double side, double loose) {
+// sideways, `loose` mm behind, above and below it. With `without_nape`, the neck ends at the nape
+// (nape_z_mm), and so does the standard skull below kNapeBelowEyesMm under the eyes (the full skull
+// above that height, a shorter copy of it below).
+nerf::SubjectVolume head_parts_mm(const fit::HeadExtents& e, double side, double loose,
+                                  bool without_nape = false) {
   const Span box = head_box_span_mm(e);
   const double bottom = -box.lo.y(), front = box.hi.z();
   nerf::SubjectVolume v;
   // The skull with at most the standard hair; more hair adds a longer ellipsoid, and a wider one above
   // the eyes (stretching the first would narrow it at the ears and the jaw).
-  v.parts.push_back(skull_mm(e, e.hair_mm - declared_hair_mm(e), side, loose));
+  OrientedShape skull = skull_mm(e, e.hair_mm - declared_hair_mm(e), side, loose);
+  if (without_nape) {
+    v.parts.push_back(with_back_at(skull, nape_z_mm(e)));
+    skull.y_from = float((-kNapeBelowEyesMm - skull.center[1]) / skull.half[1]);
+  }
+  v.parts.push_back(skull);
   if (declared_hair_mm(e) > 0.0) add_declared_skull(v, e, e.hair_mm, side, loose);
   // Face and jaw: the front half of the head, head-breadth wide, from below the chin (beard) to the
   // forehead, to the front of the box (nose tip and margin).
@@ -103,9 +118,11 @@ nerf::SubjectVolume head_parts_mm(const fit::HeadExtents& e, double side, double
   // middle, reaching up to eye level, head-breadth wide and a head length deep, so the box's bottom
   // keeps the neck and what hangs behind it.
   const double skull_mid = -0.5 * (e.head_length_mm - 2.0 * e.glabella_ahead_mm);
-  v.parts.push_back(span(OrientedShape::Kind::Ellipsoid,
-                         {-0.5 * e.head_breadth_mm, -2.0 * bottom, skull_mid - 0.5 * e.head_length_mm},
-                         {0.5 * e.head_breadth_mm, 0.0, skull_mid + 0.5 * e.head_length_mm}));
+  const OrientedShape neck =
+      span(OrientedShape::Kind::Ellipsoid,
+           {-0.5 * e.head_breadth_mm, -2.0 * bottom, skull_mid - 0.5 * e.head_length_mm},
+           {0.5 * e.head_breadth_mm, 0.0, skull_mid + 0.5 * e.head_length_mm});
+  v.parts.push_back(without_nape ? with_back_at(neck, nape_z_mm(e)) : neck);
   return v;
 }
 
@@ -130,20 +147,7 @@ nerf::SubjectVolume head_clear_core_mm(const fit::HeadExtents& e) {
   fit::HeadExtents bare = e;
   bare.hair_mm = 0.0;
   // As wide as the head volume (the ears and what stands out beside them stay in the core).
-  nerf::SubjectVolume v = head_parts_mm(bare, kLooseHairMm, 0.0);
-  // Without the nape: the neck ends at its depth, and below kNapeBelowEyesMm so does the skull (the
-  // full skull above that height, a shorter copy of it below).
-  const double nape = nape_z_mm(e);
-  OrientedShape& neck = v.parts.back();
-  const double neck_front = double(neck.center[2] + neck.half[2]);
-  neck.center[2] = float(0.5 * (nape + neck_front)), neck.half[2] = float(0.5 * (neck_front - nape));
-  OrientedShape& skull = v.parts.front();
-  OrientedShape skull_front = skull;
-  const double skull_front_z = double(skull.center[2] + skull.half[2]);
-  skull_front.center[2] = float(0.5 * (nape + skull_front_z));
-  skull_front.half[2] = float(0.5 * (skull_front_z - nape));
-  skull.y_from = float((-kNapeBelowEyesMm - skull.center[1]) / skull.half[1]);
-  v.parts.push_back(skull_front);
+  nerf::SubjectVolume v = head_parts_mm(bare, kLooseHairMm, 0.0, /*without_nape=*/true);
   // Hair declared beyond the standard (a bun, a hat) is the subject's, not a margin: it joins the
   // core, and only the standard margin beyond it leans towards the room.
   const double declared = declared_hair_mm(e), standard = e.hair_mm - declared;
