@@ -175,6 +175,17 @@ nerf::SubjectVolume head_clear_keep_mm(const fit::HeadExtents& e) {
   return v;
 }
 
+nerf::SubjectVolume head_room_body_mm(const fit::HeadExtents& e) {
+  const Span box = loose_hair_span(e);
+  const double reach = 1000.0;  // beyond the room's cutout margin below, beside, in front and behind
+  nerf::SubjectVolume v;
+  v.parts.push_back(span(OrientedShape::Kind::Box,
+                         {box.lo.x() - reach, box.lo.y() - reach, box.lo.z() - reach},
+                         {box.hi.x() + reach, box.lo.y(), box.hi.z() + reach}));
+  v.what = "below the head box (the neck's base and the shoulders: the room's; capture/head_volume.h)";
+  return v;
+}
+
 nerf::SubjectRim head_cut_rim_mm(const fit::HeadExtents& e) {
   nerf::SubjectRim rim;
   rim.inner = head_volume_mm(e).grown(-float(kCutRimMm));
@@ -230,6 +241,10 @@ nerf::SubjectVolume head_volume(const fit::HeadBox& box, HeadVolumeShape shape) 
 
 nerf::SubjectVolume head_clear_keep(const fit::HeadBox& box) {
   return to_scene(head_clear_keep_mm(box.extents), box);
+}
+
+nerf::SubjectVolume head_room_body(const fit::HeadBox& box) {
+  return to_scene(head_room_body_mm(box.extents), box);
 }
 
 nerf::SubjectVolume head_clear_core(const fit::HeadBox& box) {

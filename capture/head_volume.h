@@ -40,6 +40,15 @@ nerf::SubjectVolume head_clear_keep(const fit::HeadBox& box);
 nerf::SubjectVolume head_clear_core_mm(const fit::HeadExtents& extents);
 nerf::SubjectVolume head_clear_core(const fit::HeadBox& box);
 
+// Right below the head box (its bottom, across its width and depth with loose hair, and far beyond):
+// the neck's base and the shoulders, which the room model holds (nerf::SubjectZones::body). The room's
+// cutout grows the head volume by a margin on every side; below the box's bottom that margin was a
+// band of neck and collar that neither model could hold, and the subject painted it onto its box's
+// bottom edge, in front of and behind the neck (docs/bench/real-captures.md, "the band below the
+// box"). In the head frame (mm) and in the scene.
+nerf::SubjectVolume head_room_body_mm(const fit::HeadExtents& extents);
+nerf::SubjectVolume head_room_body(const fit::HeadBox& box);
+
 // Where a subject cut by the head volume shows the cut (nerf::SubjectRim, host/nerf/subject_cut.h): the
 // head volume's outer 6 mm from 20 mm above the eyes up, behind the eyes. A hat, a bun or hair that stands
 // out further than `--hair` allows is cut flat there; a head inside the volume leaves it empty (the hair

@@ -16,6 +16,11 @@
 // the seen opacity in the head volume's rim above the brows and behind the eyes, at its top and back
 // and at its sides (rim_share, rim_sides_share in head_volume.csv); --hair
 // sizes the head box as `train --hair` did.
+// Where the dataset has true mattes (`lorgnette synth --room`), the leak (the seen opacity x (1 -
+// matte) on the held-out rays, as a share of the subject's matte area, as bench_room_matte's leak) is
+// split by the room clearing's zone its samples lie in (capture/head_volume.h: keep = the neck below
+// the chin, core = the bare head, lean = the rest of the head volume, outside = beyond it) and located
+// in 20 mm bins of head-frame height and depth: head_volume_leak.csv and head_volume_leak_yz.csv.
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
@@ -36,6 +41,7 @@
 #include "host/nerf/subject_cut.h"
 #include "host/util/chart.h"
 #include "host/util/image_io.h"
+#include "synth/matte.h"
 
 namespace fs = std::filesystem;
 using namespace lorgnette;
@@ -44,6 +50,20 @@ namespace {
 
 enum Region { kHead = 0, kBoxNotHead = 1, kCorners = 2 };
 const char* kRegionNames[3] = {"head", "box_not_head", "corners"};
+
+// The room clearing's zones (capture/head_volume.h) and where the leak lies in the head frame.
+enum Zone { kKeep = 0, kCore = 1, kLean = 2, kOutside = 3 };
+const char* kZoneNames[4] = {"keep", "core", "lean", "outside"};
+struct LeakSplit {
+  std::function<int(const Eigen::Vector3d&)> zone_of;                   // dataset-frame point -> Zone
+  std::function<Eigen::Vector2d(const Eigen::Vector3d&)> height_depth;  // -> head-frame (y, z) mm
+  // True matte and subject depth by held-out image stem. As bench_room_matte judges: subject pixels
+  // (matte >= 0.5) count only where their subject point lies in the model's box (head to neck).
+  std::map<std::string, std::pair<Image, Image>> mattes;
+  double subject = 0.0;  // the judged subject pixels among the marched rays
+  std::array<double, 4> zone{0, 0, 0, 0};
+  std::map<std::pair<int, int>, std::array<double, 4>> yz;  // 20 mm bins of (y, z): leak by zone
+};
 
 struct Case {
   std::string name, model, data;
@@ -136,7 +156,7 @@ std::array<double, 3> seen_opacity(cl::Runtime& rt, nerf::NerfModel& model, cons
                                    const nerf::SubjectVolume& box, const nerf::SubjectVolume& head,
                                    const std::function<double(const Eigen::Vector3d&)>& head_z_mm,
                                    const std::string& picture_prefix, int stride, size_t max_views,
-                                   std::map<int, std::array<double, 3>>* seen_depth) {
+                                   std::map<int, std::array<double, 3>>* seen_depth, LeakSplit* leak) {
   const nerf::Aabb& bb = model.aabb();
   const nerf::OccupancyGrid& occ = model.occupancy();
   const float step = model.step();
@@ -147,10 +167,35 @@ std::array<double, 3> seen_opacity(cl::Runtime& rt, nerf::NerfModel& model, cons
     const int w = int(fr->camera.width) / stride, h = int(fr->camera.height) / stride;
     struct Sample {
       uint32_t ray;
-      uint8_t region;
-      int16_t depth_bin;  // head-frame z, 10 mm bins
-      nerf::Vec3f q;      // normalised position
+      uint8_t region, zone;
+      int16_t depth_bin;     // head-frame z, 10 mm bins
+      int16_t y_bin, z_bin;  // head-frame y and z, 20 mm bins (the leak's place)
+      nerf::Vec3f q;         // normalised position
     };
+    // The true matte at each ray's pixel (the leak's split), or none.
+    const Image *matte = nullptr, *depth = nullptr;
+    if (leak) {
+      auto it = leak->mattes.find(fs::path(fr->image_path).stem().string());
+      if (it != leak->mattes.end()) matte = &it->second.first, depth = &it->second.second;
+    }
+    std::vector<float> room(size_t(w) * h, 0.0f);  // 1 - matte per judged ray
+    if (matte)
+      for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+          const int px = x * stride + stride / 2, py = y * stride + stride / 2;
+          const float m = matte->at(px, py, 0), d = depth->at(px, py, 0);
+          if (m >= 0.5f && std::isfinite(d)) {
+            fit::Ray r = fit::camera_ray(fr->camera, {px + 0.5, py + 0.5});
+            const Eigen::Vector3d s =
+                (r.origin + double(d) * r.dir) * model.normalisation.scale +
+                Eigen::Vector3d(model.normalisation.offset[0], model.normalisation.offset[1],
+                                model.normalisation.offset[2]);
+            bool inside = true;
+            for (int a = 0; a < 3; ++a) inside = inside && s[a] >= bb.min[a] && s[a] <= bb.max[a];
+            if (!inside) continue;  // not judged
+          }
+          room[size_t(y) * w + x] = 1.0f - m, leak->subject += m >= 0.5f;
+        }
     std::vector<Sample> samples;
     for (int y = 0; y < h; ++y)
       for (int x = 0; x < w; ++x) {
@@ -178,8 +223,19 @@ std::array<double, 3> seen_opacity(cl::Runtime& rt, nerf::NerfModel& model, cons
                                    model.normalisation.offset[2])) /
               model.normalisation.scale;
           const double z_mm = head_z_mm(pd);
-          samples.push_back({uint32_t(y * w + x), uint8_t(region_of(vec(pd), box, head)),
-                             int16_t(std::floor(z_mm / 10.0)), q});
+          Sample s{uint32_t(y * w + x),
+                   uint8_t(region_of(vec(pd), box, head)),
+                   0,
+                   int16_t(std::floor(z_mm / 10.0)),
+                   0,
+                   0,
+                   q};
+          if (matte && room[s.ray] > 0.0f) {
+            const Eigen::Vector2d yz = leak->height_depth(pd);
+            s.zone = uint8_t(leak->zone_of(pd));
+            s.y_bin = int16_t(std::floor(yz[0] / 20.0)), s.z_bin = int16_t(std::floor(yz[1] / 20.0));
+          }
+          samples.push_back(s);
         }
       }
     std::vector<nerf::Vec3f> points(samples.size());
@@ -192,6 +248,10 @@ std::array<double, 3> seen_opacity(cl::Runtime& rt, nerf::NerfModel& model, cons
       const float a = 1.0f - std::exp(-sig[i] * step), wgt = T[s.ray] * a;
       per_ray[s.ray][s.region] += wgt;
       (*seen_depth)[s.depth_bin][s.region] += wgt;
+      if (matte && room[s.ray] > 0.0f) {
+        leak->zone[s.zone] += wgt * room[s.ray];
+        leak->yz[{s.y_bin, s.z_bin}][s.zone] += wgt * room[s.ray];
+      }
       T[s.ray] *= 1.0f - a;
     }
     Image img(w, h, 3);
@@ -236,7 +296,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   fs::create_directories(out);
-  std::vector<std::vector<std::string>> rows, depth_rows, seen_rows;
+  std::vector<std::vector<std::string>> rows, depth_rows, seen_rows, leak_rows, leak_yz_rows;
   for (size_t k = 0; k + 2 < case_args.size(); k += 3) {
     Case cs{case_args[k], case_args[k + 1], case_args[k + 2]};
     dataset::Dataset ds = dataset::load_dataset(cs.data, {});
@@ -287,8 +347,36 @@ int main(int argc, char** argv) {
     auto head_z = [&](const Eigen::Vector3d& p) {
       return b.head.d_fwd.dot(p - b.anchor) * b.head.mm_per_unit;
     };
-    std::array<double, 3> seen = seen_opacity(
-        rt, model, ds, box, head, head_z, (fs::path(out) / cs.name).string(), stride, max_views, &seen_depth);
+    // The leak's split, where the dataset has true mattes.
+    LeakSplit leak;
+    for (const auto& [stem, files] : synth::eval_files_by_stem(cs.data))
+      leak.mattes.emplace(stem, std::make_pair(synth::read_matte(cs.data + "/" + files.matte),
+                                               read_image(cs.data + "/" + files.depth)));
+    const nerf::SubjectVolume keep = capture::head_clear_keep(b), core = capture::head_clear_core(b);
+    leak.zone_of = [&](const Eigen::Vector3d& p) {
+      const nerf::Vec3f v = vec(p);
+      return keep.contains(v) ? kKeep : core.contains(v) ? kCore : head.contains(v) ? kLean : kOutside;
+    };
+    leak.height_depth = [&](const Eigen::Vector3d& p) -> Eigen::Vector2d {
+      const double s = b.head.mm_per_unit;
+      return {s * b.head.d_up.dot(p - b.anchor), s * b.head.d_fwd.dot(p - b.anchor)};
+    };
+    std::array<double, 3> seen =
+        seen_opacity(rt, model, ds, box, head, head_z, (fs::path(out) / cs.name).string(), stride, max_views,
+                     &seen_depth, leak.mattes.empty() ? nullptr : &leak);
+    if (leak.subject > 0.0) {
+      const double k = 100.0 / leak.subject;
+      spdlog::info(
+          "{}: leak {:.2f} % of the subject's area: keep {:.2f}, core {:.2f}, lean {:.2f}, outside {:.2f}",
+          cs.name, k * (leak.zone[0] + leak.zone[1] + leak.zone[2] + leak.zone[3]), k * leak.zone[0],
+          k * leak.zone[1], k * leak.zone[2], k * leak.zone[3]);
+      for (int z = 0; z < 4; ++z)
+        leak_rows.push_back({cs.name, kZoneNames[z], fmt::format("{:.4f}", k * leak.zone[z])});
+      for (const auto& [bin, v] : leak.yz)
+        leak_yz_rows.push_back({cs.name, std::to_string(bin.first * 20), std::to_string(bin.second * 20),
+                                fmt::format("{:.4f}", k * v[0]), fmt::format("{:.4f}", k * v[1]),
+                                fmt::format("{:.4f}", k * v[2]), fmt::format("{:.4f}", k * v[3])});
+    }
     for (auto& [bin, v] : seen_depth) {
       seen_rows.push_back({cs.name, std::to_string(bin * 10), fmt::format("{:.5f}", v[0]),
                            fmt::format("{:.5f}", v[1]), fmt::format("{:.5f}", v[2])});
@@ -319,6 +407,11 @@ int main(int argc, char** argv) {
             rows);
   write_csv((fs::path(out) / "head_volume_seen_depth.csv").string(),
             {"case", "depth_mm", "seen_head", "seen_box_not_head", "seen_corners"}, seen_rows);
+  if (!leak_rows.empty()) {
+    write_csv((fs::path(out) / "head_volume_leak.csv").string(), {"case", "zone", "leak_pct"}, leak_rows);
+    write_csv((fs::path(out) / "head_volume_leak_yz.csv").string(),
+              {"case", "y_mm", "z_mm", "keep_pct", "core_pct", "lean_pct", "outside_pct"}, leak_yz_rows);
+  }
   write_csv((fs::path(out) / "head_volume_depth.csv").string(),
             {"case", "depth_mm", "solid_head", "solid_box_not_head", "solid_corners"}, depth_rows);
   return 0;

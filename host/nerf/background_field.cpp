@@ -51,9 +51,9 @@ std::vector<uint32_t> room_mask(const Aabb& room, Aabb subject, float margin, ui
 }
 
 // Every cell allowed except those whose centre lies in the subject's volume grown by `margin`
-// (scene units).
+// (scene units) and not in `body` (the room's below the volume).
 std::vector<uint32_t> volume_cutout(const Aabb& room, const SubjectVolume& subject, float margin,
-                                    uint32_t res) {
+                                    const SubjectVolume& body, uint32_t res) {
   const SubjectVolume cut = subject.grown(margin);
   std::vector<uint32_t> mask(occ_word_count(res), 0u);
   for (uint32_t z = 0; z < res; ++z)
@@ -63,7 +63,7 @@ std::vector<uint32_t> volume_cutout(const Aabb& room, const SubjectVolume& subje
         Vec3f p;
         for (int a = 0; a < 3; ++a) p[a] = room.min[a] + (idx[a] + 0.5f) / float(res) * room.extent(a);
         const uint32_t cell = x + res * (y + res * z);
-        if (!cut.contains(p)) mask[cell >> 5] |= 1u << (cell & 31u);
+        if (!cut.contains(p) || (!body.empty() && body.contains(p))) mask[cell >> 5] |= 1u << (cell & 31u);
       }
   return mask;
 }
@@ -88,7 +88,7 @@ BackgroundField::BackgroundField(cl::Runtime& rt, const NerfModel& subject, cons
   std::vector<uint32_t> mask =
       options.subject && !options.subject->volume.empty()
           ? volume_cutout(box, options.subject->volume,
-                          options.volume_cutout_margin * subject.aabb().max_extent(),
+                          options.volume_cutout_margin * subject.aabb().max_extent(), options.subject->body,
                           options.occupancy_resolution)
           : room_mask(box, subject.aabb(), options.cutout_margin, options.occupancy_resolution);
   OccupancyGrid grid = model_->occupancy();

@@ -75,6 +75,10 @@ struct SubjectZones {
   SubjectVolume core;
   // Not a clearing zone: where training checks, once done, whether the volume cut the subject.
   SubjectRim rim;
+  // Where the room model holds what lies right below the volume (a head's neck base and shoulders,
+  // below its box): the room's cutout around the volume (BackgroundOptions::volume_cutout_margin)
+  // leaves it to the room, so no band below the volume belongs to neither model.
+  SubjectVolume body;
 };
 
 // The occupancy mask of `volume` over `box` at res^3 cells (occ_word_count(res) words, the grid's

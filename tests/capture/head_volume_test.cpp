@@ -238,6 +238,34 @@ TEST(HeadVolume, ClearZonesLeaveOutTheNape) {
   EXPECT_TRUE(in(core, 0, -30, -back + 10));  // the back of the skull above the nape
 }
 
+// What lies right below the head box is the room model's (head_room_body): the neck's base under
+// the box, in front of and behind it, and the shoulders beside it, as far below as the room's
+// cutout margin reaches (~35 mm on the room captures) and further; none of the head volume is.
+TEST(HeadVolume, RoomHoldsWhatLiesBelowTheBox) {
+  const fit::HeadExtents e;
+  const nerf::SubjectVolume vol = head_volume_mm(e), body = head_room_body_mm(e);
+  auto in = [](const nerf::SubjectVolume& v, double x, double y, double z) {
+    return v.contains({float(x), float(y), float(z)});
+  };
+  const double bottom = e.chin_below_eyes_mm + e.neck_mm;  // the box's bottom below the eyes
+  for (double below : {1.0, 20.0, 60.0}) {
+    EXPECT_TRUE(in(body, 0, -bottom - below, -46)) << below;    // the throat
+    EXPECT_TRUE(in(body, 0, -bottom - below, -170)) << below;   // the nape
+    EXPECT_TRUE(in(body, 150, -bottom - below, -90)) << below;  // a shoulder
+    EXPECT_FALSE(in(vol, 0, -bottom - below, -46)) << below;
+  }
+  // Above the bottom nothing of the head volume is the room's.
+  int checked = 0;
+  for (double x = -150; x <= 150; x += 10)
+    for (double y = -bottom + 1; y <= 200; y += 10)
+      for (double z = -280; z <= 80; z += 10)
+        if (in(vol, x, y, z)) {
+          ++checked;
+          EXPECT_FALSE(in(body, x, y, z)) << x << " " << y << " " << z;
+        }
+  EXPECT_GT(checked, 1000);
+}
+
 // `train --hair MM` (a bun, tall hair, a hat): the volume and its clip reach that much further above
 // and behind the skull, and from eye level up half the declared hair (beyond the standard 30 mm)
 // further sideways; below the eyes and in front of the skull's middle nothing moves. The declared hair
