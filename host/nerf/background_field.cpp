@@ -50,24 +50,6 @@ std::vector<uint32_t> room_mask(const Aabb& room, Aabb subject, float margin, ui
   return mask;
 }
 
-// Every cell allowed except those whose centre lies in the subject's volume grown by `margin`
-// (scene units) and not in `body` (the room's below the volume).
-std::vector<uint32_t> volume_cutout(const Aabb& room, const SubjectVolume& subject, float margin,
-                                    const SubjectVolume& body, uint32_t res) {
-  const SubjectVolume cut = subject.grown(margin);
-  std::vector<uint32_t> mask(occ_word_count(res), 0u);
-  for (uint32_t z = 0; z < res; ++z)
-    for (uint32_t y = 0; y < res; ++y)
-      for (uint32_t x = 0; x < res; ++x) {
-        const uint32_t idx[3] = {x, y, z};
-        Vec3f p;
-        for (int a = 0; a < 3; ++a) p[a] = room.min[a] + (idx[a] + 0.5f) / float(res) * room.extent(a);
-        const uint32_t cell = x + res * (y + res * z);
-        if (!cut.contains(p) || (!body.empty() && body.contains(p))) mask[cell >> 5] |= 1u << (cell & 31u);
-      }
-  return mask;
-}
-
 }  // namespace
 
 BackgroundField::BackgroundField(cl::Runtime& rt, const NerfModel& subject, const DeviceViews& views,
@@ -87,9 +69,9 @@ BackgroundField::BackgroundField(cl::Runtime& rt, const NerfModel& subject, cons
                                        seed + 7919u, false);
   std::vector<uint32_t> mask =
       options.subject && !options.subject->volume.empty()
-          ? volume_cutout(box, options.subject->volume,
-                          options.volume_cutout_margin * subject.aabb().max_extent(), options.subject->body,
-                          options.occupancy_resolution)
+          ? room_cutout_mask(box, options.subject->volume,
+                             options.volume_cutout_margin * subject.aabb().max_extent(),
+                             options.subject->body, options.occupancy_resolution)
           : room_mask(box, subject.aabb(), options.cutout_margin, options.occupancy_resolution);
   OccupancyGrid grid = model_->occupancy();
   for (size_t w = 0; w < grid.bits.size(); ++w) grid.bits[w] &= mask[w];
@@ -113,7 +95,10 @@ std::string BackgroundField::summary() const {
       "room model: box {:.2f} units wide around the subject ({} cut out), {} levels up to {}, "
       "2^{} table, {:.1f} MB, up to {} samples per step (training only)",
       b.extent(0),
-      options_.subject && !options_.subject->volume.empty() ? "the subject's volume" : "subject box",
+      options_.subject && !options_.subject->volume.empty()
+          ? (options_.subject->body.empty() ? "the subject's volume"
+                                            : "the subject's volume, not what lies below it")
+          : "subject box",
       options_.levels, options_.finest_resolution, options_.log2_table,
       double(model_->param_bytes()) / (1024.0 * 1024.0), model_->field().max_batch());
 }

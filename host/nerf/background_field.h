@@ -47,7 +47,10 @@ struct BackgroundOptions {
   // and the room's cutout is then that volume grown by `volume_cutout_margin` x the subject box's
   // largest side, not the whole box grown by cutout_margin: the room model covers what the subject
   // gave up (the box's corners, the space beside and behind the head where fangzhou-frontal's wall
-  // was rebuilt). Its keep and core zones are the clearing's (below).
+  // was rebuilt), and also holds the zones' `body` inside that margin (below a head's box: a band of
+  // neck and collar that neither model held, so the subject painted it onto its box's bottom in
+  // front of and behind the neck; p_r2_y40's leak below the chin 0.38 -> 0.01 %,
+  // docs/bench/real-captures.md). Its keep and core zones are the clearing's (below).
   std::optional<SubjectZones> subject;
   float volume_cutout_margin = 0.1f;
   float lr_scale = 1.0f;  // the room model's learning rate relative to the subject's

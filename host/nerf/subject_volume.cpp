@@ -54,6 +54,22 @@ std::vector<uint32_t> volume_occupancy_mask(const SubjectVolume& volume, const A
   });
 }
 
+std::vector<uint32_t> room_cutout_mask(const Aabb& room, const SubjectVolume& volume, float margin,
+                                       const SubjectVolume& body, uint32_t res) {
+  const SubjectVolume cut = volume.grown(margin);
+  std::vector<uint32_t> mask(occ_word_count(res), 0u);
+  for (uint32_t z = 0; z < res; ++z)
+    for (uint32_t y = 0; y < res; ++y)
+      for (uint32_t x = 0; x < res; ++x) {
+        const uint32_t idx[3] = {x, y, z};
+        Vec3f p;
+        for (int a = 0; a < 3; ++a) p[a] = room.min[a] + (float(idx[a]) + 0.5f) / float(res) * room.extent(a);
+        const uint32_t cell = x + res * (y + res * z);
+        if (!cut.contains(p) || (!body.empty() && body.contains(p))) mask[cell >> 5] |= 1u << (cell & 31u);
+      }
+  return mask;
+}
+
 uint64_t mask_count(const std::vector<uint32_t>& mask) {
   uint64_t n = 0;
   for (uint32_t w : mask) n += static_cast<uint64_t>(__builtin_popcount(w));

@@ -86,6 +86,12 @@ struct SubjectZones {
 // cell the volume reaches into is lost at the grid's resolution.
 std::vector<uint32_t> volume_occupancy_mask(const SubjectVolume& volume, const Aabb& box, uint32_t res);
 
+// The room model's occupancy mask over `room` at res^3 cells around a subject's volume: every cell
+// allowed except those whose centre lies in `volume` grown by `margin` (scene units), unless it lies
+// in `body` (SubjectZones::body: what lies right below the volume is the room's; empty: none).
+std::vector<uint32_t> room_cutout_mask(const Aabb& room, const SubjectVolume& volume, float margin,
+                                       const SubjectVolume& body, uint32_t res);
+
 // Cells allowed by a mask (for logs and tests).
 uint64_t mask_count(const std::vector<uint32_t>& mask);
 

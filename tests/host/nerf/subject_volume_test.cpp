@@ -157,6 +157,44 @@ TEST(SubjectVolume, UnionClipAndGrowth) {
   EXPECT_FALSE(SubjectVolume{}.contains({0.0f, 0.0f, 0.0f}));
 }
 
+// The room model's cutout around a subject's volume: the volume grown by the margin is cut out, except
+// where `body` (what lies right below the volume) holds it. A box volume over the middle of the room
+// with the body below its bottom: the cells in the margin beside and above the box are cut out, the
+// cells in the margin right below it are the room's, and without the body they were cut out too.
+TEST(SubjectVolume, RoomCutoutLeavesWhatLiesBelowToTheRoom) {
+  Aabb room;
+  for (int a = 0; a < 3; ++a) room.min[a] = -1.0f, room.max[a] = 1.0f;
+  const uint32_t res = 40;  // 0.05 per cell
+  SubjectVolume v, body;
+  OrientedShape box, below;
+  box.half = {0.3f, 0.3f, 0.3f};
+  v.parts = {box};
+  below.center = {0.0f, -1.3f, 0.0f}, below.half = {2.0f, 1.0f, 2.0f};  // y from -0.3 down
+  body.parts = {below};
+  const float margin = 0.2f;
+  const std::vector<uint32_t> with = room_cutout_mask(room, v, margin, body, res),
+                              without = room_cutout_mask(room, v, margin, SubjectVolume{}, res);
+  auto allowed = [&](const std::vector<uint32_t>& m, float x, float y, float z) {
+    const float p[3] = {x, y, z};
+    uint32_t idx[3];
+    for (int a = 0; a < 3; ++a) idx[a] = uint32_t((p[a] - room.min[a]) / room.extent(a) * float(res));
+    const uint32_t c = idx[0] + res * (idx[1] + res * idx[2]);
+    return ((m[c >> 5] >> (c & 31u)) & 1u) != 0u;
+  };
+  for (const auto* m : {&with, &without}) {
+    EXPECT_FALSE(allowed(*m, 0.0f, 0.0f, 0.0f));   // the volume
+    EXPECT_FALSE(allowed(*m, 0.42f, 0.0f, 0.0f));  // the margin beside it
+    EXPECT_FALSE(allowed(*m, 0.0f, 0.42f, 0.0f));  // and above it
+    EXPECT_TRUE(allowed(*m, 0.0f, 0.0f, 0.62f));   // beyond the margin
+    EXPECT_TRUE(allowed(*m, 0.0f, -0.62f, 0.0f));
+  }
+  EXPECT_TRUE(allowed(with, 0.0f, -0.32f, 0.0f));  // the margin right below: the room's
+  EXPECT_TRUE(allowed(with, 0.42f, -0.42f, 0.0f));
+  EXPECT_FALSE(allowed(without, 0.0f, -0.32f, 0.0f));
+  EXPECT_FALSE(allowed(without, 0.42f, -0.42f, 0.0f));
+  EXPECT_GT(mask_count(with), mask_count(without));
+}
+
 // A part that starts part-way up its second axis (y_from): a rotated ellipsoid cut at 0.3 of its
 // half height holds the points of the whole one whose local y is at or above that plane, and nothing
 // below it, on both sides of the plane; growing keeps the cut where it is relative to the half size.
