@@ -109,9 +109,6 @@ struct BackgroundOptions {
   // (p_r2_y40 3.55 -> 3.03 %, leak <= 2 % on 6 of 8 instead of 5), the face where the subject covers the
   // pixel -0.01 to +0.22 dB; in2n-face's curls kept; training +0.5 % time.
   float lean_gate = 1.0f;
-  // The clearing's pull in that lean zone, relative to room_clear's (1: the same as where the room
-  // explains the pixel).
-  float lean_clear = 1.0f;
 };
 
 class BackgroundField {

@@ -187,7 +187,6 @@ LossParams RayBatch::loss_params(uint32_t loss_kind, bool forward_only, float mi
   lp.room_clear_tolerance = priors.room_clear_tolerance;
   lp.zone_res = priors.zones ? priors.zone_res : 0u;
   lp.lean_gate = priors.zones ? priors.lean_gate : 0.0f;
-  lp.lean_clear = priors.lean_clear;
   return lp;
 }
 

@@ -23,8 +23,7 @@ SampleParams sample_params_for(const NerfModel& model, const DeviceViews& views)
 // The opacity prior of a training render (kernels/train/render.h): its weight (0 = off), and the
 // room-explained clearing relative to it with the RMS sRGB difference at which that gate closes, and
 // its zones (render_ray_opacity_prior_zones: the keep cells' and the lean cells' bitfields, one after
-// the other, at zone_res^3 over the model's box; null = none) with the lean cells' least gate and clearing
-// pull (relative to room_clear).
+// the other, at zone_res^3 over the model's box; null = none) with the lean cells' least gate.
 struct RayPriors {
   float weight = 0.0f;
   float room_clear = 0.0f;
@@ -32,7 +31,6 @@ struct RayPriors {
   const cl::Buffer<uint32_t>* zones = nullptr;
   uint32_t zone_res = 0;
   float lean_gate = 0.0f;
-  float lean_clear = 1.0f;
 };
 
 class RayBatch {

@@ -162,19 +162,18 @@ LGN_INLINE float render_ray_opacity_prior(lgn_uint first, lgn_uint used, float s
 // model's own subject-coloured surface lies right behind the subject (the body below a head box,
 // behind the neck) the gate would clear the subject there too. Samples in the second field's cells
 // ("lean", the head volume's margin beyond the bare head) get the gate raised to at least
-// `lean_gate` and the clearing's pull `clear` x `lean_clear`: there the binary prior no longer makes a
-// haze that the room does not yet explain solid, so matter beyond the head must earn its place through
-// the colour loss. The rest get the ray's gate.
+// `lean_gate`: there the binary prior no longer makes a haze that the room does not yet explain
+// solid, so matter beyond the head must earn its place through the colour loss. The rest get the
+// ray's gate.
 LGN_INLINE void render_ray_opacity_prior_zones(lgn_uint first, lgn_uint used, float step, const float* color,
                                                float weight, float clear, float gate, float lean_gate,
-                                               float lean_clear, float ray_scale, LGN_GLOBAL const float* pos,
-                                               lgn_uint stride, LGN_GLOBAL const lgn_uint* zone_bits,
-                                               lgn_uint res, LGN_GLOBAL float* dsigma) {
+                                               float ray_scale, LGN_GLOBAL const float* pos, lgn_uint stride,
+                                               LGN_GLOBAL const lgn_uint* zone_bits, lgn_uint res,
+                                               LGN_GLOBAL float* dsigma) {
   const float a = color[3], T = 1.0f - a;
   const float gated = render_ray_opacity_prior_dlda(a, weight, clear, gate, ray_scale);
   const float binary = render_ray_opacity_prior_dlda(a, weight, clear, 0.0f, ray_scale);
-  const float lean =
-      render_ray_opacity_prior_dlda(a, weight, clear * lean_clear, fmax(gate, lean_gate), ray_scale);
+  const float lean = render_ray_opacity_prior_dlda(a, weight, clear, fmax(gate, lean_gate), ray_scale);
   LGN_GLOBAL const lgn_uint* lean_bits = zone_bits + occ_word_count(res);
   for (lgn_uint k = 0; k < used; ++k) {
     const lgn_uint i = first + k;

@@ -63,14 +63,11 @@ typedef struct LossParams {
   float room_clear;
   float room_clear_tolerance;
   // The prior's zones (render_ray_opacity_prior_zones): their bitfields' resolution (0 = none: the
-  // ray's gate everywhere), the least gate in the "lean" zone, and the clearing pull there relative
-  // to room_clear's.
+  // ray's gate everywhere), and the least gate in the "lean" zone.
   lgn_uint zone_res;
   float lean_gate;
-  float lean_clear;
-  lgn_uint pad0;
 } LossParams;
-LGN_STATIC_ASSERT(sizeof(LossParams) == 56, "LossParams layout is shared with OpenCL");
+LGN_STATIC_ASSERT(sizeof(LossParams) == 48, "LossParams layout is shared with OpenCL");
 
 typedef struct OccParams {
   lgn_uint res;

@@ -150,10 +150,6 @@ void add_train(CLI::App& app, GlobalOptions& global) {
                   "clearing's gate is at least this (1: always clear there; 0 = off)")
       ->check(CLI::Range(0.0f, 1.0f))
       ->capture_default_str();
-  cmd->add_option("--lean-clear", a->room.lean_clear,
-                  "with --lean-gate: the clearing's pull there, relative to --room-clear's")
-      ->check(CLI::Range(0.0f, 100.0f))
-      ->capture_default_str();
   cmd->add_option("--aabb-scale", a->aabb_scale,
                   "box size factor for datasets without alpha (default: dataset)");
   // The ranges the field and the occupancy grid accept (FieldConfig::validate, occupancy.h), checked

@@ -52,8 +52,7 @@ struct Out {
 };
 Out run_kernel(Runtime& rt, const Rays& r, float step, uint32_t loss_kind, uint32_t forward_only,
                float opacity_prior = 0.0f, float room_clear = 0.0f, float room_clear_tolerance = 0.0f,
-               const std::vector<uint32_t>& zones = {}, uint32_t zone_res = 0, float lean_gate = 0.0f,
-               float lean_clear = 1.0f) {
+               const std::vector<uint32_t>& zones = {}, uint32_t zone_res = 0, float lean_gate = 0.0f) {
   uint32_t n = uint32_t(r.counts.size());
   Buffer<uint32_t> off(rt, r.offsets), cnt(rt, r.counts);
   Buffer<uint32_t> zone_bits(rt, zones.empty() ? std::vector<uint32_t>{0u} : zones);
@@ -64,7 +63,7 @@ Out run_kernel(Runtime& rt, const Rays& r, float step, uint32_t loss_kind, uint3
   p.step = step, p.grad_scale = 1.0f / (3.0f * n), p.min_transmittance = 1e-4f;
   p.opacity_prior = opacity_prior, p.room_clear = room_clear, p.room_clear_tolerance = room_clear_tolerance;
   p.zone_res = zones.empty() ? 0u : zone_res;
-  p.lean_gate = lean_gate, p.lean_clear = lean_clear;
+  p.lean_gate = lean_gate;
   Kernel k(rt.program("train/loss.cl"), "render_loss");
   k.args(p, off, cnt, info, sigma, rgb, dsigma, drgb, loss, color, pos, zone_bits).launch(rt, n, 64);
   return {color.read(rt), loss.read(rt), dsigma.read(rt), drgb.read(rt)};
@@ -242,22 +241,19 @@ TEST(Render, KernelWithOpacityPriorMatchesHostReference) {
 }
 
 // The prior's zones: samples in keep cells get the binary prior's gradient, samples in lean cells
-// (and not keep) the gradient with the gate raised to lean_gate and the pull scaled by lean_clear, the
-// rest the ray's gate. The kernel
+// (and not keep) the gradient with the gate raised to lean_gate, the rest the ray's gate. The kernel
 // sample by sample against host builds of the three ray-level priors (render_ray_opacity_prior).
 TEST(Render, PriorZonesPickTheGatePerSample) {
   Runtime rt({"", "", false});
   Rays r = random_rays(200, 9);
-  const float step = 0.015f, weight = 0.25f, clear = 3.0f, tolerance = 0.4f, lean_gate = 0.6f,
-              lean_clear = 2.5f;
+  const float step = 0.015f, weight = 0.25f, clear = 3.0f, tolerance = 0.4f, lean_gate = 0.6f;
   const uint32_t res = 4, words = occ_word_count(res);
   std::vector<uint32_t> zones(2 * words, 0u);
   std::mt19937 gen(3);
   for (uint32_t c = 0; c < res * res * res; ++c)
     for (uint32_t z = 0; z < 2; ++z)
       if (gen() % 2) zones[z * words + (c >> 5)] |= 1u << (c & 31u);
-  Out masked =
-      run_kernel(rt, r, step, LOSS_L2_SRGB, 0, weight, clear, tolerance, zones, res, lean_gate, lean_clear);
+  Out masked = run_kernel(rt, r, step, LOSS_L2_SRGB, 0, weight, clear, tolerance, zones, res, lean_gate);
   // The colour loss's gradient, then each ray-level prior added to its own copy.
   std::vector<float> base(r.stride, 0.0f), drgb(3 * r.stride, 0.0f);
   for (uint32_t ray = 0; ray < 200; ++ray) host_ray(r, ray, step, LOSS_L2_SRGB, 1.0f / 600.0f, &base, &drgb);
@@ -271,8 +267,8 @@ TEST(Render, PriorZonesPickTheGatePerSample) {
     const uint32_t first = r.offsets[ray];
     render_ray_opacity_prior(first, h.used, step, h.color, weight, clear, 0.0f, 1.0f / 200.0f, binary.data());
     render_ray_opacity_prior(first, h.used, step, h.color, weight, clear, gate, 1.0f / 200.0f, gated.data());
-    render_ray_opacity_prior(first, h.used, step, h.color, weight, clear * lean_clear,
-                             std::max(gate, lean_gate), 1.0f / 200.0f, lean.data());
+    render_ray_opacity_prior(first, h.used, step, h.color, weight, clear, std::max(gate, lean_gate),
+                             1.0f / 200.0f, lean.data());
   }
   int count[3] = {0, 0, 0};
   for (uint32_t i = 0; i < r.stride - 5; ++i) {
