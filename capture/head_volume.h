@@ -44,8 +44,8 @@ nerf::SubjectVolume head_clear_core(const fit::HeadBox& box);
 // the neck's base and the shoulders, which the room model holds (nerf::SubjectZones::body). The room's
 // cutout grows the head volume by a margin on every side; below the box's bottom that margin was a
 // band of neck and collar that neither model could hold, and the subject painted it onto its box's
-// bottom edge, in front of and behind the neck (docs/bench/real-captures.md, "the band below the
-// box"). In the head frame (mm) and in the scene.
+// bottom edge, in front of and behind the neck (docs/bench/real-captures.md, "the room holds the band
+// below the head box"). In the head frame (mm) and in the scene.
 nerf::SubjectVolume head_room_body_mm(const fit::HeadExtents& extents);
 nerf::SubjectVolume head_room_body(const fit::HeadBox& box);
 
