@@ -2,6 +2,7 @@
 #include "fit/ear_root.h"
 
 #include <fmt/format.h>
+#include <spdlog/spdlog.h>
 
 #include <algorithm>
 #include <cmath>
@@ -156,6 +157,11 @@ std::vector<EarRootSide> find_ear_root_lines(const DensityFn& density_of, const 
     return {r};
   }
   std::stable_sort(runs.begin(), runs.end(), [](const Run& a, const Run& b) { return a.top > b.top; });
+  // Lines shorter than short_line_slices above the highest line at least that long go after it: a
+  // temple slides under hair's edge onto the ear's root.
+  auto long_line =
+      std::find_if(runs.begin(), runs.end(), [&](const Run& r) { return r.len >= o.short_line_slices; });
+  if (long_line != runs.end()) std::rotate(runs.begin(), long_line, long_line + 1);
   std::vector<EarRootSide> found;
   for (const Run& run : runs) {
     EarRootSide r;
@@ -218,6 +224,12 @@ EarRoots apply_ear_roots(const DensityFn& density, const EarInputs& in, const Ei
   auto side = [&](const Eigen::Vector3d& t, const Eigen::Vector3d& e, int sign) {
     std::vector<EarRootSide> lines =
         find_ear_root_lines(density, {t, e, d_eye, in.d_up, in.d_fwd, sign, mm_per_unit}, options);
+    for (const EarRootSide& line : lines)
+      if (line.found)
+        spdlog::debug(
+            "fit: {} side's line of creases: {:+.1f} mm above the eye corner, {:+.1f} mm forward of the "
+            "temple, {} depths, {:.0f} deg",
+            sign > 0 ? "left" : "right", line.height_mm, line.depth_mm, line.slices, line.bend_deg);
     if (!lines.front().found || !accept) return lines.front();
     std::string first_veto, next_veto;
     for (EarRootSide& line : lines) {

@@ -69,6 +69,12 @@ struct EarRootOptions {
   // rest is then mirrored onto the other side; and a line of creases under a higher one that the veto
   // refused (hair's lower edge makes creases too).
   double plausible_highest_mm = 20.0;
+  // A line of creases over fewer depths than this, above a line at least this long, is passed over for
+  // that one (it stays as the next candidate): a temple slides under hair's edge onto the ear's root.
+  // (Procedural seed 13, whose dark hair ends just above its ears: the hair's edge made 3 depths at
+  // +18.2 mm, 3 mm behind the temple, over the root's 12 depths at +9.8 mm, 23 mm behind it;
+  // docs/bench/real-captures.md, "a short line above the ear's root".)
+  int short_line_slices = 5;
   // The rest's height: the mean of the creases whose height (a median over three depths) lies within
   // this of the highest (the top of the root is a plateau a few depths long; its first slice would
   // bias the rest forward or back).
@@ -108,7 +114,9 @@ struct EarRootInputs {
 // Searches one side's window in `density` (scene units; one query for all its rays). Throws on bad inputs (a
 // non-positive scale or step, an empty window). The rest on the highest line of creases.
 EarRootSide find_ear_root(const DensityFn& density, const EarRootInputs& in, const EarRootOptions& options);
-// Every line of creases long enough, highest first (each `found`); or one side not found, with why.
+// Every line of creases long enough, highest first (each `found`; lines shorter than
+// `short_line_slices` above the highest line at least that long follow it); or one side not found, with
+// why.
 std::vector<EarRootSide> find_ear_root_lines(const DensityFn& density, const EarRootInputs& in,
                                              const EarRootOptions& options);
 

@@ -232,13 +232,10 @@ TEST(EarRoot, ApplyNeedsAgreeingHeightsOrOneUnopposedSide) {
 }
 
 // A higher ledge in front of each ear (hair standing out over the temple, say: from the ears' front to
-// the temple, its top 8 mm over theirs) makes a second, higher line of creases. A veto that refuses it
-// leaves the ear's own line, under it; and that line must then lie where ears do.
-TEST(EarRoot, TakesTheHighestLineTheVetoAccepts) {
-  const EarInputs in = inputs();
-  constexpr double kLedgeTop = kEarTop + 8.0;
-  const DensityFn ears = head(true, true);
-  const DensityFn with_ledge = [&](const std::vector<Eigen::Vector3f>& pts) {
+// the temple, its top 8 mm over theirs; 4 depths of the window) makes a second, higher line of creases.
+constexpr double kLedgeTop = kEarTop + 8.0;
+DensityFn head_with_ledge() {
+  return [ears = head(true, true)](const std::vector<Eigen::Vector3f>& pts) {
     std::vector<float> d = ears(pts);
     for (size_t i = 0; i < pts.size(); ++i) {
       const Eigen::Vector3d p = pts[i].cast<double>();
@@ -248,8 +245,17 @@ TEST(EarRoot, TakesTheHighestLineTheVetoAccepts) {
     }
     return d;
   };
+}
+
+// Counted as a line in its own right (short_line_slices at most its 4 depths): a veto that refuses it
+// leaves the ear's own line, under it; and that line must then lie where ears do.
+TEST(EarRoot, TakesTheHighestLineTheVetoAccepts) {
+  const EarInputs in = inputs();
+  const DensityFn with_ledge = head_with_ledge();
+  EarRootOptions any_length;
+  any_length.short_line_slices = 1;
   const EarRootSide highest =
-      find_ear_root(with_ledge, {in.t_l, in.e_l, {1, 0, 0}, in.d_up, in.d_fwd, +1, 1.0}, EarRootOptions{});
+      find_ear_root(with_ledge, {in.t_l, in.e_l, {1, 0, 0}, in.d_up, in.d_fwd, +1, 1.0}, any_length);
   ASSERT_TRUE(highest.found) << highest.why;
   EXPECT_NEAR(highest.point.y(), kLedgeTop, 1.0);  // without a veto: the ledge, the highest line
 
@@ -257,7 +263,7 @@ TEST(EarRoot, TakesTheHighestLineTheVetoAccepts) {
     return s.point.y() > kEarTop + 4.0 ? std::string("hair") : std::string();
   };
   EarPoints points = ear_points(in);
-  EarRoots r = apply_ear_roots(with_ledge, in, {1, 0, 0}, 1.0, EarRootOptions{}, points, ledge_is_hair);
+  EarRoots r = apply_ear_roots(with_ledge, in, {1, 0, 0}, 1.0, any_length, points, ledge_is_hair);
   ASSERT_EQ(r.use, EarRoots::Use::kBoth) << r.summary();
   EXPECT_NEAR(r.left.point.y(), kEarTop, 1.0);
   EXPECT_LT(r.left.point.z(), kEarFront);
@@ -266,7 +272,7 @@ TEST(EarRoot, TakesTheHighestLineTheVetoAccepts) {
 
   // Ears allowed no higher than 5 mm over the eye corners: the line under the hair is refused too,
   // and with it the side.
-  EarRootOptions low;
+  EarRootOptions low = any_length;
   low.plausible_highest_mm = kEarTop - 5.0;
   EarPoints eq23 = ear_points(in), kept = eq23;
   r = apply_ear_roots(with_ledge, in, {1, 0, 0}, 1.0, low, kept, ledge_is_hair);
@@ -276,6 +282,26 @@ TEST(EarRoot, TakesTheHighestLineTheVetoAccepts) {
             std::string::npos)
       << r.left.why;
   EXPECT_EQ(kept.f_l, eq23.f_l);
+}
+
+// With the default short_line_slices the ledge's 4 depths are hair's edge over the ear's longer root:
+// the root comes first with no veto at all, and the ledge stays as the next line.
+TEST(EarRoot, AShortLineAboveTheRootFollowsIt) {
+  const EarInputs in = inputs();
+  const EarRootOptions o;
+  const std::vector<EarRootSide> lines =
+      find_ear_root_lines(head_with_ledge(), {in.t_l, in.e_l, {1, 0, 0}, in.d_up, in.d_fwd, +1, 1.0}, o);
+  ASSERT_EQ(lines.size(), 2u);
+  EXPECT_NEAR(lines[0].point.y(), kEarTop, 1.0);
+  EXPECT_GE(lines[0].slices, o.short_line_slices);
+  EXPECT_NEAR(lines[1].point.y(), kLedgeTop, 1.0);
+  EXPECT_LT(lines[1].slices, o.short_line_slices);
+  EarPoints points = ear_points(in);
+  const EarRoots r = apply_ear_roots(head_with_ledge(), in, {1, 0, 0}, 1.0, o, points);
+  ASSERT_EQ(r.use, EarRoots::Use::kBoth) << r.summary();
+  EXPECT_NEAR(r.left.point.y(), kEarTop, 1.0);
+  EXPECT_NEAR(r.right.point.y(), kEarTop, 1.0);
+  EXPECT_LT(r.left.point.z(), kEarFront);
 }
 
 TEST(EarRoot, RejectsBadInputs) {
