@@ -39,6 +39,7 @@
 #include "host/nerf/model.h"
 #include "host/nerf/snapshot.h"
 #include "host/nerf/subject_cut.h"
+#include "host/render/matte_eval.h"
 #include "host/util/chart.h"
 #include "host/util/image_io.h"
 #include "synth/matte.h"
@@ -183,17 +184,8 @@ std::array<double, 3> seen_opacity(cl::Runtime& rt, nerf::NerfModel& model, cons
       for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
           const int px = x * stride + stride / 2, py = y * stride + stride / 2;
-          const float m = matte->at(px, py, 0), d = depth->at(px, py, 0);
-          if (m >= 0.5f && std::isfinite(d)) {
-            fit::Ray r = fit::camera_ray(fr->camera, {px + 0.5, py + 0.5});
-            const Eigen::Vector3d s =
-                (r.origin + double(d) * r.dir) * model.normalisation.scale +
-                Eigen::Vector3d(model.normalisation.offset[0], model.normalisation.offset[1],
-                                model.normalisation.offset[2]);
-            bool inside = true;
-            for (int a = 0; a < 3; ++a) inside = inside && s[a] >= bb.min[a] && s[a] <= bb.max[a];
-            if (!inside) continue;  // not judged
-          }
+          if (!render::judged_pixel(fr->camera, *matte, depth, px, py, bb)) continue;
+          const float m = matte->at(px, py, 0);
           room[size_t(y) * w + x] = 1.0f - m, leak->subject += m >= 0.5f;
         }
     std::vector<Sample> samples;

@@ -65,7 +65,7 @@ std::vector<uint32_t> room_cutout_mask(const Aabb& room, const SubjectVolume& vo
         Vec3f p;
         for (int a = 0; a < 3; ++a) p[a] = room.min[a] + (float(idx[a]) + 0.5f) / float(res) * room.extent(a);
         const uint32_t cell = x + res * (y + res * z);
-        if (!cut.contains(p) || (!body.empty() && body.contains(p))) mask[cell >> 5] |= 1u << (cell & 31u);
+        if (!cut.contains(p) || body.contains(p)) mask[cell >> 5] |= 1u << (cell & 31u);
       }
   return mask;
 }

@@ -54,28 +54,30 @@ void score_face(const Image& pred, const Image& truth, const Image& matte,
   s.face_psnr_subject = psnr_of(se_in, n_in);
 }
 
+bool judged_pixel(const Camera& camera, const Image& matte, const Image* depth, int x, int y,
+                  const nerf::Aabb& box) {
+  if (!depth || matte.at(x, y, 0) < 0.5f) return true;
+  const float d = depth->at(x, y, 0);
+  if (!std::isfinite(d)) return true;
+  const LgnVec3 o = camera_origin(&camera), dir = camera_ray_dir(&camera, x + 0.5f, y + 0.5f);
+  const float p[3] = {o.x + d * dir.x, o.y + d * dir.y, o.z + d * dir.z};
+  for (int k = 0; k < 3; ++k)
+    if (!(p[k] >= box.min[k] && p[k] <= box.max[k])) return false;
+  return true;
+}
+
 MatteScore score_matte(const MatteView& v, const nerf::Aabb& box) {
   const Image& pred = *v.prediction;
   const Image& matte = *v.matte;
   const int w = matte.width, h = matte.height;
   if (pred.width != w || pred.height != h || pred.channels != 4)
     throw std::runtime_error("score_matte: the prediction must be RGBA of the matte's size");
-  const LgnVec3 o = camera_origin(&v.camera);
   long inter = 0, uni = 0, subject = 0;
   double leak = 0.0, excess = 0.0;
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
       const float m = matte.at(x, y, 0), a = pred.at(x, y, 3);
-      if (v.depth && m >= 0.5f) {
-        float d = v.depth->at(x, y, 0);
-        if (std::isfinite(d)) {
-          LgnVec3 dir = camera_ray_dir(&v.camera, x + 0.5f, y + 0.5f);
-          float p[3] = {o.x + d * dir.x, o.y + d * dir.y, o.z + d * dir.z};
-          bool inside = true;
-          for (int k = 0; k < 3; ++k) inside = inside && p[k] >= box.min[k] && p[k] <= box.max[k];
-          if (!inside) continue;  // subject outside the model's box: not judged
-        }
-      }
+      if (!judged_pixel(v.camera, matte, v.depth, x, y, box)) continue;  // subject outside the box
       const bool t = m >= 0.5f, p = a >= 0.5f;
       inter += t && p;
       uni += t || p;

@@ -44,6 +44,11 @@ struct MatteScore {
 
 MatteScore score_matte(const MatteView& view, const nerf::Aabb& box);
 
+// Whether score_matte judges pixel (x, y) of a view: a room pixel (matte < 0.5) always, a subject pixel
+// where its subject point (from `depth`, the ray distance; none or +inf: always) lies inside `box`.
+bool judged_pixel(const Camera& camera, const Image& matte, const Image* depth, int x, int y,
+                  const nerf::Aabb& box);
+
 // The face fields of `s` (face_psnr, face_psnr_subject and their pixel counts): sRGB PSNR of `pred`
 // against `truth` inside the convex hull of `hull_px` (pixel coordinates, rounded; fewer than 3
 // points: an empty hull, PSNR 0), and over the hull's pixels `matte` covers fully (>= 0.999).
