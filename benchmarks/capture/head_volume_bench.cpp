@@ -268,7 +268,7 @@ std::array<double, 3> seen_opacity(cl::Runtime& rt, nerf::NerfModel& model, cons
 
 }  // namespace
 
-int main(int argc, char** argv) {
+static int run(int argc, char** argv) {
   CLI::App app{"where a subject model's density lies in its head frame"};
   std::string out = "head_volume_bench";
   std::vector<std::string> case_args;
@@ -407,4 +407,14 @@ int main(int argc, char** argv) {
   write_csv((fs::path(out) / "head_volume_depth.csv").string(),
             {"case", "depth_mm", "solid_head", "solid_box_not_head", "solid_corners"}, depth_rows);
   return 0;
+}
+
+int main(int argc, char** argv) {
+  // A missing model, dataset or true matte is a message and exit status 1, not an abort.
+  try {
+    return run(argc, argv);
+  } catch (const std::exception& e) {
+    spdlog::error("head_volume_bench: {}", e.what());
+    return 1;
+  }
 }
