@@ -202,10 +202,12 @@ std::string EarRoots::summary() const {
     return s.found
                ? fmt::format(
                      "{} ear's root found (a {:.0f} deg crease over {} depths, {} at its top; {:+.1f} mm "
-                     "above the eye corner, {:+.1f} mm forward of the temple{})",
+                     "above the eye corner, {:+.1f} mm forward of the temple{}{})",
                      name, s.bend_deg, s.slices, s.plateau, s.height_mm, s.depth_mm,
                      s.higher_vetoed > 0 ? fmt::format("; under {} higher line(s) vetoed", s.higher_vetoed)
-                                         : "")
+                                         : "",
+                     s.passed_over > 0 ? fmt::format("; under {} higher line(s) passed over", s.passed_over)
+                                       : "")
                : fmt::format("{} ear's root not found: {}", name, s.why);
   };
   const char* used = use == Use::kBoth       ? "both ears from the density"
@@ -219,8 +221,9 @@ EarRoots apply_ear_roots(const DensityFn& density, const EarInputs& in, const Ei
                          double mm_per_unit, const EarRootOptions& options, EarPoints& ears,
                          const EarVeto& accept) {
   EarRoots r;
-  // Each side's highest line of creases that the veto accepts: hair over the top of the ear makes
-  // a higher line at the hair's edge, above the ear's own.
+  // Each side's lines of creases that the veto accepts, highest first (hair over the top of the ear
+  // makes a higher line at the hair's edge, above the ear's own); or, when there is none, the side
+  // not found and why.
   auto side = [&](const Eigen::Vector3d& t, const Eigen::Vector3d& e, int sign) {
     std::vector<EarRootSide> lines =
         find_ear_root_lines(density, {t, e, d_eye, in.d_up, in.d_fwd, sign, mm_per_unit}, options);
@@ -230,20 +233,24 @@ EarRoots apply_ear_roots(const DensityFn& density, const EarInputs& in, const Ei
             "fit: {} side's line of creases: {:+.1f} mm above the eye corner, {:+.1f} mm forward of the "
             "temple, {} depths, {:.0f} deg",
             sign > 0 ? "left" : "right", line.height_mm, line.depth_mm, line.slices, line.bend_deg);
-    if (!lines.front().found || !accept) return lines.front();
+    if (!lines.front().found) return lines;
+    std::vector<EarRootSide> accepted;
     std::string first_veto, next_veto;
+    int vetoed = 0;
     for (EarRootSide& line : lines) {
-      const int higher = int(&line - lines.data());
-      std::string veto = accept(line);
-      // Under hair a line must lie where ears do: hair's own lower edges make creases too.
-      if (veto.empty() && higher > 0 && line.height_mm > options.plausible_highest_mm)
+      std::string veto = accept ? accept(line) : std::string();
+      // Under hair (or under a higher line) a line must lie where ears do: hair's own lower edges make
+      // creases too.
+      if (veto.empty() && &line != lines.data() && line.height_mm > options.plausible_highest_mm)
         veto = fmt::format(
             "it lies under hair and {:.1f} mm above the eye corner, over the {:.0f} allowed there",
             line.height_mm, options.plausible_highest_mm);
       if (veto.empty()) {
-        line.higher_vetoed = higher;
-        return line;
+        line.higher_vetoed = vetoed;
+        accepted.push_back(line);
+        continue;
       }
+      ++vetoed;
       if (first_veto.empty())
         first_veto =
             fmt::format("{} (a crease {:+.1f} mm above the eye corner, {:+.1f} mm forward of the temple)",
@@ -251,20 +258,56 @@ EarRoots apply_ear_roots(const DensityFn& density, const EarInputs& in, const Ei
       else if (next_veto.empty())
         next_veto = veto;
     }
+    if (!accepted.empty()) return accepted;
     EarRootSide s = lines.front();
     s.found = false, s.vetoed = true;
     s.why = lines.size() == 1 ? first_veto
                               : fmt::format("{}; and the {} lower line(s) of creases too (the highest: {})",
                                             first_veto, lines.size() - 1, next_veto);
-    return s;
+    return std::vector<EarRootSide>{s};
   };
-  r.left = side(in.t_l, in.e_l, +1);
-  r.right = side(in.t_r, in.e_r, -1);
+  const std::vector<EarRootSide> lefts = side(in.t_l, in.e_l, +1), rights = side(in.t_r, in.e_r, -1);
+  r.left = lefts.front(), r.right = rights.front();
   const Eigen::Vector3d up = in.d_up.normalized(), fwd = in.d_fwd.normalized();
+  // Two rests' difference in height and in depth (mm, along d_up and d_fwd; the temples are no
+  // reference: their errors are what this search avoids).
+  auto gaps = [&](const EarRootSide& a, const EarRootSide& b) {
+    const Eigen::Vector3d d = (a.point - b.point) * mm_per_unit;
+    return Eigen::Vector2d(std::abs(d.dot(up)), std::abs(d.dot(fwd)));
+  };
+  auto agree = [&](const Eigen::Vector2d& gap) {
+    return gap.x() <= options.max_height_gap_mm && gap.y() <= options.max_depth_gap_mm;
+  };
+  if (r.left.found && r.right.found && !agree(gaps(r.left, r.right))) {
+    // A head's ears lie at one height and depth: a lower pair of lines that agrees is likelier the two
+    // roots than the first lines, one of which lies elsewhere (hair's edge, the ear's back).
+    // A line that takes its side's first's place must be as well founded as a line that goes first
+    // (short_line_slices depths): short lines lie at the window's back edge, or on hair's edge.
+    auto may_stand_in = [&](const EarRootSide& line, size_t place) {
+      return place == 0 || line.slices >= options.short_line_slices;
+    };
+    size_t best_l = 0, best_r = 0;
+    for (size_t i = 0; i < lefts.size(); ++i)
+      for (size_t j = 0; j < rights.size(); ++j) {
+        const Eigen::Vector2d gap = gaps(lefts[i], rights[j]);
+        if (!agree(gap) || !may_stand_in(lefts[i], i) || !may_stand_in(rights[j], j)) continue;
+        const size_t best = best_l + best_r;
+        if (best == 0 || i + j < best || (i + j == best && gap.y() < gaps(lefts[best_l], rights[best_r]).y()))
+          best_l = i, best_r = j;
+      }
+    if (best_l + best_r > 0) {
+      const Eigen::Vector2d first = gaps(r.left, r.right);
+      r.note = fmt::format(
+          "the first lines lay {:.1f} mm apart in height and {:.1f} mm in depth; the left side's line {} and "
+          "the right side's line {}, which agree, were used",
+          first.x(), first.y(), best_l + 1, best_r + 1);
+      r.left = lefts[best_l], r.right = rights[best_r];
+      r.left.passed_over = int(best_l), r.right.passed_over = int(best_r);
+    }
+  }
   if (r.left.found && r.right.found) {
-    // A head's ears lie at one height: the rests' difference along d_up (the temples are no
-    // reference: their errors are what this search avoids).
-    const double gap = std::abs((r.left.point - r.right.point).dot(up)) * mm_per_unit;
+    // A head's ears lie at one height (the ears' heights set the frame's pitch).
+    const double gap = gaps(r.left, r.right).x();
     if (gap > options.max_height_gap_mm) {
       const std::string why = fmt::format(
           "the two sides' rests lie {:.1f} mm apart in height (over {:.0f}; left {:+.1f} mm above its eye "

@@ -62,6 +62,16 @@ struct EarRootOptions {
   // by 20 mm on s_r2_y20), it moves the frame little, and the mean of two depths in the window lies
   // nearer either than Eq. 2-3's point, ~45 mm behind the temple and outside the window.
   double max_height_gap_mm = 15.0;
+  // A head's ears lie at one depth too, give or take the scatter along the root's flat top (the
+  // exact meshes' searches differ by up to 10.8 mm, seed 11's). When the two sides' first lines lie
+  // further apart than this along d_fwd, and another pair of accepted lines, one per side, agrees
+  // within it and within max_height_gap_mm, that pair is used: the one whose lines rank highest
+  // together (the least sum of their places in each side's order), then the closest. A line that
+  // stands in for its side's first must span short_line_slices depths. (The scan
+  // capture s_r2_y20: its left side's highest line lay 30 mm behind the temple, over the ear's back,
+  // and the root's own line, 10 mm behind it, was the next; docs/bench/real-captures.md, "a pair of
+  // lines that agree".) Infinity: each side's first accepted line, whatever the gap.
+  double max_depth_gap_mm = 12.0;
   // Where a rest has no second witness, it must lie at most this high above its eye corner (the rests
   // of every head we know lie -5..+17 mm above them; the creases found in in2n-face's curls 29-30
   // mm): one side found, the other showing no crease (a narrow arc that saw one ear better, or a ray
@@ -95,6 +105,7 @@ struct EarRootSide {
   double lateral_mm = 0.0;  // and outwards from it along the side's d_eye
   bool vetoed = false;      // found, then refused by the caller's veto (`why` says why)
   int higher_vetoed = 0;    // higher lines of creases on this side that the veto refused
+  int passed_over = 0;      // higher lines it accepted too, passed over for a pair that agrees in depth
   double bend_deg = 0.0;    // how sharply the profile turns there
   int slices = 0;   // consecutive depths holding the chosen line of creases (or the longest, when too short)
   int plateau = 0;  // of them, those averaged into the rest
@@ -133,7 +144,9 @@ struct EarRoots {
 // (e.g. its ear top is hair-dark), with a reason: a side takes its highest line accepted, and is
 // vetoed when it has lines and none is accepted. When both sides are found and their rests lie at
 // one height within `max_height_gap_mm`, they replace Eq. 2-3's points, both at the mean height and
-// depth of the two (an ear of each kind would roll and yaw the frame). When one side is found, lies
+// depth of the two (an ear of each kind would roll and yaw the frame). Where the first accepted lines
+// lie more than `max_depth_gap_mm` apart in depth, or too far apart in height, a lower pair that
+// agrees in both is taken instead, if there is one. When one side is found, lies
 // no higher than `plausible_highest_mm`, and the other side showed no ear (no line of creases, or
 // every line vetoed), the found rest stands for both: the other side's rest lies at its height and
 // depth, as far out from that side's temple as the found one. Otherwise `ears` stays as it is.

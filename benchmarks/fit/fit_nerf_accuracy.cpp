@@ -16,7 +16,9 @@
 // fit_nerf_training.png (error against training time, for cases named NAME@N, N seconds or steps) and, with
 // --debug, the annotated views of the first fast fit per case in OUT_DIR/<case>-debug/. --mesh-only
 // fits the mesh alone (the ground-truth geometry: head pitch, contact slide) and skips the NeRF.
+// SPDLOG_LEVEL=debug logs what the fits log at debug level (e.g. each side's lines of creases).
 #include <fmt/format.h>
+#include <spdlog/cfg/env.h>
 
 #include <algorithm>
 #include <chrono>
@@ -566,6 +568,7 @@ static int run(int argc, char** argv) {
 }
 
 int main(int argc, char** argv) {
+  spdlog::cfg::load_env_levels();
   // A missing model, dataset or glasses file is a message and exit status 1, not an abort.
   try {
     return run(argc, argv);

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 
 namespace lorgnette::fit {
 namespace {
@@ -302,6 +303,74 @@ TEST(EarRoot, AShortLineAboveTheRootFollowsIt) {
   EXPECT_NEAR(r.left.point.y(), kEarTop, 1.0);
   EXPECT_NEAR(r.right.point.y(), kEarTop, 1.0);
   EXPECT_LT(r.left.point.z(), kEarFront);
+}
+
+// The left ear's back third raised 7 mm (a fold of hair lying on it, say): the left side's highest
+// line runs along that back (6 depths, 28-38 mm behind the temple) over the root's own, in front of
+// it. The right half of the head sits 10 mm further forward, so the right root's line lies ~17 mm in
+// front of the back line and ~2 mm from the left root's.
+DensityFn head_with_raised_back() {
+  const DensityFn ears = head(true, true);
+  return [=](const std::vector<Eigen::Vector3f>& pts) {
+    std::vector<Eigen::Vector3f> moved = pts;
+    for (auto& p : moved)
+      if (p.x() < 0) p.z() -= 10.0f;
+    std::vector<float> d = ears(moved);
+    for (size_t i = 0; i < pts.size(); ++i) {
+      const Eigen::Vector3d p = pts[i].cast<double>();
+      if (p.x() > 60.0 && p.x() < 90.0 && p.y() < kEarTop + 7.0 && p.y() > -40.0 && p.z() > kEarBack &&
+          p.z() < -12.0)
+        d[i] = 1e4f;
+    }
+    return d;
+  };
+}
+
+// Each side's first line 17 mm apart in depth, over the 12 allowed: the pair that agrees (the left
+// root's line, second on its side, and the right's) is used; with no limit, or no stand-in long
+// enough, the first lines.
+TEST(EarRoot, APairOfLinesThatAgreeInDepthIsUsed) {
+  const EarInputs in = inputs();
+  const DensityFn density = head_with_raised_back();
+  const EarRootOptions o;
+  const std::vector<EarRootSide> left =
+      find_ear_root_lines(density, {in.t_l, in.e_l, {1, 0, 0}, in.d_up, in.d_fwd, +1, 1.0}, o);
+  ASSERT_EQ(left.size(), 2u);
+  EXPECT_NEAR(left[0].point.y(), kEarTop + 7.0, 1.0);
+  EXPECT_LT(left[0].point.z(), -12.0);
+  EXPECT_NEAR(left[1].point.y(), kEarTop, 1.0);
+  EXPECT_GT(left[1].point.z(), -12.0);
+
+  EarPoints ears = ear_points(in);
+  const EarRoots r = apply_ear_roots(density, in, {1, 0, 0}, 1.0, o, ears);
+  ASSERT_EQ(r.use, EarRoots::Use::kBoth) << r.summary();
+  EXPECT_NEAR(r.left.point.y(), kEarTop, 1.0);
+  EXPECT_NEAR(r.left.point.z(), left[1].point.z(), 1e-9);
+  EXPECT_EQ(r.left.passed_over, 1);
+  EXPECT_EQ(r.right.passed_over, 0);
+  EXPECT_LE(std::abs(r.left.point.z() - r.right.point.z()), o.max_depth_gap_mm);
+  EXPECT_NEAR(ears.f_l.z(), 0.5 * (r.left.point.z() + r.right.point.z()), 1e-9);
+  EXPECT_NE(r.summary().find("which agree, were used"), std::string::npos) << r.summary();
+  EXPECT_NE(r.summary().find("1 higher line(s) passed over"), std::string::npos) << r.summary();
+
+  EarRootOptions any_gap;
+  any_gap.max_depth_gap_mm = std::numeric_limits<double>::infinity();
+  EarPoints first = ear_points(in);
+  const EarRoots f = apply_ear_roots(density, in, {1, 0, 0}, 1.0, any_gap, first);
+  ASSERT_EQ(f.use, EarRoots::Use::kBoth) << f.summary();
+  EXPECT_NEAR(f.left.point.z(), left[0].point.z(), 1e-9);
+  EXPECT_GT(std::abs(f.left.point.z() - f.right.point.z()), o.max_depth_gap_mm);
+  EXPECT_EQ(f.left.passed_over, 0);
+
+  // A stand-in must span short_line_slices depths: asked for more than the left root's, the first
+  // lines stay (no line here reaches that length, so the order is the heights').
+  EarRootOptions long_lines;
+  long_lines.short_line_slices = left[1].slices + 1;
+  EarPoints kept = ear_points(in);
+  const EarRoots k = apply_ear_roots(density, in, {1, 0, 0}, 1.0, long_lines, kept);
+  ASSERT_EQ(k.use, EarRoots::Use::kBoth) << k.summary();
+  EXPECT_NEAR(k.left.point.z(), left[0].point.z(), 1e-9);
+  EXPECT_EQ(k.summary().find("which agree"), std::string::npos) << k.summary();
 }
 
 TEST(EarRoot, RejectsBadInputs) {
