@@ -57,10 +57,10 @@ struct EarRootOptions {
   double max_step_mm = 5.0;
   int min_slices = 3;  // depths (consecutive) that must hold a crease
   // The two sides' rests may differ this much in height (the ears' heights set the frame's pitch).
-  // Their depths are averaged whatever their gap: the rest's depth along the flat top of the root is
-  // loosely defined (the exact procedural meshes' own searches differ by up to 9.5 mm there, a NeRF's
-  // by 20 mm on s_r2_y20), it moves the frame little, and the mean of two depths in the window lies
-  // nearer either than Eq. 2-3's point, ~45 mm behind the temple and outside the window.
+  // Their depths are averaged whatever their gap (unless another pair agrees better, below): the
+  // rest's depth along the flat top of the root is loosely defined (the exact meshes' own searches
+  // differ by up to 10.8 mm there), it moves the frame little, and the mean of two depths in the
+  // window lies nearer either than Eq. 2-3's point, ~45 mm behind the temple and outside the window.
   double max_height_gap_mm = 15.0;
   // A head's ears lie at one depth too, give or take the scatter along the root's flat top (the
   // exact meshes' searches differ by up to 10.8 mm, seed 11's). When the two sides' first lines lie
