@@ -278,6 +278,9 @@ EarRoots apply_ear_roots(const DensityFn& density, const EarInputs& in, const Ei
   auto agree = [&](const Eigen::Vector2d& gap) {
     return gap.x() <= options.max_height_gap_mm && gap.y() <= options.max_depth_gap_mm;
   };
+  if (r.left.found && r.right.found)
+    spdlog::debug("fit: the two sides' first lines lie {:.1f} mm apart in height and {:.1f} mm in depth",
+                  gaps(r.left, r.right).x(), gaps(r.left, r.right).y());
   if (r.left.found && r.right.found && !agree(gaps(r.left, r.right))) {
     // A head's ears lie at one height and depth: a lower pair of lines that agrees is likelier the two
     // roots than the first lines, one of which lies elsewhere (hair's edge, the ear's back).
