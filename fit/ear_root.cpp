@@ -166,6 +166,7 @@ std::vector<EarRootSide> find_ear_root_lines(const DensityFn& density_of, const 
   for (const Run& run : runs) {
     EarRootSide r;
     r.slices = run.len;
+    r.back_mm = depths[run.start], r.front_mm = depths[run.start + run.len - 1];
     Eigen::Vector3d sum = Eigen::Vector3d::Zero();    // lateral, height, depth (mm)
     Eigen::Vector2d where = Eigen::Vector2d::Zero();  // lateral, depth (mm), weighted
     double weights = 0.0;
@@ -231,8 +232,9 @@ EarRoots apply_ear_roots(const DensityFn& density, const EarInputs& in, const Ei
       if (line.found)
         spdlog::debug(
             "fit: {} side's line of creases: {:+.1f} mm above the eye corner, {:+.1f} mm forward of the "
-            "temple, {} depths, {:.0f} deg",
-            sign > 0 ? "left" : "right", line.height_mm, line.depth_mm, line.slices, line.bend_deg);
+            "temple, {} depths ({:+.0f}..{:+.0f} mm), {:.0f} deg",
+            sign > 0 ? "left" : "right", line.height_mm, line.depth_mm, line.slices, line.back_mm,
+            line.front_mm, line.bend_deg);
     if (!lines.front().found) return lines;
     std::vector<EarRootSide> accepted;
     std::string first_veto, next_veto;

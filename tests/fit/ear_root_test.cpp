@@ -57,6 +57,10 @@ TEST(EarRoot, FindsTheCreaseBetweenSkullAndEarTop) {
   EXPECT_GT(l.point.x(), crease_x(kEarBack) - o.bend_span_mm);
   EXPECT_LT(l.point.x(), crease_x(0.0) + o.bend_span_mm);
   EXPECT_GE(l.slices, int((kEarFront - kEarBack) / o.depth_step_mm) - 2);
+  // The line runs from the window's back (the ear reaches behind it) to the ear's front.
+  EXPECT_NEAR(l.back_mm, -o.back_mm, 1e-9);
+  EXPECT_NEAR(l.front_mm, kEarFront - in.t_l.z(), o.depth_step_mm);
+  EXPECT_NEAR(l.front_mm - l.back_mm, (l.slices - 1) * o.depth_step_mm, 1e-9);
   EXPECT_GT(l.bend_deg, 45.0);  // a near-vertical skull side onto a flat top
 
   // The right side is the mirror image.
