@@ -106,6 +106,11 @@ std::vector<EarRootSide> find_ear_root_lines(const DensityFn& density_of, const 
       profile[j] = hit;
     }
     creases[i] = crease_of(profile, laterals, span, o);
+    spdlog::trace("fit: {} side, {:+.0f} mm from the temple: {}", in.side > 0 ? "left" : "right", depths[i],
+                  creases[i].found
+                      ? fmt::format("a crease {:.1f} mm out, {:+.1f} mm high, {:.0f} deg",
+                                    creases[i].lateral_mm, creases[i].height_mm, creases[i].bend_deg)
+                      : "no crease");
   }
 
   // Runs of consecutive depths whose creases continue each other. Along a run, each crease's height

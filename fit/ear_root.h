@@ -107,9 +107,9 @@ struct EarRootSide {
   int higher_vetoed = 0;    // higher lines of creases on this side that the veto refused
   int passed_over = 0;      // higher lines it accepted too, passed over for a pair that agrees in depth
   double bend_deg = 0.0;    // how sharply the profile turns there
-  int slices = 0;   // consecutive depths holding the chosen line of creases (or the longest, when too short)
+  int slices = 0;  // consecutive depths holding the chosen line of creases (or the longest, when too short)
   double back_mm = 0.0, front_mm = 0.0;  // the line's first and last depth (along d_fwd from the temple)
-  int plateau = 0;  // of them, those averaged into the rest
+  int plateau = 0;                       // of them, those averaged into the rest
   std::vector<Eigen::Vector3d> ear_top;  // the plateau's ear top just outside each crease (scene), for the
                                          // caller's look at its colour (hair is not an ear)
   std::string why;                       // when not found: what the window showed
