@@ -375,6 +375,15 @@ TEST(EarRoot, APairOfLinesThatAgreeInDepthIsUsed) {
   ASSERT_EQ(k.use, EarRoots::Use::kBoth) << k.summary();
   EXPECT_NEAR(k.left.point.z(), left[0].point.z(), 1e-9);
   EXPECT_EQ(k.summary().find("which agree"), std::string::npos) << k.summary();
+
+  // A line the veto refuses never stands in: with the left root's line refused, the first lines stay.
+  EarPoints vetoed = ear_points(in);
+  const EarRoots v = apply_ear_roots(density, in, {1, 0, 0}, 1.0, o, vetoed, [](const EarRootSide& s) {
+    return s.point.x() > 0 && s.point.z() > -12.0 ? std::string("hair") : std::string();
+  });
+  ASSERT_EQ(v.use, EarRoots::Use::kBoth) << v.summary();
+  EXPECT_NEAR(v.left.point.z(), left[0].point.z(), 1e-9);
+  EXPECT_EQ(v.left.passed_over, 0);
 }
 
 TEST(EarRoot, RejectsBadInputs) {
