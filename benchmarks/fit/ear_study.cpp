@@ -10,6 +10,7 @@
 // Writes OUT_DIR/ear_points.csv, ear_gt_sets.csv (the ground truth's rule on other view sets), ear_views.csv
 // and OUT_DIR/<case>_ear_{l,r}.png.
 #include <fmt/format.h>
+#include <spdlog/cfg/env.h>
 
 #include <algorithm>
 #include <cmath>
@@ -62,6 +63,7 @@ struct Mark {
 }  // namespace
 
 int main(int argc, char** argv) {
+  spdlog::cfg::load_env_levels();  // SPDLOG_LEVEL=debug: what the fit logs at debug level
   if (argc < 6)
     return std::cerr << "usage: ear_study OUT_DIR --case NAME MODEL DATASET [...] [--alpha A]\n", 2;
   const std::string out = argv[1];
