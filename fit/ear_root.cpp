@@ -191,6 +191,7 @@ std::vector<EarRootSide> find_ear_root_lines(const DensityFn& density_of, const 
     }
     Eigen::Vector3d c = sum / r.plateau;
     if (weights > 0.0) c.x() = where.x() / weights, c.z() = where.y() / weights;
+    if (o.rest_behind_front_mm >= 0.0) c.z() = std::max(r.back_mm, r.front_mm - o.rest_behind_front_mm);
     r.found = true;
     r.height_mm = c.y(), r.depth_mm = c.z(), r.lateral_mm = c.x();
     r.point = in.temple + (c.x() * out + c.z() * fwd + (eye_height + c.y()) * up) / mpu;

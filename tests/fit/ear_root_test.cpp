@@ -49,10 +49,19 @@ TEST(EarRoot, FindsTheCreaseBetweenSkullAndEarTop) {
   const EarRootSide l =
       find_ear_root(head(true, true), {in.t_l, in.e_l, {1, 0, 0}, in.d_up, in.d_fwd, +1, 1.0}, o);
   ASSERT_TRUE(l.found) << l.why;
-  // The ear's top is flat: every depth over it holds the crease at its height, so the rest is the
-  // middle of the ear's depth (within a depth step and the window's sampling).
+  // The ear's top is flat: every depth over it holds the crease at its height. The rest lies
+  // rest_behind_front_mm behind the line's front end (checked below).
   EXPECT_NEAR(l.point.y(), kEarTop, 1.0);
-  EXPECT_NEAR(l.point.z(), 0.5 * (kEarBack + kEarFront), 2.0 * o.depth_step_mm);
+  EXPECT_NEAR(l.point.z(), in.t_l.z() + l.front_mm - o.rest_behind_front_mm, 1e-9);
+  EXPECT_NEAR(l.depth_mm, l.front_mm - o.rest_behind_front_mm, 1e-9);
+  // With rest_behind_front_mm negative: the middle of the ear's depth (within a depth step and the
+  // window's sampling).
+  EarRootOptions middle = o;
+  middle.rest_behind_front_mm = -1.0;
+  const EarRootSide m =
+      find_ear_root(head(true, true), {in.t_l, in.e_l, {1, 0, 0}, in.d_up, in.d_fwd, +1, 1.0}, middle);
+  ASSERT_TRUE(m.found) << m.why;
+  EXPECT_NEAR(m.point.z(), 0.5 * (kEarBack + kEarFront), 2.0 * o.depth_step_mm);
   // Laterally at the skull's side, within the slope's span: the crease lies at 69-75 mm over the depths.
   EXPECT_GT(l.point.x(), crease_x(kEarBack) - o.bend_span_mm);
   EXPECT_LT(l.point.x(), crease_x(0.0) + o.bend_span_mm);
@@ -108,6 +117,7 @@ TEST(EarRoot, TheRestsDepthIsTheMiddleOfTheRootsTopNotItsHighestRidge) {
   const EarInputs in = inputs();
   const EarRootInputs left{in.t_l, in.e_l, {1, 0, 0}, in.d_up, in.d_fwd, +1, 1.0};
   EarRootOptions o;
+  o.rest_behind_front_mm = -1.0;  // the depth from the top's middle, not the line's front end
   const EarRootSide soft = find_ear_root(ridged, left, o);
   ASSERT_TRUE(soft.found) << soft.why;
   // The height is the top's (the ridge), the depth the middle of the top (the ridge weighs twice a
@@ -119,6 +129,34 @@ TEST(EarRoot, TheRestsDepthIsTheMiddleOfTheRootsTopNotItsHighestRidge) {
   const EarRootSide hard = find_ear_root(ridged, left, o);
   ASSERT_TRUE(hard.found) << hard.why;
   EXPECT_GT(hard.point.z(), kRidgeFrom - o.depth_step_mm);
+}
+
+// The ear's top cut back to 10 mm behind its front (what an exact mesh shows where the ear stands off
+// the skull) against the whole top (a NeRF filling that gap): the same front end, so the same rest;
+// the top's middle moves with the line's back end.
+TEST(EarRoot, TheRestFollowsTheRootsFrontNotHowFarBackTheLineRuns) {
+  const DensityFn whole = head(true, true);
+  const DensityFn cut = [&](const std::vector<Eigen::Vector3f>& pts) {
+    std::vector<float> d = whole(pts);
+    for (size_t i = 0; i < pts.size(); ++i)
+      if (pts[i].z() < kEarFront - 10.0f && std::abs(pts[i].x()) > 60.0f && pts[i].y() < kEarTop &&
+          pts[i].cast<double>().norm() >= kSkull)
+        d[i] = 0.0f;
+    return d;
+  };
+  const EarInputs in = inputs();
+  const EarRootInputs left{in.t_l, in.e_l, {1, 0, 0}, in.d_up, in.d_fwd, +1, 1.0};
+  const EarRootOptions o;
+  const EarRootSide a = find_ear_root(whole, left, o), b = find_ear_root(cut, left, o);
+  ASSERT_TRUE(a.found && b.found) << a.why << " / " << b.why;
+  EXPECT_GE(b.back_mm, a.back_mm + 10.0);  // the cut top's line starts 10 mm or more further forward
+  EXPECT_NEAR(a.front_mm, b.front_mm, 1e-9);
+  EXPECT_NEAR(a.point.z(), b.point.z(), 1e-9);
+  EarRootOptions middle = o;
+  middle.rest_behind_front_mm = -1.0;
+  const EarRootSide am = find_ear_root(whole, left, middle), bm = find_ear_root(cut, left, middle);
+  ASSERT_TRUE(am.found && bm.found);
+  EXPECT_GT(bm.point.z() - am.point.z(), 5.0);
 }
 
 TEST(EarRoot, NoEarNoRest) {
