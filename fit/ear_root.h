@@ -10,9 +10,9 @@
 // side, then turn flatter onto the ear's top (which stands out from the head): the crease is where
 // the slope turns most, by at least `min_bend_deg`. Across depths the creases trace the ear's root,
 // and the rest is the top of the highest such line that the caller's hair veto accepts (the arm
-// rests on the top of the root). Where hair covers the ear, the capture never saw it, or the window
-// holds no crease, the side is not found; the caller mirrors the other side's rest or keeps Eq. 2-3
-// (apply_ear_roots).
+// rests on the top of the root), a fixed distance behind the line's front end (rest_behind_front_mm). Where
+// hair covers the ear, the capture never saw it, or the window holds no crease, the side is not found; the
+// caller mirrors the other side's rest or keeps Eq. 2-3 (apply_ear_roots).
 #pragma once
 #include <Eigen/Core>
 #include <functional>
