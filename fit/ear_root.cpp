@@ -106,11 +106,12 @@ std::vector<EarRootSide> find_ear_root_lines(const DensityFn& density_of, const 
       profile[j] = hit;
     }
     creases[i] = crease_of(profile, laterals, span, o);
-    spdlog::trace("fit: {} side, {:+.0f} mm from the temple: {}", in.side > 0 ? "left" : "right", depths[i],
-                  creases[i].found
-                      ? fmt::format("a crease {:.1f} mm out, {:+.1f} mm high, {:.0f} deg",
-                                    creases[i].lateral_mm, creases[i].height_mm, creases[i].bend_deg)
-                      : "no crease");
+    if (spdlog::should_log(spdlog::level::trace))  // (the message is formatted before the call)
+      spdlog::trace("fit: {} side, {:+.0f} mm from the temple: {}", in.side > 0 ? "left" : "right", depths[i],
+                    creases[i].found
+                        ? fmt::format("a crease {:.1f} mm out, {:+.1f} mm high, {:.0f} deg",
+                                      creases[i].lateral_mm, creases[i].height_mm, creases[i].bend_deg)
+                        : "no crease");
   }
 
   // Runs of consecutive depths whose creases continue each other. Along a run, each crease's height
@@ -286,10 +287,12 @@ EarRoots apply_ear_roots(const DensityFn& density, const EarInputs& in, const Ei
   auto agree = [&](const Eigen::Vector2d& gap) {
     return gap.x() <= options.max_height_gap_mm && gap.y() <= options.max_depth_gap_mm;
   };
-  if (r.left.found && r.right.found)
+  const bool both = r.left.found && r.right.found;
+  const Eigen::Vector2d first = both ? gaps(r.left, r.right) : Eigen::Vector2d::Zero();
+  if (both)
     spdlog::debug("fit: the two sides' first lines lie {:.1f} mm apart in height and {:.1f} mm in depth",
-                  gaps(r.left, r.right).x(), gaps(r.left, r.right).y());
-  if (r.left.found && r.right.found && !agree(gaps(r.left, r.right))) {
+                  first.x(), first.y());
+  if (both && !agree(first)) {
     // A head's ears lie at one height and depth: a lower pair of lines that agrees is likelier the two
     // roots than the first lines, one of which lies elsewhere (hair's edge, the ear's back).
     // A line that takes its side's first's place must be as well founded as a line that goes first
@@ -297,17 +300,17 @@ EarRoots apply_ear_roots(const DensityFn& density, const EarInputs& in, const Ei
     auto may_stand_in = [&](const EarRootSide& line, size_t place) {
       return place == 0 || line.slices >= options.short_line_slices;
     };
-    size_t best_l = 0, best_r = 0;
+    // The agreeing pair ranked highest together (the least sum of places), then the closest in depth.
+    size_t best_l = 0, best_r = 0, best_rank = 0;
+    double best_depth_gap = 0.0;
     for (size_t i = 0; i < lefts.size(); ++i)
       for (size_t j = 0; j < rights.size(); ++j) {
         const Eigen::Vector2d gap = gaps(lefts[i], rights[j]);
         if (!agree(gap) || !may_stand_in(lefts[i], i) || !may_stand_in(rights[j], j)) continue;
-        const size_t best = best_l + best_r;
-        if (best == 0 || i + j < best || (i + j == best && gap.y() < gaps(lefts[best_l], rights[best_r]).y()))
-          best_l = i, best_r = j;
+        if (best_rank == 0 || i + j < best_rank || (i + j == best_rank && gap.y() < best_depth_gap))
+          best_l = i, best_r = j, best_rank = i + j, best_depth_gap = gap.y();
       }
-    if (best_l + best_r > 0) {
-      const Eigen::Vector2d first = gaps(r.left, r.right);
+    if (best_rank > 0) {  // (0 + 0, the first pair, does not agree)
       r.note = fmt::format(
           "the first lines lay {:.1f} mm apart in height and {:.1f} mm in depth; the left side's line {} and "
           "the right side's line {}, which agree, were used",
