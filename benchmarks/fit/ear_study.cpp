@@ -7,7 +7,8 @@
 // and of the ground truth from the fit's own views; then the temple hit of every view of a yaw x pitch
 // grid (near-side views only, as the fit casts them); and draws each ear from the side with the points.
 // Usage: ear_study OUT_DIR --case NAME MODEL.lnerf DATASET [--case ...] [--alpha A]
-// Writes OUT_DIR/ear_points.csv, ear_gt_sets.csv (the ground truth's rule on other view sets), ear_views.csv
+// Writes OUT_DIR/ear_points.csv, ear_gt_sets.csv (the ground truth's rule on other view sets), ear_views.csv,
+// ear_same_frame.csv (the ear search from the ground truth's frame on the mesh's and the NeRF's density)
 // and OUT_DIR/<case>_ear_{l,r}.png.
 #include <fmt/format.h>
 #include <spdlog/cfg/env.h>
@@ -23,6 +24,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <optional>
+#include <tuple>
 
 #include "fit/camera_math.h"
 #include "fit/debug_draw.h"
@@ -86,7 +88,7 @@ int main(int argc, char** argv) {
       load_glasses_input(std::string(LORGNETTE_DATA_DIR) + "/glasses/glasses-06/scene.gltf", 500);
   GlassesInput ref_only;  // the ears do not depend on the frame's points: no contact stage
   ref_only.ref = glasses.ref;
-  std::vector<std::vector<std::string>> points_csv, views_csv, sets_csv;
+  std::vector<std::vector<std::string>> points_csv, views_csv, sets_csv, same_frame_csv;
   for (const Case& c : cases) {
     nerf::NerfModel model = nerf::NerfModel::load(rt, c.model);
     ViewPrior prior = prior_from_transforms(c.dataset + "/transforms.json", model);
@@ -192,6 +194,46 @@ int main(int argc, char** argv) {
         if (anat.count(std::string(what) + s))
           row(s, std::string(what) + s + " (synth)", anat[std::string(what) + s]);
     }
+    // The ear search from one frame: the ground truth's temples, eye corners and axes, on the mesh's
+    // density and on the NeRF's. What differs between the two is the density alone (a fit's own
+    // landmarks and frame move its rests too).
+    {
+      NerfViewSource nerf(model, prior);
+      const DensityFn on_mesh = [&](const std::vector<Eigen::Vector3f>& p) { return mesh->density(p); };
+      const DensityFn on_nerf = [&](const std::vector<Eigen::Vector3f>& p) { return nerf.density(p); };
+      std::cout << fmt::format("   the ear search from the ground truth's frame (mm in its head frame):\n");
+      for (int side : {+1, -1}) {
+        const int k = side > 0 ? lm::kTempleL : lm::kTempleR, e = side > 0 ? lm::kEyeOuterL : lm::kEyeOuterR;
+        const EarRootInputs in{gt.points[k],  gt.points[e], gt.head.d_eye,      gt.head.d_up,
+                               gt.head.d_fwd, side,         gt.head.mm_per_unit};
+        // The NeRF at the rays' default opacity and at 0.5 (the level before 28 Nov): a NeRF's soft ear
+        // top is met deeper at the higher level (ear_root.h).
+        const double level = base.head.ear_root.opacity;
+        for (auto [what, fn, opacity] :
+             {std::tuple<std::string, const DensityFn*, double>{"mesh", &on_mesh, level},
+              {"nerf", &on_nerf, level},
+              {"nerf o50", &on_nerf, 0.5}}) {
+          EarRootOptions o = base.head.ear_root;
+          o.opacity = opacity;
+          for (const EarRootSide& line : find_ear_root_lines(*fn, in, o)) {
+            if (!line.found) {
+              std::cout << fmt::format("   {} {}: {}\n", side > 0 ? "l" : "r", what, line.why);
+              continue;
+            }
+            std::cout << fmt::format(
+                "   {} {}: rest {} height {:+.1f} depth {:+.1f} ({:+.0f}..{:+.0f}, {} depths, {} on the top) "
+                "lateral {:+.1f}, {:.0f} deg\n",
+                side > 0 ? "l" : "r", what, str(H(line.point)), line.height_mm, line.depth_mm, line.back_mm,
+                line.front_mm, line.slices, line.plateau, line.lateral_mm, line.bend_deg);
+            same_frame_csv.push_back(
+                {c.name, side > 0 ? "l" : "r", what, fmt::format("{:.2f}", line.height_mm),
+                 fmt::format("{:.2f}", line.depth_mm), fmt::format("{:.2f}", line.lateral_mm),
+                 fmt::format("{:.0f}", line.back_mm), fmt::format("{:.0f}", line.front_mm),
+                 std::to_string(line.slices), fmt::format("{:.1f}", line.bend_deg)});
+          }
+        }
+      }
+    }
     // The temple hit per view of a yaw x pitch grid, exact cast, near-side views as the fit uses.
     LandmarkDetector det(base.detection.detector);
     std::vector<Mark> view_marks;
@@ -266,6 +308,10 @@ int main(int argc, char** argv) {
             {"case", "gt_views", "gt_ear_l_moved_mm", "gt_ear_r_moved_mm", "fit_ear_l_mm", "fit_ear_r_mm",
              "fit_rotation_deg"},
             sets_csv);
+  write_csv(out + "/ear_same_frame.csv",
+            {"case", "side", "density", "height_mm", "depth_mm", "lateral_mm", "back_mm", "front_mm",
+             "depths", "bend_deg"},
+            same_frame_csv);
   write_csv(out + "/ear_views.csv", {"case", "yaw", "pitch", "landmark", "near_side", "x_mm", "y_mm", "z_mm"},
             views_csv);
   return 0;

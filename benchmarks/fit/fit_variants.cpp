@@ -74,11 +74,22 @@ const std::vector<Variant>& all_variants() {
        1.5f},
       {"fast_td_m0", [](FitOptions& o) { fast(o), o.landmarks.temple_depth.max_gap_mm = 0.0; }},
       // The ears from Eq. 2-3 alone (the fit before ear_root.h), and the density's ear rests at other
-      // opacity / a sharper crease.
+      // opacity / a sharper crease. (The rays' opacity is 0.25 since 28 Nov, fifth session; o50 is the
+      // level before.)
       {"default_eq23", [](FitOptions& o) { o = fit_options(FitSettings{}), o.head.ear_root.enabled = false; },
        1.5f},
       {"default_root_o25",
        [](FitOptions& o) { o = fit_options(FitSettings{}), o.head.ear_root.opacity = 0.25; }, 1.5f},
+      {"default_root_o50",
+       [](FitOptions& o) { o = fit_options(FitSettings{}), o.head.ear_root.opacity = 0.5; }, 1.5f},
+      {"default_root_o35",
+       [](FitOptions& o) { o = fit_options(FitSettings{}), o.head.ear_root.opacity = 0.35; }, 1.5f},
+      {"default_root_o30",
+       [](FitOptions& o) { o = fit_options(FitSettings{}), o.head.ear_root.opacity = 0.3; }, 1.5f},
+      {"default_root_o20",
+       [](FitOptions& o) { o = fit_options(FitSettings{}), o.head.ear_root.opacity = 0.2; }, 1.5f},
+      {"default_root_o10",
+       [](FitOptions& o) { o = fit_options(FitSettings{}), o.head.ear_root.opacity = 0.1; }, 1.5f},
       {"default_root_bend30",
        [](FitOptions& o) { o = fit_options(FitSettings{}), o.head.ear_root.min_bend_deg = 30.0; }, 1.5f},
       {"default_snap_o50",
