@@ -339,7 +339,19 @@ EarRoots apply_ear_roots(const DensityFn& density, const EarInputs& in, const Ei
     // One height and depth for both, the mean of the two: a difference within the limit is the
     // search's scatter along the flat top of the root more than the head's asymmetry, and it would
     // yaw or roll the frame away from the face's own axes.
-    const Eigen::Vector3d mid = 0.5 * (r.left.point + r.right.point);
+    Eigen::Vector3d mid = 0.5 * (r.left.point + r.right.point);
+    // A line over fewer than short_line_slices depths, opposite one at least that long, is a fragment
+    // of its root: its front end is not where the root leaves the head, so the depth is the long
+    // line's alone (the height stays the mean: the fragment lies on the root's top).
+    const bool short_l = r.left.slices < options.short_line_slices,
+               short_r = r.right.slices < options.short_line_slices;
+    if (short_l != short_r) {
+      const EarRootSide& whole = short_l ? r.right : r.left;
+      mid += (whole.point - mid).dot(fwd) * fwd;
+      r.note += fmt::format("{}the {} side's line holds {} depths: the rests' depth is the {} side's",
+                            r.note.empty() ? "" : "; ", short_l ? "left" : "right",
+                            (short_l ? r.left : r.right).slices, short_l ? "right" : "left");
+    }
     ears.f_l = level(r.left.point, mid), ears.f_r = level(r.right.point, mid);
     r.use = EarRoots::Use::kBoth;
     return r;

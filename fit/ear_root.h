@@ -91,7 +91,10 @@ struct EarRootOptions {
   // that one (it stays as the next candidate): a temple slides under hair's edge onto the ear's root.
   // (Procedural seed 13, whose dark hair ends just above its ears: the hair's edge made 3 depths at
   // +18.2 mm, 3 mm behind the temple, over the root's 12 depths at +9.8 mm, 23 mm behind it;
-  // docs/bench/real-captures.md, "a short line above the ear's root".)
+  // docs/bench/real-captures.md, "a short line above the ear's root".) Such a line, used opposite a
+  // line at least this long, gives the rests no depth (apply_ear_roots): it is a fragment of its root,
+  // whose front end is not where the root leaves the head (seed 13's left side: 4 of the mesh's 12
+  // depths, at their back end; docs/bench/real-captures.md, "a fragment of the root").
   int short_line_slices = 5;
   // The rest's height: the mean of the creases whose height (a median over three depths) lies within
   // this of the highest (the top of the root is a plateau a few depths long; its first slice would
@@ -163,7 +166,8 @@ struct EarRoots {
 // (e.g. its ear top is hair-dark), with a reason: a side takes its highest line accepted, and is
 // vetoed when it has lines and none is accepted. When both sides are found and their rests lie at
 // one height within `max_height_gap_mm`, they replace Eq. 2-3's points, both at the mean height and
-// depth of the two (an ear of each kind would roll and yaw the frame). Where the first accepted lines
+// depth of the two (an ear of each kind would roll and yaw the frame; the depth is the long line's alone
+// where the other spans fewer than `short_line_slices` depths). Where the first accepted lines
 // lie more than `max_depth_gap_mm` apart in depth, or too far apart in height, a lower pair that
 // agrees in both is taken instead, if there is one. When one side is found, lies
 // no higher than `plausible_highest_mm`, and the other side showed no ear (no line of creases, or

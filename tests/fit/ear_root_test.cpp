@@ -407,6 +407,35 @@ DensityFn head_with_raised_back() {
   };
 }
 
+// The left ear's top only behind z = -16 (a fragment of its root: 4 depths at the window's back, as
+// seed 13's NeRF showed where hair met the ear), the right ear whole: the rests' depth is the right
+// line's alone, their height the mean of both.
+TEST(EarRoot, AShortLineOppositeALongOneGivesNoDepth) {
+  const DensityFn whole = head(true, true);
+  const DensityFn density = [&](const std::vector<Eigen::Vector3f>& pts) {
+    std::vector<float> d = whole(pts);
+    for (size_t i = 0; i < pts.size(); ++i)
+      if (pts[i].x() > 0.0f && pts[i].z() > -16.0f && pts[i].cast<double>().norm() >= kSkull) d[i] = 0.0f;
+    return d;
+  };
+  const EarInputs in = inputs();
+  const EarRootOptions o;
+  EarPoints ears = ear_points(in);
+  const EarRoots roots = apply_ear_roots(density, in, {1, 0, 0}, 1.0, o, ears);
+  ASSERT_TRUE(roots.left.found && roots.right.found) << roots.summary();
+  ASSERT_LT(roots.left.slices, o.short_line_slices);
+  ASSERT_GE(roots.right.slices, o.short_line_slices);
+  // The fragment's own rest lies at its back end, 10 mm or more behind the whole line's.
+  EXPECT_LT(roots.left.point.z(), roots.right.point.z() - 10.0);
+  EXPECT_NEAR(ears.f_l.z(), roots.right.point.z(), 1e-9);
+  EXPECT_NEAR(ears.f_r.z(), roots.right.point.z(), 1e-9);
+  const double height = 0.5 * (roots.left.point.y() + roots.right.point.y());
+  EXPECT_NEAR(ears.f_l.y(), height, 1e-9);
+  EXPECT_NEAR(ears.f_r.y(), height, 1e-9);
+  EXPECT_NEAR(ears.f_l.x(), roots.left.point.x(), 1e-9);  // each at its own width
+  EXPECT_NE(roots.summary().find("the left side's line holds"), std::string::npos) << roots.summary();
+}
+
 // Each side's first line 17 mm apart in depth, over the 12 allowed: the pair that agrees (the left
 // root's line, second on its side, and the right's) is used; with no limit, or no stand-in long
 // enough, the first lines.
