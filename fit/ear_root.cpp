@@ -63,19 +63,21 @@ std::vector<double> grid(double from, double to, double step) {
 
 }  // namespace
 
-std::vector<EarRootSide> find_ear_root_lines(const DensityFn& density_of, const EarRootInputs& in,
-                                             const EarRootOptions& o) {
-  check(in, o);
+namespace {
+
+// The field of vertical rays cast down beside the head at `depths` (mm along d_fwd from the temple),
+// each at `laterals` (mm outwards along the side's d_eye): per depth, each ray's height (mm above
+// the eye corner) where its opacity from above reaches the options' level, or kMiss. One density
+// query for all the rays.
+std::vector<std::vector<double>> ray_heights(const DensityFn& density_of, const EarRootInputs& in,
+                                             const EarRootOptions& o, const std::vector<double>& depths,
+                                             const std::vector<double>& laterals) {
   const double mpu = in.mm_per_unit;
   const Eigen::Vector3d out = in.side * in.d_eye.normalized(), up = in.d_up.normalized(),
                         fwd = in.d_fwd.normalized();
-  const double eye_height = (in.eye_corner - in.temple).dot(up) * mpu;  // mm above the temple
-  const std::vector<double> depths = grid(-o.back_mm, o.front_mm, o.depth_step_mm),
-                            laterals = grid(-o.inward_mm, o.outward_mm, o.lateral_step_mm),
-                            heights = grid(-o.below_mm, o.above_mm, o.ray_step_mm);  // from the eyes
+  const double eye_height = (in.eye_corner - in.temple).dot(up) * mpu;               // mm above the temple
+  const std::vector<double> heights = grid(-o.below_mm, o.above_mm, o.ray_step_mm);  // from the eyes
   const size_t per_ray = heights.size();
-  const int span = std::max(1, int(std::lround(o.bend_span_mm / o.lateral_step_mm)));
-
   std::vector<Eigen::Vector3f> pts;
   pts.reserve(depths.size() * laterals.size() * per_ray);
   for (double f : depths)
@@ -86,25 +88,58 @@ std::vector<EarRootSide> find_ear_root_lines(const DensityFn& density_of, const 
   if (density.size() != pts.size())
     throw std::runtime_error("find_ear_root: the density returned the wrong number of values");
 
-  // Each ray's height (mm above the eye corners) where its opacity from above reaches the level.
   const double target = -std::log(1.0 - o.opacity), dt = o.ray_step_mm / mpu;
-  std::vector<Crease> creases(depths.size());
-  std::vector<double> profile(laterals.size());
+  std::vector<std::vector<double>> hits(depths.size(), std::vector<double>(laterals.size(), kMiss));
   size_t at = 0;
-  for (size_t i = 0; i < depths.size(); ++i) {
+  for (size_t i = 0; i < depths.size(); ++i)
     for (size_t j = 0; j < laterals.size(); ++j, at += per_ray) {
-      double tau = 0.0, hit = kMiss;
+      double tau = 0.0;
       for (size_t k = 1; k < per_ray; ++k) {
         const double add = 0.5 * (double(density[at + k - 1]) + double(density[at + k])) * dt;
         if (tau + add >= target) {
           const double frac = (target - tau) / add;  // within the step from sample k-1 (above) to k
-          hit = heights[per_ray - k] - frac * o.ray_step_mm;
+          hits[i][j] = heights[per_ray - k] - frac * o.ray_step_mm;
           break;
         }
         tau += add;
       }
-      profile[j] = hit;
     }
+  return hits;
+}
+
+}  // namespace
+
+std::vector<EarRootProfile> ear_root_profiles(const DensityFn& density, const EarRootInputs& in,
+                                              const EarRootOptions& o, const std::vector<double>& depths_mm) {
+  check(in, o);
+  const std::vector<double> laterals = grid(-o.inward_mm, o.outward_mm, o.lateral_step_mm);
+  const std::vector<std::vector<double>> hits = ray_heights(density, in, o, depths_mm, laterals);
+  std::vector<EarRootProfile> profiles;
+  for (size_t i = 0; i < depths_mm.size(); ++i) {
+    EarRootProfile p;
+    p.depth_mm = depths_mm[i], p.lateral_mm = laterals;
+    for (double h : hits[i]) p.height_mm.push_back(h == kMiss ? std::nan("") : h);
+    profiles.push_back(std::move(p));
+  }
+  return profiles;
+}
+
+std::vector<EarRootSide> find_ear_root_lines(const DensityFn& density_of, const EarRootInputs& in,
+                                             const EarRootOptions& o) {
+  check(in, o);
+  const double mpu = in.mm_per_unit;
+  const Eigen::Vector3d out = in.side * in.d_eye.normalized(), up = in.d_up.normalized(),
+                        fwd = in.d_fwd.normalized();
+  const double eye_height = (in.eye_corner - in.temple).dot(up) * mpu;  // mm above the temple
+  const std::vector<double> depths = grid(-o.back_mm, o.front_mm, o.depth_step_mm),
+                            laterals = grid(-o.inward_mm, o.outward_mm, o.lateral_step_mm);
+  const int span = std::max(1, int(std::lround(o.bend_span_mm / o.lateral_step_mm)));
+
+  // Each ray's height (mm above the eye corners) where its opacity from above reaches the level.
+  const std::vector<std::vector<double>> hits = ray_heights(density_of, in, o, depths, laterals);
+  std::vector<Crease> creases(depths.size());
+  for (size_t i = 0; i < depths.size(); ++i) {
+    const std::vector<double>& profile = hits[i];
     creases[i] = crease_of(profile, laterals, span, o);
     if (spdlog::should_log(spdlog::level::trace))  // (the message is formatted before the call)
       spdlog::trace("fit: {} side, {:+.0f} mm from the temple: {}", in.side > 0 ? "left" : "right", depths[i],

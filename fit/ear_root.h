@@ -144,6 +144,17 @@ struct EarRootInputs {
   double mm_per_unit = 0.0;
 };
 
+// One depth's profile: the heights (mm above the side's outer eye corner; NaN where the ray met
+// nothing) where the search's vertical rays, at `lateral_mm` outwards from the temple, reach the
+// options' opacity. What the search reads for its creases, for studies and charts.
+struct EarRootProfile {
+  double depth_mm = 0.0;  // along d_fwd from the temple landmark
+  std::vector<double> lateral_mm, height_mm;
+};
+std::vector<EarRootProfile> ear_root_profiles(const DensityFn& density, const EarRootInputs& in,
+                                              const EarRootOptions& options,
+                                              const std::vector<double>& depths_mm);
+
 // Searches one side's window in `density` (scene units; one query for all its rays). Throws on bad inputs (a
 // non-positive scale or step, an empty window). The rest on the highest line of creases.
 EarRootSide find_ear_root(const DensityFn& density, const EarRootInputs& in, const EarRootOptions& options);

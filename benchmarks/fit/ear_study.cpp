@@ -8,7 +8,8 @@
 // grid (near-side views only, as the fit casts them); and draws each ear from the side with the points.
 // Usage: ear_study OUT_DIR --case NAME MODEL.lnerf DATASET [--case ...] [--alpha A]
 // Writes OUT_DIR/ear_points.csv, ear_gt_sets.csv (the ground truth's rule on other view sets), ear_views.csv,
-// ear_same_frame.csv (the ear search from the ground truth's frame on the mesh's and the NeRF's density)
+// ear_same_frame.csv (the ear search from the ground truth's frame on the mesh's and the NeRF's density),
+// ear_profiles.csv with OUT_DIR/<case>_ear_profile_{l,r}.png (its rays' heights at the mesh's rest depth)
 // and OUT_DIR/<case>_ear_{l,r}.png.
 #include <fmt/format.h>
 #include <spdlog/cfg/env.h>
@@ -88,7 +89,7 @@ int main(int argc, char** argv) {
       load_glasses_input(std::string(LORGNETTE_DATA_DIR) + "/glasses/glasses-06/scene.gltf", 500);
   GlassesInput ref_only;  // the ears do not depend on the frame's points: no contact stage
   ref_only.ref = glasses.ref;
-  std::vector<std::vector<std::string>> points_csv, views_csv, sets_csv, same_frame_csv;
+  std::vector<std::vector<std::string>> points_csv, views_csv, sets_csv, same_frame_csv, profile_csv;
   for (const Case& c : cases) {
     nerf::NerfModel model = nerf::NerfModel::load(rt, c.model);
     ViewPrior prior = prior_from_transforms(c.dataset + "/transforms.json", model);
@@ -232,6 +233,32 @@ int main(int argc, char** argv) {
                  std::to_string(line.slices), fmt::format("{:.1f}", line.bend_deg)});
           }
         }
+        // The rays' heights across the side at the mesh's rest depth: what the search reads there.
+        const EarRootSide on_mesh_rest = find_ear_root(on_mesh, in, base.head.ear_root);
+        if (!on_mesh_rest.found) continue;
+        std::vector<ChartSeries> series;
+        for (auto [what, fn, opacity] :
+             {std::tuple<std::string, const DensityFn*, double>{"mesh", &on_mesh, level},
+              {fmt::format("nerf, opacity {:.2f}", level), &on_nerf, level},
+              {"nerf, opacity 0.50", &on_nerf, 0.5}}) {
+          EarRootOptions o = base.head.ear_root;
+          o.opacity = opacity;
+          const EarRootProfile p = ear_root_profiles(*fn, in, o, {on_mesh_rest.depth_mm}).front();
+          ChartSeries cs{what, {}, {}};
+          for (size_t j = 0; j < p.lateral_mm.size(); ++j) {
+            if (std::isnan(p.height_mm[j])) continue;
+            cs.x.push_back(p.lateral_mm[j]), cs.y.push_back(p.height_mm[j]);
+            profile_csv.push_back({c.name, side > 0 ? "l" : "r", what, fmt::format("{:.0f}", p.depth_mm),
+                                   fmt::format("{:.1f}", p.lateral_mm[j]),
+                                   fmt::format("{:.2f}", p.height_mm[j])});
+          }
+          series.push_back(std::move(cs));
+        }
+        write_chart(fmt::format("{}/{}_ear_profile_{}.png", out, c.name, side > 0 ? "l" : "r"),
+                    {fmt::format("{} {}, {:+.0f} mm from the temple: the ear search's rays", c.name,
+                                 side > 0 ? "left" : "right", on_mesh_rest.depth_mm),
+                     "mm outwards from the temple", "mm above the eye corner"},
+                    series);
       }
     }
     // The temple hit per view of a yaw x pitch grid, exact cast, near-side views as the fit uses.
@@ -312,6 +339,8 @@ int main(int argc, char** argv) {
             {"case", "side", "density", "height_mm", "depth_mm", "lateral_mm", "back_mm", "front_mm",
              "depths", "bend_deg"},
             same_frame_csv);
+  write_csv(out + "/ear_profiles.csv", {"case", "side", "density", "depth_mm", "lateral_mm", "height_mm"},
+            profile_csv);
   write_csv(out + "/ear_views.csv", {"case", "yaw", "pitch", "landmark", "near_side", "x_mm", "y_mm", "z_mm"},
             views_csv);
   return 0;

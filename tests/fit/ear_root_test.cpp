@@ -198,6 +198,37 @@ TEST(EarRoot, ASoftEarTopIsMetAtTheOpacityLevel) {
   EXPECT_GT(soft_hit_depth(0.5), 2.4);
 }
 
+// The rays the search reads, at one depth: the skull's sphere inside the crease, the ear's flat top
+// outside it, nothing beyond the ear (x > 90 mm).
+TEST(EarRoot, ProfilesAreTheRaysHeights) {
+  const EarInputs in = inputs();
+  const EarRootOptions o;
+  const double depth = -17.0, z = in.t_l.z() + depth;
+  const std::vector<EarRootProfile> profiles = ear_root_profiles(
+      head(true, true), {in.t_l, in.e_l, {1, 0, 0}, in.d_up, in.d_fwd, +1, 1.0}, o, {depth, depth + 4.0});
+  ASSERT_EQ(profiles.size(), 2u);
+  const EarRootProfile& p = profiles[0];
+  EXPECT_EQ(p.depth_mm, depth);
+  ASSERT_EQ(p.lateral_mm.size(), p.height_mm.size());
+  int skull = 0, ear = 0, miss = 0;
+  for (size_t j = 0; j < p.lateral_mm.size(); ++j) {
+    const double x = in.t_l.x() + p.lateral_mm[j], h = p.height_mm[j];
+    if (x < crease_x(z) - 1.0) {
+      EXPECT_NEAR(h, std::sqrt(kSkull * kSkull - x * x - z * z), o.ray_step_mm) << "x " << x;
+      ++skull;
+    } else if (x > crease_x(z) + 1.0 && x < 89.5) {
+      EXPECT_NEAR(h, kEarTop, o.ray_step_mm) << "x " << x;
+      ++ear;
+    } else if (x > 90.5) {
+      EXPECT_TRUE(std::isnan(h)) << "x " << x;
+      ++miss;
+    }
+  }
+  EXPECT_GT(skull, 3);
+  EXPECT_GT(ear, 10);
+  EXPECT_GT(miss, 10);
+}
+
 TEST(EarRoot, NoEarNoRest) {
   const EarInputs in = inputs();
   const EarRootSide s = find_ear_root(
