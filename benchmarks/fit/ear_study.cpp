@@ -208,15 +208,20 @@ int main(int argc, char** argv) {
         const EarRootInputs in{gt.points[k],  gt.points[e], gt.head.d_eye,      gt.head.d_up,
                                gt.head.d_fwd, side,         gt.head.mm_per_unit};
         // The NeRF at the rays' default opacity and at 0.5 (the level before 28 Nov): a NeRF's soft ear
-        // top is met deeper at the higher level (ear_root.h).
+        // top is met deeper at the higher level (ear_root.h). Then the rays' heights across the side at
+        // the mesh's rest depth (the mesh goes first): what the search reads there.
         const double level = base.head.ear_root.opacity;
+        std::optional<double> mesh_rest_depth;
+        std::vector<ChartSeries> series;
         for (auto [what, fn, opacity] :
              {std::tuple<std::string, const DensityFn*, double>{"mesh", &on_mesh, level},
-              {"nerf", &on_nerf, level},
-              {"nerf o50", &on_nerf, 0.5}}) {
+              {fmt::format("nerf at opacity {:.2f}", level), &on_nerf, level},
+              {"nerf at opacity 0.50", &on_nerf, 0.5}}) {  // (no commas: the CSVs' fields)
           EarRootOptions o = base.head.ear_root;
           o.opacity = opacity;
-          for (const EarRootSide& line : find_ear_root_lines(*fn, in, o)) {
+          const std::vector<EarRootSide> lines = find_ear_root_lines(*fn, in, o);
+          if (fn == &on_mesh && lines.front().found) mesh_rest_depth = lines.front().depth_mm;
+          for (const EarRootSide& line : lines) {
             if (!line.found) {
               std::cout << fmt::format("   {} {}: {}\n", side > 0 ? "l" : "r", what, line.why);
               continue;
@@ -232,18 +237,8 @@ int main(int argc, char** argv) {
                  fmt::format("{:.0f}", line.back_mm), fmt::format("{:.0f}", line.front_mm),
                  std::to_string(line.slices), fmt::format("{:.1f}", line.bend_deg)});
           }
-        }
-        // The rays' heights across the side at the mesh's rest depth: what the search reads there.
-        const EarRootSide on_mesh_rest = find_ear_root(on_mesh, in, base.head.ear_root);
-        if (!on_mesh_rest.found) continue;
-        std::vector<ChartSeries> series;
-        for (auto [what, fn, opacity] :
-             {std::tuple<std::string, const DensityFn*, double>{"mesh", &on_mesh, level},
-              {fmt::format("nerf, opacity {:.2f}", level), &on_nerf, level},
-              {"nerf, opacity 0.50", &on_nerf, 0.5}}) {
-          EarRootOptions o = base.head.ear_root;
-          o.opacity = opacity;
-          const EarRootProfile p = ear_root_profiles(*fn, in, o, {on_mesh_rest.depth_mm}).front();
+          if (!mesh_rest_depth) continue;
+          const EarRootProfile p = ear_root_profiles(*fn, in, o, {*mesh_rest_depth}).front();
           ChartSeries cs{what, {}, {}};
           for (size_t j = 0; j < p.lateral_mm.size(); ++j) {
             if (std::isnan(p.height_mm[j])) continue;
@@ -254,11 +249,12 @@ int main(int argc, char** argv) {
           }
           series.push_back(std::move(cs));
         }
-        write_chart(fmt::format("{}/{}_ear_profile_{}.png", out, c.name, side > 0 ? "l" : "r"),
-                    {fmt::format("{} {}, {:+.0f} mm from the temple: the ear search's rays", c.name,
-                                 side > 0 ? "left" : "right", on_mesh_rest.depth_mm),
-                     "mm outwards from the temple", "mm above the eye corner"},
-                    series);
+        if (mesh_rest_depth)
+          write_chart(fmt::format("{}/{}_ear_profile_{}.png", out, c.name, side > 0 ? "l" : "r"),
+                      {fmt::format("{} {}, {:+.0f} mm from the temple: the ear search's rays", c.name,
+                                   side > 0 ? "left" : "right", *mesh_rest_depth),
+                       "mm outwards from the temple", "mm above the eye corner"},
+                      series);
       }
     }
     // The temple hit per view of a yaw x pitch grid, exact cast, near-side views as the fit uses.

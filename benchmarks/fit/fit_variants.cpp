@@ -1,6 +1,8 @@
 // The fit's option variants of bench_fit_nerf; see fit_variants.h.
 #include "fit_variants.h"
 
+#include <fmt/format.h>
+
 #include "fit/fit_job.h"
 
 namespace lorgnette::fit {
@@ -16,6 +18,12 @@ namespace {
 void fast(FitOptions& o) {
   DetectorOptions& d = o.detection.detector;
   d.overlap_render = true, d.hog_face_px = 100.0, d.render_crop = 0.75;
+}
+
+// The product's defaults with the ear search's rays at another opacity: "default_root_o25" for 0.25.
+Variant root_opacity(double level) {
+  return {fmt::format("default_root_o{:02.0f}", 100.0 * level),
+          [level](FitOptions& o) { o = fit_options(FitSettings{}), o.head.ear_root.opacity = level; }, 1.5f};
 }
 
 }  // namespace
@@ -78,18 +86,12 @@ const std::vector<Variant>& all_variants() {
       // level before.)
       {"default_eq23", [](FitOptions& o) { o = fit_options(FitSettings{}), o.head.ear_root.enabled = false; },
        1.5f},
-      {"default_root_o25",
-       [](FitOptions& o) { o = fit_options(FitSettings{}), o.head.ear_root.opacity = 0.25; }, 1.5f},
-      {"default_root_o50",
-       [](FitOptions& o) { o = fit_options(FitSettings{}), o.head.ear_root.opacity = 0.5; }, 1.5f},
-      {"default_root_o35",
-       [](FitOptions& o) { o = fit_options(FitSettings{}), o.head.ear_root.opacity = 0.35; }, 1.5f},
-      {"default_root_o30",
-       [](FitOptions& o) { o = fit_options(FitSettings{}), o.head.ear_root.opacity = 0.3; }, 1.5f},
-      {"default_root_o20",
-       [](FitOptions& o) { o = fit_options(FitSettings{}), o.head.ear_root.opacity = 0.2; }, 1.5f},
-      {"default_root_o10",
-       [](FitOptions& o) { o = fit_options(FitSettings{}), o.head.ear_root.opacity = 0.1; }, 1.5f},
+      root_opacity(0.25),
+      root_opacity(0.5),
+      root_opacity(0.35),
+      root_opacity(0.3),
+      root_opacity(0.2),
+      root_opacity(0.1),
       {"default_root_bend30",
        [](FitOptions& o) { o = fit_options(FitSettings{}), o.head.ear_root.min_bend_deg = 30.0; }, 1.5f},
       {"default_snap_o50",
