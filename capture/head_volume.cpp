@@ -11,7 +11,7 @@ using nerf::OrientedShape;
 // Hair that stands out beyond the head box's margins (in2n-face's curls reach past the box's sides at
 // ear level): the skull part of the volume and the clip reach this much further sideways, upwards
 // and backwards. Not forwards, where a frontal capture's wall is otherwise rebuilt beside the face
-// (docs/bench/real-captures.md, "The head volume").
+// (docs/room-training.md, "The head's volume").
 constexpr double kLooseHairMm = 40.0;
 
 // The average chin lies about this far above HeadExtents' p99 chin (menton 114 mm below the eyes in
@@ -22,18 +22,18 @@ constexpr double kChinAboveP99Mm = 20.0;
 // from 20 mm above the eyes (above the brows: ears, face and neck stay out of it) up, and behind the
 // eyes: in front of them the volume's face box ends 55 mm ahead of the eyes, and the two real
 // captures' foreheads reach it (their depth is loosest there), while hats, buns and tall hair stand
-// out above and behind (docs/bench/real-captures.md, "a subject cut by the head volume").
+// out above and behind (docs/room-training.md, "Hair, hats and a cut subject").
 constexpr double kCutRimMm = 6.0, kCutRimAboveEyesMm = 20.0;
 
 // The nape: the space under the back of the skull and behind the neck, which side views see only
 // against the wall. The bare head (head_clear_core) and the neck's keep zone (head_clear_keep) end in
 // front of it: behind kNapeShare of the head's length from the glabella (156 mm behind the eyes for
 // the p99 head's 214 mm; the procedural heads' throats lie ~46 mm behind them), and for the skull
-// only below kNapeBelowEyesMm under the eyes. A side view's wall stayed there as a grey ghost: the keep zone
-// gives it the binary prior only, and in the core the gate stays shut until the room model has learnt
-// the wall behind it. In the nape the clearing leans towards the room, as in the hair margins: a
-// real nape or hair there stays where its colour differs from the room's (docs/bench/real-captures.md,
-// "the nape").
+// only below kNapeBelowEyesMm under the eyes. In the keep zone a side view's wall would get the
+// binary prior only, and in the core the gate stays shut until the room model has learnt the wall
+// behind it, so the wall would stay there as a ghost. In the nape the clearing leans towards the
+// room, as in the hair margins: a real nape or hair there stays where its colour differs from the
+// room's (docs/room-training.md, "Zones").
 constexpr double kNapeShare = 0.8, kNapeBelowEyesMm = 40.0;
 double nape_z_mm(const fit::HeadExtents& e) { return e.glabella_ahead_mm - kNapeShare * e.head_length_mm; }
 

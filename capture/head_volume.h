@@ -5,9 +5,9 @@
 // jaw in front of it, and the neck below it down to the box's bottom. Every part is sized from the
 // p99 extents plus their margins, so ears, hair and neck stay in; what it removes is the box's
 // corners behind and below the skull, where a wall close behind the subject otherwise gets
-// rebuilt as part of the subject (docs/bench/real-captures.md, "The head volume"). Hair beyond
-// the standard HeadExtents::hair_mm (train --hair: a bun, a hat) adds a longer and wider skull
-// ellipsoid and joins the clearing's core (docs/bench/real-captures.md, "hats, buns and tall hair").
+// rebuilt as part of the subject (docs/room-training.md, "The head's volume"). Hair beyond the
+// standard HeadExtents::hair_mm (train --hair: a bun, a hat) adds a longer and wider skull ellipsoid
+// and joins the clearing's core (docs/room-training.md, "Hair, hats and a cut subject").
 #pragma once
 #include "fit/head_box.h"
 #include "host/nerf/subject_volume.h"
@@ -44,8 +44,8 @@ nerf::SubjectVolume head_clear_core(const fit::HeadBox& box);
 // the neck's base and the shoulders, which the room model holds (nerf::SubjectZones::body). The room's
 // cutout grows the head volume by a margin on every side; below the box's bottom that margin was a
 // band of neck and collar that neither model could hold, and the subject painted it onto its box's
-// bottom edge, in front of and behind the neck (docs/bench/real-captures.md, "the room holds the band
-// below the head box"). In the head frame (mm) and in the scene.
+// bottom edge, in front of and behind the neck (docs/room-training.md, "The head's volume"). In the
+// head frame (mm) and in the scene.
 nerf::SubjectVolume head_room_body_mm(const fit::HeadExtents& extents);
 nerf::SubjectVolume head_room_body(const fit::HeadBox& box);
 

@@ -56,13 +56,8 @@ struct HeadOptions {           // the head frame ("triangulate") and the ears ("
   double nose_blend = 0.5;     // f_c between dlib 27 (0) and 28 (1)
   // f_c from 27 and 28 moved along their rays to this opacity depth (ray_surface.h; 0: the skin
   // density's first crossing, as the other landmarks). The first crossing stops at haze in front of
-  // the nose. 0.25 was picked on 25 Nov (10 models, 0.5 then lay inside a softer skin). Since the
-  // room model's binary prior became 0.03 the skin is thinner: against the meshes of 24 models of
-  // room captures (two priors, two training seeds, two unseen procedural heads) 0.5 is 0.06-0.98 mm
-  // off (mean 0.58), 0.25 0.15-2.44 mm (mean 0.69; an unseen head's +-20 deg capture 2.4 mm in
-  // front). Studio NeRFs (no room model, softer skin) lose a little: the demo head 0.94 -> 1.39 mm,
-  // the scan 0.99 -> 1.43 mm. The head frame keeps the first-crossing points
-  // (docs/bench/real-captures.md, 27 Nov).
+  // the nose; a lower level stops in front of the skin on room captures, whose skin the binary prior
+  // makes thin (docs/fit.md, "The nose point"). The head frame keeps the first-crossing points.
   double nose_opacity = 0.5;
   // The ears from the head's density (ear_root.h) where it shows the crease above the ear's root;
   // Eq. 2-3 where it does not.

@@ -17,10 +17,9 @@ struct NerfViewOptions {
   // The capture's transforms.json (or its folder) for the prior front and up; empty: the dataset the
   // model was trained on (its metadata), when it is still there.
   std::string dataset;
-  // The views' marcher (NerfViewSource): NeRF step x1.5. The views only feed the detector; with the
-  // 256 px cap, on a scan NeRF against its mesh: nose 0.35 mm, ears 2.37 / 3.00 mm, rotation
-  // 0.97 deg in 9.7 s, against 0.45 mm, 1.55 / 1.89 mm, 0.54 deg in 12.8 s at step x1 (targets 2 mm,
-  // 4 mm, 2 deg; docs/bench/real-captures.md).
+  // The views' marcher (NerfViewSource): NeRF step x1.5. The views only feed the detector, and at
+  // x1.5 the fit stays within its targets (nose 2 mm, ears 4 mm, rotation 2 deg) at about 0.75x the
+  // time of step x1 (docs/fit.md, "The cap of views").
   render::RenderOptions render = views_render_options();
   static render::RenderOptions views_render_options() {
     render::RenderOptions o;

@@ -55,9 +55,8 @@ struct HeadExtents {
 double declared_hair_mm(const HeadExtents& e);
 
 // Declared hair widens the box's sides by this share of itself on each side: hats, buns and crowns
-// stand out less sideways than upwards (the Nefertiti bust's crown: docs/bench/real-captures.md,
-// "--hair widens the sides above the eyes"). The standard side margin already holds ordinary side
-// hair and ears.
+// stand out less sideways than upwards (the Nefertiti bust's crown: docs/room-training.md, "Hair,
+// hats and a cut subject"). The standard side margin already holds ordinary side hair and ears.
 inline constexpr double kSideHairShare = 0.5;
 
 // The oriented head box in head-frame millimetres from the anchor (x left, y up, z forward):

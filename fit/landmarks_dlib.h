@@ -21,7 +21,7 @@ struct DetectorOptions {
   // 0 = always full resolution. dlib's window is 80x80 px: keep this well above 80.
   double hog_face_px = 100.0;
   // detect_views (fit.h): detect view i on a worker thread while view i + 1 renders. Results are
-  // identical; the gain is small because detection is ~2 % of a view's time (docs/bench/fit-accuracy.md).
+  // identical; the gain is small because detection is ~2 % of a view's time on a NeRF.
   bool overlap_render = true;
   // detect_views: render only the central `render_crop` x `render_crop` part of each framed view
   // (the face sits in the middle, FitOptions::front.face_fraction wide) and fill the rest with white, the

@@ -17,9 +17,9 @@ namespace lorgnette::fit {
 
 class NerfViewSource : public ViewSource {
  public:
-  // The renderer's defaults. Stopping rays at 1/255 transmittance (the views only feed an 8-bit
-  // detector) rendered the fit 15-20 % faster but moved the scan's ears by up to 2 mm, past the
-  // target twice in three models (docs/bench/fit-accuracy.md): kept at the renderer's 1e-4.
+  // The renderer's defaults, including its 1e-4 transmittance cut-off: 1/255 (the views only feed
+  // an 8-bit detector) renders 15-20 % faster but moves the scan's ears by up to 2 mm, past the
+  // 4 mm target on two of three models.
   NerfViewSource(nerf::NerfModel& model, ViewPrior prior, render::RenderOptions options = {});
   Image render(const Camera& cam) override;
   std::vector<float> density(const std::vector<Eigen::Vector3f>& points) override;

@@ -7,7 +7,7 @@
 // face towards the camera. In a view that turns that side away, the point lies on the silhouette:
 // its ray grazes the skin, and a lateral shift of a pixel or a slightly softer surface moves the hit
 // by centimetres along the ray (and onto the ear or the cheek behind). From the near side the ray
-// meets the skin at an angle and the hit is stable (docs/bench/fit-accuracy.md, contour rays).
+// meets the skin at an angle and the hit is stable (docs/fit.md, "The temples from the near side").
 #pragma once
 #include <Eigen/Core>
 #include <vector>

@@ -5,11 +5,12 @@
 // NeRF's surface there is soft: the opacity builds up over 10-20 mm, its 0.5 level lies that far
 // behind the skin, and the temple, hence the ear, goes back with it. On three synthetic room captures
 // whose true meshes were known, the ears missed by 7-15 mm that way while the other side was within
-// 4 mm (docs/bench/real-captures.md). A softer surface only ever moves the opacity depth back (thin
-// floaters in front reach little opacity), and a head's temples lie at nearly one depth along its
-// forward axis (1.8 mm apart on the Lee Perry-Smith scan, 0.9 mm on the procedural head). So when one
-// temple lies more than `max_gap_mm` behind the other, it is moved along its own rays to the other's
-// depth: its width and height stay its own views', its depth is the better side's.
+// 4 mm (docs/fit.md, "The temples at one depth"). A softer surface only ever moves the opacity
+// depth back (thin floaters in front reach little opacity), and a head's temples lie at nearly one
+// depth along its forward axis (1.8 mm apart on the Lee Perry-Smith scan, 0.9 mm on the procedural
+// head). So when one temple lies more than `max_gap_mm` behind the other, it is moved along its own
+// rays to the other's depth: its width and height stay its own views', its depth is the better
+// side's.
 #pragma once
 #include <string>
 #include <vector>

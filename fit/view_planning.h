@@ -28,7 +28,7 @@ struct CapOptions {
   // (FrontSearchOptions::face_fraction), the front search on the whole head, so the cap needs fewer:
   // at 256 the face is 128 px wide, well above dlib's 80 px window, and the scan's fit errors stay
   // within their targets (docs/bench/fit.md, resolution sweep). Rendering the views is most of a
-  // fit on a NeRF: 256 renders 2.25x fewer rays than 384 (docs/bench/real-captures.md).
+  // fit on a NeRF: 256 renders 2.25x fewer rays than 384 (docs/fit.md, "The cap of views").
   int size = 256;
 };
 

@@ -378,13 +378,12 @@ static int run(int argc, char** argv) {
   // -20..20, pitch -15..15). The jaw contour (the temples, hence the ears) slides with the view: on the
   // procedural head the level views alone (yaw -20, -10, 0, 10, 20 at pitch 0, the rule before 25 Nov;
   // --gt-yaws -20,-10,0,10,20 --gt-pitches 0) put its ears up to 7.3 mm from this grid's, and the fit
-  // on the exact mesh 4.1-6.3 mm off (docs/bench/real-captures.md, "The procedural head's ears").
+  // on the exact mesh 4.1-6.3 mm off.
   std::vector<double> gt_yaws = {-20, -15, -10, -5, 0, 5, 10, 15, 20};
   std::vector<double> gt_pitches = {-15, -7.5, 0, 7.5, 15};
   std::string replot;
   // Eq. 3's alpha for the fits only (the ground truth keeps the definition, alpha 0.5): the ear columns
-  // then show the ears' move and rotation_deg the frame's turn (docs/bench/real-captures.md, "Eq. 3
-  // with dlib temples").
+  // then show the ears' move and rotation_deg the frame's turn.
   double fit_alpha = FitOptions{}.head.alpha;
   for (int i = 2; i < argc; ++i) {
     if (std::strcmp(argv[i], "--case") == 0 && i + 3 < argc)

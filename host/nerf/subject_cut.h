@@ -3,8 +3,7 @@
 // views see a flat cut there. After training, views of the capture are marched through the model and
 // the opacity they see is split by where it lies: the share in the volume's rim (SubjectRim, its
 // outer 6 mm above the brows and behind the eyes) is near zero for a head inside the volume and
-// larger where the volume cut the subject (docs/bench/real-captures.md, "a subject cut by the head
-// volume").
+// larger where the volume cut the subject (docs/room-training.md, "Hair, hats and a cut subject").
 #pragma once
 #include <functional>
 #include <string>
@@ -36,9 +35,9 @@ SeenOpacity seen_opacity(const std::vector<Camera>& cameras, const Aabb& box, co
                          float step, const OccupancyGrid& occ, uint32_t stride, const DensityAt& density,
                          int zones, const std::function<int(const Vec3f&)>& zone_of);
 
-// The rim's share of the seen opacity at or above which the subject counts as cut. Measured (27 Nov):
-// the Nefertiti bust's crown, cut by the default volume, 0.67 %; in2n-face (curls) 0.016 %,
-// fangzhou-frontal 0.001 %, the procedural head and the scan 0.000 %. 0.1 % lies ~6x from both sides.
+// The rim's share of the seen opacity at or above which the subject counts as cut: a crown the volume
+// cut reads 0.67-0.82 %, heads inside it 0.016 % at most (curls), so 0.1 % lies ~6x from both
+// (docs/room-training.md, "Hair, hats and a cut subject").
 constexpr double kSubjectCutShare = 0.001;
 
 struct SubjectCutReport {

@@ -27,8 +27,8 @@
 //   weight * ((1 - g) * a * (1 - a) + clear * g * a),   g = clamp(1 - e / tolerance, 0, 1),
 // e the RMS sRGB difference between the room's colour and the pixel. Without it a frontal capture's
 // wall, which the subject's fine grid can paint in its volume's rim as well as the coarse room model
-// can behind it, is made opaque there by the binary push (fangzhou-frontal's shell,
-// docs/bench/real-captures.md). A pixel the room does not explain (g = 0) keeps the binary prior.
+// can behind it, is made opaque there by the binary push (docs/room-training.md, "The opacity prior
+// and the room-explained clearing"). A pixel the room does not explain (g = 0) keeps the binary prior.
 #pragma once
 #include "common/cl_compat.h"
 #include "common/composite.h"

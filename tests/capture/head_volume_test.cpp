@@ -2,8 +2,8 @@
 // of procedural heads with neck and shoulders (random shapes, seeds 0-5) that lies in the oriented
 // head box is inside the head volume, with the head upright and tilted in the scene; the 68 points
 // of the mean face are inside with a 10 mm margin; and the volume's occupancy mask over the box's
-// axis-aligned bounds leaves out the corners that the tilt adds (the wall's place on fangzhou-frontal,
-// docs/bench/real-captures.md).
+// axis-aligned bounds leaves out the corners that the tilt adds (where a wall close behind the subject
+// is rebuilt: docs/room-training.md, "The head's volume").
 #include "capture/head_volume.h"
 
 #include <gtest/gtest.h>

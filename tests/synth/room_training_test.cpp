@@ -41,7 +41,7 @@ nerf::Aabb head_box(const synth::Subject& s, const synth::HeadParams& p) {
 // clearing (26 Nov, BackgroundOptions::room_clear 1) IoU 0.941, leak 6.5 % (one run), so the
 // ceiling fails the code before it; with the zones and the prior at 0.03 (27 Nov) IoU 0.938, leak
 // 5.1 % (one run); without the room model the same capture's box fills with the
-// room (IoU 0.30 at full size). The full-size benchmark is in docs/bench/real-captures.md.
+// room (IoU 0.30 at full size). The full-size figures are in docs/room-training.md.
 TEST(RoomTraining, SubjectSeparatesFromTheRoom) {
   synth::HeadParams params = synth::random_head_params(0);
   synth::Subject subject = synth::procedural_subject(params, synth::HeadMeshOptions{256, 128, 512}, true);
