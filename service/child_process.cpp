@@ -47,6 +47,10 @@ ChildProcess::ChildProcess(const std::vector<std::string>& argv, const std::stri
     ::prctl(PR_SET_PDEATHSIG, SIGKILL);
     if (::getppid() != parent) ::_exit(127);
     if (log_fd >= 0) ::dup2(log_fd, 1), ::dup2(log_fd, 2);
+    // Nothing else of the parent's: a worker holding the server's listening socket or a lock file
+    // would keep them after the server is gone.
+    if (::close_range(3, ~0U, 0) != 0)
+      for (int fd = 3; fd < 65536; ++fd) ::close(fd);
     ::execv(args[0], args.data());
     ::_exit(127);
   }

@@ -9,6 +9,7 @@
 #include <boost/beast/core.hpp>
 #include <boost/beast/http.hpp>
 #include <condition_variable>
+#include <limits>
 #include <optional>
 #include <set>
 
@@ -100,6 +101,9 @@ struct HttpServer::Impl {
 bool HttpServer::Impl::serve_one(tcp::socket& socket, beast::flat_buffer& buffer) {
   http::request_parser<http::empty_body> header;
   header.header_limit(kMaxHeaderBytes);
+  // No body limit while reading the header (Beast's default, 1 MB, would refuse a larger
+  // Content-Length before the API sees it); the API sets each body's own limit when it reads it.
+  header.body_limit(std::numeric_limits<std::uint64_t>::max());
   beast::error_code ec;
   http::read_header(socket, buffer, header, ec);
   if (ec) return false;  // closed, timed out or not HTTP: nothing to answer

@@ -33,7 +33,7 @@ inline HttpReply http_request(uint16_t port, const std::string& method, const st
   beast::flat_buffer buffer;
   http::response<http::string_body> res;
   http::read(socket, buffer, res, ec);
-  if (ec && ec != http::error::end_of_stream && res.result_int() == 0) return {};
+  if (ec) return {};
   return {int(res.result_int()), res.body(), std::string(res[http::field::content_type])};
 }
 

@@ -27,7 +27,7 @@ const std::string kAdminToken = "admin-0123456789abcdef0123456789abcdef";
 // A server on an ephemeral port over `data`; restartable on the same folder.
 class Server {
  public:
-  explicit Server(const fs::path& data, std::vector<std::string> extra = {})
+  explicit Server(const fs::path& data, std::vector<std::string> extra = {"--max-upload-mb", "1"})
       : data_(data), extra_(std::move(extra)) {
     start();
   }
@@ -44,8 +44,6 @@ class Server {
                                   (data_ / "port").string(),
                                   "--admin-token-file",
                                   (data_ / "admin-token").string(),
-                                  "--max-upload-mb",
-                                  "1",
                                   "--train-steps",
                                   "30",
                                   "--train-batch-log2",
@@ -121,7 +119,8 @@ TEST(Serve, CreatesCapturesWithUnguessableIdsAndTokens) {
   EXPECT_EQ(st["expires_unix"].get<int64_t>() - st["created_unix"].get<int64_t>(), 30 * 86400);
   // The token is stored hashed: it appears nowhere in the data folder.
   for (const auto& e : fs::recursive_directory_iterator(data)) {
-    if (e.is_regular_file()) EXPECT_EQ(read_file(e.path()).find(a.token), std::string::npos) << e.path();
+    if (!e.is_regular_file()) continue;
+    EXPECT_EQ(read_file(e.path()).find(a.token), std::string::npos) << e.path();
   }
 }
 
@@ -167,12 +166,16 @@ TEST(Serve, BadRequestsGet4xxAndTheServerKeepsServing) {
             std::string::npos);
 }
 
-TEST(Serve, DeleteRemovesTheCaptureAndEverythingMadeFromIt) {
+TEST(Serve, StreamsAnUploadToDiskAndDeleteRemovesEverythingMadeFromIt) {
   fs::path data = test_dir("service_serve");
-  Server s(data);
+  Server s(data, {"--max-upload-mb", "3"});
   Capture c = create(s);
-  ASSERT_EQ(http_request(s.port(), "PUT", path(c, "/video"), c.token, broken_mp4()).status, 201);
-  EXPECT_TRUE(fs::exists(data / "captures" / c.id / "upload" / "video.mp4"));
+  // 2.5 MB, above Beast's default body limit of 1 MB: streamed whole to disk under the server's own limit.
+  const std::string video = broken_mp4() + std::string(2'500'000, 'v');
+  HttpReply up = http_request(s.port(), "PUT", path(c, "/video"), c.token, video);
+  ASSERT_EQ(up.status, 201) << up.body;
+  EXPECT_EQ(nlohmann::json::parse(up.body)["bytes"], video.size());
+  EXPECT_EQ(read_file(data / "captures" / c.id / "upload" / "video.mp4"), video);
   EXPECT_EQ(http_request(s.port(), "DELETE", path(c), c.token).status, 204);
   EXPECT_FALSE(fs::exists(data / "captures" / c.id));
   EXPECT_TRUE(is_error(http_request(s.port(), "GET", path(c), c.token), 404, "not_found"));
@@ -189,7 +192,8 @@ TEST(Serve, AfterAServerSigkillEveryCaptureIsThereAndRunningJobsAreRequeued) {
   EXPECT_EQ(status(s, failed)["stage"], "capture");
   // A job that stays running: a capture folder whose worker waits for job.lock, held here.
   ASSERT_EQ(http_request(s.port(), "PUT", path(running, "/video"), running.token, broken_mp4()).status, 201);
-  int lock_fd = ::open((data / "captures" / running.id / "job.lock").c_str(), O_RDWR | O_CREAT, 0644);
+  int lock_fd =
+      ::open((data / "captures" / running.id / "job.lock").c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
   ASSERT_EQ(::flock(lock_fd, LOCK_EX), 0);
   ASSERT_EQ(http_request(s.port(), "POST", path(running, "/start"), running.token).status, 202);
   ASSERT_TRUE(wait_for([&] { return status(s, running)["state"] == "running"; }, 30.0));
