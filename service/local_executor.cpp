@@ -97,7 +97,7 @@ void LocalExecutor::tick() {
     }
     ++it;
   }
-  while (int(workers_.size()) < options_.slots) {
+  while (!draining_ && int(workers_.size()) < options_.slots) {
     auto job = store_.claim_next();
     if (!job) break;
     std::vector<std::string> argv{options_.worker_exe};
@@ -122,6 +122,7 @@ void LocalExecutor::cancel(const std::string& id) {
 
 void LocalExecutor::interrupt_all() {
   std::lock_guard<std::mutex> lock(mutex_);
+  draining_ = true;
   for (auto& [id, w] : workers_) w->process.signal(SIGTERM);
 }
 

@@ -40,7 +40,8 @@ class LocalExecutor {
   void tick();
   // Stops the worker of `id` if it has one (a deleted capture) and forgets it.
   void cancel(const std::string& id);
-  // Asks every worker to stop after its current stage (SIGTERM); their jobs go back to the queue.
+  // Asks every worker to stop after its current step (SIGTERM; their jobs go back to the queue) and
+  // starts no new ones from then on: the server is shutting down.
   void interrupt_all();
   int running() const;
   pid_t worker_pid(const std::string& id) const;  // -1 when none
@@ -58,6 +59,7 @@ class LocalExecutor {
   LocalExecutorOptions options_;
   mutable std::mutex mutex_;
   std::map<std::string, std::unique_ptr<Worker>> workers_;
+  bool draining_ = false;
 };
 
 }  // namespace lorgnette::service

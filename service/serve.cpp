@@ -60,6 +60,7 @@ void run_serve(ServeOptions o) {
   spdlog::info("stopping: no new requests; running stages are asked to stop and go back to the queue");
   http.stop();
   drain_workers(executor, o.grace_seconds);
+  clear_interrupt();  // a stop on SIGINT/SIGTERM is the server's normal end: exit status 0
 }
 
 }  // namespace lorgnette::service

@@ -27,7 +27,8 @@ const std::string kAdminToken = "admin-0123456789abcdef0123456789abcdef";
 // A server on an ephemeral port over `data`; restartable on the same folder.
 class Server {
  public:
-  explicit Server(const fs::path& data, std::vector<std::string> extra = {"--max-upload-mb", "1"})
+  explicit Server(const fs::path& data,
+                  std::vector<std::string> extra = {"--max-upload-mb", "1", "--train-steps", "30"})
       : data_(data), extra_(std::move(extra)) {
     start();
   }
@@ -44,8 +45,6 @@ class Server {
                                   (data_ / "port").string(),
                                   "--admin-token-file",
                                   (data_ / "admin-token").string(),
-                                  "--train-steps",
-                                  "30",
                                   "--train-batch-log2",
                                   "12"};
     argv.insert(argv.end(), extra_.begin(), extra_.end());
@@ -54,10 +53,12 @@ class Server {
       throw std::runtime_error("serve did not start: " + read_file(data_ / "serve.log"));
     port_ = uint16_t(std::stoi(read_file(data_ / "port")));
   }
-  void kill9() {
-    process_->signal(SIGKILL);
-    process_->wait();
+  void kill9() { stop(SIGKILL); }
+  ChildEnd stop(int sig) {
+    process_->signal(sig);
+    ChildEnd end = process_->wait();
     process_.reset();
+    return end;
   }
   uint16_t port() const { return port_; }
   std::string log() const { return read_file(data_ / "serve.log"); }
@@ -168,7 +169,7 @@ TEST(Serve, BadRequestsGet4xxAndTheServerKeepsServing) {
 
 TEST(Serve, StreamsAnUploadToDiskAndDeleteRemovesEverythingMadeFromIt) {
   fs::path data = test_dir("service_serve");
-  Server s(data, {"--max-upload-mb", "3"});
+  Server s(data, {"--max-upload-mb", "3", "--train-steps", "30"});
   Capture c = create(s);
   // 2.5 MB, above Beast's default body limit of 1 MB: streamed whole to disk under the server's own limit.
   const std::string video = broken_mp4() + std::string(2'500'000, 'v');
@@ -209,4 +210,29 @@ TEST(Serve, AfterAServerSigkillEveryCaptureIsThereAndRunningJobsAreRequeued) {
   ::close(lock_fd);  // the worker now runs the capture, which refuses the broken video
   ASSERT_TRUE(wait_for([&] { return status(s, running)["state"] == "failed"; }, 60.0)) << s.log();
   EXPECT_EQ(status(s, running)["attempts"], 2);
+}
+
+TEST(Serve, SigtermHandsARunningTrainingBackToTheQueueAndExitsCleanly) {
+  fs::path data = test_dir("service_serve");
+  Server s(data, {"--max-upload-mb", "1", "--train-steps", "3000"});  // a training that runs for minutes
+  Capture c = create(s);
+  // The capture stage already done (the tiny dataset), so the job goes straight to training.
+  fs::copy(tiny_dataset(), data / "captures" / c.id / "dataset", fs::copy_options::recursive);
+  ASSERT_EQ(http_request(s.port(), "PUT", path(c, "/video"), c.token, broken_mp4()).status, 201);
+  ASSERT_EQ(http_request(s.port(), "POST", path(c, "/start"), c.token).status, 202);
+  ASSERT_TRUE(wait_for(
+      [&] {
+        nlohmann::json st = status(s, c);
+        return st["stage"] == "train" && st["progress"].get<double>() > 20.0;
+      },
+      120.0))
+      << s.log();
+  const ChildEnd end = s.stop(SIGTERM);
+  EXPECT_TRUE(end.exited && end.code == 0) << s.log();
+  EXPECT_NE(s.log().find("now queued"), std::string::npos) << s.log();
+  EXPECT_FALSE(fs::exists(data / "captures" / c.id / "model"));  // nothing half-written
+  s.start();
+  nlohmann::json st = status(s, c);
+  EXPECT_TRUE(st["state"] == "queued" || st["state"] == "running") << st.dump(2);
+  EXPECT_EQ(http_request(s.port(), "DELETE", path(c), c.token).status, 204);
 }
