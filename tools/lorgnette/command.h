@@ -29,6 +29,12 @@ inline void refuse_existing_output(const std::string& path, bool force, const st
   throw std::runtime_error("'" + path + "' exists: pass --force to overwrite it or choose another " + option);
 }
 
+// Thrown by a command that ends with a status of its own (e.g. `job run`, whose status tells the
+// executor whether to retry); main returns `code` without printing anything.
+struct ExitStatus {
+  int code;
+};
+
 // A command adds its CLI::App subcommand and sets its callback. The callback throws on failure;
 // main turns any exception into "error: ..." on stderr and exit status 1.
 using CommandFactory = std::function<void(CLI::App& app, GlobalOptions& global)>;

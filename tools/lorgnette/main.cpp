@@ -54,6 +54,8 @@ int main(int argc, char** argv) {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
+  } catch (const cli::ExitStatus& s) {
+    return s.code;
   } catch (const std::exception& e) {
     spdlog::error("{}", e.what());
     return 1;

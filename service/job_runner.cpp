@@ -1,0 +1,151 @@
+// The stages of one job and its progress reports (job_runner.h).
+#include "service/job_runner.h"
+
+#include <fcntl.h>
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+#include <sys/file.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <optional>
+#include <stdexcept>
+
+#include "host/util/interrupt.h"
+#include "service/job_folder.h"
+#include "service/job_settings.h"
+#include "service/product_calls.h"
+#include "service/progress.h"
+#include "service/stage.h"
+#include "viewer/catalogue.h"
+
+namespace fs = std::filesystem;
+
+namespace lorgnette::service {
+namespace {
+
+// Shares of the whole job's progress bar: capture, train, fit (the fit share split over frames).
+constexpr double kCaptureEnd = 20.0, kTrainEnd = 80.0, kFitEnd = 100.0;
+
+struct Interrupted : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+class Reporter {
+ public:
+  explicit Reporter(const JobFolder& f) : folder_(f), start_(Clock::now()) {}
+  // Writes at most twice a second unless `force` (stage changes and the end are always written).
+  void update(const std::string& stage, double percent, const std::string& message, bool force = true) {
+    const auto now = Clock::now();
+    if (!force && now - last_ < std::chrono::milliseconds(500)) return;
+    last_ = now;
+    p_.stage = stage, p_.percent = percent, p_.message = message;
+    const double elapsed = std::chrono::duration<double>(now - start_).count();
+    p_.eta_seconds = percent > 1.0 && percent < 100.0 ? elapsed * (100.0 - percent) / percent : -1.0;
+    write_progress(folder_.progress(), p_);
+  }
+  void finish(const std::string& state, const std::string& message) {
+    p_.state = state, p_.message = message, p_.eta_seconds = state == "finished" ? 0.0 : -1.0;
+    if (state == "finished") p_.percent = 100.0;
+    write_progress(folder_.progress(), p_);
+  }
+  nlohmann::json& artifacts() { return p_.artifacts; }
+
+ private:
+  using Clock = std::chrono::steady_clock;
+  const JobFolder& folder_;
+  Progress p_;
+  Clock::time_point start_, last_{};
+};
+
+void check_interrupt(const char* where) {
+  if (interrupted()) throw Interrupted(fmt::format("stopped before {}; the job can run again", where));
+}
+
+void capture_stage(const JobFolder& f, const JobSettings& s, Reporter& r) {
+  check_interrupt("the capture");
+  r.update("capture", 0.0, "finding the camera of every frame");
+  run_stage(f.dataset(), [&](const fs::path& tmp) { capture_dataset(capture_input(f.upload()), tmp, s); });
+  r.artifacts()["dataset"] = "dataset/transforms.json";
+}
+
+void train_stage(const JobFolder& f, const JobSettings& s, cl::Runtime& rt, Reporter& r) {
+  check_interrupt("training");
+  r.update("train", kCaptureEnd, "training the head's model");
+  run_stage(f.model_dir(), [&](const fs::path& tmp) {
+    train_model(rt, f.dataset(), tmp / f.model().filename(), s, [&](double done) {
+      r.update("train", kCaptureEnd + (kTrainEnd - kCaptureEnd) * std::min(done, 1.0),
+               "training the head's model", false);
+    });
+    if (interrupted()) throw Interrupted("stopped during training; the job can run again");
+  });
+  r.artifacts()["model"] = "model/head.lnerf";
+}
+
+void fit_stage(const JobFolder& f, const JobSettings& s, cl::Runtime& rt, Reporter& r) {
+  if (s.catalogue.empty()) return;
+  const std::vector<viewer::FrameEntry> frames = viewer::catalogue_from_dir(s.catalogue);
+  nlohmann::json fits = nlohmann::json::object();
+  for (size_t i = 0; i < frames.size(); ++i) {
+    check_interrupt("a fit");
+    const double pct = kTrainEnd + (kFitEnd - kTrainEnd) * double(i) / double(frames.size());
+    r.update("fit", pct, fmt::format("placing frame {} of {} ({})", i + 1, frames.size(), frames[i].name));
+    const std::string key = frame_key(frames[i].name);
+    run_stage(f.fit_dir(key),
+              [&](const fs::path& tmp) { fit_frame(rt, f.model(), f.dataset(), frames[i].path, tmp, s); });
+    fits[frames[i].name] = "fits/" + key + "/placement.json";
+  }
+  r.artifacts()["fits"] = fits;
+}
+
+// Holds job.lock in the capture folder for the worker's life (flock: released by the kernel when
+// the process dies, however it dies), so two workers never run one job's stages at once; a second
+// one waits, then finds the stages done and skips them.
+class FolderLock {
+ public:
+  explicit FolderLock(const fs::path& root)
+      : fd_(::open((root / "job.lock").c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644)) {
+    if (fd_ < 0 || ::flock(fd_, LOCK_EX) != 0)
+      throw std::runtime_error(fmt::format("cannot lock the job folder '{}'", root.string()));
+  }
+  ~FolderLock() {
+    if (fd_ >= 0) ::close(fd_);
+  }
+  FolderLock(const FolderLock&) = delete;
+  FolderLock& operator=(const FolderLock&) = delete;
+
+ private:
+  int fd_;
+};
+
+}  // namespace
+
+JobOutcome run_job(const fs::path& folder, const cl::RuntimeOptions& runtime) {
+  const JobFolder f{folder};
+  std::optional<FolderLock> lock;
+  try {
+    lock.emplace(f.root);
+  } catch (const std::exception& e) {
+    spdlog::error("{}", e.what());
+    return JobOutcome::Failed;
+  }
+  Reporter r(f);
+  try {
+    const JobSettings s = read_job_settings(f.settings());
+    capture_stage(f, s, r);
+    cl::Runtime rt(runtime);
+    train_stage(f, s, rt, r);
+    fit_stage(f, s, rt, r);
+    r.finish("finished", "done");
+    return JobOutcome::Finished;
+  } catch (const Interrupted& e) {
+    r.finish("running", e.what());  // not failed: the executor hands the job back to the queue
+    return JobOutcome::Interrupted;
+  } catch (const std::exception& e) {
+    spdlog::error("{}", e.what());
+    r.finish("failed", e.what());
+    return JobOutcome::Failed;
+  }
+}
+
+}  // namespace lorgnette::service

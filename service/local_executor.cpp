@@ -1,0 +1,140 @@
+// Worker slots as child processes (local_executor.h).
+#include "service/local_executor.h"
+
+#include <fmt/format.h>
+#include <signal.h>
+#include <spdlog/spdlog.h>
+#include <string.h>
+
+#include <filesystem>
+
+#include "service/job_runner.h"
+#include "service/progress.h"
+
+namespace fs = std::filesystem;
+
+namespace lorgnette::service {
+namespace {
+
+bool retryable_signal(int sig) { return sig == SIGKILL || sig == SIGTERM || sig == SIGINT; }
+
+}  // namespace
+
+LocalExecutor::LocalExecutor(JobStore& store, LocalExecutorOptions options)
+    : store_(store), options_(std::move(options)) {
+  if (options_.slots < 1) throw std::runtime_error("the local executor needs at least one worker slot");
+  if (options_.worker_exe.empty()) options_.worker_exe = self_executable();
+}
+
+LocalExecutor::~LocalExecutor() = default;
+
+std::string LocalExecutor::folder(const std::string& id) const {
+  return (fs::path(options_.data_dir) / "captures" / id).string();
+}
+
+int LocalExecutor::reconcile() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  int n = 0;
+  for (CaptureRecord r : store_.with_state(JobState::Running)) {
+    if (workers_.count(r.id)) continue;
+    r.state = JobState::Queued;
+    r.message = "handed back to the queue after a server restart";
+    store_.update(r);
+    ++n;
+  }
+  if (n) spdlog::info("reconciled {} running job(s) back to the queue", n);
+  return n;
+}
+
+void LocalExecutor::refresh(CaptureRecord& r) const {
+  if (auto p = read_progress(fs::path(folder(r.id)) / "progress.json")) {
+    r.stage = p->stage;
+    r.percent = p->percent;
+    r.message = p->message;
+  }
+}
+
+void LocalExecutor::finish(const std::string& id, const ChildEnd& end) {
+  auto rec = store_.get(id);
+  if (!rec) return;  // deleted meanwhile
+  CaptureRecord r = *rec;
+  refresh(r);
+  if (end.exited && end.code == int(JobOutcome::Finished)) {
+    r.state = JobState::Finished;
+  } else if (end.exited && end.code == int(JobOutcome::Failed)) {
+    r.state = JobState::Failed;  // the message is the product's, from progress.json
+  } else if (end.exited && end.code == int(JobOutcome::Interrupted)) {
+    r.state = JobState::Queued;
+  } else if (!end.exited && retryable_signal(end.signal) && r.attempts < options_.max_attempts) {
+    r.state = JobState::Queued;
+    r.message =
+        fmt::format("the worker was stopped (signal {}) during {}; retrying (attempt {} of {})", end.signal,
+                    r.stage.empty() ? "its start" : r.stage, r.attempts + 1, options_.max_attempts);
+  } else {
+    r.state = JobState::Failed;
+    r.message = end.exited ? fmt::format("the worker ended with status {} during {}", end.code, r.stage)
+                           : fmt::format("the worker crashed ({}) during {} after {} attempt(s)",
+                                         strsignal(end.signal), r.stage, r.attempts);
+  }
+  if (r.state == JobState::Queued) r.queued_unix = unix_now();
+  store_.update(r);
+  spdlog::info("job {}: worker ended ({} {}), now {}", id, end.exited ? "status" : "signal",
+               end.exited ? end.code : end.signal, to_string(r.state));
+}
+
+void LocalExecutor::tick() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  for (auto it = workers_.begin(); it != workers_.end();) {
+    if (auto end = it->second->process.poll()) {
+      finish(it->first, *end);
+      it = workers_.erase(it);
+      continue;
+    }
+    if (auto rec = store_.get(it->first)) {
+      CaptureRecord r = *rec;
+      refresh(r);
+      if (r.stage != rec->stage || r.percent != rec->percent || r.message != rec->message) store_.update(r);
+    }
+    ++it;
+  }
+  while (!draining_ && int(workers_.size()) < options_.slots) {
+    auto job = store_.claim_next();
+    if (!job) break;
+    std::vector<std::string> argv{options_.worker_exe};
+    argv.insert(argv.end(), options_.global_flags.begin(), options_.global_flags.end());
+    argv.insert(argv.end(), {"job", "run", folder(job->id)});
+    try {
+      auto w = std::make_unique<Worker>(
+          Worker{job->id, ChildProcess(argv, (fs::path(folder(job->id)) / "worker.log").string())});
+      workers_[job->id] = std::move(w);
+    } catch (const std::exception& e) {
+      job->state = JobState::Failed;
+      job->message = e.what();
+      store_.update(*job);
+    }
+  }
+}
+
+void LocalExecutor::cancel(const std::string& id) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  workers_.erase(id);  // ChildProcess kills and reaps
+}
+
+void LocalExecutor::interrupt_all() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  draining_ = true;
+  for (auto& [id, w] : workers_) w->process.signal(SIGTERM);
+}
+
+int LocalExecutor::running() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return int(workers_.size());
+}
+
+pid_t LocalExecutor::worker_pid(const std::string& id) const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  auto it = workers_.find(id);
+  return it == workers_.end() ? -1 : it->second->process.pid();
+}
+
+}  // namespace lorgnette::service

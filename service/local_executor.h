@@ -1,0 +1,65 @@
+// The local executor: N worker slots on this machine, each job a child process running `lorgnette
+// job run <capture folder>` (child_process.h), so a crash in a stage (a decoder on a shopper's
+// bytes, a loader) fails one job and never the server. It takes queued jobs from the store, copies
+// each worker's progress.json into the store (the server stays the only writer of job state), and
+// decides what a worker's end means:
+//   exit 0 -> finished; exit 1 -> failed with the product's message; exit 75 (interrupted) -> queued;
+//   killed by SIGKILL/SIGTERM/SIGINT (an operator, the OOM killer, a shutdown) -> queued again while
+//   attempts remain; any other signal (a crash) or status -> failed, saying so.
+// After a server restart no worker of the old server is ours: reconcile() hands every job the store
+// says is running back to the queue (each stage resumes after its last finished stage).
+#pragma once
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "service/child_process.h"
+#include "service/job_store.h"
+
+namespace lorgnette::service {
+
+struct LocalExecutorOptions {
+  int slots = 1;                          // workers at once: one per GPU, or one on a CPU
+  int max_attempts = 3;                   // worker starts per job before a killed job fails
+  std::string data_dir;                   // capture folders are data_dir/captures/<id>
+  std::string worker_exe;                 // the lorgnette binary ("" = this executable)
+  std::vector<std::string> global_flags;  // passed before `job run` (e.g. --kernel-cache DIR)
+};
+
+class LocalExecutor {
+ public:
+  LocalExecutor(JobStore& store, LocalExecutorOptions options);
+  ~LocalExecutor();  // kills and reaps running workers (their jobs stay "running" until reconcile)
+
+  // Running jobs (left by a previous server) back to the queue; returns how many.
+  int reconcile();
+  // One pass: record ended workers and the progress of running ones, then start queued jobs in the
+  // free slots. Thread-safe; the server calls it from one loop every fraction of a second.
+  void tick();
+  // Stops the worker of `id` if it has one (a deleted capture) and forgets it.
+  void cancel(const std::string& id);
+  // Asks every worker to stop after its current step (SIGTERM; their jobs go back to the queue) and
+  // starts no new ones from then on: the server is shutting down.
+  void interrupt_all();
+  int running() const;
+  pid_t worker_pid(const std::string& id) const;  // -1 when none
+
+ private:
+  struct Worker {
+    std::string id;
+    ChildProcess process;
+  };
+  void finish(const std::string& id, const ChildEnd& end);
+  void refresh(CaptureRecord& r) const;  // the worker's progress.json into the record
+  std::string folder(const std::string& id) const;
+
+  JobStore& store_;
+  LocalExecutorOptions options_;
+  mutable std::mutex mutex_;
+  std::map<std::string, std::unique_ptr<Worker>> workers_;
+  bool draining_ = false;
+};
+
+}  // namespace lorgnette::service

@@ -1,0 +1,66 @@
+// The server's main loop (serve.h).
+#include "service/serve.h"
+
+#include <spdlog/spdlog.h>
+
+#include <chrono>
+#include <filesystem>
+#include <thread>
+
+#include "host/util/image_io.h"
+#include "host/util/interrupt.h"
+#include "service/sqlite_store.h"
+
+namespace fs = std::filesystem;
+
+namespace lorgnette::service {
+namespace {
+
+void drain_workers(LocalExecutor& executor, double grace_seconds) {
+  executor.interrupt_all();
+  const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(grace_seconds);
+  while (executor.running() > 0 && std::chrono::steady_clock::now() < end) {
+    executor.tick();
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  if (executor.running() > 0)
+    spdlog::warn("{} worker(s) did not stop within {} s; their jobs are handed back at the next start",
+                 executor.running(), grace_seconds);
+}
+
+}  // namespace
+
+void run_serve(ServeOptions o) {
+  if (o.executor != "local")
+    throw std::runtime_error("--executor '" + o.executor + "' is not available yet: use 'local'");
+  if (o.data_dir.empty())
+    throw std::runtime_error("serve needs --data DIR (uploads, models, fits and the job store)");
+  fs::create_directories(o.data_dir);
+  if (o.db.empty()) o.db = (fs::path(o.data_dir) / "jobs.sqlite").string();
+  o.local.data_dir = o.api.data_dir = o.data_dir;
+  o.api.job.validate();
+  auto store = open_sqlite_store(o.db);
+  LocalExecutor executor(*store, o.local);
+  executor.reconcile();
+  Api api(o.api, *store, executor);
+  HttpServer http(api, o.http);
+  http.start();
+  if (!o.port_file.empty()) write_text_file_atomic(o.port_file, std::to_string(http.port()) + "\n");
+  spdlog::info("serving the try-on API on http://{}:{}/api/v1 (data '{}', store '{}', {} worker slot(s))",
+               o.http.host, http.port(), o.data_dir, o.db, o.local.slots);
+  auto last_sweep = std::chrono::steady_clock::time_point{};
+  while (!interrupted()) {
+    executor.tick();
+    if (std::chrono::steady_clock::now() - last_sweep > std::chrono::seconds(60)) {
+      api.sweep_retention(unix_now());
+      last_sweep = std::chrono::steady_clock::now();
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  }
+  spdlog::info("stopping: no new requests; running stages are asked to stop and go back to the queue");
+  http.stop();
+  drain_workers(executor, o.grace_seconds);
+  clear_interrupt();  // a stop on SIGINT/SIGTERM is the server's normal end: exit status 0
+}
+
+}  // namespace lorgnette::service

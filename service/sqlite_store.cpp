@@ -1,0 +1,257 @@
+// SQLite implementation of JobStore (sqlite_store.h).
+#include "service/sqlite_store.h"
+
+#include <fmt/format.h>
+#include <sqlite3.h>
+
+#include <mutex>
+#include <stdexcept>
+
+#include "service/schema.h"
+
+namespace lorgnette::service {
+namespace {
+
+struct DbClose {
+  void operator()(sqlite3* db) const { sqlite3_close_v2(db); }
+};
+struct StmtFinalize {
+  void operator()(sqlite3_stmt* s) const { sqlite3_finalize(s); }
+};
+using Db = std::unique_ptr<sqlite3, DbClose>;
+using Stmt = std::unique_ptr<sqlite3_stmt, StmtFinalize>;
+
+constexpr const char* kColumns =
+    "id, token_hash, state, stage, message, percent, attempts, upload_kind, created_unix, updated_unix, "
+    "queued_unix";
+
+class SqliteStore final : public JobStore {
+ public:
+  explicit SqliteStore(const std::string& path);
+  int schema_version() override;
+  void insert(const CaptureRecord& r) override;
+  std::optional<CaptureRecord> get(const std::string& id) override;
+  bool update(const CaptureRecord& r) override;
+  bool remove(const std::string& id) override;
+  std::vector<CaptureRecord> with_state(JobState s) override;
+  std::vector<std::string> created_before(int64_t unix_seconds) override;
+  std::map<JobState, int64_t> count_by_state() override;
+  std::optional<CaptureRecord> claim_next() override;
+
+ private:
+  [[noreturn]] void fail(const std::string& what) const {
+    throw std::runtime_error(fmt::format("job store '{}': {}: {}", path_, what, sqlite3_errmsg(db_.get())));
+  }
+  void exec(const std::string& sql);
+  Stmt prepare(const std::string& sql);
+  int version_unlocked();
+  void migrate();
+  std::vector<CaptureRecord> rows(Stmt& st);
+  void bind_record(sqlite3_stmt* st, const CaptureRecord& r);
+
+  std::string path_;
+  Db db_;
+  std::mutex mutex_;
+};
+
+std::string column_text(sqlite3_stmt* st, int i) {
+  const unsigned char* t = sqlite3_column_text(st, i);
+  return t ? reinterpret_cast<const char*>(t) : "";
+}
+
+SqliteStore::SqliteStore(const std::string& path) : path_(path) {
+  sqlite3* raw = nullptr;
+  const int rc = sqlite3_open_v2(path.c_str(), &raw,
+                                 SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_FULLMUTEX, nullptr);
+  db_.reset(raw);
+  if (rc != SQLITE_OK) fail("cannot open (is its folder there and writable?)");
+  sqlite3_busy_timeout(db_.get(), 5000);
+  exec("PRAGMA journal_mode=WAL");
+  exec("PRAGMA foreign_keys=ON");
+  migrate();
+}
+
+void SqliteStore::exec(const std::string& sql) {
+  char* err = nullptr;
+  if (sqlite3_exec(db_.get(), sql.c_str(), nullptr, nullptr, &err) != SQLITE_OK) {
+    std::string msg = err ? err : "";
+    sqlite3_free(err);
+    throw std::runtime_error(fmt::format("job store '{}': {} failed: {}", path_, sql.substr(0, 60), msg));
+  }
+}
+
+Stmt SqliteStore::prepare(const std::string& sql) {
+  sqlite3_stmt* st = nullptr;
+  if (sqlite3_prepare_v2(db_.get(), sql.c_str(), -1, &st, nullptr) != SQLITE_OK)
+    fail("cannot prepare " + sql);
+  return Stmt(st);
+}
+
+int SqliteStore::version_unlocked() {
+  exec(
+      "CREATE TABLE IF NOT EXISTS schema_migrations (version INTEGER PRIMARY KEY, applied_unix BIGINT NOT "
+      "NULL)");
+  Stmt st = prepare("SELECT COALESCE(MAX(version), 0) FROM schema_migrations");
+  if (sqlite3_step(st.get()) != SQLITE_ROW) fail("cannot read the schema version");
+  return sqlite3_column_int(st.get(), 0);
+}
+
+void SqliteStore::migrate() {
+  const int have = version_unlocked();
+  if (have > latest_schema_version())
+    throw std::runtime_error(fmt::format(
+        "job store '{}' has schema version {}, newer than this Lorgnette's {}: run the newer Lorgnette, or "
+        "point --db at another file",
+        path_, have, latest_schema_version()));
+  for (const Migration& m : migrations()) {
+    if (m.version <= have) continue;
+    exec("BEGIN IMMEDIATE");
+    try {
+      for (const auto& sql : m.statements) exec(sql);
+      exec(fmt::format("INSERT INTO schema_migrations VALUES ({}, {})", m.version, unix_now()));
+      exec("COMMIT");
+    } catch (...) {
+      sqlite3_exec(db_.get(), "ROLLBACK", nullptr, nullptr, nullptr);
+      throw;
+    }
+  }
+}
+
+int SqliteStore::schema_version() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return version_unlocked();
+}
+
+void SqliteStore::bind_record(sqlite3_stmt* st, const CaptureRecord& r) {
+  sqlite3_bind_text(st, 1, r.id.c_str(), -1, SQLITE_TRANSIENT);
+  sqlite3_bind_text(st, 2, r.token_hash.c_str(), -1, SQLITE_TRANSIENT);
+  sqlite3_bind_text(st, 3, to_string(r.state), -1, SQLITE_STATIC);
+  sqlite3_bind_text(st, 4, r.stage.c_str(), -1, SQLITE_TRANSIENT);
+  sqlite3_bind_text(st, 5, r.message.c_str(), -1, SQLITE_TRANSIENT);
+  sqlite3_bind_double(st, 6, r.percent);
+  sqlite3_bind_int(st, 7, r.attempts);
+  sqlite3_bind_text(st, 8, r.upload_kind.c_str(), -1, SQLITE_TRANSIENT);
+  sqlite3_bind_int64(st, 9, r.created_unix);
+  sqlite3_bind_int64(st, 10, r.updated_unix);
+  sqlite3_bind_int64(st, 11, r.queued_unix);
+}
+
+std::vector<CaptureRecord> SqliteStore::rows(Stmt& st) {
+  std::vector<CaptureRecord> out;
+  int rc;
+  while ((rc = sqlite3_step(st.get())) == SQLITE_ROW) {
+    CaptureRecord r;
+    sqlite3_stmt* s = st.get();
+    r.id = column_text(s, 0), r.token_hash = column_text(s, 1);
+    r.state = job_state_from_string(column_text(s, 2));
+    r.stage = column_text(s, 3), r.message = column_text(s, 4);
+    r.percent = sqlite3_column_double(s, 5);
+    r.attempts = sqlite3_column_int(s, 6);
+    r.upload_kind = column_text(s, 7);
+    r.created_unix = sqlite3_column_int64(s, 8), r.updated_unix = sqlite3_column_int64(s, 9);
+    r.queued_unix = sqlite3_column_int64(s, 10);
+    out.push_back(std::move(r));
+  }
+  if (rc != SQLITE_DONE) fail("cannot read captures");
+  return out;
+}
+
+void SqliteStore::insert(const CaptureRecord& r) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  Stmt st = prepare(fmt::format("INSERT INTO captures ({}) VALUES (?,?,?,?,?,?,?,?,?,?,?)", kColumns));
+  bind_record(st.get(), r);
+  if (sqlite3_step(st.get()) != SQLITE_DONE) fail("cannot insert capture " + r.id);
+}
+
+std::optional<CaptureRecord> SqliteStore::get(const std::string& id) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  Stmt st = prepare(fmt::format("SELECT {} FROM captures WHERE id = ?", kColumns));
+  sqlite3_bind_text(st.get(), 1, id.c_str(), -1, SQLITE_TRANSIENT);
+  auto r = rows(st);
+  if (r.empty()) return std::nullopt;
+  return r.front();
+}
+
+bool SqliteStore::update(const CaptureRecord& r) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  Stmt st = prepare(
+      "UPDATE captures SET id = ?1, token_hash = ?2, state = ?3, stage = ?4, message = ?5, percent = ?6, "
+      "attempts = ?7, upload_kind = ?8, created_unix = ?9, updated_unix = ?10, queued_unix = ?11 WHERE id = "
+      "?1");
+  CaptureRecord copy = r;
+  copy.updated_unix = unix_now();
+  bind_record(st.get(), copy);
+  if (sqlite3_step(st.get()) != SQLITE_DONE) fail("cannot update capture " + r.id);
+  return sqlite3_changes(db_.get()) > 0;
+}
+
+bool SqliteStore::remove(const std::string& id) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  Stmt st = prepare("DELETE FROM captures WHERE id = ?");
+  sqlite3_bind_text(st.get(), 1, id.c_str(), -1, SQLITE_TRANSIENT);
+  if (sqlite3_step(st.get()) != SQLITE_DONE) fail("cannot delete capture " + id);
+  return sqlite3_changes(db_.get()) > 0;
+}
+
+std::vector<CaptureRecord> SqliteStore::with_state(JobState s) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  Stmt st = prepare(fmt::format(
+      "SELECT {} FROM captures WHERE state = ? ORDER BY queued_unix, created_unix, id", kColumns));
+  sqlite3_bind_text(st.get(), 1, to_string(s), -1, SQLITE_STATIC);
+  return rows(st);
+}
+
+std::vector<std::string> SqliteStore::created_before(int64_t unix_seconds) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  Stmt st = prepare("SELECT id FROM captures WHERE created_unix < ? ORDER BY created_unix");
+  sqlite3_bind_int64(st.get(), 1, unix_seconds);
+  std::vector<std::string> ids;
+  while (sqlite3_step(st.get()) == SQLITE_ROW) ids.push_back(column_text(st.get(), 0));
+  return ids;
+}
+
+std::map<JobState, int64_t> SqliteStore::count_by_state() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  std::map<JobState, int64_t> counts;
+  for (JobState s :
+       {JobState::Created, JobState::Queued, JobState::Running, JobState::Failed, JobState::Finished})
+    counts[s] = 0;
+  Stmt st = prepare("SELECT state, COUNT(*) FROM captures GROUP BY state");
+  while (sqlite3_step(st.get()) == SQLITE_ROW)
+    counts[job_state_from_string(column_text(st.get(), 0))] = sqlite3_column_int64(st.get(), 1);
+  return counts;
+}
+
+std::optional<CaptureRecord> SqliteStore::claim_next() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  exec("BEGIN IMMEDIATE");  // takes the write lock first, so no other process claims the same row
+  try {
+    Stmt st = prepare(fmt::format(
+        "SELECT {} FROM captures WHERE state = 'queued' ORDER BY queued_unix, created_unix, id LIMIT 1",
+        kColumns));
+    auto r = rows(st);
+    if (!r.empty()) {
+      Stmt up = prepare(
+          "UPDATE captures SET state = 'running', attempts = attempts + 1, updated_unix = ? WHERE id = ?");
+      sqlite3_bind_int64(up.get(), 1, unix_now());
+      sqlite3_bind_text(up.get(), 2, r[0].id.c_str(), -1, SQLITE_TRANSIENT);
+      if (sqlite3_step(up.get()) != SQLITE_DONE) fail("cannot claim capture " + r[0].id);
+      r[0].state = JobState::Running;
+      r[0].attempts += 1;
+    }
+    exec("COMMIT");
+    if (r.empty()) return std::nullopt;
+    return r.front();
+  } catch (...) {
+    sqlite3_exec(db_.get(), "ROLLBACK", nullptr, nullptr, nullptr);
+    throw;
+  }
+}
+
+}  // namespace
+
+std::unique_ptr<JobStore> open_sqlite_store(const std::string& path) {
+  return std::make_unique<SqliteStore>(path);
+}
+
+}  // namespace lorgnette::service

@@ -1,0 +1,88 @@
+// `lorgnette serve --data DIR [--catalogue DIR]`: the try-on service (service/serve.h): shoppers'
+// captures in, trained heads and fitted frames out, through the /api/v1 JSON API (docs/service.md).
+#include <fstream>
+#include <sstream>
+
+#include "service/serve.h"
+#include "service/tokens.h"
+#include "tools/lorgnette/command.h"
+
+namespace lorgnette::cli {
+namespace {
+
+struct ServeArgs {
+  service::ServeOptions o;
+  std::string admin_token_file;
+  int retention_days = 30;
+  uint64_t max_upload_mb = 500;
+};
+
+std::string read_admin_token(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error("cannot read --admin-token-file '" + path + "'");
+  std::string token;
+  std::getline(in, token);
+  if (token.size() < 32)
+    throw std::runtime_error("the admin token in '" + path +
+                             "' is shorter than 32 characters: use e.g. `openssl rand -hex 32`");
+  return token;
+}
+
+void run(ServeArgs& a, GlobalOptions& global) {
+  if (!a.admin_token_file.empty())
+    a.o.api.admin_token_hash = service::sha256_hex(read_admin_token(a.admin_token_file));
+  a.o.api.retention_seconds = int64_t(a.retention_days) * 86400;
+  a.o.api.max_upload_bytes = a.max_upload_mb << 20;
+  if (!global.kernel_cache.empty()) a.o.local.global_flags = {"--kernel-cache", global.kernel_cache};
+  if (!global.device.empty())
+    a.o.local.global_flags.insert(a.o.local.global_flags.end(), {"--device", global.device});
+  service::run_serve(a.o);
+}
+
+void add_serve(CLI::App& app, GlobalOptions& global) {
+  auto a = std::make_shared<ServeArgs>();
+  auto& o = a->o;
+  auto* cmd = app.add_subcommand("serve",
+                                 "the try-on service: capture uploads -> trained head + fitted frames "
+                                 "(JSON API /api/v1, docs/service.md)");
+  cmd->add_option("--data", o.data_dir, "data folder: captures (uploads, models, fits) and the job store")
+      ->required();
+  cmd->add_option("--catalogue", o.api.job.catalogue,
+                  "folder of the shop's frames, fitted on every finished head");
+  cmd->add_option("--db", o.db, "SQLite job store (default: DATA/jobs.sqlite)");
+  cmd->add_option("--executor", o.executor, "where jobs run: local (worker processes on this machine)")
+      ->capture_default_str();
+  cmd->add_option("--workers", o.local.slots, "local worker slots (one per GPU, or one on a CPU)")
+      ->check(CLI::Range(1, 256))
+      ->capture_default_str();
+  cmd->add_option("--host", o.http.host, "address to bind (anything but loopback: behind a TLS proxy)")
+      ->capture_default_str();
+  cmd->add_option("--port", o.http.port, "port (0: any free one)")->capture_default_str();
+  cmd->add_option("--port-file", o.port_file, "write the bound port to this file");
+  cmd->add_option("--admin-token-file", a->admin_token_file,
+                  "file whose first line is the admin token (queue, metrics)");
+  cmd->add_option("--retention-days", a->retention_days, "delete captures and all made from them after this")
+      ->check(CLI::Range(1, 3650))
+      ->capture_default_str();
+  cmd->add_option("--max-upload-mb", a->max_upload_mb, "largest upload (one video or photo)")
+      ->check(CLI::Range(1, 1 << 16))
+      ->capture_default_str();
+  cmd->add_option("--max-attempts", o.local.max_attempts, "worker starts per job before a killed job fails")
+      ->check(CLI::Range(1, 20))
+      ->capture_default_str();
+  cmd->add_option("--train-steps", o.api.job.train_steps,
+                  "training budget in steps (0: the product's default)");
+  cmd->add_option("--train-batch-log2", o.api.job.train_batch_log2,
+                  "log2 samples per step (0: the device's)");
+  cmd->add_option("--capture-fps", o.api.job.capture_fps, "video frames sampled per second")
+      ->capture_default_str();
+  cmd->add_option("--capture-max-side", o.api.job.capture_max_side, "capture frame size (longer side, px)")
+      ->capture_default_str();
+  cmd->add_option("--fit-views", o.api.job.fit_views, "views rendered per fit")->capture_default_str();
+  cmd->add_option("--fit-resolution", o.api.job.fit_resolution, "fit view size (px)")->capture_default_str();
+  cmd->callback([a, &global] { run(*a, global); });
+}
+
+}  // namespace
+LGN_REGISTER_COMMAND(96, add_serve);
+}  // namespace lorgnette::cli
