@@ -18,12 +18,15 @@ root=$(git rev-parse --show-toplevel)
 model=/usr/share/dlib/shape_predictor_68_face_landmarks.dat
 [ -f "$model" ] || { echo "pack_lease.sh: $model is missing: apt install libdlib-data" >&2 && exit 1; }
 bins=(tools/lorgnette benchmarks/nerf/nerf_quality_bench benchmarks/training/bench_training
-  benchmarks/nerf/bench_room_matte benchmarks/fit/bench_fit_nerf tests/host/field/field_test
-  tests/host/cl_runtime_test)
+  benchmarks/nerf/bench_room_matte benchmarks/fit/bench_fit_nerf benchmarks/viewer/viewer_bench
+  tests/host/field/field_test tests/host/cl_runtime_test)
 for b in "${bins[@]}"; do
   [ -x "$build/$b" ] || { echo "pack_lease.sh: $build/$b is missing: build it first" >&2 && exit 1; }
 done
 cd "$root"
+# gpu-bundle writes .git/info/exclude, which a linked worktree lacks (.git is a file there): pack in
+# the checkout the device tool sends, the session's own.
+[ -d .git ] || { echo "pack_lease.sh: $root is a linked worktree; run it in the main checkout" >&2 && exit 1; }
 grep -qx '/.gpudata/' .git/info/exclude 2>/dev/null || echo '/.gpudata/' >>.git/info/exclude
 out=$root/.gpudata
 rm -rf "$out" && mkdir -p "$out/stage"
@@ -48,8 +51,9 @@ cp -r "$data/heads/in2n-face" "$data/heads/fangzhou-frontal" "$data/glasses/glas
 
 tar -C "$out/stage" -cf "$out/all.tar" libs.tar.xz dlib.dat.xz d bin.tar.xz
 rm -rf "$out/stage"
-# Parts of equal size, each under the 64 MiB a call carries less the repository's tracked files.
-tracked=$(git ls-files -z | xargs -0 du -cb 2>/dev/null | tail -1 | cut -f1)
+# Parts of equal size, each under the 64 MiB a call carries less the files that travel with every
+# call (tracked and untracked-not-ignored), with 2 MiB to spare.
+tracked=$(git ls-files -z -co --exclude-standard | xargs -0 du -cb 2>/dev/null | tail -1 | cut -f1)
 room=$((64 * 1024 * 1024 - tracked - 2 * 1024 * 1024))
 total=$(stat -c %s "$out/all.tar")
 n=$(((total + room - 1) / room))
@@ -57,6 +61,14 @@ split -n "$n" -d -a 1 "$out/all.tar" "$out/part."
 rm "$out/all.tar"
 for ((i = 0; i < n; ++i)); do mkdir -p "$out/c$i" && mv "$out/part.$i" "$out/c$i/part"; done
 du -sh "$out"/c* >&2
+# Every call's load against the limit, as the tool counts it: the tree plus its one part.
+for ((i = 0; i < n; ++i)); do
+  part=$(stat -c %s "$out/c$i/part")
+  load=$((tracked + part))
+  printf 'call %d carries %.1f MiB of 64 (tree %.1f + part %.1f)\n' "$i" "$(bc -l <<<"$load / 1048576")" \
+    "$(bc -l <<<"$tracked / 1048576")" "$(bc -l <<<"$part / 1048576")" >&2
+  [ "$load" -lt $((64 * 1024 * 1024)) ] || { echo "pack_lease.sh: call $i is over 64 MiB" >&2 && exit 1; }
+done
 last=$((n - 1))
 echo "device calls, back to back (carry .gpudata/cN in call N):"
 for ((i = 0; i < last; ++i)); do echo "  $i: mkdir -p /tmp/p && cp .gpudata/c$i/part /tmp/p/$i"; done
@@ -65,5 +77,5 @@ echo "  $last: cp .gpudata/c$last/part /tmp/p/$last; mkdir -p /tmp/b /tmp/lgn; c
   "/etc/OpenCL/vendors; xz -T0 -dc /tmp/b/dlib.dat.xz > $model;" \
   "[ -f /etc/OpenCL/vendors/nvidia.icd ] || echo libnvidia-opencl.so.1 > /etc/OpenCL/vendors/nvidia.icd;" \
   "export LD_LIBRARY_PATH=/tmp/lgn/lib PATH=/tmp/lgn/bin:\$PATH LORGNETTE_KERNEL_CACHE=/tmp/lgn/kc;" \
-  "timeout 500 bash benchmarks/device/nvidia_checks.sh /tmp/b/d /tmp/w /tmp/res [SECTION...];" \
+  "LGN_BUDGET_S=480 timeout 540 bash benchmarks/device/nvidia_checks.sh /tmp/b/d /tmp/w /tmp/res [SECTION...];" \
   "tar -czf \$OUT/res.tgz --exclude='*.lnerf' -C /tmp res"

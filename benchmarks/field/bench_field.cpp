@@ -200,7 +200,7 @@ void Bench::mlp(Inputs& in, uint32_t n) {
   const int count = int(layers.size());
   cl::Buffer<float> acts(rt_, random_vector(plan.rows * S, 0.0f, 1.0f, 9)),
       deltas(rt_, random_vector(plan.rows * S, -1.0f, 1.0f, 8));
-  cl::Buffer<float> partial(rt_, size_t(kMaxGradChunks) * 256 * 256);
+  cl::Buffer<float> partial(rt_, size_t(mlp.max_grad_chunks()) * 256 * 256);
   cl::Buffer<float>& W = in.field.params();
   cl::Buffer<float>& G = in.field.gradients();
   const MlpChainParams& c = plan.chain;

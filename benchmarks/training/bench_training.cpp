@@ -9,7 +9,9 @@
 // stage) and training_speedup.png (wall-clock speedup by stage against the ideal).
 // --as-train trains what `lorgnette train` trains on the dataset (on a mask-less capture: the room
 // model too, whose launches add to the same kernels' rows); --float-add cas times the hash
-// backward's compare-and-swap add where the device has its own (NVIDIA), for the side by side.
+// backward's compare-and-swap add where the device has its own (NVIDIA), for the side by side;
+// --grad-groups 128 times the GPU MLP weight gradient with the old fixed split beside the split
+// from the compute units.
 #include <fmt/format.h>
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
@@ -53,6 +55,7 @@ std::string stage_of(const std::string& k) {
                                                             {"mlp_chain_backward_local", "MLP backward"},
                                                             {"mlp_weight_grad_partial", "MLP backward"},
                                                             {"mlp_weight_grad_partial_tiled", "MLP backward"},
+                                                            {"mlp_weight_grad_fold", "MLP backward"},
                                                             {"mlp_weight_grad_reduce", "MLP backward"},
                                                             {"hashgrid_backward", "hash backward"},
                                                             {"hashgrid_backward_atomic", "hash backward"},
@@ -75,7 +78,7 @@ double cpu_seconds() {
 
 struct Options {
   std::string data, out = "bench-out/training", device, variant = "auto", threads, float_add = "native";
-  uint32_t batch_log2 = 16, max_side = 0, warmup = 40, steps = 12;
+  uint32_t batch_log2 = 16, max_side = 0, warmup = 40, steps = 12, grad_groups = 0;
   bool deterministic = false, as_train = false;
 };
 
@@ -94,6 +97,7 @@ int run_once(const Options& o) {
   ro.device = o.device;
   ro.profiling = true;
   ro.native_float_add = o.float_add == "native";
+  ro.mlp_grad_groups = o.grad_groups;
   cl::Runtime rt(ro);
   const field::KernelVariant variant = o.variant == "gpu"   ? field::KernelVariant::Gpu
                                        : o.variant == "cpu" ? field::KernelVariant::Cpu
@@ -154,11 +158,13 @@ int run_once(const Options& o) {
     kernel_total.push_back(total);
   }
   const double n = median(samples), step_wall = median(wall);
-  std::printf("device: %s  variant: %s  float add: %s  room model: %s  POCL_MAX_PTHREAD_COUNT=%s\n",
-              rt.device().summary().c_str(), o.variant.c_str(),
-              rt.native_float_add() ? "native" : "compare-and-swap",
-              plan.train.background.enabled ? "yes" : "no",
-              getenv("POCL_MAX_PTHREAD_COUNT") ? getenv("POCL_MAX_PTHREAD_COUNT") : "(unset)");
+  std::printf(
+      "device: %s  variant: %s  float add: %s  MLP gradient groups: %s  room model: %s  "
+      "POCL_MAX_PTHREAD_COUNT=%s\n",
+      rt.device().summary().c_str(), o.variant.c_str(), rt.native_float_add() ? "native" : "compare-and-swap",
+      o.grad_groups ? std::to_string(o.grad_groups).c_str() : "from the compute units",
+      plan.train.background.enabled ? "yes" : "no",
+      getenv("POCL_MAX_PTHREAD_COUNT") ? getenv("POCL_MAX_PTHREAD_COUNT") : "(unset)");
   std::printf("%-26s %-14s %8s %9s %9s %10s %12s\n", "kernel", "stage", "launches", "groups", "ms/step",
               "share", "Msamples/s");
   std::vector<std::vector<std::string>> csv;
@@ -301,6 +307,9 @@ int main(int argc, char** argv) {
                  "atomic float add of the hash backward: native (the device's own where known: NVIDIA) "
                  "or cas (compare-and-swap everywhere)")
       ->check(CLI::IsMember({"native", "cas"}));
+  app.add_option("--grad-groups", o.grad_groups,
+                 "GPU MLP weight gradient: at most N work-groups per layer (0: 8 per compute unit; 128: the "
+                 "old fixed split, for the side by side)");
   app.add_flag("--as-train", o.as_train,
                "plan the model as `lorgnette train` does (subject box; the room model on mask-less "
                "captures); its room model's launches join the same kernels' rows");

@@ -2,7 +2,12 @@
 // process), writing CSV + PNG charts and summary.json into --out:
 //  latency.csv/.png  input -> first coarse frame and -> full still, per trial (camera jumps with the
 //                    user idle after each; the full still waits for the idle delay, included)
-//  drag.csv          a drag at 60 messages/s: frames per second and input -> frame latency
+//  drag.csv          a drag at 60 messages/s: frames per second and input -> frame latency (coarse
+//                    frames: the viewer's interactive path)
+//  stills.csv        full frames back to back (--stills-seconds): a camera move, its full still, the
+//                    next move at once; full frames per second (each after its coarse frame, as the
+//                    viewer renders every change; with --idle-ms 0 no idle wait is included)
+//  summary.csv       one row: viewport, device, coarse and full frames per second, latency medians
 //  load.csv/.png     N clients for S seconds, each moving its camera every 250 ms and sending a
 //                    malformed message every 5 s: frames served and errors per client
 //  summary.json      medians, memory per client (RSS growth / clients, and the stated bound)
@@ -128,7 +133,7 @@ std::string camera(double yaw, double pitch, bool interacting, uint32_t seq) {
 
 struct Args {
   std::string model, glasses, placement, catalogue, out = "bench-viewer", size = "854x480";
-  int trials = 8, drag_seconds = 10, load_clients = 20, load_seconds = 60;
+  int trials = 8, drag_seconds = 10, load_clients = 20, load_seconds = 60, stills_seconds = 0, idle_ms = -1;
   uint32_t band_rows = 96, coarse = 3;
   bool skip_load = false;
 };
@@ -232,6 +237,61 @@ DragResult bench_drag(net::io_context& ioc, uint16_t port, int seconds) {
   return r;
 }
 
+struct StillsResult {
+  std::vector<double> full_per_second, coarse_per_second, full_ms;  // full_ms: camera move -> full still
+};
+
+// Full stills back to back: each camera move (not interacting) is answered by a coarse frame and,
+// after the idle delay, the full still; the next move goes out as soon as the still arrives.
+StillsResult bench_stills(net::io_context& ioc, uint16_t port, int seconds) {
+  auto c = std::make_shared<BenchClient>(ioc, port);
+  StillsResult r;
+  uint32_t seq = 0;
+  int full = 0, coarse = 0;
+  bool warm = false;
+  Clock::time_point sent;
+  net::steady_timer second(ioc);
+  auto next = [&] {
+    ++seq;
+    sent = Clock::now();
+    c->send(camera(seq % 2 ? 15.0 : -15.0, seq % 3 ? 4.0 : -4.0, false, seq));
+  };
+  std::function<void()> count = [&] {
+    r.full_per_second.push_back(full);
+    r.coarse_per_second.push_back(coarse);
+    full = coarse = 0;
+    if (int(r.full_per_second.size()) >= seconds) return ioc.stop();
+    second.expires_after(std::chrono::seconds(1));
+    second.async_wait([&](beast::error_code ec) {
+      if (!ec) count();
+    });
+  };
+  c->on_frame = [&](const FrameHeader& h, size_t) {
+    if (!warm) {  // the first full frame: kernels built, caches warm
+      if (h.kind != FrameKind::kFullJpeg) return;
+      warm = true;
+      second.expires_after(std::chrono::seconds(1));
+      second.async_wait([&](beast::error_code ec) {
+        if (!ec) count();
+      });
+      return next();
+    }
+    if (h.kind == FrameKind::kCoarseJpeg) ++coarse;
+    if (h.kind != FrameKind::kFullJpeg || h.seq != seq) return;
+    ++full;
+    r.full_ms.push_back(ms_since(sent));
+    next();
+  };
+  c->start();
+  ioc.restart();
+  ioc.run_for(std::chrono::seconds(seconds + 40));
+  second.cancel();
+  c->close();
+  ioc.restart();
+  ioc.poll();
+  return r;
+}
+
 struct LoadStats {
   uint64_t coarse = 0, full = 0, protocol_errors = 0, unexpected_errors = 0;
   bool failed = false;
@@ -307,6 +367,7 @@ void run(const Args& a) {
   config.fit.enabled = false;
   config.band_rows = a.band_rows;
   config.coarse_divisor = a.coarse;
+  if (a.idle_ms >= 0) config.idle_ms = a.idle_ms;
   ViewerService service(config);
   ServerOptions so;
   so.port = 0;
@@ -318,7 +379,8 @@ void run(const Args& a) {
                             {"model", a.model},
                             {"client_bytes_bound", service.client_bytes_bound()},
                             {"band_rows", a.band_rows},
-                            {"coarse_divisor", a.coarse}};
+                            {"coarse_divisor", a.coarse},
+                            {"idle_ms", config.idle_ms}};
 
   auto lat = bench_latency(ioc, server.port(), a.trials);
   std::vector<std::vector<std::string>> rows;
@@ -345,6 +407,33 @@ void run(const Args& a) {
   summary["drag_latency_ms_median"] = median(drag.latency_ms);
   fmt::print("drag: {:.1f} fps (median over {} s), input -> frame {:.0f} ms\n", median(drag.fps_per_second),
              drag.fps_per_second.size(), median(drag.latency_ms));
+
+  if (a.stills_seconds > 0) {
+    StillsResult st = bench_stills(ioc, server.port(), a.stills_seconds);
+    rows.clear();
+    for (size_t i = 0; i < st.full_per_second.size(); ++i)
+      rows.push_back({std::to_string(i + 1), fmt::format("{}", st.full_per_second[i]),
+                      fmt::format("{}", st.coarse_per_second[i])});
+    write_csv(a.out + "/stills.csv", {"second", "full_frames", "coarse_frames"}, rows);
+    summary["stills_full_fps_median"] = median(st.full_per_second);
+    summary["stills_full_ms_median"] = median(st.full_ms);
+    fmt::print("stills: {:.1f} full frames per second (median over {} s), move -> full {:.0f} ms\n",
+               median(st.full_per_second), st.full_per_second.size(), median(st.full_ms));
+  }
+  write_csv(a.out + "/summary.csv",
+            {"size", "device", "idle_ms", "coarse_fps_drag", "full_fps_stills", "full_ms_stills",
+             "latency_coarse_ms", "latency_full_ms", "drag_latency_ms"},
+            {{a.size, service.device_name(), std::to_string(config.idle_ms),
+              fmt::format("{:.1f}", summary["drag_fps_median"].get<double>()),
+              summary.contains("stills_full_fps_median")
+                  ? fmt::format("{:.1f}", summary["stills_full_fps_median"].get<double>())
+                  : "",
+              summary.contains("stills_full_ms_median")
+                  ? fmt::format("{:.1f}", summary["stills_full_ms_median"].get<double>())
+                  : "",
+              fmt::format("{:.1f}", summary["latency_coarse_ms_median"].get<double>()),
+              fmt::format("{:.1f}", summary["latency_full_ms_median"].get<double>()),
+              fmt::format("{:.1f}", summary["drag_latency_ms_median"].get<double>())}});
 
   if (!a.skip_load) {
     // Memory per client: RSS with one client idle vs the peak with N active (server and clients
@@ -416,6 +505,10 @@ int main(int argc, char** argv) {
   app.add_option("--band-rows", a.band_rows, "rows per refinement band")->capture_default_str();
   app.add_option("--coarse", a.coarse, "coarse frames at 1/N resolution")->capture_default_str();
   app.add_flag("--skip-load", a.skip_load, "latency and drag only");
+  app.add_option("--stills-seconds", a.stills_seconds, "full stills back to back for S seconds (0: skip)")
+      ->check(CLI::Range(0, 600));
+  app.add_option("--idle-ms", a.idle_ms, "idle delay before the full still (default: the viewer's 120)")
+      ->check(CLI::Range(0, 10000));
   CLI11_PARSE(app, argc, argv);
   spdlog::set_level(spdlog::level::warn);
   try {

@@ -63,7 +63,8 @@ std::string default_build_options(const DeviceInfo& device, bool native_float_ad
 
 Runtime::Runtime(const RuntimeOptions& options)
     : device_(select_device(options.device)),
-      native_float_add_(options.native_float_add && has_native_float_add(device_)) {
+      native_float_add_(options.native_float_add && has_native_float_add(device_)),
+      mlp_grad_groups_(options.mlp_grad_groups) {
   cl_int err = CL_SUCCESS;
   cl_context_properties props[] = {CL_CONTEXT_PLATFORM,
                                    reinterpret_cast<cl_context_properties>(device_.platform), 0};

@@ -21,6 +21,9 @@ struct RuntimeOptions {
   // OpenCL: PTX red.global.add.f32, -DLGN_FLOAT_ADD_PTX=1); false, or a compiler that refuses it:
   // the portable compare-and-swap loop. Benchmarks set it false to compare the two.
   bool native_float_add = true;
+  // The MLP weight gradient's work-groups on a GPU (field::gpu_grad_groups): 0 = from the device's
+  // compute units; N = at most N (benchmarks set 128, the old fixed split, to compare).
+  uint32_t mlp_grad_groups = 0;
 };
 
 class Runtime {
@@ -41,6 +44,8 @@ class Runtime {
   // Whether programs are built with the device's own float atomic add: asked for (RuntimeOptions),
   // known for this device (has_native_float_add) and not refused by its compiler.
   bool native_float_add() const { return native_float_add_; }
+  // RuntimeOptions::mlp_grad_groups as given (0: the kernels choose from the compute units).
+  uint32_t mlp_grad_groups() const { return mlp_grad_groups_; }
   // Where binaries are cached ("" when disabled).
   const std::string& cache_dir() const { return cache_dir_; }
   // Counts for tests: how many programs were compiled from source vs loaded from disk.
@@ -54,6 +59,7 @@ class Runtime {
 
   DeviceInfo device_;
   bool native_float_add_ = false;
+  uint32_t mlp_grad_groups_ = 0;
   ContextHandle context_;
   QueueHandle queue_;
   std::string cache_dir_;

@@ -55,7 +55,6 @@ Field::Field(cl::Runtime& rt, const FieldConfig& cfg, uint32_t max_batch, uint64
   grads_ = cl::Buffer<float>(rt, P);
   adam_m_ = cl::Buffer<float>(rt, P);
   adam_v_ = cl::Buffer<float>(rt, P);
-  dw_partial_ = cl::Buffer<float>(rt, size_t(kMaxGradChunks) * largest);
   for (auto* b : {&grads_, &adam_m_, &adam_v_}) b->fill(rt, 0.0f);
 
   hash_ = std::make_unique<HashGrid>(rt, cfg_, layout_, max_batch_, variant);
@@ -63,6 +62,7 @@ Field::Field(cl::Runtime& rt, const FieldConfig& cfg, uint32_t max_batch, uint64
   for (const auto& L : layout_.density) largest_padded = std::max(largest_padded, L.in_pad * L.out_pad);
   for (const auto& L : layout_.color) largest_padded = std::max(largest_padded, L.in_pad * L.out_pad);
   mlp_ = std::make_unique<Mlp>(rt, max_batch_, variant, largest_padded);
+  dw_partial_ = cl::Buffer<float>(rt, size_t(mlp_->max_grad_chunks()) * largest);
   adam_ = std::make_unique<Adam>(rt);
   if (!use_gpu_variant(rt, variant) && FieldInfer::supports(layout_, rt.device().local_mem_bytes))
     infer_ = std::make_unique<FieldInfer>(rt, cfg_, layout_, max_batch_);

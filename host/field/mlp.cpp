@@ -15,13 +15,17 @@ constexpr size_t kLocalWeights = 256;
 uint32_t round16(uint32_t n) { return (n + 15u) & ~15u; }
 }  // namespace
 
-GradChunks grad_chunks(uint32_t n, uint32_t chunk_target) {
+GradChunks grad_chunks(uint32_t n, uint32_t chunk_target, uint32_t max_chunks) {
   const uint32_t n16 = round16(n);
   GradChunks g;
-  g.chunks = std::clamp<uint32_t>((n16 + chunk_target - 1) / chunk_target, 1, kMaxGradChunks);
+  g.chunks = std::clamp<uint32_t>((n16 + chunk_target - 1) / chunk_target, 1, std::max(1u, max_chunks));
   g.chunk = std::max<uint32_t>(16, round16((n16 + g.chunks - 1) / g.chunks));
   g.chunks = std::max<uint32_t>(1, (n16 + g.chunk - 1) / g.chunk);
   return g;
+}
+
+uint32_t gpu_grad_groups(uint32_t compute_units, uint32_t requested) {
+  return requested ? requested : kGradGroupsPerComputeUnit * std::max(1u, compute_units);
 }
 
 // Rows of acts_/deltas_: encoding (row 0: the hash kernels use it directly), density hidden,
@@ -79,7 +83,11 @@ Mlp::Mlp(cl::Runtime& rt, uint32_t stride, KernelVariant variant, uint32_t large
   grad_reduce_ = cl::Kernel(prog, "mlp_weight_grad_reduce");
   sh_ = cl::Kernel(prog, "mlp_sh_encode");
   sigma_ = cl::Kernel(prog, "mlp_sigma");
-  if (gpu_) grad_tiled_ = cl::Kernel(prog, "mlp_weight_grad_partial_tiled");
+  if (gpu_) {
+    grad_tiled_ = cl::Kernel(prog, "mlp_weight_grad_partial_tiled");
+    grad_fold_ = cl::Kernel(prog, "mlp_weight_grad_fold");
+    gpu_groups_ = gpu_grad_groups(rt.device().compute_units, rt.mlp_grad_groups());
+  }
   if (gpu_ && largest_layer > 0 && uint64_t(largest_layer) * sizeof(float) <= rt.device().local_mem_bytes) {
     cl_program chain = rt.program("mlp/mlp_chain_local.cl");
     chain_fwd_ = cl::Kernel(chain, "mlp_chain_forward_local");
@@ -129,6 +137,28 @@ void Mlp::backward_input(const LayerShape& L, const cl::Buffer<float>& params, c
   backward_input_.args(p, params, *io.y, *io.x, dx).launch(rt_, (p.n16 + 31) / 32, kLocal);
 }
 
+namespace {
+// The GPU kernel's group for a layer of `count` weights: count / LGN_MLP_GRAD_PER_ITEM work-items,
+// whole warps of 64.
+size_t tiled_group(size_t count) {
+  return cl::round_up(std::max<size_t>(64, (count + LGN_MLP_GRAD_PER_ITEM - 1) / LGN_MLP_GRAD_PER_ITEM), 64);
+}
+// Its local scratch: the tile's input and delta rows, each padded by one float.
+size_t tile_bytes(const LayerShape& L) {
+  return size_t(L.in_pad + L.out_pad) * (LGN_MLP_GRAD_TILE + 1) * sizeof(float);
+}
+}  // namespace
+
+bool Mlp::grad_tiled(const LayerShape& L) const {
+  return gpu_ && tiled_group(size_t(L.out_pad) * L.in_pad) <= grad_tiled_.max_work_group_size(rt_) &&
+         tile_bytes(L) <= rt_.device().local_mem_bytes;
+}
+
+GradChunks Mlp::weight_grad_chunks(const LayerShape& L, uint32_t n) const {
+  return grad_tiled(L) ? grad_chunks(n, kGradChunkGpuMin, gpu_groups_)
+                       : grad_chunks(n, kGradChunk, kMaxGradChunks);
+}
+
 void Mlp::weight_grad(const LayerShape& L, const LayerIo& io, uint32_t n, cl::Buffer<float>& partial,
                       cl::Buffer<float>& grads) {
   MlpParams p = base(n);
@@ -138,25 +168,27 @@ void Mlp::weight_grad(const LayerShape& L, const LayerIo& io, uint32_t n, cl::Bu
   p.x_row = io.x_row;
   p.y_row = io.y_row;
   const size_t count = size_t(p.out) * p.in;
-  // The GPU kernel's group: count / LGN_MLP_GRAD_PER_ITEM work-items, whole warps of 64.
-  const size_t group =
-      cl::round_up(std::max<size_t>(64, (count + LGN_MLP_GRAD_PER_ITEM - 1) / LGN_MLP_GRAD_PER_ITEM), 64);
-  const size_t tile_bytes = size_t(p.in + p.out) * (LGN_MLP_GRAD_TILE + 1) * sizeof(float);
-  const bool tiled =
-      gpu_ && group <= grad_tiled_.max_work_group_size(rt_) && tile_bytes <= rt_.device().local_mem_bytes;
-  GradChunks g = grad_chunks(n, tiled ? kGradChunkGpu : kGradChunk);
+  const bool tiled = grad_tiled(L);
+  const GradChunks g = weight_grad_chunks(L, n);
   p.chunk = g.chunk;
   p.chunks = g.chunks;
   if (partial.size() < size_t(p.chunks) * count)
-    throw std::invalid_argument("Mlp::weight_grad: the partial buffer holds " +
-                                std::to_string(partial.size()) + " floats, needs " +
-                                std::to_string(size_t(p.chunks) * count));
+    throw std::invalid_argument(
+        "Mlp::weight_grad: the partial buffer holds " + std::to_string(partial.size()) + " floats, needs " +
+        std::to_string(size_t(p.chunks) * count) + " (max_grad_chunks() x the layer)");
   if (tiled) {
-    grad_tiled_.args(p, *io.y, *io.x, partial, cl::LocalBytes{tile_bytes})
+    const size_t group = tiled_group(count);
+    grad_tiled_.args(p, *io.y, *io.x, partial, cl::LocalBytes{tile_bytes(L)})
         .launch(rt_, p.chunks * group, group);
   } else {
     const size_t blocks = size_t(p.out / 4) * (p.in / 4);
     grad_partial_.args(p, *io.y, *io.x, partial).launch2d(rt_, {blocks, p.chunks}, {16, 1});
+  }
+  if (p.chunks > kGradFlatReduceMax) {
+    // Lane r of each weight sums chunks r, r + lanes, ... into partial[r]; then the lanes in order.
+    p.aux = kGradFoldLanes;
+    grad_fold_.args(p, partial).launch2d(rt_, {cl::round_up(count, 64), kGradFoldLanes}, {64, 1});
+    p.chunks = kGradFoldLanes;
   }
   grad_reduce_.args(p, partial, grads).launch(rt_, size_t(p.out) * p.in, 64);
 }

@@ -45,6 +45,7 @@ nlohmann::json make_row(const FrameBenchSpec& spec, const std::array<uint32_t, 2
       {"pixels", uint64_t(size[0]) * size[1]},
       {"glasses", glasses},
       {"variant", v.name},
+      {"marcher", t.last.fused ? "fused" : "wavefront"},
       {"concurrent", glasses && o.concurrent},
       {"surface_spp", glasses ? o.surface_spp : 0},
       {"wave_min", o.march.wave_min},
@@ -86,7 +87,8 @@ nlohmann::json run_frame_bench(const FrameBenchSpec& spec, const FrameRenderer& 
       for (const auto& v : spec.variants) {
         bool same = false;
         for (const auto* w : variants)
-          same |= !glasses && w->options.march.wave_min == v.options.march.wave_min &&
+          same |= !glasses && w->options.march.marcher == v.options.march.marcher &&
+                  w->options.march.wave_min == v.options.march.wave_min &&
                   w->options.march.wave_max == v.options.march.wave_max;
         if (!same) variants.push_back(&v);
       }
@@ -112,6 +114,7 @@ const char* const kCsvFields[] = {"device",
                                   "pixels",
                                   "glasses",
                                   "variant",
+                                  "marcher",
                                   "concurrent",
                                   "surface_spp",
                                   "wave_min",
@@ -152,8 +155,8 @@ void write_frame_bench_csv(const nlohmann::json& rows, const std::string& path) 
 void write_frame_bench_chart(const nlohmann::json& rows, const std::string& title, const std::string& path) {
   std::map<std::string, ChartSeries> series;
   for (const auto& r : rows) {
-    std::string name = fmt::format("{} {}", r["glasses"].get<bool>() ? "head + glasses" : "head alone",
-                                   r["variant"].get<std::string>());
+    std::string name = fmt::format("{} {} ({})", r["glasses"].get<bool>() ? "head + glasses" : "head alone",
+                                   r["variant"].get<std::string>(), r.value("marcher", "?"));
     ChartSeries& s = series[name];
     s.name = name;
     s.x.push_back(double(r["pixels"].get<uint64_t>()) * 1e-6);

@@ -35,11 +35,11 @@ struct FrameBenchSpec {
 
 using FrameRenderer = std::function<RenderResult(const Camera&, const GlassesSurfaces*, const FrameOptions&)>;
 
-// One JSON row per (size, glasses, variant): device, scene, resolution, glasses, variant,
-// concurrent, surface_spp, wave_min, wave_max, median_ms (the whole frame), and the medians of its
-// parts march_ms, surface_ms (the surface pass's own time, overlapped when concurrent),
-// surface_wait_ms (the march idle for it), upload_ms, readback_ms, transfer_ms (their sum);
-// samples_per_ray, samples_evaluated, samples_per_second (evaluated / median frame time),
+// One JSON row per (size, glasses, variant): device, scene, resolution, glasses, variant, marcher
+// (the kernels that marched it: fused or wavefront), concurrent, surface_spp, wave_min, wave_max, median_ms
+// (the whole frame), and the medians of its parts march_ms, surface_ms (the surface pass's own time,
+// overlapped when concurrent), surface_wait_ms (the march idle for it), upload_ms, readback_ms, transfer_ms
+// (their sum); samples_per_ray, samples_evaluated, samples_per_second (evaluated / median frame time),
 // composited_per_second (the samples the image used, per second), waves (of the wavefront march;
 // each costs kernel launches and two read-backs), frames.
 nlohmann::json run_frame_bench(const FrameBenchSpec& spec, const FrameRenderer& render);

@@ -284,6 +284,7 @@ RenderResult Marcher::render(const VolumeScene& scene, const Camera& cam, const 
     result.samples.pixels[i] = float(counts[i]);
     result.samples_composited += counts[i];
   }
+  result.fused = fused_on_;
   if (fused_on_) result.samples_evaluated = result.samples_composited;  // it evaluates what it composites
   result.times.readback = seconds_since(t_read);
   result.seconds = seconds_since(start);

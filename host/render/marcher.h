@@ -65,6 +65,7 @@ struct RenderResult {
   uint64_t samples_composited = 0;  // sum of `samples`
   uint64_t rays = 0;
   uint32_t waves = 0;
+  bool fused = false;    // marched by the fused kernel (fused_marcher.h), else by the wavefront one
   double seconds = 0.0;  // the whole frame as the caller waited for it
   FrameTimes times;
   double samples_per_ray() const { return rays ? double(samples_composited) / double(rays) : 0.0; }

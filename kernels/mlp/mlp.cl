@@ -117,6 +117,18 @@ __kernel void mlp_weight_grad_partial_tiled(const MlpParams p, __global const fl
   }
 }
 
+// Many chunks (the GPU split): partial[r][e] = sum of partial[c][e] over c = r, r + aux, r + 2 aux,
+// ... < chunks, in that order, for lane r < aux. In place: chunk r belongs to lane r alone and is its
+// first term. Global size: (out * in rounded up, aux); mlp_weight_grad_reduce then sums the lanes.
+__kernel void mlp_weight_grad_fold(const MlpParams p, __global float* restrict partial) {
+  const uint e = get_global_id(0), r = get_global_id(1);
+  const uint count = p.out * p.in;
+  if (e >= count || r >= p.aux) return;
+  float sum = 0.0f;
+  for (uint c = r; c < p.chunks; c += p.aux) sum += partial[c * count + e];
+  partial[r * count + e] = sum;
+}
+
 // grads[w_offset + e] = sum_c partial[c][e] in chunk order. Global size: out * in.
 __kernel void mlp_weight_grad_reduce(const MlpParams p, __global const float* restrict partial,
                                      __global float* restrict grads) {

@@ -29,7 +29,7 @@ typedef struct MlpParams {
   lgn_uint act;       // forward: activation of y; backward: LGN_ACT_RELU masks dx by x > 0
   lgn_uint chunk;     // weight-gradient partials: samples per chunk (multiple of 16)
   lgn_uint chunks;    // number of chunks
-  lgn_uint aux;       // head kernels: SH coefficient count / geo rows
+  lgn_uint aux;       // head kernels: SH coefficient count / geo rows; gradient fold: lanes
   lgn_uint pad0, pad1;
 } MlpParams;
 

@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -231,4 +232,34 @@ TEST(Cli, BenchFramesWritesCsvAndChartPerDeviceAndKeepsThem) {
   EXPECT_CONTAINS(r.err, "--out");
   EXPECT_CONTAINS(r.err, "--force");
   EXPECT_EQ(read_file(csvs[0]), before);
+}
+
+// `bench frames --marcher auto,fused` times both marchers side by side, and each row names the
+// kernels that marched it (auto is the wavefront marcher on a CPU); a word that is no marcher is a
+// clear error.
+TEST(Cli, BenchFramesTimesSeveralMarchersSideBySide) {
+  fs::path d = test_dir();
+  ASSERT_EQ(lorgnette(d, "glasses make --temple 140 -o frame.glb").status, 0);
+  CliResult r = lorgnette(d,
+                          "--device 0 bench frames --glasses frame.glb --sizes 64x36 --repeats 1 --compare "
+                          "--marcher auto,fused --out out");
+  ASSERT_EQ(r.status, 0) << r.err;
+  std::vector<fs::path> csvs;
+  for (const auto& e : fs::directory_iterator(d / "out"))
+    if (e.path().extension() == ".csv") csvs.push_back(e.path());
+  ASSERT_EQ(csvs.size(), 1u);
+  std::istringstream text(read_file(csvs[0]));
+  std::string line;
+  std::getline(text, line);
+  EXPECT_CONTAINS(line, ",marcher,");
+  std::map<std::string, int> rows;  // marcher -> rows
+  while (std::getline(text, line))
+    for (const char* m : {",wavefront,", ",fused,"})
+      if (line.find(m) != std::string::npos) rows[m]++;
+  // Per marcher: head alone default and baseline, with glasses default, sequential and baseline.
+  EXPECT_EQ(rows[",wavefront,"], 5) << read_file(csvs[0]);
+  EXPECT_EQ(rows[",fused,"], 5) << read_file(csvs[0]);
+  r = lorgnette(d, "bench frames --sizes 64x36 --repeats 1 --marcher auto,warp --out out2");
+  EXPECT_NE(r.status, 0);
+  EXPECT_CONTAINS(r.err, "'warp' is not a marcher");
 }

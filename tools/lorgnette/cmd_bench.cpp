@@ -2,7 +2,8 @@
 // the paper's Table 1 (frame times at 480p/720p/1080p, head alone and head + glasses, samples per ray
 // and per second, the frame's split between march, surface pass and transfers) on every OpenCL
 // device found, with a CSV and a chart per device under --out. --compare times the sequential frame
-// and the pre-#16 pipeline beside the default, frame by frame in turn. Without --model an analytic
+// and the pre-#16 pipeline beside the default, frame by frame in turn; --marcher auto,wavefront
+// times the fused and the wavefront marcher side by side the same way. Without --model an analytic
 // head stands in (and the rows say so). Logic lives in host/render/frame_bench.
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -39,21 +40,25 @@ struct BenchArgs {
   bool json = false, compare = false, force = false;
 };
 
-// The frame settings timed: the defaults, and with --compare the same frame sequential (surface
+// The frame settings timed, per marcher named in --marcher (a comma list: "auto,wavefront" times
+// both, frame by frame in turn): the defaults, and with --compare the same frame sequential (surface
 // pass, then march) and the pipeline before #16 (sequential, waves of 4..64 segments per ray).
 std::vector<render::FrameVariant> frame_variants(const BenchArgs& a) {
-  render::FrameOptions o;
-  o.march.step_scale = a.step_scale;
-  o.march.marcher = render::parse_marcher_kind(a.marcher);
-  o.surface_spp = a.surface_spp;
-  if (a.waves.size() == 2) o.march.wave_min = a.waves[0], o.march.wave_max = a.waves[1];
-  std::vector<render::FrameVariant> v{{"default", o}};
-  if (a.compare) {
-    o.concurrent = false;
-    v.push_back({"sequential", o});
-    o.march.wave_min = 4;
-    o.march.wave_max = 64;
-    v.push_back({"baseline", o});
+  std::vector<render::FrameVariant> v;
+  for (const auto& word : CLI::detail::split(a.marcher, ',')) {
+    render::FrameOptions o;
+    o.march.step_scale = a.step_scale;
+    o.march.marcher = render::parse_marcher_kind(word);
+    o.surface_spp = a.surface_spp;
+    if (a.waves.size() == 2) o.march.wave_min = a.waves[0], o.march.wave_max = a.waves[1];
+    v.push_back({"default", o});
+    if (a.compare) {
+      o.concurrent = false;
+      v.push_back({"sequential", o});
+      o.march.wave_min = 4;
+      o.march.wave_max = 64;
+      v.push_back({"baseline", o});
+    }
   }
   return v;
 }
@@ -132,10 +137,6 @@ nlohmann::json bench_device(const BenchArgs& a, const cl::DeviceInfo& dev, Globa
         return model ? renderer.render_frame(*model, cam, g, o)
                      : render::render_hybrid_frame(marcher, scene, cam, g, o);
       });
-  // Auto takes the fused marcher on a GPU (both heads can be evaluated in its kernel).
-  const render::MarcherKind kind = spec.variants[0].options.march.marcher;
-  const bool fused = kind == render::MarcherKind::Fused || (kind == render::MarcherKind::Auto && dev.is_gpu);
-  for (auto& r : rows) r["marcher"] = fused ? "fused" : "wavefront";
   if (!a.out.empty()) {
     const std::string base = a.out + "/frames-" + file_slug(dev.name);
     render::write_frame_bench_csv(rows, base + ".csv");
@@ -161,9 +162,17 @@ void add_frames(CLI::App& bench, GlobalOptions& global) {
   cmd->add_option("--sizes", a->sizes, "comma-separated WxH list (default 854x480,1280x720,1920x1080)");
   cmd->add_option("--surface-spp", a->surface_spp, "glasses samples per pixel")->capture_default_str();
   cmd->add_option("--step-scale", a->step_scale, "marching step multiplier")->capture_default_str();
-  cmd->add_option("--marcher", a->marcher, "auto (fused on a GPU, wavefront on a CPU), wavefront or fused")
+  cmd->add_option(
+         "--marcher", a->marcher,
+         "auto (fused on a GPU, wavefront on a CPU), wavefront or fused; a comma list (auto,wavefront) "
+         "times each, in turn")
       ->capture_default_str()
-      ->check(CLI::IsMember({"auto", "wavefront", "fused"}));
+      ->check([](const std::string& list) {
+        for (const auto& word : CLI::detail::split(list, ','))
+          if (word != "auto" && word != "wavefront" && word != "fused")
+            return "'" + word + "' is not a marcher: use auto, wavefront or fused (comma-separated)";
+        return std::string();
+      });
   cmd->add_flag("--json", a->json, "print the rows as one JSON array on stdout");
   cmd->add_option("--out", a->out, "directory for frames-<device>.csv and .png (one pair per device)");
   cmd->add_flag("--compare", a->compare,
@@ -199,16 +208,17 @@ void add_frames(CLI::App& bench, GlobalOptions& global) {
       std::cout << rows.dump(2) << "\n";
       return;
     }
-    std::cout << fmt::format("{:<28} {:>10} {:>7} {:>10} {:>9} {:>9} {:>9} {:>9} {:>9} {:>11} {:>9}\n",
-                             "device", "resolution", "glasses", "variant", "frame_ms", "march_ms", "surf_ms",
-                             "wait_ms", "xfer_ms", "samples/ray", "Msamp/s");
+    std::cout << fmt::format("{:<28} {:>10} {:>7} {:>10} {:>9} {:>9} {:>9} {:>9} {:>9} {:>9} {:>11} {:>9}\n",
+                             "device", "resolution", "glasses", "variant", "marcher", "frame_ms", "march_ms",
+                             "surf_ms", "wait_ms", "xfer_ms", "samples/ray", "Msamp/s");
     for (const auto& r : rows)
       std::cout << fmt::format(
-          "{:<28} {:>10} {:>7} {:>10} {:>9.1f} {:>9.1f} {:>9.1f} {:>9.1f} {:>9.1f} {:>11.2f} {:>9.2f}\n",
+          "{:<28} {:>10} {:>7} {:>10} {:>9} {:>9.1f} {:>9.1f} {:>9.1f} {:>9.1f} {:>9.1f} {:>11.2f} "
+          "{:>9.2f}\n",
           r["device"].get<std::string>().substr(0, 28), r["resolution"].get<std::string>(),
           r["glasses"].get<bool>() ? "yes" : "no", r["variant"].get<std::string>(),
-          r["median_ms"].get<double>(), r["march_ms"].get<double>(), r["surface_ms"].get<double>(),
-          r["surface_wait_ms"].get<double>(), r["transfer_ms"].get<double>(),
+          r["marcher"].get<std::string>(), r["median_ms"].get<double>(), r["march_ms"].get<double>(),
+          r["surface_ms"].get<double>(), r["surface_wait_ms"].get<double>(), r["transfer_ms"].get<double>(),
           r["samples_per_ray"].get<double>(), r["samples_per_second"].get<double>() * 1e-6);
   });
 }

@@ -51,7 +51,7 @@ TEST(Mlp, ForwardAndBackwardMatchReferenceAndFiniteDifferences) {
   Mlp mlp(rt, kStride);
   cl::Buffer<float> W(rt, w), x(rt, x_host), h(rt, 64 * kStride), y(rt, 16 * kStride), dz(rt, c_host);
   cl::Buffer<float> dh(rt, 64 * kStride), dx(rt, 32 * kStride), grads(rt, w.size());
-  cl::Buffer<float> partial(rt, kMaxGradChunks * 64 * 64);
+  cl::Buffer<float> partial(rt, mlp.max_grad_chunks() * 64 * 64);
   mlp.forward(L1, W, {&x, 0, &h, 0}, kN, LGN_ACT_RELU);
   mlp.forward(L2, W, {&h, 0, &y, 0}, kN, LGN_ACT_NONE);
   mlp.weight_grad(L2, {&h, 0, &dz, 0}, kN, partial, grads);
@@ -95,11 +95,14 @@ TEST(Mlp, ForwardAndBackwardMatchReferenceAndFiniteDifferences) {
 
 TEST(Mlp, GradientChunkingIsFixedPerBatchSize) {
   for (uint32_t n : {1u, 16u, 500u, 4096u, 65536u, 262144u, 1u << 20}) {
-    for (uint32_t target : {kGradChunk, kGradChunkGpu}) {
-      GradChunks g = grad_chunks(n, target);
+    for (auto [target, cap] : {std::pair{kGradChunk, kMaxGradChunks}, std::pair{kGradChunkGpuMin, 1056u}}) {
+      GradChunks g = grad_chunks(n, target, cap);
       EXPECT_GE(g.chunk * g.chunks, n) << n;
-      EXPECT_LE(g.chunks, kMaxGradChunks) << n;
+      EXPECT_LE(g.chunks, cap) << n;
       EXPECT_EQ(g.chunk % 16, 0u) << n;
+      GradChunks again = grad_chunks(n, target, cap);
+      EXPECT_EQ(again.chunk, g.chunk) << n;
+      EXPECT_EQ(again.chunks, g.chunks) << n;
     }
   }
 }
