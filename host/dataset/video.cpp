@@ -30,6 +30,12 @@ uint8_t encode_srgb8(float v) {
   return static_cast<uint8_t>(std::upper_bound(thresholds.begin(), thresholds.end(), v) - thresholds.begin());
 }
 
+// True when the video at `path` opens and reports at least `frames` frames.
+bool holds_frames(const std::string& path, int frames) {
+  cv::VideoCapture cap(path, cv::CAP_FFMPEG);
+  return cap.isOpened() && cap.get(cv::CAP_PROP_FRAME_COUNT) >= frames;
+}
+
 }  // namespace
 
 struct Mp4Writer::Impl {
@@ -103,8 +109,11 @@ void Mp4Writer::finish() {
   if (frames_ == 0) throw std::runtime_error(fmt::format("video '{}': no frames were added", path_));
   impl_->writer.release();
   std::error_code ec;
-  if (!fs::exists(temp_, ec) || fs::file_size(temp_, ec) == 0)
-    throw std::runtime_error(fmt::format("video '{}': the encoder wrote nothing (disk full?)", path_));
+  // The encoder does not report a full disk: the finished file must open and hold every frame (an
+  // MP4 cut short lacks the index written at its end).
+  if (!fs::exists(temp_, ec) || fs::file_size(temp_, ec) == 0 || !holds_frames(temp_, frames_))
+    throw std::runtime_error(fmt::format(
+        "cannot write video '{}': the encoder's file is short or unreadable (is the disk full?)", path_));
   fs::rename(temp_, path_, ec);
   if (ec) throw std::runtime_error(fmt::format("cannot write video '{}': {}", path_, ec.message()));
   temp_.clear();

@@ -56,7 +56,7 @@ int main(int argc, char** argv) {
     return app.exit(e);
   } catch (const std::exception& e) {
     spdlog::error("{}", e.what());
-    return 1;
+    return interrupted() ? 130 : 1;  // a stop by signal keeps the shell's convention
   }
   return interrupted() ? 130 : 0;
 }
