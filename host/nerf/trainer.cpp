@@ -190,7 +190,8 @@ bool Trainer::save_snapshot(double elapsed) {
 }
 
 void Trainer::diverged(double loss, uint64_t at_step) {
-  std::string where = "not saved (no snapshot path)";
+  std::string where =
+      options_.snapshot_path.empty() ? "not saved (no snapshot path)" : "not saved (no step to keep)";
   if (!good_params_.empty()) {
     model_.field().upload_params(good_params_);
     model_.set_occupancy(good_occupancy_);

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-namespace lorgnette::test {
+namespace lgn_test {
 
 class ScopedTmpfs {
  public:
@@ -50,7 +50,7 @@ class ScopedTmpfs {
   std::string why_;
 };
 
-}  // namespace lorgnette::test
+}  // namespace lgn_test
 
 #define LGN_SKIP_UNLESS_MOUNTED(tmpfs) \
   if (!(tmpfs).mounted()) GTEST_SKIP() << (tmpfs).why()

@@ -279,13 +279,13 @@ TEST(Cli, SynthIntoTheWorkingDirectoryIsRefused) {
 // later check would complain about it instead).
 TEST(Cli, TrainChecksTheModelFolderBeforeAnyWork) {
   fs::path d = test_dir();
-  lorgnette::test::ScopedTmpfs read_only(d / "ro", 64 * 1024, true);
+  lgn_test::ScopedTmpfs read_only(d / "ro", 64 * 1024, true);
   LGN_SKIP_UNLESS_MOUNTED(read_only);
   CliResult r = lorgnette(d, "train no-such-dataset -o ro/head.lnerf");
   EXPECT_EQ(r.status, 1);
   EXPECT_CONTAINS(r.err, "cannot write the model (-o ro/head.lnerf)");
   EXPECT_CONTAINS(r.err, "Read-only file system");
-  lorgnette::test::ScopedTmpfs full(d / "full", 64 * 1024);
+  lgn_test::ScopedTmpfs full(d / "full", 64 * 1024);
   LGN_SKIP_UNLESS_MOUNTED(full);
   full.fill();
   r = lorgnette(d, "train no-such-dataset -o full/head.lnerf");
@@ -298,7 +298,7 @@ TEST(Cli, GlassesPreviewOnAFullDiskIsAnError) {
   fs::path d = test_dir();
   CliResult r = lorgnette(d, "glasses make -o frame.glb");
   ASSERT_EQ(r.status, 0) << r.err;
-  lorgnette::test::ScopedTmpfs full(d / "full", 64 * 1024);
+  lgn_test::ScopedTmpfs full(d / "full", 64 * 1024);
   LGN_SKIP_UNLESS_MOUNTED(full);
   full.fill();
   r = lorgnette(d, "glasses inspect frame.glb -o full/preview.png");

@@ -249,7 +249,7 @@ TEST(Train, HangupStopsTrainingAndSavesTheSnapshot) {
 // Evaluation images on a full disk: an error, no empty image left behind.
 TEST(Train, EvaluationOnAFullDiskIsAnError) {
   const std::filesystem::path dir = std::filesystem::path(LORGNETTE_TEST_TMP) / "nerf_eval_full_disk";
-  test::ScopedTmpfs disk(dir, 64 * 1024);
+  lgn_test::ScopedTmpfs disk(dir, 64 * 1024);
   LGN_SKIP_UNLESS_MOUNTED(disk);
   disk.fill();
   SceneSetup s;

@@ -15,7 +15,7 @@
 namespace lorgnette {
 namespace {
 namespace fs = std::filesystem;
-using test::ScopedTmpfs;
+using lgn_test::ScopedTmpfs;
 
 fs::path fresh(const std::string& name) {
   fs::path p = fs::path(LORGNETTE_TEST_TMP) / "file_write" / name;
