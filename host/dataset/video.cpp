@@ -12,6 +12,7 @@
 
 #include "host/dataset/media.h"
 #include "host/dataset/metrics.h"
+#include "host/util/file_write.h"
 
 namespace lorgnette::dataset {
 namespace fs = std::filesystem;
@@ -68,6 +69,8 @@ Mp4Writer::Mp4Writer(const std::string& path, int width, int height, const Video
   cv::utils::logging::setLogLevel(level);
   if (codec_.empty()) {
     fs::remove(temp_, ec);
+    // A full disk or a read-only folder is the likelier reason: said as such when it is.
+    check_writable_folder(dir.string(), fmt::format("the video '{}'", path));
     throw std::runtime_error(fmt::format(
         "cannot write video '{}': OpenCV's FFmpeg backend opened neither H.264 ('avc1') nor MPEG-4 ('mp4v'); "
         "check "
