@@ -16,8 +16,12 @@ namespace lgn_test {
 class ScopedTmpfs {
  public:
   // Mounts a tmpfs of `bytes` at `dir` (created); read-only when `read_only`.
+  // A mount left by a killed run (timeout, SIGKILL) is taken down first, and the folder emptied.
   ScopedTmpfs(const std::filesystem::path& dir, size_t bytes, bool read_only = false) : dir_(dir) {
+    while (::umount2(dir.c_str(), MNT_DETACH) == 0) {
+    }
     std::error_code ec;
+    std::filesystem::remove_all(dir, ec);
     std::filesystem::create_directories(dir, ec);
     const std::string data = "size=" + std::to_string(bytes);
     unsigned long flags = read_only ? MS_RDONLY : 0;
@@ -28,7 +32,10 @@ class ScopedTmpfs {
              " (these full-disk checks need root, e.g. the CI container)";
   }
   ~ScopedTmpfs() {
-    if (mounted_) ::umount2(dir_.c_str(), MNT_DETACH);
+    if (!mounted_) return;
+    ::umount2(dir_.c_str(), MNT_DETACH);
+    std::error_code ec;
+    std::filesystem::remove_all(dir_, ec);
   }
   ScopedTmpfs(const ScopedTmpfs&) = delete;
   ScopedTmpfs& operator=(const ScopedTmpfs&) = delete;

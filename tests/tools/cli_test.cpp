@@ -29,6 +29,8 @@ struct CliResult {
 fs::path test_dir() {
   fs::path d =
       fs::path(LORGNETTE_TEST_TMP) / "cli" / ::testing::UnitTest::GetInstance()->current_test_info()->name();
+  for (const char* mount_point : {"ro", "full"})  // left mounted by a killed run
+    ::umount2((d / mount_point).c_str(), MNT_DETACH);
   fs::remove_all(d);
   fs::create_directories(d);
   return d;

@@ -90,7 +90,7 @@ TEST(DatasetVideo, BadInputsAndUnfinishedWriterLeaveNoFile) {
 // A full disk: the encoder reports nothing, but a cut-short MP4 lacks its index and is refused;
 // the contact sheet (an image write) throws too. Nothing is left under either name.
 TEST(DatasetVideo, FullDiskIsAnErrorNotAShortVideo) {
-  lgn_test::ScopedTmpfs disk(fresh_dir("full_disk"), 48 * 1024);
+  lgn_test::ScopedTmpfs disk(fs::path(LORGNETTE_TEST_TMP) / "media" / "full_disk", 48 * 1024);
   LGN_SKIP_UNLESS_MOUNTED(disk);
   std::mt19937 rng(3);
   std::uniform_real_distribution<float> u(0.0f, 1.0f);

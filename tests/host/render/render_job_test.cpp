@@ -127,7 +127,7 @@ TEST(RenderJob, OrbitWritesFramesDepthVideoSheetAndSummary) {
 
 // A full disk: the job stops with the disk's error instead of leaving 0-byte frames.
 TEST(RenderJob, FullDiskIsAnErrorAndLeavesNoEmptyFrames) {
-  lgn_test::ScopedTmpfs disk(tmp_dir("full_disk"), 64 * 1024);
+  lgn_test::ScopedTmpfs disk(fs::path(LORGNETTE_TEST_TMP) / "render_job_full_disk", 64 * 1024);
   LGN_SKIP_UNLESS_MOUNTED(disk);
   disk.fill();
   cl::Runtime rt;

@@ -24,6 +24,9 @@ fs::path fresh(const std::string& name) {
   return p;
 }
 
+// A mount point for ScopedTmpfs (which clears it itself).
+fs::path mount_dir(const std::string& name) { return fs::path(LORGNETTE_TEST_TMP) / "file_write" / name; }
+
 std::string read(const fs::path& p) {
   std::ifstream in(p, std::ios::binary);
   std::stringstream ss;
@@ -59,7 +62,7 @@ Image gradient(int w, int h, int channels) {
 }
 
 TEST(FileWrite, FullDiskThrowsAndKeepsTheEarlierFile) {
-  ScopedTmpfs disk(fresh("full_text"), 64 * 1024);
+  ScopedTmpfs disk(mount_dir("full_text"), 64 * 1024);
   LGN_SKIP_UNLESS_MOUNTED(disk);
   const fs::path target = disk.path() / "placement.json";
   write_file_atomic(target.string(), "earlier");
@@ -75,7 +78,7 @@ TEST(FileWrite, FullDiskThrowsAndKeepsTheEarlierFile) {
 }
 
 TEST(FileWrite, ImagesOnAFullDiskThrowAndLeaveNoEmptyFile) {
-  ScopedTmpfs disk(fresh("full_images"), 64 * 1024);
+  ScopedTmpfs disk(mount_dir("full_images"), 64 * 1024);
   LGN_SKIP_UNLESS_MOUNTED(disk);
   disk.fill();
   for (const char* name : {"frame_0000.png", "depth_0000.exr", "photo.jpg"}) {
@@ -113,13 +116,13 @@ TEST(FileWrite, WritableFolderCheckFindsReadOnlyAndFullDisks) {
   std::string missing = error_of([&] { check_writable_folder((ok / "nope").string(), "the model"); });
   EXPECT_NE(missing.find("does not exist"), std::string::npos) << missing;
 
-  ScopedTmpfs read_only(fresh("read_only"), 64 * 1024, true);
+  ScopedTmpfs read_only(mount_dir("read_only"), 64 * 1024, true);
   LGN_SKIP_UNLESS_MOUNTED(read_only);
   std::string ro = error_of([&] { check_writable_folder(read_only.path().string(), "the model"); });
   EXPECT_NE(ro.find("Read-only file system"), std::string::npos) << ro;
   EXPECT_NE(ro.find("the model"), std::string::npos) << ro;
 
-  ScopedTmpfs full(fresh("full_probe"), 64 * 1024);
+  ScopedTmpfs full(mount_dir("full_probe"), 64 * 1024);
   LGN_SKIP_UNLESS_MOUNTED(full);
   full.fill();
   std::string e = error_of([&] { check_writable_folder(full.path().string(), "the model"); });
