@@ -12,9 +12,11 @@
 
 #include "capture/subject_framing.h"
 #include "host/dataset/dataset.h"
+#include "host/util/file_write.h"
 #include "host/util/image_io.h"
 #include "host/util/interrupt.h"
 #include "host/util/name_list.h"
+#include "host/util/output_folder.h"
 
 namespace fs = std::filesystem;
 
@@ -36,26 +38,13 @@ class StageTimer {
   std::chrono::steady_clock::time_point start_;
 };
 
-// The output folder must be new, empty, or an earlier capture replaced with --force. Checked before
-// any work, so a slow frame selection never ends in a refusal.
-void check_output(const fs::path& out, const fs::path& input, bool force) {
-  if (fs::exists(out) && !fs::is_directory(out))
-    throw std::runtime_error(fmt::format("output '{}' exists and is not a folder", out.string()));
-  if (!fs::exists(out) || fs::is_empty(out)) return;
-  if (!fs::exists(out / "capture_report.json"))
-    throw std::runtime_error(
-        fmt::format("output folder '{}' is not empty and is not an earlier "
-                    "capture: choose a new folder",
-                    out.string()));
-  if (fs::equivalent(out, input)) throw std::runtime_error("the output folder must differ from the input");
-  if (!force)
-    throw std::runtime_error(
-        fmt::format("'{}' holds an earlier capture: pass --force to replace it (its "
-                    "images/, colmap/ and transforms.json) or choose a new folder",
-                    out.string()));
-}
+// The output folder must be new, empty, or an earlier capture replaced with --force (the shared
+// rule of host/util/output_folder.h; captures made before the marker existed are recognised by their
+// capture_report.json). Checked before any work, so a slow frame selection never ends in a refusal.
+// A capture replaces an earlier one in place: prepare_output clears only its images/ and colmap/.
+const OutputOwner kCaptureOutput{"capture", "capture", "capture_report.json"};
 
-// Clears an earlier capture's images/ and colmap/ (check_output allowed it), so stale frames never
+// Clears an earlier capture's images/ and colmap/ (check_output_folder allowed it), so stale frames never
 // reach COLMAP.
 void prepare_output(const fs::path& out) {
   fs::remove_all(out / "images");
@@ -67,8 +56,11 @@ void prepare_output(const fs::path& out) {
 void write_frames(const FrameSet& frames, const std::vector<size_t>& keep, const fs::path& dir) {
   for (size_t i : keep) {
     fs::path p = dir / frames.names[i];
-    if (!cv::imwrite(p.string(), frames.images[i], {cv::IMWRITE_JPEG_QUALITY, 95}))
-      throw std::runtime_error(fmt::format("cannot write frame '{}'", p.string()));
+    std::vector<uchar> bytes;  // encoded in memory: write_file_atomic checks every write
+    if (!cv::imencode(p.extension().string(), frames.images[i], bytes, {cv::IMWRITE_JPEG_QUALITY, 95}))
+      throw std::runtime_error(fmt::format("cannot encode frame '{}'", p.string()));
+    write_file_atomic(p.string(),
+                      std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
   }
 }
 
@@ -242,7 +234,7 @@ CaptureReport run_capture(const CaptureOptions& opt) {
   if (opt.output.empty()) throw std::runtime_error("no output folder: give -o DATASET");
   CaptureInput in = classify_input(opt.input);
   fs::path out = opt.output;
-  check_output(out, in.path, opt.force);
+  check_output_folder(out, kCaptureOutput, opt.force, {in.path.string()});
   CaptureReport report;
   report.workspace = (out / "colmap").string();
   if (in.kind == InputKind::ColmapModel) {
@@ -284,6 +276,7 @@ CaptureReport run_capture(const CaptureOptions& opt) {
     convert_and_write(read_colmap_model(cr.model_dir), opt, report);
   }
   for (const auto& w : report.warnings) spdlog::warn("{}", w);
+  mark_output(out, kCaptureOutput);
   write_text_file_atomic((out / "capture_report.json").string(), report.to_json().dump(2) + "\n");
   return report;
 }

@@ -6,7 +6,6 @@
 
 #include <chrono>
 #include <filesystem>
-#include <fstream>
 
 #include "fit/fit_job.h"
 #include "host/dataset/dataset.h"
@@ -18,6 +17,7 @@
 #include "host/render/view_plan.h"
 #include "host/util/chart.h"
 #include "host/util/interrupt.h"
+#include "host/util/output_folder.h"
 #include "host/util/version.h"
 #include "mesh/glasses.h"
 #include "mesh/gltf_writer.h"
@@ -43,10 +43,13 @@ class Stopwatch {
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
 };
 
+const OutputOwner kDemoOutput{"demo", "demo output", ""};
+
 struct Context {
   DemoOptions opt;
   DemoReport report;
-  std::string dir;
+  std::string dir;        // where this run writes: the staging folder beside the destination
+  std::string final_dir;  // the destination it is swapped into (paths stored in files name this)
   int stage = 0;
   static constexpr int kStages = 5;
   void begin(const char* what) {
@@ -55,30 +58,8 @@ struct Context {
     if (interrupted()) throw std::runtime_error("interrupted before stage '" + std::string(what) + "'");
   }
   std::string path(const std::string& rel) const { return (fs::path(dir) / rel).string(); }
+  std::string final_path(const std::string& rel) const { return (fs::path(final_dir) / rel).string(); }
 };
-
-void prepare_output_dir(const DemoOptions& opt) {
-  std::error_code ec;
-  if (fs::exists(opt.out_dir, ec) && !fs::is_directory(opt.out_dir, ec))
-    throw std::runtime_error(
-        fmt::format("'{}' exists and is not a directory: choose another -o", opt.out_dir));
-  if (fs::exists(opt.out_dir, ec) && !fs::is_empty(opt.out_dir, ec)) {
-    if (!opt.force)
-      throw std::runtime_error(fmt::format(
-          "'{}' is not empty: pass --force to replace it, or choose another -o (nothing was changed)",
-          opt.out_dir));
-    fs::remove_all(opt.out_dir, ec);
-    if (ec) throw std::runtime_error(fmt::format("cannot clear '{}': {}", opt.out_dir, ec.message()));
-  }
-  fs::create_directories(opt.out_dir, ec);
-  std::string probe = (fs::path(opt.out_dir) / ".write-test").string();
-  std::ofstream test(probe);
-  if (ec || !test)
-    throw std::runtime_error(
-        fmt::format("cannot write into '{}': check the path and its permissions", opt.out_dir));
-  test.close();
-  fs::remove(probe, ec);
-}
 
 synth::Subject stage_synthesize(Context& c) {
   c.begin("synthesize a procedural head and render its dataset");
@@ -114,6 +95,9 @@ nerf::NerfModel stage_train(Context& c, cl::Runtime& rt, dataset::Dataset& ds) {
   const nerf::TrainResult& r = out.result;
   if (r.interrupted)
     throw std::runtime_error("interrupted during training (the model so far is in head.lnerf)");
+  // The model names its dataset by absolute path: the one it will have once the output is in place.
+  out.model.metadata.dataset_path = c.final_path("dataset");
+  out.model.save(c.path("head.lnerf"));
   const nerf::ModelSizing& sizing = out.sizing;
   c.report.train_steps = r.steps;
   c.report.train_seconds = r.seconds;
@@ -176,7 +160,10 @@ fit::FitResult stage_fit(Context& c, nerf::NerfModel& model, const std::string& 
   views.dataset = c.path("dataset/transforms.json");
   fit::FitJobResult job = fit::run_fit_job(model, glasses_path, fo, views);
   const fit::FitResult& r = job.fit;
-  const fit::PlacementFile& pf = job.placement;
+  fit::PlacementFile pf = job.placement;
+  // The demo's own frame beside placement.json (a relative path is read from the placement's
+  // folder), a given one by absolute path: both stay right once the output is moved into place.
+  pf.glasses_path = c.opt.glasses.empty() ? "frame.glb" : fs::absolute(c.opt.glasses).string();
   fit::write_placement(c.path("placement.json"), pf);
   c.report.fit = fit::to_json(pf);
   for (const auto& w : r.warnings) spdlog::warn("fit: {}", w);
@@ -267,10 +254,25 @@ DemoOptions defaults_for(DemoOptions o) {
   return o;
 }
 
+namespace {
+
+void run_stages(Context& c, cl::Runtime& rt) {
+  synth::Subject subject = stage_synthesize(c);
+  dataset::Dataset ds = dataset::load_dataset(c.path("dataset"));
+  nerf::NerfModel model = stage_train(c, rt, ds);
+  stage_evaluate(c, model, ds);
+  std::string glasses = stage_glasses(c);
+  fit::FitResult fitted = stage_fit(c, model, glasses, subject);
+  stage_render(c, rt, model, glasses, fitted, ds);
+  c.report.ok = fitted.ok;
+  c.report.message = fitted.ok ? "" : "the fit reported problems: see the warnings in fit.warnings";
+}
+
+}  // namespace
+
 DemoReport run_demo(const DemoOptions& options, const cl::RuntimeOptions& runtime) {
   Context c;
   c.opt = defaults_for(options);
-  c.dir = c.opt.out_dir;
   c.report.version = fmt::format("{} (commit {})", version_string(), git_commit());
   c.report.config = {{"quick", c.opt.quick},
                      {"views", c.opt.views},
@@ -281,26 +283,32 @@ DemoReport run_demo(const DemoOptions& options, const cl::RuntimeOptions& runtim
                      {"orbit_size", c.opt.orbit_size},
                      {"fit_views", c.opt.fit_views},
                      {"seed", c.opt.seed}};
-  prepare_output_dir(c.opt);
+  // Inputs inside the output folder are refused before anything starts (the swap would delete them).
+  StagedOutput staged(c.opt.out_dir, kDemoOutput, c.opt.force, {c.opt.glasses});
+  c.dir = staged.path();
+  c.final_dir = staged.destination();
   cl::Runtime rt(runtime);
   c.report.device = rt.device().summary();
   try {
-    synth::Subject subject = stage_synthesize(c);
-    dataset::Dataset ds = dataset::load_dataset(c.path("dataset"));
-    nerf::NerfModel model = stage_train(c, rt, ds);
-    stage_evaluate(c, model, ds);
-    std::string glasses = stage_glasses(c);
-    fit::FitResult fitted = stage_fit(c, model, glasses, subject);
-    stage_render(c, rt, model, glasses, fitted, ds);
-    c.report.ok = fitted.ok;
-    c.report.message = fitted.ok ? "" : "the fit reported problems: see the warnings in fit.warnings";
+    run_stages(c, rt);
   } catch (const std::exception& e) {
     c.report.ok = false;
     c.report.message = e.what();
-    write_report(c.dir, c.report);
+    // A failed run is kept (its report says ok = false) only where it replaces nothing; an earlier
+    // output stays whole and the staging folder is removed.
+    if (staged.replaces_earlier())
+      throw std::runtime_error(
+          fmt::format("{}; the earlier demo output in '{}' is unchanged", e.what(), c.opt.out_dir));
+    try {
+      write_report(c.dir, c.report);
+      staged.commit();
+    } catch (const std::exception& also) {
+      spdlog::error("could not keep the failed run's output: {}", also.what());
+    }
     throw;
   }
   write_report(c.dir, c.report);
+  staged.commit();
   return c.report;
 }
 

@@ -12,6 +12,7 @@
 #include "fit/camera_math.h"
 #include "fit/fit.h"
 #include "fit/landmark_ids.h"
+#include "host/util/file_write.h"
 
 namespace lorgnette::fit {
 
@@ -67,7 +68,9 @@ void write_debug_views(const std::string& dir, const FitResult& r) {
     cv::putText(m, label, cv::Point(6, 18), cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar(0, 0, 0), 1,
                 cv::LINE_AA);
     std::string path = fmt::format("{}/view_{:02d}.png", dir, i);
-    if (!cv::imwrite(path, m)) throw std::runtime_error(fmt::format("cannot write '{}'", path));
+    std::vector<uchar> png;
+    if (!cv::imencode(".png", m, png)) throw std::runtime_error(fmt::format("cannot encode '{}'", path));
+    write_file_atomic(path, std::string_view(reinterpret_cast<const char*>(png.data()), png.size()));
     index += fmt::format("{} {:.2f} {:.2f} {} {:.3f}\n", i, v.yaw_deg, v.pitch_deg, d.found ? 1 : 0, rms);
   }
   write_text_file_atomic(dir + "/views.txt", index);

@@ -12,6 +12,8 @@
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
+#include "host/util/file_write.h"
+
 namespace lorgnette::mesh {
 namespace {
 
@@ -136,14 +138,7 @@ void write_glb(const std::string& path, const TriMesh& mesh) {
   u32(out, static_cast<uint32_t>(w.bin.size()));
   u32(out, 0x004E4942);  // "BIN\0"
   out.append(reinterpret_cast<const char*>(w.bin.data()), w.bin.size());
-  std::string tmp = fmt::format("{}.{}.tmp", path, getpid());
-  {
-    std::ofstream f(tmp, std::ios::binary);
-    f.write(out.data(), static_cast<std::streamsize>(out.size()));
-    if (!f)
-      throw std::runtime_error(fmt::format("cannot write '{}' (directory missing or not writable?)", path));
-  }
-  std::filesystem::rename(tmp, path);
+  write_file_atomic(path, out);
 }
 
 }  // namespace lorgnette::mesh

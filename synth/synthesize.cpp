@@ -14,16 +14,18 @@
 
 #include "host/dataset/dataset.h"
 #include "host/util/interrupt.h"
+#include "host/util/output_folder.h"
 #include "mesh/embree_scene.h"
 #include "synth/matte.h"
 #include "synth/room.h"
-#include "synth/staged_dir.h"
 
 namespace lorgnette::synth {
 namespace {
 
 namespace fs = std::filesystem;
 using json = nlohmann::json;
+
+const OutputOwner kSynthOutput{"synth", "synthetic dataset", ""};
 
 json vec_json(const Eigen::Vector3f& v) { return json::array({v.x(), v.y(), v.z()}); }
 
@@ -153,7 +155,9 @@ SynthReport synthesize_dataset(const Subject& subject, const std::string& out_di
   auto t0 = std::chrono::steady_clock::now();
   check_options(o);
   std::vector<RigView> views = make_camera_rig(rig_for(subject, o));
-  StagedDir staged(out_dir, o.force);
+  std::vector<std::string> inputs;  // a mesh file inside the output folder is refused
+  if (subject.source != "procedural") inputs.push_back(subject.source);
+  StagedOutput staged(out_dir, kSynthOutput, o.force, inputs);
   fs::create_directories(fs::path(staged.path()) / "images");
   fs::create_directories(fs::path(staged.path()) / "depth");
   if (o.room > 0) fs::create_directories(fs::path(staged.path()) / "mattes");

@@ -9,7 +9,8 @@
 //   ground_truth.json   source (mesh path or "procedural" + seed + params), mesh_to_dataset (4x4),
 //                       mm_per_unit (null when unknown), landmarks and the 68 iBUG points in the
 //                       dataset frame, per-view yaw/pitch, lighting and render settings
-// The whole directory appears atomically (see staged_dir.h).
+// The whole directory appears atomically, and --force replaces only an earlier synth output
+// (host/util/output_folder.h).
 #pragma once
 #include <Eigen/Core>
 #include <cstdint>
@@ -32,7 +33,7 @@ struct SynthOptions {
   std::optional<Eigen::Vector3f> background;  // linear RGB; empty = transparent
   int samples_per_axis = 3;
   float camera_distance = 3.0f;  // dataset units from the subject's look-at point
-  bool force = false;            // replace a non-empty output directory
+  bool force = false;            // replace an earlier synth output in the output directory
   StudioLighting lighting;
   // A room around the subject (synth/room.h; 0 = none). With a room the cameras are hand-held
   // phone cameras: a sweep along the yaw range, pitch/distance/aim jitter, fov_y_deg field of view,

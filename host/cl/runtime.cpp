@@ -173,8 +173,11 @@ void Runtime::store_binary(cl_program program, const std::string& path) {
   {
     std::ofstream out(tmp, std::ios::binary);
     out.write(reinterpret_cast<const char*>(bin.data()), static_cast<std::streamsize>(bin.size()));
+    out.close();  // checked after close: a full disk may show only when the buffer is flushed
     if (!out) {
-      spdlog::warn("could not write kernel cache file {}", tmp);
+      spdlog::warn("could not write kernel cache file {} (disk full?)", tmp);
+      std::error_code ec;
+      fs::remove(tmp, ec);
       return;
     }
   }

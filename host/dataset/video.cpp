@@ -12,6 +12,7 @@
 
 #include "host/dataset/media.h"
 #include "host/dataset/metrics.h"
+#include "host/util/file_write.h"
 
 namespace lorgnette::dataset {
 namespace fs = std::filesystem;
@@ -28,6 +29,12 @@ uint8_t encode_srgb8(float v) {
     return t;
   }();
   return static_cast<uint8_t>(std::upper_bound(thresholds.begin(), thresholds.end(), v) - thresholds.begin());
+}
+
+// True when the video at `path` opens and reports at least `frames` frames.
+bool holds_frames(const std::string& path, int frames) {
+  cv::VideoCapture cap(path, cv::CAP_FFMPEG);
+  return cap.isOpened() && cap.get(cv::CAP_PROP_FRAME_COUNT) >= frames;
 }
 
 }  // namespace
@@ -62,6 +69,8 @@ Mp4Writer::Mp4Writer(const std::string& path, int width, int height, const Video
   cv::utils::logging::setLogLevel(level);
   if (codec_.empty()) {
     fs::remove(temp_, ec);
+    // A full disk or a read-only folder is the likelier reason: said as such when it is.
+    check_writable_folder(dir.string(), fmt::format("the video '{}'", path));
     throw std::runtime_error(fmt::format(
         "cannot write video '{}': OpenCV's FFmpeg backend opened neither H.264 ('avc1') nor MPEG-4 ('mp4v'); "
         "check "
@@ -103,8 +112,11 @@ void Mp4Writer::finish() {
   if (frames_ == 0) throw std::runtime_error(fmt::format("video '{}': no frames were added", path_));
   impl_->writer.release();
   std::error_code ec;
-  if (!fs::exists(temp_, ec) || fs::file_size(temp_, ec) == 0)
-    throw std::runtime_error(fmt::format("video '{}': the encoder wrote nothing (disk full?)", path_));
+  // The encoder does not report a full disk: the finished file must open and hold every frame (an
+  // MP4 cut short lacks the index written at its end).
+  if (!fs::exists(temp_, ec) || fs::file_size(temp_, ec) == 0 || !holds_frames(temp_, frames_))
+    throw std::runtime_error(fmt::format(
+        "cannot write video '{}': the encoder's file is short or unreadable (is the disk full?)", path_));
   fs::rename(temp_, path_, ec);
   if (ec) throw std::runtime_error(fmt::format("cannot write video '{}': {}", path_, ec.message()));
   temp_.clear();

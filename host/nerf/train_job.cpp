@@ -128,8 +128,9 @@ TrainJobResult train_on_dataset(cl::Runtime& rt, const dataset::Dataset& ds, Tra
   std::string region;
   {
     Trainer trainer(model, views, plan.train, plan.sizing.occupancy_mask);
-    std::string snapshot = plan.train.snapshot_path;
     TrainResult result = trainer.run();
+    // As the trainer's own snapshots: an untrained model is never saved.
+    std::string snapshot = result.steps > 0 ? plan.train.snapshot_path : std::string();
     if (background) {
       OccupancyGrid grid = model.occupancy();
       SubjectRegionReport rep = keep_central_region(grid);

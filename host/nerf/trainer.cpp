@@ -176,26 +176,28 @@ double Trainer::step() {
   return last_loss().value_or(0.0);
 }
 
-void Trainer::save_snapshot(double elapsed) {
-  if (options_.snapshot_path.empty()) return;
+bool Trainer::save_snapshot(double elapsed) {
+  if (options_.snapshot_path.empty()) return false;
+  // An untrained model is never saved: it would replace a trained one (train --force stopped in its
+  // first second) or pass for a model at -o (stopped while the dataset loaded).
+  if (step_ == 0) return false;
   model_.metadata.steps = step_;
   model_.metadata.train_seconds = elapsed;
   model_.metadata.samples_trained = samples_;
   model_.metadata.seed = options_.seed;
   model_.save(options_.snapshot_path);
+  return true;
 }
 
 void Trainer::diverged(double loss, uint64_t at_step) {
-  std::string where = "not saved (no snapshot path)";
+  std::string where =
+      options_.snapshot_path.empty() ? "not saved (no snapshot path)" : "not saved (no step to keep)";
   if (!good_params_.empty()) {
     model_.field().upload_params(good_params_);
     model_.set_occupancy(good_occupancy_);
     uint64_t bad_step = step_;
     step_ = good_step_;
-    if (!options_.snapshot_path.empty()) {
-      save_snapshot(elapsed_);
-      where = "saved to '" + options_.snapshot_path + "'";
-    }
+    if (save_snapshot(elapsed_)) where = "saved to '" + options_.snapshot_path + "'";
     step_ = bad_step;
   }
   throw TrainingDiverged(fmt::format(
@@ -275,7 +277,8 @@ TrainResult Trainer::run() {
   result.samples = samples_;
   result.final_loss = result.loss_curve.empty() ? 0.0 : result.loss_curve.back();
   model_.metadata.final_loss = float(result.final_loss);
-  save_snapshot(result.seconds);
+  if (!save_snapshot(result.seconds) && !options_.snapshot_path.empty())
+    spdlog::warn("no training step finished: nothing was saved to '{}'", options_.snapshot_path);
   return result;
 }
 

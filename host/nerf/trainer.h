@@ -97,7 +97,7 @@ class Trainer {
   float learning_rate(double elapsed) const;
   RayPriors opacity_prior() const;  // the room model's opacity prior now (its weight ramps in)
   [[noreturn]] void diverged(double loss, uint64_t at_step);
-  void save_snapshot(double elapsed);
+  bool save_snapshot(double elapsed);  // false when nothing was saved (no path, or no step trained)
 
   NerfModel& model_;
   TrainOptions options_;

@@ -1,15 +1,16 @@
 // OpenImageIO-backed image reading and writing; see image_io.h.
 #include "host/util/image_io.h"
 
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 #include <fmt/format.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <stdexcept>
+
+#include "host/util/file_write.h"
 
 namespace lorgnette {
 namespace fs = std::filesystem;
@@ -21,11 +22,38 @@ std::string lower_ext(const std::string& path) {
   return e;
 }
 
-std::string temp_name(const std::string& path) {
-  fs::path p(path);
-  // Keep the extension last so OpenImageIO picks the right writer for the temporary file.
-  return (p.parent_path() / fmt::format(".{}.{}.tmp{}", p.stem().string(), getpid(), p.extension().string()))
-      .string();
+// Encodes the image in memory and writes the bytes through write_file_atomic, whose every write
+// is checked: OpenImageIO's PNG writer does not report a full disk when it writes a file itself.
+// A format without in-memory output is written to the temporary file by OpenImageIO and read back
+// whole before the rename, so a short file is never published either.
+void write_encoded(const std::string& path, const OIIO::ImageSpec& spec, OIIO::TypeDesc type,
+                   const void* data) {
+  auto out = OIIO::ImageOutput::create(path);
+  if (!out) throw std::runtime_error(fmt::format("no image writer for '{}' (use .png, .jpg or .exr)", path));
+  if (out->supports("ioproxy")) {
+    std::vector<unsigned char> bytes;
+    OIIO::Filesystem::IOVecOutput proxy(bytes);
+    out->set_ioproxy(&proxy);
+    if (!out->open(path, spec) || !out->write_image(type, data) || !out->close())
+      throw std::runtime_error(fmt::format("cannot encode image '{}': {}", path, out->geterror()));
+    write_file_atomic(path, std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
+    return;
+  }
+  const std::string tmp = temporary_path_for(path);
+  std::error_code ec;
+  bool ok = out->open(tmp, spec) && out->write_image(type, data) && out->close();
+  std::string why = ok ? "" : out->geterror();
+  if (ok) try {
+      read_image(tmp);
+    } catch (const std::exception& e) {
+      ok = false, why = e.what();
+    }
+  if (ok) fs::rename(tmp, path, ec);
+  if (!ok || ec) {
+    fs::remove(tmp, ec);
+    throw std::runtime_error(
+        fmt::format("cannot write image '{}': {} (is the disk full?)", path, ok ? ec.message() : why));
+  }
 }
 
 }  // namespace
@@ -86,40 +114,18 @@ void write_image(const std::string& path, const Image& image) {
       bool colour = c < 3 && !(image.channels == 2 && c == 1) && !(image.channels == 4 && c == 3);
       data[p * channels + c] = is_float ? v : (colour ? linear_to_srgb(v) : std::clamp(v, 0.0f, 1.0f));
     }
-  std::string tmp = temp_name(path);
-  auto out = OIIO::ImageOutput::create(path);
-  if (!out) throw std::runtime_error(fmt::format("no image writer for '{}' (use .png, .jpg or .exr)", path));
-  if (!out->open(tmp, spec) || !out->write_image(OIIO::TypeDesc::FLOAT, data.data()) || !out->close()) {
-    std::error_code ec;
-    fs::remove(tmp, ec);
-    throw std::runtime_error(fmt::format("cannot write image '{}': {}", path, out->geterror()));
-  }
-  std::error_code ec;
-  fs::rename(tmp, path, ec);
-  if (ec) {
-    fs::remove(tmp, ec);
-    throw std::runtime_error(fmt::format("cannot write image '{}': {}", path, ec.message()));
-  }
+  write_encoded(path, spec, OIIO::TypeDesc::FLOAT, data.data());
+}
+
+void write_srgb8_image(const std::string& path, int width, int height, int channels, const uint8_t* pixels) {
+  if (width <= 0 || height <= 0 || channels <= 0)
+    throw std::runtime_error(fmt::format("refusing to write empty image '{}'", path));
+  OIIO::ImageSpec spec(width, height, channels, OIIO::TypeDesc::UINT8);
+  write_encoded(path, spec, OIIO::TypeDesc::UINT8, pixels);
 }
 
 void write_text_file_atomic(const std::string& path, const std::string& text) {
-  std::string tmp = path + fmt::format(".{}.tmp", getpid());
-  {
-    std::ofstream out(tmp, std::ios::binary);
-    out << text;
-    out.flush();
-    if (!out) {
-      std::error_code ec;
-      fs::remove(tmp, ec);
-      throw std::runtime_error(fmt::format("cannot write '{}' (disk full or directory not writable?)", path));
-    }
-  }
-  std::error_code ec;
-  fs::rename(tmp, path, ec);
-  if (ec) {
-    fs::remove(tmp, ec);
-    throw std::runtime_error(fmt::format("cannot write '{}': {}", path, ec.message()));
-  }
+  write_file_atomic(path, text);
 }
 
 }  // namespace lorgnette

@@ -1,8 +1,9 @@
 // Image files in and out through OpenImageIO. Inside Lorgnette images are linear float RGB(A),
 // interleaved, row-major, top row first; 8/16-bit files are sRGB-encoded and converted on the way
-// in and out, float files (EXR) stay linear. Writes are atomic (temporary file + rename), so an
-// interrupted run never leaves a half-written image under the final name.
+// in and out, float files (EXR) stay linear. Writes are atomic and checked (host/util/file_write.h):
+// a full disk or an interrupted run never leaves an empty or half-written image under the final name.
 #pragma once
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -42,7 +43,12 @@ std::string decode_error_text(std::string text);
 // Format from the extension: .png/.jpg (sRGB, 8-bit; alpha kept for PNG), .exr/.hdr (linear float).
 void write_image(const std::string& path, const Image& image);
 
-// Writes `text` to `path` through a temporary file and rename (for JSON/CSV outputs).
+// Writes 8-bit pixels that are already sRGB-encoded (interleaved, top row first) as they are, with
+// write_image's checks (PNG/JPEG by the extension).
+void write_srgb8_image(const std::string& path, int width, int height, int channels, const uint8_t* pixels);
+
+// Writes `text` to `path` through a temporary file and rename (for JSON/CSV outputs); every write
+// is checked (host/util/file_write.h).
 void write_text_file_atomic(const std::string& path, const std::string& text);
 
 }  // namespace lorgnette

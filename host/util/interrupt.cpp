@@ -1,10 +1,11 @@
-// SIGINT/SIGTERM -> a flag; see interrupt.h.
+// SIGINT/SIGTERM/SIGHUP -> a flag; see interrupt.h.
 #include "host/util/interrupt.h"
 
 #include <unistd.h>
 
 #include <atomic>
 #include <csignal>
+#include <initializer_list>
 
 namespace lorgnette {
 namespace {
@@ -19,8 +20,11 @@ extern "C" void on_signal(int) {
 }  // namespace
 
 void install_interrupt_handler() {
-  std::signal(SIGINT, on_signal);
-  std::signal(SIGTERM, on_signal);
+  struct sigaction action {};
+  action.sa_handler = on_signal;
+  sigemptyset(&action.sa_mask);
+  action.sa_flags = SA_RESTART;  // reads and writes in progress carry on; loops poll the flag
+  for (int sig : {SIGINT, SIGTERM, SIGHUP}) sigaction(sig, &action, nullptr);
 }
 bool interrupted() { return g_signals.load() > 0; }
 void request_interrupt() {

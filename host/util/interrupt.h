@@ -1,5 +1,6 @@
-// Ctrl-C handling for long work: the first SIGINT/SIGTERM sets a flag that loops poll (so they can
-// save a snapshot and stop cleanly); a second one exits at once.
+// Stopping long work: the first SIGINT (Ctrl-C), SIGTERM (a service stopping the process) or SIGHUP
+// (its terminal closed) sets a flag that loops poll, so they can save a snapshot and stop cleanly;
+// a second one of any of them exits at once (status 130).
 #pragma once
 
 namespace lorgnette {

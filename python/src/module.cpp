@@ -87,11 +87,7 @@ void save_image(const std::string& path, const pyb::array& image) {
     auto a = pyb::array_t<uint8_t, pyb::array::c_style>::ensure(image);
     if (a.ndim() != 3 && a.ndim() != 2) throw pyb::value_error("save_image: expected H x W or H x W x C");
     const int c = a.ndim() == 3 ? int(a.shape(2)) : 1;
-    OIIO::ImageSpec spec(int(a.shape(1)), int(a.shape(0)), c, OIIO::TypeDesc::UINT8);
-    auto out = OIIO::ImageOutput::create(path);
-    if (!out || !out->open(path, spec) || !out->write_image(OIIO::TypeDesc::UINT8, a.data()) || !out->close())
-      throw std::runtime_error(
-          fmt::format("cannot write image '{}': {}", path, out ? out->geterror() : OIIO::geterror()));
+    write_srgb8_image(path, int(a.shape(1)), int(a.shape(0)), c, a.data());
     return;
   }
   write_image(path,

@@ -9,6 +9,7 @@
 
 #include "demo/pipeline.h"
 #include "host/util/interrupt.h"
+#include "host/util/output_folder.h"
 
 using namespace lorgnette;
 namespace fs = std::filesystem;
@@ -61,6 +62,69 @@ TEST(Demo, RefusesANonEmptyOutputDirectoryAndChangesNothing) {
   }
   EXPECT_TRUE(fs::exists(dir + "/mine.txt"));
   EXPECT_FALSE(fs::exists(dir + "/report.json"));
+  // --force replaces only an earlier demo output, never other files.
+  o.force = true;
+  EXPECT_THROW(demo::run_demo(o, {}), std::runtime_error);
+  EXPECT_TRUE(fs::exists(dir + "/mine.txt"));
+}
+
+namespace {
+// An earlier demo output (its marker and a report) in a fresh folder.
+std::string earlier_demo_output(const std::string& name) {
+  std::string dir = tmp(name);
+  fs::create_directories(dir);
+  mark_output(dir, {"demo", "demo output", ""});
+  std::ofstream(dir + "/report.json") << "{\"ok\": true, \"earlier\": true}";
+  std::ofstream(dir + "/frame.glb") << "the earlier run's frame";
+  return dir;
+}
+std::vector<std::string> siblings(const std::string& dir) {
+  std::vector<std::string> out;
+  for (const auto& e : fs::directory_iterator(fs::path(dir).parent_path()))
+    if (e.path().filename().string().find(fs::path(dir).filename().string() + ".") != std::string::npos)
+      out.push_back(e.path().filename().string());
+  return out;
+}
+}  // namespace
+
+// --force builds beside the earlier output: an interrupted run leaves it whole (and no staging
+// folder behind).
+TEST(Demo, InterruptedForceRunLeavesTheEarlierOutputWhole) {
+  std::string dir = earlier_demo_output("demo-earlier");
+  install_interrupt_handler();
+  std::raise(SIGINT);
+  demo::DemoOptions o;
+  o.quick = true;
+  o.force = true;
+  o.out_dir = dir;
+  try {
+    demo::run_demo(o, {});
+    FAIL() << "an interrupted run must fail";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("is unchanged"), std::string::npos) << e.what();
+  }
+  clear_interrupt();
+  EXPECT_TRUE(read_json(dir + "/report.json")["earlier"].get<bool>());
+  EXPECT_TRUE(fs::exists(dir + "/frame.glb"));
+  EXPECT_EQ(siblings(dir), std::vector<std::string>{});
+}
+
+// An input inside the output folder would be deleted by the swap: refused before anything starts.
+TEST(Demo, GlassesInsideTheOutputFolderAreRefusedUpFront) {
+  std::string dir = earlier_demo_output("demo-glasses-inside");
+  demo::DemoOptions o;
+  o.quick = true;
+  o.force = true;
+  o.out_dir = dir;
+  o.glasses = dir + "/frame.glb";
+  try {
+    demo::run_demo(o, {});
+    FAIL() << "expected a refusal";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("lies inside the output folder"), std::string::npos) << e.what();
+  }
+  EXPECT_TRUE(fs::exists(dir + "/frame.glb"));
+  EXPECT_TRUE(read_json(dir + "/report.json")["earlier"].get<bool>());
 }
 
 TEST(Demo, UnwritableOutputIsAClearError) {

@@ -102,18 +102,28 @@ TEST(Synthesize, OpaqueBackgroundHasFullAlphaAndTheColour) {
   EXPECT_NEAR(img.at(0, 0, 0), 0.0f, 1e-3);
 }
 
-TEST(Synthesize, RefusesNonEmptyOutputUnlessForced) {
+// --force replaces only an earlier synth output: a folder of other files is refused even with it.
+TEST(Synthesize, ForceReplacesOnlyAnEarlierSynthOutput) {
   std::string dir = tmp("nonempty");
   fs::create_directories(dir);
   std::ofstream(dir + "/keep.txt") << "user data";
   SynthOptions o = small_options();
   o.views = 1;
   EXPECT_THROW(synthesize_dataset(test::default_head(), dir, o), std::runtime_error);
-  EXPECT_TRUE(fs::exists(dir + "/keep.txt"));
   o.force = true;
-  synthesize_dataset(test::default_head(), dir, o);
-  EXPECT_FALSE(fs::exists(dir + "/keep.txt"));
-  EXPECT_TRUE(fs::exists(dir + "/transforms.json"));
+  EXPECT_THROW(synthesize_dataset(test::default_head(), dir, o), std::runtime_error);
+  EXPECT_TRUE(fs::exists(dir + "/keep.txt"));
+  EXPECT_FALSE(fs::exists(dir + "/transforms.json"));
+
+  std::string earlier = tmp("earlier");
+  o.force = false;
+  synthesize_dataset(test::default_head(), earlier, o);
+  EXPECT_THROW(synthesize_dataset(test::default_head(), earlier, o), std::runtime_error);
+  std::ofstream(earlier + "/stale.txt") << "from the earlier output";
+  o.force = true;
+  synthesize_dataset(test::default_head(), earlier, o);
+  EXPECT_TRUE(fs::exists(earlier + "/transforms.json"));
+  EXPECT_FALSE(fs::exists(earlier + "/stale.txt")) << "the earlier output is replaced as a whole";
 }
 
 TEST(Synthesize, UnwritableOutputFailsCleanly) {

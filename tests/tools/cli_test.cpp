@@ -1,6 +1,8 @@
 // The `lorgnette` binary run as a user runs it, on tiny inputs: exit status, what stderr says, and
 // the files left behind. Covers the rule that existing outputs are never overwritten without
-// --force, checked before any work (so a dummy model file is enough for the refusals).
+// --force, checked before any work (so a dummy model file is enough for the refusals), that --force
+// replaces only a command's own earlier output, and that a full disk or a read-only folder is a
+// clear error (a small tmpfs the test mounts).
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
@@ -12,6 +14,8 @@
 #include <sstream>
 #include <string>
 #include <vector>
+
+#include "tests/common/scoped_tmpfs.h"
 
 namespace fs = std::filesystem;
 
@@ -26,6 +30,8 @@ struct CliResult {
 fs::path test_dir() {
   fs::path d =
       fs::path(LORGNETTE_TEST_TMP) / "cli" / ::testing::UnitTest::GetInstance()->current_test_info()->name();
+  for (const char* mount_point : {"ro", "full"})  // left mounted by a killed run
+    ::umount2((d / mount_point).c_str(), MNT_DETACH);
   fs::remove_all(d);
   fs::create_directories(d);
   return d;
@@ -262,4 +268,78 @@ TEST(Cli, BenchFramesTimesSeveralMarchersSideBySide) {
   r = lorgnette(d, "bench frames --sizes 64x36 --repeats 1 --marcher auto,warp --out out2");
   EXPECT_NE(r.status, 0);
   EXPECT_CONTAINS(r.err, "'warp' is not a marcher");
+}
+
+namespace {
+const std::string kTinySynth = "synth --procedural --views 1 --size 16x16 --samples 1";
+}  // namespace
+
+TEST(Cli, SynthForceReplacesOnlyAnEarlierSynthOutput) {
+  fs::path d = test_dir();
+  fs::create_directories(d / "photos");
+  write_file(d / "photos" / "mine.jpg", kKeep);
+  CliResult r = lorgnette(d, kTinySynth + " -o photos --force");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_CONTAINS(r.err, "is not an earlier synthetic dataset");
+  EXPECT_EQ(read_file(d / "photos" / "mine.jpg"), kKeep);
+  // Its own earlier output: refused without --force, replaced with it.
+  r = lorgnette(d, kTinySynth + " -o data");
+  ASSERT_EQ(r.status, 0) << r.err;
+  r = lorgnette(d, kTinySynth + " -o data");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_CONTAINS(r.err, "--force");
+  r = lorgnette(d, kTinySynth + " -o data --force");
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_TRUE(fs::exists(d / "data" / "transforms.json"));
+}
+
+TEST(Cli, SynthIntoTheWorkingDirectoryIsRefused) {
+  fs::path d = test_dir();
+  write_file(d / "notes.txt", kKeep);
+  CliResult r = lorgnette(d, kTinySynth + " -o . --force");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_CONTAINS(r.err, "working directory");
+  EXPECT_EQ(read_file(d / "notes.txt"), kKeep);
+  // An empty working directory too: the dataset would replace the folder the shell stands in.
+  fs::create_directories(d / "empty");
+  r = lorgnette(d / "empty", kTinySynth + " -o .");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_CONTAINS(r.err, "working directory");
+  EXPECT_TRUE(fs::is_directory(d / "empty"));
+}
+
+// The model's folder is checked before the dataset is read (the dataset here does not exist: a
+// later check would complain about it instead).
+TEST(Cli, TrainChecksTheModelFolderBeforeAnyWork) {
+  fs::path d = test_dir();
+  lgn_test::ScopedTmpfs read_only(d / "ro", 64 * 1024, true);
+  LGN_SKIP_UNLESS_MOUNTED(read_only);
+  CliResult r = lorgnette(d, "train no-such-dataset -o ro/head.lnerf");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_CONTAINS(r.err, "cannot write the model (-o ro/head.lnerf)");
+  EXPECT_CONTAINS(r.err, "Read-only file system");
+  lgn_test::ScopedTmpfs full(d / "full", 64 * 1024);
+  LGN_SKIP_UNLESS_MOUNTED(full);
+  full.fill();
+  r = lorgnette(d, "train no-such-dataset -o full/head.lnerf");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_CONTAINS(r.err, "No space left on device");
+  EXPECT_FALSE(fs::exists(d / "full" / "head.lnerf"));
+}
+
+TEST(Cli, GlassesPreviewOnAFullDiskIsAnError) {
+  fs::path d = test_dir();
+  CliResult r = lorgnette(d, "glasses make -o frame.glb");
+  ASSERT_EQ(r.status, 0) << r.err;
+  lgn_test::ScopedTmpfs full(d / "full", 64 * 1024);
+  LGN_SKIP_UNLESS_MOUNTED(full);
+  full.fill();
+  r = lorgnette(d, "glasses inspect frame.glb -o full/preview.png");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_CONTAINS(r.err, "No space left on device");
+  EXPECT_FALSE(fs::exists(d / "full" / "preview.png"));
+  r = lorgnette(d, "glasses make -o full/other.glb");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_CONTAINS(r.err, "No space left on device");
+  EXPECT_FALSE(fs::exists(d / "full" / "other.glb"));
 }

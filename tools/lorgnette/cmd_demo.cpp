@@ -18,7 +18,7 @@ void add_demo(CLI::App& app, GlobalOptions& global) {
   cmd->add_option("--glasses", o->glasses, "glasses file (default: a parametric 52-18-140 frame)")
       ->check(CLI::ExistingFile);
   cmd->add_flag("--quick", o->quick, "the short variant (about 2 minutes on 2 CPU cores)");
-  cmd->add_flag("--force", o->force, "replace a non-empty output directory");
+  cmd->add_flag("--force", o->force, "replace an earlier demo output in the output directory");
   cmd->add_option("--seed", o->seed, "head shape, cameras and training seed")->capture_default_str();
   cmd->add_option("--views", o->views, "dataset views (default 48, quick 32)");
   cmd->add_option("--image-size", o->image_size, "dataset image size in pixels (default 192, quick 128)");

@@ -101,7 +101,8 @@ void add_synth(CLI::App& app, GlobalOptions&) {
   auto a = std::make_shared<SynthArgs>();
   cmd->add_option("--mesh", a->mesh, "textured mesh (glTF/GLB/OBJ/PLY), +y up, facing +z");
   cmd->add_flag("--procedural", a->procedural, "use the procedural head (seeded by --seed)");
-  cmd->add_option("-o,--output", a->out, "output dataset directory (must be empty unless --force)")
+  cmd->add_option("-o,--output", a->out,
+                  "output dataset directory (new, empty, or an earlier synth output with --force)")
       ->required();
   cmd->add_option("--views", a->views, "number of views")->check(CLI::Range(1, 100000));
   cmd->add_option("--size", a->size, "image size WxH");
@@ -129,7 +130,7 @@ void add_synth(CLI::App& app, GlobalOptions&) {
   cmd->add_option("--phone-distance", a->phone_mm,
                   "with --room: camera distance in millimetres (default 480)")
       ->check(CLI::Range(150.0, 3000.0));
-  cmd->add_flag("--force", a->force, "replace a non-empty output directory");
+  cmd->add_flag("--force", a->force, "replace an earlier synth output in the output directory");
   cmd->add_flag("--json", a->json, "print one JSON object on stdout");
   cmd->callback([a] { run_synth(*a); });
 }

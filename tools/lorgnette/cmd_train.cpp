@@ -13,6 +13,7 @@
 #include "host/dataset/dataset.h"
 #include "host/nerf/background_field.h"
 #include "host/nerf/train_job.h"
+#include "host/util/file_write.h"
 #include "host/util/interrupt.h"
 #include "tools/lorgnette/command.h"
 
@@ -47,11 +48,22 @@ std::optional<nerf::Aabb> parse_aabb(const std::string& text) {
   return box;
 }
 
+// The model's folder must take a file now, not after the training: a read-only folder or a full
+// disk is an error before the dataset is even loaded.
+void check_model_output(const std::string& output) {
+  if (std::filesystem::is_directory(output))
+    throw std::runtime_error(
+        fmt::format("-o '{}' is a folder: give the model file to write, e.g. {}/head.lnerf", output, output));
+  check_writable_folder(std::filesystem::path(output).parent_path().string(),
+                        fmt::format("the model (-o {})", output));
+}
+
 void run_train(const TrainArgs& a, GlobalOptions& global) {
   if (a.seconds < 0.0)
     throw std::runtime_error("--seconds must be positive (or leave it out for the default budget)");
   if (std::filesystem::exists(a.output) && !a.force)
     throw std::runtime_error("'" + a.output + "' exists: pass --force to overwrite it or choose another -o");
+  check_model_output(a.output);
   if (a.batch_log2 != 0 && (a.batch_log2 < 10 || a.batch_log2 > 22))
     throw std::runtime_error("--batch-log2 must be within 10..22");
   dataset::LoadOptions lo;
@@ -60,6 +72,9 @@ void run_train(const TrainArgs& a, GlobalOptions& global) {
   lo.max_image_bytes = nerf::kTrainImageBytes;
   lo.splits = {dataset::Split::Train};
   dataset::Dataset ds = dataset::load_dataset(a.data, lo);
+  if (interrupted())
+    throw std::runtime_error(fmt::format(
+        "interrupted while loading the dataset: nothing was trained or saved ('{}' is unchanged)", a.output));
   spdlog::info("dataset: {} ({}), {} frames", a.data, ds.format, ds.frames.size());
 
   nerf::TrainJob job;
@@ -91,7 +106,10 @@ void run_train(const TrainArgs& a, GlobalOptions& global) {
   cl::Runtime rt(global.runtime());
   nerf::TrainJobResult out = nerf::train_on_dataset(rt, ds, job);
   const nerf::TrainResult& r = out.result;
-  if (r.interrupted)
+  if (r.interrupted && r.steps == 0)
+    spdlog::warn("interrupted before the first training step: nothing was saved ('{}' is unchanged)",
+                 a.output);
+  else if (r.interrupted)
     spdlog::warn("interrupted after {} steps: the model so far is saved in '{}'", r.steps, a.output);
   else
     spdlog::info("trained {} steps ({} samples) in {:.1f} s ({}); saved '{}'", r.steps, r.samples, r.seconds,

@@ -58,7 +58,7 @@ int main(int argc, char** argv) {
     return s.code;
   } catch (const std::exception& e) {
     spdlog::error("{}", e.what());
-    return 1;
+    return interrupted() ? 130 : 1;  // a stop by signal keeps the shell's convention
   }
   return interrupted() ? 130 : 0;
 }

@@ -8,6 +8,9 @@
 #include <filesystem>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
+#include <random>
+
+#include "tests/common/scoped_tmpfs.h"
 
 using namespace lorgnette;
 using namespace lorgnette::dataset;
@@ -82,6 +85,36 @@ TEST(DatasetVideo, BadInputsAndUnfinishedWriterLeaveNoFile) {
     EXPECT_THROW(w.add(solid(16, 32, 1, 0, 0)), std::runtime_error);
   }  // destroyed without finish(): interrupted
   EXPECT_TRUE(fs::is_empty(dir));
+}
+
+// A full disk: the encoder reports nothing, but a cut-short MP4 lacks its index and is refused;
+// the contact sheet (an image write) throws too. Nothing is left under either name.
+TEST(DatasetVideo, FullDiskIsAnErrorNotAShortVideo) {
+  lgn_test::ScopedTmpfs disk(fs::path(LORGNETTE_TEST_TMP) / "media" / "full_disk", 48 * 1024);
+  LGN_SKIP_UNLESS_MOUNTED(disk);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  std::vector<Image> noise;  // noise does not compress: 30 frames of 96x96 need far more than 48 KB
+  for (int k = 0; k < 30; ++k) {
+    Image img(96, 96, 3);
+    for (float& v : img.pixels) v = u(rng);
+    noise.push_back(std::move(img));
+  }
+  const fs::path video = disk.path() / "orbit.mp4";
+  try {
+    write_mp4(video.string(), noise);
+    FAIL() << "a video larger than the disk must fail";
+  } catch (const std::runtime_error& e) {
+    std::printf("full disk: %s\n", e.what());
+    EXPECT_NE(std::string(e.what()).find("orbit.mp4"), std::string::npos) << e.what();
+  }
+  EXPECT_FALSE(fs::exists(video));
+  disk.fill();
+  const fs::path sheet = disk.path() / "contact_sheet.png";
+  EXPECT_THROW(write_contact_sheet(sheet.string(), {noise[0], noise[1]}, {"a", "b"}), std::runtime_error);
+  EXPECT_FALSE(fs::exists(sheet));
+  for (const auto& e : fs::directory_iterator(disk.path()))
+    EXPECT_EQ(e.path().filename(), "filler") << "left behind: " << e.path();
 }
 
 TEST(DatasetContactSheet, SizeAndCellPixels) {

@@ -4,13 +4,18 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <csignal>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 
 #include "host/nerf/sizing.h"
 #include "host/nerf/trainer.h"
 #include "host/render/evaluate.h"
 #include "host/render/orbit.h"
+#include "host/util/interrupt.h"
 #include "synthetic_scene.h"
+#include "tests/common/scoped_tmpfs.h"
 
 namespace {
 
@@ -180,6 +185,86 @@ TEST(Train, DivergenceStopsAndKeepsTheLastGoodSnapshot) {
   // The last copy whose loss was verified finite: the parameters after 30 updates (the copy taken
   // after step 31 is the poisoned one).
   EXPECT_EQ(kept.metadata.steps, 30u);
+}
+
+std::string read_text(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+// Stopped before its first step (Ctrl-C in the first second, or while the dataset loaded): an
+// untrained model is never saved, so a model already at the path stays as it was.
+TEST(Train, StoppedBeforeTheFirstStepSavesNothing) {
+  SceneSetup s;
+  NerfModel model = s.make_model(1u << 12, 5);
+  const std::string path = std::string(LORGNETTE_TEST_TMP) + "/nerf_trained_earlier.lnerf";
+  { std::ofstream(path) << "a model trained for 2000 steps"; }
+  TrainOptions o;
+  o.steps = 50;
+  o.progress = false;
+  o.snapshot_path = path;
+  request_interrupt();
+  Trainer trainer(model, s.train.views, o, s.sizing.occupancy_mask);
+  TrainResult r = trainer.run();
+  clear_interrupt();
+  EXPECT_TRUE(r.interrupted);
+  EXPECT_EQ(r.steps, 0u);
+  EXPECT_EQ(read_text(path), "a model trained for 2000 steps");
+  const std::string fresh = std::string(LORGNETTE_TEST_TMP) + "/nerf_never_trained.lnerf";
+  std::filesystem::remove(fresh);
+  o.snapshot_path = fresh;
+  request_interrupt();
+  Trainer again(model, s.train.views, o, s.sizing.occupancy_mask);
+  again.run();
+  clear_interrupt();
+  EXPECT_FALSE(std::filesystem::exists(fresh)) << "no 0-step model at -o";
+}
+
+// SIGHUP (a closed terminal) and SIGTERM stop training as Ctrl-C does: the snapshot so far is saved.
+TEST(Train, HangupStopsTrainingAndSavesTheSnapshot) {
+  SceneSetup s;
+  NerfModel model = s.make_model(1u << 12, 6);
+  const std::string path = std::string(LORGNETTE_TEST_TMP) + "/nerf_hangup.lnerf";
+  std::filesystem::remove(path);
+  install_interrupt_handler();
+  TrainOptions o;
+  o.steps = 5000;
+  o.progress = false;
+  o.snapshot_path = path;
+  o.on_step = [](uint64_t step, double, double) {
+    if (step == 4) std::raise(SIGHUP);
+  };
+  Trainer trainer(model, s.train.views, o, s.sizing.occupancy_mask);
+  TrainResult r = trainer.run();
+  clear_interrupt();
+  EXPECT_TRUE(r.interrupted);
+  EXPECT_GE(r.steps, 4u);
+  EXPECT_LE(r.steps, 6u);  // losses arrive one step late: the loop stops at its next poll
+  ASSERT_TRUE(std::filesystem::exists(path));
+  EXPECT_EQ(NerfModel::load(s.rt, path, 1u << 12).metadata.steps, r.steps);
+}
+
+// Evaluation images on a full disk: an error, no empty image left behind.
+TEST(Train, EvaluationOnAFullDiskIsAnError) {
+  const std::filesystem::path dir = std::filesystem::path(LORGNETTE_TEST_TMP) / "nerf_eval_full_disk";
+  lgn_test::ScopedTmpfs disk(dir, 64 * 1024);
+  LGN_SKIP_UNLESS_MOUNTED(disk);
+  disk.fill();
+  SceneSetup s;
+  NerfModel model = s.make_model(1u << 12, 7);
+  render::EvalOptions eo;
+  eo.max_views = 1;
+  eo.output_dir = dir.string();
+  try {
+    render::evaluate(model, s.test.views, eo);
+    FAIL() << "writing onto a full disk must fail";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("No space left on device"), std::string::npos) << e.what();
+  }
+  for (const auto& e : std::filesystem::directory_iterator(dir))
+    EXPECT_EQ(e.path().filename(), "filler") << "left behind: " << e.path();
 }
 
 TEST(Train, EmptyInputIsAClearError) {

@@ -9,6 +9,7 @@
 #include <fstream>
 
 #include "host/render/analytic_field.h"
+#include "tests/common/scoped_tmpfs.h"
 
 using namespace lorgnette;
 using namespace lorgnette::render;
@@ -122,4 +123,35 @@ TEST(RenderJob, OrbitWritesFramesDepthVideoSheetAndSummary) {
   EXPECT_THROW(run_render_job(job, render), std::runtime_error);
   job.force = true;
   EXPECT_NO_THROW(run_render_job(job, render));
+}
+
+// A full disk: the job stops with the disk's error instead of leaving 0-byte frames.
+TEST(RenderJob, FullDiskIsAnErrorAndLeavesNoEmptyFrames) {
+  lgn_test::ScopedTmpfs disk(fs::path(LORGNETTE_TEST_TMP) / "render_job_full_disk", 64 * 1024);
+  LGN_SKIP_UNLESS_MOUNTED(disk);
+  disk.fill();
+  cl::Runtime rt;
+  AnalyticField field(rt, analytic_head_min, analytic_head_max, analytic_head_primitives(), 1u << 14);
+  VolumeScene scene;
+  scene.aabb_min = analytic_head_min;
+  scene.aabb_max = analytic_head_max;
+  scene.step = 1.0f / 64.0f;
+  scene.field = &field;
+  Marcher marcher(rt);
+  OrbitSpec spec;
+  spec.views = 2;
+  spec.width = spec.height = 24;
+  RenderJob job;
+  job.cameras = orbit_cameras(spec);
+  job.out_dir = disk.path().string();
+  try {
+    run_render_job(job, [&](const Camera& c, const lorgnette::SurfaceBuffers* s) {
+      return marcher.render(scene, c, s, job.options);
+    });
+    FAIL() << "writing onto a full disk must fail";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("No space left on device"), std::string::npos) << e.what();
+  }
+  for (const auto& e : fs::directory_iterator(disk.path()))
+    EXPECT_EQ(e.path().filename(), "filler") << "left behind: " << e.path();
 }
