@@ -11,9 +11,11 @@
 #include "fit/fit_job.h"
 #include "host/dataset/dataset.h"
 #include "host/nerf/train_job.h"
+#include "host/nerf/train_settings.h"
 #include "host/render/evaluate.h"
 #include "host/render/orbit.h"
 #include "host/render/render_job.h"
+#include "host/render/render_settings.h"
 #include "host/render/renderer.h"
 #include "host/render/view_plan.h"
 #include "host/util/chart.h"
@@ -103,14 +105,16 @@ synth::Subject stage_synthesize(Context& c) {
 nerf::NerfModel stage_train(Context& c, cl::Runtime& rt, dataset::Dataset& ds) {
   c.begin("train the NeRF head");
   Stopwatch sw;
-  nerf::TrainJob job;
-  job.batch_log2 = c.opt.quick ? 15 : 16;
-  job.train.steps = c.opt.train_seconds > 0.0 ? 0 : c.opt.train_steps;
-  job.train.seconds = c.opt.train_seconds;
-  job.train.seed = static_cast<uint32_t>(c.opt.seed);
-  job.train.snapshot_path = c.path("head.lnerf");  // written at the end (and on Ctrl-C)
-  job.train.progress = c.opt.progress;
-  nerf::TrainJobResult out = nerf::train_on_dataset(rt, ds, job);
+  nerf::TrainSettings settings;  // the request `lorgnette train` and Python build, in the dataset's box
+  settings.batch_log2 = c.opt.quick ? 15 : 16;
+  if (c.opt.train_seconds > 0.0)
+    settings.seconds = c.opt.train_seconds;
+  else if (c.opt.train_steps > 0)
+    settings.steps = c.opt.train_steps;
+  settings.seed = static_cast<uint32_t>(c.opt.seed);
+  settings.output = c.path("head.lnerf");  // written at the end (and on Ctrl-C)
+  settings.progress = c.opt.progress;
+  nerf::TrainJobResult out = nerf::train_on_dataset(rt, ds, nerf::train_job(settings));
   const nerf::TrainResult& r = out.result;
   if (r.interrupted)
     throw std::runtime_error("interrupted during training (the model so far is in head.lnerf)");
@@ -221,20 +225,21 @@ void stage_render(Context& c, cl::Runtime& rt, nerf::NerfModel& model, const std
   job.out_dir = c.path("orbit");
   std::vector<Camera> cams;
   for (const auto& f : ds.frames) cams.push_back(f.camera);
-  render::OrbitSpec base = render::model_orbit(model, cams);
-  base.width = base.height = static_cast<uint32_t>(c.opt.orbit_size);
-  render::OrbitRequest req;  // within the directions the capture saw (view_plan.h)
-  req.views = static_cast<uint32_t>(c.opt.orbit_frames);
-  req.elevation_deg = 10.0f;
-  render::OrbitPlan plan = render::plan_orbit(base, render::model_view_range(model), req);
+  render::OrbitSettings orbit;  // within the directions the capture saw (view_plan.h)
+  orbit.width = orbit.height = static_cast<uint32_t>(c.opt.orbit_size);
+  orbit.views = static_cast<uint32_t>(c.opt.orbit_frames);
+  orbit.elevation_deg = 10.0f;
+  render::OrbitPlan plan = render::plan_model_orbit(model, orbit, render::model_view_range(model), cams);
   for (const auto& note : plan.notes) spdlog::info("orbit: {}", note);
   job.cameras = render::orbit_cameras(plan.spec);
   // canonical mm -> scene, temples spread as the fit chose
   mesh::PlacedGlasses placed =
       mesh::load_placed_glasses(glasses_path, fitted.placement.transform.cast<float>(), fitted.temples.bend);
   const mesh::Glasses& g = placed.glasses;
+  render::RenderSettings look;  // the CLI's defaults: white background, spp 1, 4 glasses samples
+  job.options = render::render_options(look);
   mesh::SurfaceParams sp;
-  sp.samples_per_pixel = 4;
+  sp.samples_per_pixel = int(look.surface_spp);
   job.surfaces = [&placed, sp](const Camera& cam) { return placed.pass->render(cam, sp); };
   render::Renderer renderer(rt);
   nlohmann::json summary =
