@@ -82,6 +82,30 @@ void prepare_output_dir(const DemoOptions& opt) {
   fs::remove(probe, ec);
 }
 
+// The demo's training request: the one `lorgnette train` and Python build (train_settings.h), in the
+// dataset's own box. Checked up front by run_demo, so a bad --train-steps fails before any work.
+nerf::TrainSettings train_settings(const DemoOptions& opt, const std::string& dir) {
+  nerf::TrainSettings s;
+  s.batch_log2 = opt.quick ? 15 : 16;
+  if (opt.train_seconds != 0.0)
+    s.seconds = opt.train_seconds;
+  else if (opt.train_steps > 0)
+    s.steps = opt.train_steps;
+  s.seed = static_cast<uint32_t>(opt.seed);
+  s.output = (fs::path(dir) / "head.lnerf").string();  // written at the end (and on Ctrl-C)
+  s.progress = opt.progress;
+  return s;
+}
+
+// The orbit the demo renders (render_settings.h), within the directions the capture saw.
+render::OrbitSettings orbit_settings(const DemoOptions& opt) {
+  render::OrbitSettings o;
+  o.width = o.height = static_cast<uint32_t>(opt.orbit_size);
+  o.views = static_cast<uint32_t>(opt.orbit_frames);
+  o.elevation_deg = 10.0f;
+  return o;
+}
+
 synth::Subject stage_synthesize(Context& c) {
   c.begin("synthesize a procedural head and render its dataset");
   Stopwatch sw;
@@ -105,16 +129,7 @@ synth::Subject stage_synthesize(Context& c) {
 nerf::NerfModel stage_train(Context& c, cl::Runtime& rt, dataset::Dataset& ds) {
   c.begin("train the NeRF head");
   Stopwatch sw;
-  nerf::TrainSettings settings;  // the request `lorgnette train` and Python build, in the dataset's box
-  settings.batch_log2 = c.opt.quick ? 15 : 16;
-  if (c.opt.train_seconds > 0.0)
-    settings.seconds = c.opt.train_seconds;
-  else if (c.opt.train_steps > 0)
-    settings.steps = c.opt.train_steps;
-  settings.seed = static_cast<uint32_t>(c.opt.seed);
-  settings.output = c.path("head.lnerf");  // written at the end (and on Ctrl-C)
-  settings.progress = c.opt.progress;
-  nerf::TrainJobResult out = nerf::train_on_dataset(rt, ds, nerf::train_job(settings));
+  nerf::TrainJobResult out = nerf::train_on_dataset(rt, ds, nerf::train_job(train_settings(c.opt, c.dir)));
   const nerf::TrainResult& r = out.result;
   if (r.interrupted)
     throw std::runtime_error("interrupted during training (the model so far is in head.lnerf)");
@@ -225,11 +240,8 @@ void stage_render(Context& c, cl::Runtime& rt, nerf::NerfModel& model, const std
   job.out_dir = c.path("orbit");
   std::vector<Camera> cams;
   for (const auto& f : ds.frames) cams.push_back(f.camera);
-  render::OrbitSettings orbit;  // within the directions the capture saw (view_plan.h)
-  orbit.width = orbit.height = static_cast<uint32_t>(c.opt.orbit_size);
-  orbit.views = static_cast<uint32_t>(c.opt.orbit_frames);
-  orbit.elevation_deg = 10.0f;
-  render::OrbitPlan plan = render::plan_model_orbit(model, orbit, render::model_view_range(model), cams);
+  render::OrbitPlan plan =
+      render::plan_model_orbit(model, orbit_settings(c.opt), render::model_view_range(model), cams);
   for (const auto& note : plan.notes) spdlog::info("orbit: {}", note);
   job.cameras = render::orbit_cameras(plan.spec);
   // canonical mm -> scene, temples spread as the fit chose
@@ -286,6 +298,8 @@ DemoReport run_demo(const DemoOptions& options, const cl::RuntimeOptions& runtim
                      {"orbit_size", c.opt.orbit_size},
                      {"fit_views", c.opt.fit_views},
                      {"seed", c.opt.seed}};
+  nerf::validate(train_settings(c.opt, c.dir));  // the flags' ranges before anything is written
+  render::validate(orbit_settings(c.opt));
   prepare_output_dir(c.opt);
   cl::Runtime rt(runtime);
   c.report.device = rt.device().summary();

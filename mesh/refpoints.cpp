@@ -180,7 +180,9 @@ RefPointsSidecar parse_refpoints_sidecar(std::string_view text, const std::strin
     if (!j["mm_per_unit"].is_number())
       throw std::runtime_error(fmt::format("sidecar '{}': 'mm_per_unit' must be a number", path));
     s.mm_per_unit = j["mm_per_unit"].get<double>();
-    if (s.mm_per_unit != 0.0) check_file_bound(path, bounds::kMmPerUnit, s.mm_per_unit);
+    Bound key = bounds::kMmPerUnit;  // the flag's range, named by the file's key
+    key.flag = "mm_per_unit";
+    if (s.mm_per_unit != 0.0) check_file_bound(path, key, s.mm_per_unit);
   }
   s.points.g_c = read_vec(j, "g_c", path);
   s.points.g_l = read_vec(j, "g_l", path);

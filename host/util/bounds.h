@@ -105,6 +105,14 @@ inline constexpr Bound kElevationDeg{"--elevation", "elevation_deg", -80, 80, "o
 // step scale (kStepScale.lo). The marcher refuses anything beyond it instead of marching for hours.
 inline constexpr double kMaxStepsPerRay = kMaxStepsPerDiagonal / 0.25;
 
+// A placement by hand (`render --translate/--rotate/--scale`, Python's trs()): scene units, degrees,
+// scene units per millimetre of the frame.
+inline constexpr Bound kTranslate{"--translate", "translate", -kSceneCoord, kSceneCoord,
+                                  "glasses translation in scene units"};
+inline constexpr Bound kRotateDeg{"--rotate", "rotate_deg", -360, 360, "glasses rotation in degrees"};
+inline constexpr Bound kGlassesScale{"--scale", "scale", 1e-9, 1e6,
+                                     "scene units per millimetre of the frame"};
+
 // Glasses files (`glasses inspect --mm-per-unit`, Glasses.load(mm_per_unit=), the sidecar's key):
 // from micrometres to 100 m per file unit; 0 means "detect the units".
 inline constexpr Bound kMmPerUnit{"--mm-per-unit", "mm_per_unit", 1e-3, 1e5,

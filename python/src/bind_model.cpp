@@ -90,13 +90,14 @@ std::shared_ptr<mesh::PlacedGlasses> placed_glasses(Glasses& g, const render::Ma
   return g.placed;
 }
 
+// A 4x4 (canonical mm -> scene) checked as `render --transform` checks it: finite, affine.
 render::Mat4 matrix_arg(const pyb::handle& obj) {
   auto a = pyb::array_t<double, pyb::array::c_style | pyb::array::forcecast>::ensure(obj);
   if (!a || a.size() != 16)
     throw pyb::value_error("placement: a Placement or a 4x4 matrix (canonical mm -> scene)");
-  render::Mat4 m;
-  for (int i = 0; i < 16; ++i) m[i] = float(a.data()[i]);
-  return m;
+  nlohmann::json j = nlohmann::json::array();
+  for (int i = 0; i < 16; ++i) j.push_back(a.data()[i]);
+  return render::matrix_from_json(j, "placement");
 }
 
 struct RenderArgs {

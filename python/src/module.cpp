@@ -116,8 +116,12 @@ double real_arg(const pyb::handle& obj, const Bound& bound) {
                                       std::string(pyb::repr(obj)).substr(0, 40),
                                       Py_TYPE(obj.ptr())->tp_name));
   double v = PyFloat_AsDouble(obj.ptr());
-  if (v == -1.0 && PyErr_Occurred()) {  // an int beyond a double's range
+  if (v == -1.0 && PyErr_Occurred()) {
     PyErr_Clear();
+    if (!PyLong_Check(obj.ptr()))  // __float__ failed (e.g. an array of several numbers)
+      throw pyb::type_error(fmt::format("{} must be a single number, found {}", bound_name(bound),
+                                        std::string(pyb::repr(obj)).substr(0, 40)));
+    // An int beyond a double's range: infinite, so the range check names it.
     return PyObject_RichCompareBool(obj.ptr(), pyb::int_(0).ptr(), Py_LT) == 1 ? -HUGE_VAL : HUGE_VAL;
   }
   return v;

@@ -79,6 +79,17 @@ def test_glasses_without_a_placement_are_refused_like_the_cli(tmp_path, model, m
         "render", model_path, "--glasses", frame_path, "--pose", pose, "--size", "32x24", "-o", tmp_path / "o")
 
 
+def test_hand_placements_are_finite(tmp_path, model, frame_path):
+    assert "--translate (Python: translate)" in range_error(lambda: lorgnette.trs(translate=(math.nan, 0, 0)))
+    assert "--scale (Python: scale)" in range_error(lambda: lorgnette.trs(scale=-1))
+    camera = model.orbit(1, size=(32, 24))[0]
+    glasses = lorgnette.Glasses.load(str(frame_path))
+    bad = lorgnette.trs(scale=0.001)
+    bad[0, 3] = math.nan
+    with pytest.raises(lorgnette.Error, match="non-finite"):
+        model.render(camera, glasses, bad)
+
+
 def test_glasses_units_have_the_cli_message(frame_path):
     for bad in (-1, math.nan, 1e300):
         msg = range_error(lambda: lorgnette.Glasses.load(str(frame_path), mm_per_unit=bad))

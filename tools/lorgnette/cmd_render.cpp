@@ -131,6 +131,7 @@ void run(RenderArgs& a, GlobalOptions& global) {
 
 void add_render(CLI::App& app, GlobalOptions& global) {
   auto a = std::make_shared<RenderArgs>();
+  a->orbit.views = 0;  // no --orbit: a --pose camera
   auto* cmd = app.add_subcommand("render", "render a trained head (.lnerf) with or without glasses");
   cmd->add_option("model", a->model, "trained model snapshot (.lnerf)")->required()->check(CLI::ExistingFile);
   cmd->add_option("--glasses", a->glasses, "glasses frame (glTF/GLB/OBJ/PLY)")->check(CLI::ExistingFile);

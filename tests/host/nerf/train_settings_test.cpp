@@ -62,7 +62,7 @@ TEST(TrainSettings, OutOfRangeNumbersAreRefusedNamingFlagAndArgument) {
 TEST(TrainSettings, AabbTextIsParsedWithinTheSceneRange) {
   EXPECT_HAS(range_error([] { parse_aabb("-1e30,-1,-1,1e30,1,1"); }),
              "--aabb must be within -100000..100000");
-  EXPECT_HAS(range_error([] { parse_aabb("0,0,0,1,nan,1"); }), "--aabb");
+  EXPECT_THROW(parse_aabb("0,0,0,1,nan,1"), std::invalid_argument);  // "needs six numbers"
   EXPECT_HAS(range_error([] { parse_aabb("1,1,1,0,2,2"); }), "max must exceed min");
   EXPECT_THROW(parse_aabb("1,2,3"), std::invalid_argument);
   std::optional<Aabb> box = parse_aabb("-1,-2,-3,1,2,3.5");

@@ -12,6 +12,7 @@
 #include <string>
 
 #include "host/render/analytic_field.h"
+#include "host/render/render_job.h"
 #include "host/render/renderer.h"
 #include "host/util/bounds.h"
 
@@ -83,6 +84,21 @@ TEST(OrbitSettings, HugeOrbitsAndBadAnglesAreRefusedBeforeAnyAllocation) {
   EXPECT_NO_THROW(check_glasses_and_placement(false, false));
 }
 
+TEST(RenderSettings, HandPlacementsAreFiniteAndInRange) {
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_HAS(range_error([&] {
+               trs_transform({nan, 0, 0}, {0, 0, 0}, 1.0f);
+             }),
+             "--translate (Python: translate)");
+  EXPECT_HAS(range_error([&] {
+               trs_transform({0, 0, 0}, {0, 1e9f, 0}, 1.0f);
+             }),
+             "--rotate (Python: rotate_deg)");
+  EXPECT_HAS(range_error([&] { trs_transform({0, 0, 0}, {0, 0, 0}, -1.0f); }), "--scale (Python: scale)");
+  EXPECT_HAS(range_error([&] { trs_transform({0, 0, 0}, {0, 0, 0}, 1e30f); }), "--scale");
+  EXPECT_EQ(trs_transform({1, 2, 3}, {0, 0, 0}, 0.5f)[3], 1.0f);
+}
+
 cl::Runtime& runtime() {
   static cl::Runtime rt;
   return rt;
@@ -108,8 +124,9 @@ TEST(Marcher, RefusesStepsBeyondTheSamplesPerRayCap) {
   o.step_scale = 1.0f;
   EXPECT_HAS(range_error([&] { marcher.render(scene, cam, nullptr, o); }), "retrain the model");
   EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 5.0);
-  // At the cap's edge it still renders: the finest model step (diagonal / 16384) at step scale 0.25.
-  scene.step = float(std::sqrt(12.0) / 16384.0);
+  // Just inside the cap it still renders: a model step near the finest (diagonal / 16384) at step
+  // scale 0.25 (diagonal / 16000 keeps clear of float rounding at the edge).
+  scene.step = float(std::sqrt(12.0) / 16000.0);
   o.step_scale = 0.25f;
   RenderResult r = marcher.render(scene, cam, nullptr, o);  // dense: rays stop after ~0.2 units
   EXPECT_EQ(r.rays, 16u * 12u);
