@@ -276,7 +276,8 @@ void bind_model(pyb::module_& m) {
           pyb::arg("size") = pyb::none(), pyb::arg("spp") = 1, pyb::arg("surface_spp") = 4,
           pyb::arg("step_scale") = 1.0f, pyb::arg("background") = std::make_tuple(1.0, 1.0, 1.0),
           pyb::arg("alpha") = false, pyb::arg("depth") = false,
-          "Renders the head (with glasses placed by a Placement or a 4x4 canonical mm -> scene) as a "
+          "Renders the head (with glasses - a Glasses or a frame's path - placed by a Placement or a 4x4 "
+          "canonical mm -> scene; glasses without a placement are refused as `render` refuses them) as a "
           "float32 H x W x 4 array: linear RGB over `background` and alpha = coverage (alpha=True: no "
           "background, RGB premultiplied). depth=True returns (rgba, depth H x W: distance along the unit "
           "ray, 0 where empty). to_srgb8() gives the CLI's PNG pixels. The GIL is released meanwhile.")
