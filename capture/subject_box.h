@@ -12,6 +12,7 @@
 #include "host/dataset/dataset.h"
 #include "host/nerf/subject_volume.h"
 #include "host/nerf/train_job.h"
+#include "host/util/bounds.h"
 
 namespace lorgnette::capture {
 
@@ -43,7 +44,7 @@ bool has_alpha_masks(const dataset::Dataset& ds);
 
 // The most hair (or hat) above and behind the skull that `train --hair` and Python's
 // train(hair_mm=) accept for the head box (fit::HeadExtents::hair_mm), in millimetres.
-inline constexpr double kMaxHairMm = 300.0;
+inline constexpr double kMaxHairMm = bounds::kHairMm.hi;
 
 // Chooses the box for training on `ds`'s training frames. `masks_allowed` = false ignores alpha
 // (train --no-masks). Throws when a forced source does not apply (no aabb, no masks, no faces).

@@ -10,9 +10,11 @@
 #include "fit/fit_job.h"
 #include "host/dataset/dataset.h"
 #include "host/nerf/train_job.h"
+#include "host/nerf/train_settings.h"
 #include "host/render/evaluate.h"
 #include "host/render/orbit.h"
 #include "host/render/render_job.h"
+#include "host/render/render_settings.h"
 #include "host/render/renderer.h"
 #include "host/render/view_plan.h"
 #include "host/util/chart.h"
@@ -61,6 +63,30 @@ struct Context {
   std::string final_path(const std::string& rel) const { return (fs::path(final_dir) / rel).string(); }
 };
 
+// The demo's training request: the one `lorgnette train` and Python build (train_settings.h), in the
+// dataset's own box. Checked up front by run_demo, so a bad --train-steps fails before any work.
+nerf::TrainSettings train_settings(const DemoOptions& opt, const std::string& dir) {
+  nerf::TrainSettings s;
+  s.batch_log2 = opt.quick ? 15 : 16;
+  if (opt.train_seconds != 0.0)
+    s.seconds = opt.train_seconds;
+  else if (opt.train_steps > 0)
+    s.steps = opt.train_steps;
+  s.seed = static_cast<uint32_t>(opt.seed);
+  s.output = (fs::path(dir) / "head.lnerf").string();  // written at the end (and on Ctrl-C)
+  s.progress = opt.progress;
+  return s;
+}
+
+// The orbit the demo renders (render_settings.h), within the directions the capture saw.
+render::OrbitSettings orbit_settings(const DemoOptions& opt) {
+  render::OrbitSettings o;
+  o.width = o.height = static_cast<uint32_t>(opt.orbit_size);
+  o.views = static_cast<uint32_t>(opt.orbit_frames);
+  o.elevation_deg = 10.0f;
+  return o;
+}
+
 synth::Subject stage_synthesize(Context& c) {
   c.begin("synthesize a procedural head and render its dataset");
   Stopwatch sw;
@@ -84,14 +110,7 @@ synth::Subject stage_synthesize(Context& c) {
 nerf::NerfModel stage_train(Context& c, cl::Runtime& rt, dataset::Dataset& ds) {
   c.begin("train the NeRF head");
   Stopwatch sw;
-  nerf::TrainJob job;
-  job.batch_log2 = c.opt.quick ? 15 : 16;
-  job.train.steps = c.opt.train_seconds > 0.0 ? 0 : c.opt.train_steps;
-  job.train.seconds = c.opt.train_seconds;
-  job.train.seed = static_cast<uint32_t>(c.opt.seed);
-  job.train.snapshot_path = c.path("head.lnerf");  // written at the end (and on Ctrl-C)
-  job.train.progress = c.opt.progress;
-  nerf::TrainJobResult out = nerf::train_on_dataset(rt, ds, job);
+  nerf::TrainJobResult out = nerf::train_on_dataset(rt, ds, nerf::train_job(train_settings(c.opt, c.dir)));
   const nerf::TrainResult& r = out.result;
   if (r.interrupted)
     throw std::runtime_error("interrupted during training (the model so far is in head.lnerf)");
@@ -208,20 +227,18 @@ void stage_render(Context& c, cl::Runtime& rt, nerf::NerfModel& model, const std
   job.out_dir = c.path("orbit");
   std::vector<Camera> cams;
   for (const auto& f : ds.frames) cams.push_back(f.camera);
-  render::OrbitSpec base = render::model_orbit(model, cams);
-  base.width = base.height = static_cast<uint32_t>(c.opt.orbit_size);
-  render::OrbitRequest req;  // within the directions the capture saw (view_plan.h)
-  req.views = static_cast<uint32_t>(c.opt.orbit_frames);
-  req.elevation_deg = 10.0f;
-  render::OrbitPlan plan = render::plan_orbit(base, render::model_view_range(model), req);
+  render::OrbitPlan plan =
+      render::plan_model_orbit(model, orbit_settings(c.opt), render::model_view_range(model), cams);
   for (const auto& note : plan.notes) spdlog::info("orbit: {}", note);
   job.cameras = render::orbit_cameras(plan.spec);
   // canonical mm -> scene, temples spread as the fit chose
   mesh::PlacedGlasses placed =
       mesh::load_placed_glasses(glasses_path, fitted.placement.transform.cast<float>(), fitted.temples.bend);
   const mesh::Glasses& g = placed.glasses;
+  render::RenderSettings look;  // the CLI's defaults: white background, spp 1, 4 glasses samples
+  job.options = render::render_options(look);
   mesh::SurfaceParams sp;
-  sp.samples_per_pixel = 4;
+  sp.samples_per_pixel = int(look.surface_spp);
   job.surfaces = [&placed, sp](const Camera& cam) { return placed.pass->render(cam, sp); };
   render::Renderer renderer(rt);
   nlohmann::json summary =
@@ -283,6 +300,8 @@ DemoReport run_demo(const DemoOptions& options, const cl::RuntimeOptions& runtim
                      {"orbit_size", c.opt.orbit_size},
                      {"fit_views", c.opt.fit_views},
                      {"seed", c.opt.seed}};
+  nerf::validate(train_settings(c.opt, c.dir));  // the flags' ranges before anything is written
+  render::validate(orbit_settings(c.opt));
   // Inputs inside the output folder are refused before anything starts (the swap would delete them).
   StagedOutput staged(c.opt.out_dir, kDemoOutput, c.opt.force, {c.opt.glasses});
   c.dir = staged.path();

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
+#include "host/util/file_kind.h"
 #include "kernels/train/occupancy.h"
 
 namespace lorgnette::fit {
@@ -100,6 +101,14 @@ Bounds NerfViewSource::bounds() const {
 
 ViewPrior prior_from_transforms(const std::string& path, const nerf::NerfModel& model) {
   ViewPrior prior;
+  // A path the model names may be anything by now: only a regular file is opened (a FIFO would
+  // block the fit forever); anything else fits without the prior, as a missing file does.
+  if (!is_regular_file_path(path)) {
+    std::error_code ec;
+    if (std::filesystem::exists(path, ec))
+      spdlog::warn("fit: '{}' is not a regular file; fitting without the capture's cameras", path);
+    return prior;
+  }
   std::ifstream in(path);
   if (!in) return prior;
   nlohmann::json j;

@@ -23,6 +23,7 @@
 #include "host/nerf/snapshot.h"
 #include "mesh/gltf_writer.h"
 #include "mesh/parametric.h"
+#include "mesh/refpoints.h"
 
 namespace {
 namespace fs = std::filesystem;
@@ -136,6 +137,38 @@ void seed_snapshot(const fs::path& out) {
   for (int i = 0; i < 3; ++i) dataset::set_camera_pose(cams[i], orbit_pose(0.4 * i - 0.4));
   with_range.view_range = nerf::view_range_from_cameras(cams, {0.0f, 0.0f, 0.0f});
   spit(out / "view_range.lnerf", nerf::encode_snapshot(with_range));
+  // A version 1 file (no header checksum), as older builds wrote them: mutations of its header reach
+  // the value checks and the blob table, which a version 2 header's checksum stops.
+  std::string v2 = nerf::encode_snapshot(tiny_snapshot(1, true));
+  uint64_t hlen = 0;
+  std::memcpy(&hlen, v2.data() + 8, 8);
+  json h = json::parse(v2.substr(16, hlen));
+  h["version"] = 1;
+  h.erase(nerf::kHeaderChecksumKey);
+  std::string text = h.dump();
+  uint64_t n = text.size();
+  spit(out / "version1.lnerf",
+       v2.substr(0, 8) + std::string(reinterpret_cast<const char*>(&n), 8) + text + v2.substr(16 + hlen));
+}
+
+// The header target's inputs: the JSON headers of the snapshot seeds.
+void seed_snapshot_header(const fs::path& snapshots, const fs::path& out) {
+  for (const auto& e : fs::directory_iterator(snapshots)) {
+    std::string file = slurp(e.path());
+    uint64_t hlen = 0;
+    std::memcpy(&hlen, file.data() + 8, 8);
+    spit(out / (e.path().stem().string() + ".json"), file.substr(16, hlen));
+  }
+}
+
+// Reference-point sidecars as the writer makes them (file units of a .glb: metres).
+void seed_refpoints(const fs::path& out) {
+  mesh::RefPointsSidecar s;
+  s.points = mesh::make_parametric_frame(mesh::FrameParams{}).ref;
+  spit(out / "detect_units.json", mesh::refpoints_sidecar_text(s));
+  s.points.g_l /= 1000.0f, s.points.g_r /= 1000.0f;
+  s.mm_per_unit = 1000.0;
+  spit(out / "metres.json", mesh::refpoints_sidecar_text(s));
 }
 
 void seed_colmap(const fs::path& out, const fs::path& scratch) {
@@ -311,9 +344,11 @@ int main(int argc, char** argv) {
     fs::create_directories(scratch);
     seed_transforms(out / "transforms", scratch);
     seed_snapshot(out / "snapshot");
+    seed_snapshot_header(out / "snapshot", out / "snapshot_header");
     seed_colmap(out, scratch);
     seed_placement(out / "placement");
     seed_glasses(out / "glasses", scratch);
+    seed_refpoints(out / "refpoints");
     fs::remove_all(scratch);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "fuzz_make_seeds: %s\n", e.what());

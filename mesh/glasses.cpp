@@ -6,6 +6,8 @@
 
 #include <Eigen/Geometry>
 
+#include "host/util/bounds.h"
+
 namespace lorgnette::mesh {
 namespace {
 
@@ -16,6 +18,7 @@ Eigen::Vector3f apply(const Eigen::Matrix4f& m, const Eigen::Vector3f& p) {
 }  // namespace
 
 Glasses canonicalize_glasses(TriMesh mesh, const GlassesOptions& options, const RefPointsSidecar* sidecar) {
+  check_bound_or_zero(bounds::kMmPerUnit, options.mm_per_unit);  // 0: detect; never a negative or NaN
   Glasses g;
   double mm_override = options.mm_per_unit > 0 ? options.mm_per_unit : sidecar ? sidecar->mm_per_unit : 0.0;
   g.canonical = detect_canonical_frame(mesh, mm_override);
@@ -47,6 +50,7 @@ Glasses canonicalize_glasses(TriMesh mesh, const GlassesOptions& options, const 
 }
 
 Glasses load_glasses(const std::string& path, const GlassesOptions& options) {
+  check_bound_or_zero(bounds::kMmPerUnit, options.mm_per_unit);  // before the (slow) load
   LoadReport report;
   TriMesh mesh = load_mesh(path, options.load, &report);
   std::optional<RefPointsSidecar> sidecar;

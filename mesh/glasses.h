@@ -23,8 +23,10 @@ struct Glasses {
 
 struct GlassesOptions {
   LoadOptions load;
-  double mm_per_unit = 0.0;  // > 0 overrides unit detection (the sidecar may also set it)
-  bool use_sidecar = true;   // read <file>.refpoints.json when it exists
+  // > 0 overrides unit detection (the sidecar may also set it), within bounds::kMmPerUnit; 0 detects;
+  // anything else (negative, NaN) is refused.
+  double mm_per_unit = 0.0;
+  bool use_sidecar = true;  // read <file>.refpoints.json when it exists
 };
 
 Glasses load_glasses(const std::string& path, const GlassesOptions& options = {});

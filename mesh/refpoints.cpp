@@ -7,10 +7,13 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
+#include "host/util/bounds.h"
+#include "host/util/file_kind.h"
 #include "host/util/image_io.h"
 #include "mesh/canonical.h"
 
@@ -92,14 +95,23 @@ Eigen::Vector3f detect_ear_point(const std::vector<Bin>& prof, RefPoints& out, c
   return {prof[knee].x_mean, prof[knee].y_under, prof[knee].z};
 }
 
+// A point in the mesh file's coordinates: three numbers within +-kMeshCoord (bounds.h), so 1e300
+// (infinite as a float) or a NaN never reaches the canonical frame.
 Eigen::Vector3f read_vec(const nlohmann::json& j, const char* key, const std::string& path) {
   if (!j.contains(key) || !j[key].is_array() || j[key].size() != 3)
     throw std::runtime_error(fmt::format("sidecar '{}': '{}' must be an array of 3 numbers", path, key));
   Eigen::Vector3f v;
   for (int k = 0; k < 3; ++k) {
-    if (!j[key][k].is_number())
+    const nlohmann::json& x = j[key][k];
+    if (!x.is_number())
       throw std::runtime_error(fmt::format("sidecar '{}': '{}' must be an array of 3 numbers", path, key));
-    v[k] = j[key][k].get<float>();
+    double d = x.get<double>();
+    if (!(std::abs(d) <= bounds::kMeshCoord))
+      throw OutOfRange(fmt::format(
+          "sidecar '{}': '{}' must hold coordinates within +-{:g} (the mesh file's units), found {}; fix "
+          "or delete the sidecar",
+          path, key, bounds::kMeshCoord, x.dump()));
+    v[k] = static_cast<float>(d);
   }
   return v;
 }
@@ -140,14 +152,23 @@ std::string sidecar_path(const std::string& mesh_path) { return mesh_path + ".re
 std::optional<RefPointsSidecar> read_refpoints_sidecar(const std::string& mesh_path) {
   std::string path = sidecar_path(mesh_path);
   if (!std::filesystem::exists(path)) return std::nullopt;
-  std::ifstream in(path);
+  require_regular_file(path, "sidecar");
+  std::ifstream in(path, std::ios::binary);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  return parse_refpoints_sidecar(text, path);
+}
+
+RefPointsSidecar parse_refpoints_sidecar(std::string_view text, const std::string& path) {
   nlohmann::json j;
   try {
-    in >> j;
+    j = nlohmann::json::parse(text);
   } catch (const std::exception& e) {
     throw std::runtime_error(
         fmt::format("sidecar '{}' is not valid JSON ({}); fix or delete it", path, e.what()));
   }
+  if (!j.is_object()) throw std::runtime_error(fmt::format("sidecar '{}' must hold a JSON object", path));
+  if (j.contains("space") && !j["space"].is_string())
+    throw std::runtime_error(fmt::format("sidecar '{}': space must be \"file\"", path));
   RefPointsSidecar s;
   s.space = j.value("space", std::string("file"));
   if (s.space != "file")
@@ -155,7 +176,14 @@ std::optional<RefPointsSidecar> read_refpoints_sidecar(const std::string& mesh_p
         fmt::format("sidecar '{}': space must be \"file\" (the mesh file's own coordinates), "
                     "not \"{}\"",
                     path, s.space));
-  s.mm_per_unit = j.value("mm_per_unit", 0.0);
+  if (j.contains("mm_per_unit")) {
+    if (!j["mm_per_unit"].is_number())
+      throw std::runtime_error(fmt::format("sidecar '{}': 'mm_per_unit' must be a number", path));
+    s.mm_per_unit = j["mm_per_unit"].get<double>();
+    Bound key = bounds::kMmPerUnit;  // the flag's range, named by the file's key
+    key.flag = "mm_per_unit";
+    if (s.mm_per_unit != 0.0) check_file_bound(path, key, s.mm_per_unit);
+  }
   s.points.g_c = read_vec(j, "g_c", path);
   s.points.g_l = read_vec(j, "g_l", path);
   s.points.g_r = read_vec(j, "g_r", path);
@@ -163,7 +191,7 @@ std::optional<RefPointsSidecar> read_refpoints_sidecar(const std::string& mesh_p
   return s;
 }
 
-void write_refpoints_sidecar(const std::string& mesh_path, const RefPointsSidecar& s) {
+std::string refpoints_sidecar_text(const RefPointsSidecar& s) {
   auto v = [](const Eigen::Vector3f& p) { return nlohmann::json::array({p.x(), p.y(), p.z()}); };
   nlohmann::json j = {{"version", 1},
                       {"space", s.space},
@@ -171,7 +199,11 @@ void write_refpoints_sidecar(const std::string& mesh_path, const RefPointsSideca
                       {"g_l", v(s.points.g_l)},
                       {"g_r", v(s.points.g_r)}};
   if (s.mm_per_unit > 0) j["mm_per_unit"] = s.mm_per_unit;
-  write_text_file_atomic(sidecar_path(mesh_path), j.dump(2) + "\n");
+  return j.dump(2) + "\n";
+}
+
+void write_refpoints_sidecar(const std::string& mesh_path, const RefPointsSidecar& s) {
+  write_text_file_atomic(sidecar_path(mesh_path), refpoints_sidecar_text(s));
 }
 
 }  // namespace lorgnette::mesh

@@ -17,6 +17,7 @@
 #include <Eigen/Core>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "mesh/trimesh.h"
@@ -43,8 +44,13 @@ struct RefPointsSidecar {
 };
 
 std::string sidecar_path(const std::string& mesh_path);  // mesh_path + ".refpoints.json"
-// Reads the sidecar next to mesh_path if it exists (nullopt if not); throws on malformed content.
+// Reads the sidecar next to mesh_path if it exists (nullopt if not); throws on malformed content,
+// on a coordinate beyond +-bounds::kMeshCoord or a NaN, and on an mm_per_unit outside
+// bounds::kMmPerUnit (0 or absent: detect the units), naming the file and the key.
 std::optional<RefPointsSidecar> read_refpoints_sidecar(const std::string& mesh_path);
+// The same checks on a sidecar's text (`path` names it in messages; the fuzzer's entry).
+RefPointsSidecar parse_refpoints_sidecar(std::string_view text, const std::string& path);
+std::string refpoints_sidecar_text(const RefPointsSidecar& sidecar);
 void write_refpoints_sidecar(const std::string& mesh_path, const RefPointsSidecar& sidecar);
 
 }  // namespace lorgnette::mesh

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# Fuzzes the file parsers with libFuzzer (clang, ASan + UBSan): transforms.json, .lnerf snapshots,
-# COLMAP text and binary models, placement.json and the glasses loader (the targets: fuzz/).
+# Fuzzes the file parsers with libFuzzer (clang, ASan + UBSan): transforms.json, .lnerf snapshots
+# (the whole file, and the JSON header alone), COLMAP text and binary models, placement.json, the
+# glasses loader and the reference-point sidecar (the targets: fuzz/).
 # Usage: tools/fuzz.sh [SECONDS_PER_TARGET]   (default 30; tools/test.sh, the CI run, uses 10)
 # Environment: FUZZ_REPORT (default docs/bench/fuzz.md) is where the results go;
 # FUZZ_SLOW_IS_FATAL=0 reports inputs that time out or run out of memory without failing (the test
@@ -23,7 +24,7 @@ if ! [[ "$seconds" =~ ^[0-9]+$ ]] || [ "$seconds" -lt 1 ]; then
   echo "usage: tools/fuzz.sh [SECONDS_PER_TARGET]  (a whole number of seconds, default 30)" >&2
   exit 2
 fi
-targets=(transforms snapshot colmap_text colmap_binary placement glasses)
+targets=(transforms snapshot snapshot_header colmap_text colmap_binary placement glasses refpoints)
 out=build-fuzz
 if ! command -v clang++ >/dev/null || [ ! -e "$(clang++ -print-file-name=libclang_rt.fuzzer-x86_64.a)" ]; then
   echo "tools/fuzz.sh needs clang with libFuzzer: apt-get install clang libclang-rt-dev" >&2

@@ -11,6 +11,7 @@
 
 #include "host/dataset/dataset.h"
 #include "host/nerf/model.h"
+#include "host/render/render_settings.h"
 #include "host/render/renderer.h"
 #include "host/render/view_plan.h"
 #include "host/util/version.h"
@@ -383,9 +384,10 @@ void ViewerService::render_coarse(Work& w) {
                             rounded_div(w.height, config_.coarse_divisor));
   auto p = glasses_for(w);
   render::GlassesSurfaces g = p ? mesh::frame_surfaces(p) : render::GlassesSurfaces{};
-  render::FrameOptions opt;
-  opt.march.step_scale = config_.coarse_step_scale;
-  opt.surface_spp = uint32_t(config_.coarse_surface_spp);  // 1 while the user moves
+  render::RenderSettings look;  // the render request every front end builds (render_settings.h)
+  look.step_scale = config_.coarse_step_scale;
+  look.surface_spp = uint32_t(config_.coarse_surface_spp);  // 1 while the user moves
+  render::FrameOptions opt = render::frame_options(look);
   render::RenderResult r = engine_->renderer.render_frame(engine_->model, cam, p ? &g : nullptr, opt);
   Rgb8 rgb = to_srgb8(r.rgba);
   FrameHeader h{FrameKind::kCoarseJpeg, w.seq, uint16_t(rgb.width), uint16_t(rgb.height), 0, 0};
@@ -418,9 +420,10 @@ void ViewerService::render_band(Work& w) {
   uint32_t rows = std::min(config_.band_rows, f.cam.height - f.next_row);
   Camera band = crop_rows(f.cam, f.next_row, rows);
   render::GlassesSurfaces g = f.pass ? mesh::frame_surfaces(f.pass) : render::GlassesSurfaces{};
-  render::FrameOptions opt;
-  opt.surface_spp = uint32_t(snapshot ? config_.snapshot_surface_spp : config_.full_surface_spp);
-  if (snapshot) opt.march.spp = config_.snapshot_spp;
+  render::RenderSettings look;
+  look.surface_spp = uint32_t(snapshot ? config_.snapshot_surface_spp : config_.full_surface_spp);
+  if (snapshot) look.spp = config_.snapshot_spp;
+  render::FrameOptions opt = render::frame_options(look);
   render::RenderResult r = engine_->renderer.render_frame(engine_->model, band, f.pass ? &g : nullptr, opt);
   paste_rows(f.image, to_srgb8(r.rgba), int(f.next_row));
   f.next_row += rows;

@@ -11,6 +11,8 @@
 #include <limits>
 #include <stdexcept>
 
+#include "host/util/file_kind.h"
+
 namespace lorgnette::dataset::detail {
 namespace fs = std::filesystem;
 using nlohmann::json;
@@ -65,6 +67,7 @@ void check_camera_model(const json& obj, const std::string& where) {
 }  // namespace
 
 json read_json_file(const std::string& path) {
+  require_regular_file(path, "dataset file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw std::runtime_error(fmt::format("cannot open '{}' (check the path and permissions)", path));
   std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());

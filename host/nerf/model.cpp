@@ -7,6 +7,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "host/util/bounds.h"
 #include "host/util/image_io.h"
 #include "kernels/train/occupancy.h"
 
@@ -22,6 +23,7 @@ NerfModel::NerfModel(cl::Runtime& rt, const field::FieldConfig& config, const Aa
   if (!aabb.valid())
     throw std::invalid_argument("NerfModel: the bounding box must have max > min on every axis");
   if (!(step > 0.0f)) throw std::invalid_argument("NerfModel: the step size must be positive");
+  check_steps_per_diagonal(aabb.diagonal(), step, "the model's marching step (train --step)");
   if (occ_res < 1 || occ_res > 1024)
     throw std::invalid_argument(
         fmt::format("NerfModel: occupancy resolution {} is outside 1..1024", occ_res));

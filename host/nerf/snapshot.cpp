@@ -14,6 +14,8 @@
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
+#include "host/util/bounds.h"
+#include "host/util/file_kind.h"
 #include "kernels/train/occupancy.h"
 
 namespace lorgnette::nerf {
@@ -23,7 +25,7 @@ using nlohmann::json;
 
 constexpr char kMagic[9] = "LGNNERF\n";
 
-uint64_t fnv1a64(const void* data, size_t bytes) {
+uint64_t fnv1a64_bytes(const void* data, size_t bytes) {
   const auto* p = static_cast<const unsigned char*>(data);
   uint64_t h = 1469598103934665603ull;
   for (size_t i = 0; i < bytes; ++i) h = (h ^ p[i]) * 1099511628211ull;
@@ -31,6 +33,23 @@ uint64_t fnv1a64(const void* data, size_t bytes) {
 }
 
 std::string hex64(uint64_t v) { return fmt::format("{:016x}", v); }
+
+// Where the header checksum's 16 hex digits start in the header text, or npos. Inside a JSON string
+// every quote is escaped, so the key's pattern can only match the key itself.
+size_t checksum_digits(std::string_view header) {
+  const std::string pattern = fmt::format("\"{}\":\"", kHeaderChecksumKey);
+  size_t at = header.find(pattern);
+  if (at == std::string_view::npos || header.size() - (at + pattern.size()) < 16)
+    return std::string_view::npos;
+  return at + pattern.size();
+}
+
+// The checksum of `header` with its checksum digits (at `digits`) read as '0'.
+std::string header_checksum(std::string_view header, size_t digits) {
+  std::string zeroed(header);
+  zeroed.replace(digits, 16, 16, '0');
+  return hex64(fnv1a64_bytes(zeroed.data(), zeroed.size()));
+}
 
 [[noreturn]] void corrupt(const std::string& path, const std::string& why) {
   throw std::runtime_error("model file '" + path + "' is corrupt or not a Lorgnette model (" + why +
@@ -105,11 +124,13 @@ ModelMetadata metadata_from_json(const json& j) {
   return m;
 }
 
-SceneNormalisation normalisation_from_json(const json& j) {
+SceneNormalisation normalisation_from_json(const json& j, const std::string& path) {
   if (!j.is_object()) throw BadValue("'normalisation' must be an object, found " + j.dump());
   SceneNormalisation n;
   if (auto* v = optional(j, "scale")) n.scale = to_float(*v, "normalisation.scale");
   if (auto* v = optional(j, "offset")) n.offset = to_float3(*v, "normalisation.offset");
+  check_file_bound(path, bounds::kNormalisationScale, n.scale);
+  for (float o : n.offset) check_file_bound(path, bounds::kNormalisationOffset, o);
   return n;
 }
 
@@ -160,9 +181,36 @@ void parse_header(const json& h, const std::string& path, Snapshot& s) {
   s.aabb.max = to_float3(h.at("aabb").at("max"), "aabb.max");
   s.step = to_float(h.at("step"), "step");
   s.occ.res = static_cast<uint32_t>(to_uint(h.at("occupancy").at("res"), "occupancy.res", UINT32_MAX));
-  if (auto* v = optional(h, "normalisation")) s.normalisation = normalisation_from_json(*v);
+  if (auto* v = optional(h, "normalisation")) s.normalisation = normalisation_from_json(*v, path);
   if (auto* v = optional(h, "metadata")) s.metadata = metadata_from_json(*v);
   if (auto* v = optional(h, "view_range")) s.view_range = view_range_from_json(*v);
+}
+
+// Version 2 on: the header's own checksum (seal_header) must match its bytes, so a flipped bit in a
+// value that still parses (the box, the step, the normalisation) is refused, not used.
+void check_header_checksum(const json& h, std::string_view text, const std::string& path) {
+  if (h.at("version").get<uint64_t>() < 2) return;  // version 1 headers carry none
+  auto it = h.find(kHeaderChecksumKey);
+  size_t digits = checksum_digits(text);
+  if (it == h.end() || !it->is_string() || digits == std::string_view::npos)
+    corrupt(path, fmt::format("the header has no '{}' checksum", kHeaderChecksumKey));
+  std::string stored(text.substr(digits, 16));
+  if (it->get<std::string>() != stored || header_checksum(text, digits) != stored)
+    corrupt(path, "checksum mismatch in the header (a changed or damaged byte in its box, step or settings)");
+}
+
+// The box inside kSceneCoord and a step that gives a sane number of steps across it (bounds.h).
+void check_box_and_step(const Snapshot& s, const std::string& path) {
+  if (!s.aabb.valid()) corrupt(path, "invalid bounding box");
+  for (int a = 0; a < 3; ++a)
+    if (std::abs(s.aabb.min[a]) > bounds::kSceneCoord || std::abs(s.aabb.max[a]) > bounds::kSceneCoord)
+      corrupt(path, fmt::format("the bounding box reaches beyond +-{:g} scene units", bounds::kSceneCoord));
+  if (!(s.step > 0.0f)) corrupt(path, "invalid step size");
+  try {
+    check_steps_per_diagonal(s.aabb.diagonal(), s.step, "step");
+  } catch (const OutOfRange& e) {
+    corrupt(path, e.what());
+  }
 }
 
 // The blob `name` of `expected_bytes` checked against the file; nullptr when it is absent and
@@ -179,7 +227,7 @@ const char* find_blob(const std::string& path, std::string_view file, size_t dat
     if (off > file.size() - data_start || bytes > file.size() - data_start - off)
       corrupt(path, fmt::format("file is truncated: blob '{}' ends past the end of the file", name));
     const char* p = file.data() + data_start + off;
-    if (hex64(fnv1a64(p, bytes)) != b.value("fnv1a64", ""))
+    if (hex64(fnv1a64_bytes(p, bytes)) != b.value("fnv1a64", ""))
       corrupt(path, fmt::format("checksum mismatch in blob '{}'", name));
     return p;
   }
@@ -262,15 +310,16 @@ std::string encode_snapshot(const Snapshot& s) {
                  {"normalisation", {{"scale", s.normalisation.scale}, {"offset", s.normalisation.offset}}},
                  {"metadata", metadata_json(s.metadata)}};
   if (s.view_range) header["view_range"] = view_range_json(*s.view_range);
+  header[kHeaderChecksumKey] = std::string(16, '0');
   uint64_t off = 0;
   for (const auto& b : blobs) {
     header["blobs"].push_back({{"name", b.name},
                                {"offset", off},
                                {"bytes", b.bytes},
-                               {"fnv1a64", hex64(fnv1a64(b.data, b.bytes))}});
+                               {"fnv1a64", hex64(fnv1a64_bytes(b.data, b.bytes))}});
     off += b.bytes;
   }
-  std::string text = header.dump();
+  std::string text = seal_header(header.dump());
   std::string out(kMagic, 8);
   uint64_t hlen = text.size();
   out.append(reinterpret_cast<const char*>(&hlen), 8);
@@ -293,11 +342,12 @@ Snapshot parse_snapshot(std::string_view file, const std::string& path) {
     corrupt(path, std::string("bad header: ") + e.what());
   } catch (const BadValue& e) {
     corrupt(path, std::string("bad header: ") + e.what());
+  } catch (const OutOfRange& e) {
+    corrupt(path, std::string("bad header: ") + e.what());
   } catch (const std::invalid_argument& e) {
     corrupt(path, std::string("bad field configuration: ") + e.what());
   }
-  if (!s.aabb.valid()) corrupt(path, "invalid bounding box");
-  if (!(s.step > 0.0f)) corrupt(path, "invalid step size");
+  check_box_and_step(s, path);
   if (s.occ.res < 1 || s.occ.res > 1024) corrupt(path, "invalid occupancy resolution");
   try {
     parse_blobs(header, path, file, 16 + hlen, s);
@@ -306,12 +356,24 @@ Snapshot parse_snapshot(std::string_view file, const std::string& path) {
   } catch (const BadValue& e) {
     corrupt(path, std::string("bad header: ") + e.what());
   }
+  // Last: every value that is out of its range or type has been named above; what is left for the
+  // checksum is a change that still parses.
+  check_header_checksum(header, file.substr(16, hlen), path);
   for (float v : s.params)
     if (!std::isfinite(v)) corrupt(path, "non-finite parameter values");
   return s;
 }
 
+uint64_t snapshot_checksum(std::string_view bytes) { return fnv1a64_bytes(bytes.data(), bytes.size()); }
+
+std::string seal_header(std::string header) {
+  size_t digits = checksum_digits(header);
+  if (digits != std::string::npos) header.replace(digits, 16, header_checksum(header, digits));
+  return header;
+}
+
 Snapshot read_snapshot(const std::string& path) {
+  require_regular_file(path, "model file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw std::runtime_error("cannot open model file '" + path + "': check the path");
   std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());

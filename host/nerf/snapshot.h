@@ -4,7 +4,9 @@
 //
 // Format: 8 bytes magic "LGNNERF\n", 8 bytes little-endian header length H, H bytes of JSON header,
 // then the binary blobs the header lists (name, offset from the end of the header, bytes, FNV-1a 64
-// checksum).
+// checksum). From version 2 the header carries its own checksum, "header_fnv1a64": FNV-1a 64 of the
+// header's H bytes with that value's 16 hex digits read as '0', so a flipped bit in the box, the step
+// or the normalisation is refused like one in a blob. Version 1 files (no header checksum) still load.
 #pragma once
 #include <array>
 #include <cstdint>
@@ -18,7 +20,9 @@
 
 namespace lorgnette::nerf {
 
-constexpr uint32_t kSnapshotVersion = 1;
+constexpr uint32_t kSnapshotVersion = 2;
+// The header key of the header checksum (version 2 on).
+inline constexpr const char* kHeaderChecksumKey = "header_fnv1a64";
 
 struct Aabb {
   std::array<float, 3> min{0.0f, 0.0f, 0.0f}, max{1.0f, 1.0f, 1.0f};
@@ -78,10 +82,18 @@ struct Snapshot {
 
 // The bytes of a snapshot file.
 std::string encode_snapshot(const Snapshot& s);
-// Parses and validates a whole snapshot file (magic, version, header, sizes, checksums, finite
-// values); throws a clear std::runtime_error naming `path` for a newer, truncated or corrupt one.
+// FNV-1a 64 of `bytes`: the blobs' checksum and the header's.
+uint64_t snapshot_checksum(std::string_view bytes);
+// `header` (JSON text holding "header_fnv1a64": "<16 hex digits>") with those digits set to the
+// header's checksum; returned unchanged when it holds no such key. The writer seals every header;
+// tests and the header fuzzer seal the headers they edit.
+std::string seal_header(std::string header);
+// Parses and validates a whole snapshot file (magic, version, header and its checksum, sizes, blob
+// checksums, finite values, and the numbers' ranges: host/util/bounds.h); throws a clear
+// std::runtime_error naming `path` for a newer, truncated or corrupt one.
 Snapshot parse_snapshot(std::string_view bytes, const std::string& path);
-// Reads `path` and parses it; also throws when the file cannot be opened.
+// Reads `path` and parses it; also throws when the file cannot be opened or is not a regular file
+// (a FIFO would block the reader).
 Snapshot read_snapshot(const std::string& path);
 
 }  // namespace lorgnette::nerf

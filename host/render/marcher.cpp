@@ -10,6 +10,8 @@
 #include <string>
 #include <utility>
 
+#include "host/util/bounds.h"
+
 namespace lorgnette::render {
 namespace {
 constexpr uint32_t kScanBlock = 256;  // entries per work-item in the prefix sums
@@ -98,6 +100,13 @@ void Marcher::march_tile(const VolumeScene& scene, MarchParams p, const RenderOp
 }
 
 namespace {
+double box_diagonal(const VolumeScene& scene) {
+  double d2 = 0;
+  for (int a = 0; a < 3; ++a)
+    d2 += double(scene.aabb_max[a] - scene.aabb_min[a]) * (scene.aabb_max[a] - scene.aabb_min[a]);
+  return std::sqrt(d2);
+}
+
 void validate(const VolumeScene& scene, const Camera& cam, const RenderOptions& o) {
   if (!scene.field) throw std::invalid_argument("render: the scene has no field to march");
   if (cam.width == 0 || cam.height == 0 || uint64_t(cam.width) * cam.height > (1ull << 28))
@@ -108,6 +117,17 @@ void validate(const VolumeScene& scene, const Camera& cam, const RenderOptions& 
       throw std::invalid_argument(fmt::format("render: the bounding box is empty along axis {}", a));
   if (!(scene.step > 0.0f) || !(o.step_scale > 0.0f))
     throw std::invalid_argument("render: the marching step and step scale must be positive");
+  // The most samples a ray may march (bounds.h): a tiny step (a damaged model, or a step scale far
+  // below 1) would otherwise march for hours without a word.
+  const double steps = box_diagonal(scene) / (double(scene.step) * o.step_scale);
+  if (!(steps <= bounds::kMaxStepsPerRay))
+    throw OutOfRange(fmt::format(
+        "render: the marching step {:g} x step scale {:g} gives {:g} steps across the box, more than {:g}: "
+        "raise the step scale (--step-scale, Python step_scale) or retrain the model with a larger step",
+        scene.step, o.step_scale, steps, bounds::kMaxStepsPerRay));
+  if (o.max_samples_per_ray > bounds::kMaxStepsPerRay + 8)
+    throw OutOfRange(fmt::format("render: max_samples_per_ray {} is above {:g}", o.max_samples_per_ray,
+                                 bounds::kMaxStepsPerRay + 8));
   if (o.spp == 0 || o.spp > 1024) throw std::invalid_argument("render: spp must be in 1..1024");
   if (o.wave_min < 1 || o.wave_max < o.wave_min || o.wave_max > 256)
     throw std::invalid_argument(
@@ -243,11 +263,9 @@ RenderResult Marcher::render(const VolumeScene& scene, const Camera& cam, const 
   p.occ_res = scene.occupancy.resolution;
   if (o.max_samples_per_ray > 0) {
     p.max_samples = o.max_samples_per_ray;
-  } else {  // every step across the box, plus the segments a surface split adds
-    double d2 = 0;
-    for (int a = 0; a < 3; ++a)
-      d2 += double(scene.aabb_max[a] - scene.aabb_min[a]) * (scene.aabb_max[a] - scene.aabb_min[a]);
-    p.max_samples = uint32_t(std::min(1e7, std::ceil(std::sqrt(d2) / p.step) + 8.0));
+  } else {  // every step across the box, plus the segments a surface split adds (validate caps it)
+    p.max_samples =
+        uint32_t(std::min(bounds::kMaxStepsPerRay, std::ceil(box_diagonal(scene) / p.step)) + 8.0);
   }
   p.field_stride = batch_;
 

@@ -15,6 +15,7 @@
 #include <stdexcept>
 
 #include "host/dataset/media.h"
+#include "host/util/bounds.h"
 #include "host/util/interrupt.h"
 #include "host/util/name_list.h"
 #include "host/util/progress.h"
@@ -25,7 +26,9 @@ namespace fs = std::filesystem;
 Mat4 identity4() { return {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1}; }
 
 Mat4 trs_transform(const Vec3& t, const Vec3& r_deg, float s) {
-  if (!(s > 0.0f) || !std::isfinite(s)) throw std::invalid_argument("--scale must be a positive number");
+  for (int i = 0; i < 3; ++i)
+    check_bound(bounds::kTranslate, t[i]), check_bound(bounds::kRotateDeg, r_deg[i]);
+  check_bound(bounds::kGlassesScale, s);
   const double k = M_PI / 180.0;
   double cx = std::cos(r_deg[0] * k), sx = std::sin(r_deg[0] * k), cy = std::cos(r_deg[1] * k),
          sy = std::sin(r_deg[1] * k), cz = std::cos(r_deg[2] * k), sz = std::sin(r_deg[2] * k);

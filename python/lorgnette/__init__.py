@@ -23,6 +23,7 @@ from ._lorgnette import (  # noqa: F401  (the public API)
     LandmarkError,
     Model,
     Placement,
+    RangeError,
     __version__,
     device,
     devices,

@@ -51,11 +51,17 @@ fit::FaceDetection detection_from(const pyb::handle& obj) {
     pyb::dict dict = pyb::reinterpret_borrow<pyb::dict>(obj);
     if (!dict.contains("points")) throw std::runtime_error("a dict result needs 'points' (68 x 2)");
     pts = dict["points"];
-    if (dict.contains("box")) {
-      auto b = dict["box"].cast<std::array<double, 4>>();
-      d.box = Eigen::Vector4d(b[0], b[1], b[2], b[3]);
+    try {  // pybind's "Unable to cast" says nothing about which key was wrong
+      if (dict.contains("box")) {
+        auto b = dict["box"].cast<std::array<double, 4>>();
+        d.box = Eigen::Vector4d(b[0], b[1], b[2], b[3]);
+      }
+      if (dict.contains("score")) d.score = dict["score"].cast<double>();
+    } catch (const pyb::cast_error&) {
+      throw std::runtime_error(
+          "a dict result's 'box' must be four numbers (left, top, right, bottom) and "
+          "its 'score' a number");
     }
-    if (dict.contains("score")) d.score = dict["score"].cast<double>();
   }
   d.points = points_from(pts);
   if (d.box.isZero()) {
@@ -193,9 +199,15 @@ void bind_fit(pyb::module_& m) {
          int resolution, double yaw_range, double pitch_range, int upsample, const std::string& policy,
          const std::string& dataset, const std::string& mean_face, const std::string& landmark_model,
          const std::string& debug_dir) {
-        std::string path = pyb::isinstance<pyb::str>(glasses)
-                               ? glasses.cast<std::string>()
-                               : glasses.cast<std::shared_ptr<Glasses>>()->glasses.path;
+        std::string path;
+        if (pyb::isinstance<Glasses>(glasses))
+          path = glasses.cast<std::shared_ptr<Glasses>>()->glasses.path;
+        else if (pyb::isinstance<pyb::str>(glasses) || pyb::hasattr(glasses, "__fspath__"))
+          path = pyb::str(pyb::module_::import("os").attr("fspath")(glasses));
+        else
+          throw pyb::type_error(
+              fmt::format("glasses must be a lorgnette.Glasses or a path to a frame file, found {}",
+                          Py_TYPE(glasses.ptr())->tp_name));
         require_file(path, "glasses");
         FitArgs a{landmarks,   pass_face_px, views,   resolution, upsample,       yaw_range,
                   pitch_range, policy,       dataset, mean_face,  landmark_model, debug_dir};

@@ -12,6 +12,7 @@
 #include "host/dataset/dataset.h"
 #include "host/render/orbit.h"
 #include "host/render/render_job.h"
+#include "host/render/render_settings.h"
 #include "host/render/view_plan.h"
 #include "python/src/bindings.h"
 
@@ -28,9 +29,18 @@ pyb::array_t<double> c2w_matrix(const Camera& c) {
   return out;
 }
 
+// (width, height) within bounds::kImageSide, as `--size WxH`.
+Size size_arg(const pyb::handle& obj) {
+  if (!pyb::isinstance<pyb::sequence>(obj) || pyb::isinstance<pyb::str>(obj) || pyb::len(obj) != 2)
+    throw pyb::type_error("size must be (width, height), two whole numbers (render --size WxH)");
+  pyb::sequence seq = pyb::reinterpret_borrow<pyb::sequence>(obj);
+  return {uint32_t(count_arg(seq[0], bounds::kImageSide)), uint32_t(count_arg(seq[1], bounds::kImageSide))};
+}
+
 // The same rays on a differently sized image (intrinsics scaled with the size).
 Camera resized(const Camera& c, Size size) {
-  if (size[0] == 0 || size[1] == 0) throw pyb::value_error("size must be (width, height) > 0");
+  check_bound(bounds::kImageSide, size[0]);
+  check_bound(bounds::kImageSide, size[1]);
   if (size[0] == c.width && size[1] == c.height) return c;
   Camera r = c;
   const float sx = float(size[0]) / float(c.width), sy = float(size[1]) / float(c.height);
@@ -80,35 +90,64 @@ std::shared_ptr<mesh::PlacedGlasses> placed_glasses(Glasses& g, const render::Ma
   return g.placed;
 }
 
+// A 4x4 (canonical mm -> scene) checked as `render --transform` checks it: finite, affine.
 render::Mat4 matrix_arg(const pyb::handle& obj) {
   auto a = pyb::array_t<double, pyb::array::c_style | pyb::array::forcecast>::ensure(obj);
   if (!a || a.size() != 16)
     throw pyb::value_error("placement: a Placement or a 4x4 matrix (canonical mm -> scene)");
-  render::Mat4 m;
-  for (int i = 0; i < 16; ++i) m[i] = float(a.data()[i]);
-  return m;
+  nlohmann::json j = nlohmann::json::array();
+  for (int i = 0; i < 16; ++i) j.push_back(a.data()[i]);
+  return render::matrix_from_json(j, "placement");
 }
 
 struct RenderArgs {
   pyb::object glasses, placement;
   std::optional<Size> size;
-  uint32_t spp = 1, surface_spp = 4;
-  float step_scale = 1.0f;
-  std::array<float, 3> background{1, 1, 1};
-  bool alpha = false, depth = false;
+  render::RenderSettings settings;  // checked by render::validate, as `lorgnette render` is
+  bool depth = false;
 };
+
+// The render settings from Python's arguments (numbers checked against bounds.h, as the CLI's).
+render::RenderSettings render_settings(const pyb::handle& spp, const pyb::handle& surface_spp,
+                                       const pyb::handle& step_scale, const pyb::handle& background,
+                                       bool alpha) {
+  render::RenderSettings s;
+  s.spp = uint32_t(count_arg(spp, bounds::kSpp));
+  s.surface_spp = uint32_t(count_arg(surface_spp, bounds::kSurfaceSpp));
+  s.step_scale = float(number_arg(step_scale, bounds::kStepScale));
+  if (!pyb::isinstance<pyb::sequence>(background) || pyb::isinstance<pyb::str>(background) ||
+      pyb::len(background) != 3)
+    throw pyb::type_error(
+        "background must be three numbers, linear RGB each 0..1 (render --background R G B)");
+  pyb::sequence bg = pyb::reinterpret_borrow<pyb::sequence>(background);
+  for (int i = 0; i < 3; ++i) s.background[i] = float(number_arg(bg[i], bounds::kBackground));
+  s.alpha = alpha;
+  s.marcher = "auto";
+  render::validate(s);
+  return s;
+}
+
+// A Glasses, or a path to load (as `render --glasses FRAME`).
+std::shared_ptr<Glasses> glasses_arg(const pyb::handle& obj) {
+  if (pyb::isinstance<Glasses>(obj)) return obj.cast<std::shared_ptr<Glasses>>();
+  if (pyb::isinstance<pyb::str>(obj) || pyb::hasattr(obj, "__fspath__")) {
+    std::string path = pyb::str(pyb::module_::import("os").attr("fspath")(obj));
+    require_file(path, "glasses");
+    return load_glasses(path);
+  }
+  throw pyb::type_error(fmt::format("glasses must be a lorgnette.Glasses or a path to a frame file, found {}",
+                                    Py_TYPE(obj.ptr())->tp_name));
+}
 
 // `lorgnette render` for one camera: the same glasses placement, surface pass and marcher calls.
 pyb::object render_model(Model& m, const Camera& camera, const RenderArgs& a) {
   Camera cam = a.size ? resized(camera, *a.size) : camera;
-  if (a.spp < 1 || a.spp > 64) throw pyb::value_error("spp must be within 1..64 (render --spp)");
-  if (a.surface_spp < 1 || a.surface_spp > 256) throw pyb::value_error("surface_spp must be within 1..256");
-  render::RenderOptions ro;
-  ro.spp = a.spp, ro.alpha = a.alpha, ro.step_scale = a.step_scale, ro.background = a.background;
+  render::RenderOptions ro = render::render_options(a.settings);
   std::shared_ptr<Glasses> glasses;
   render::Mat4 transform = render::identity4();
   mesh::TempleBend temples;
-  if (!a.glasses.is_none()) glasses = a.glasses.cast<std::shared_ptr<Glasses>>();
+  if (!a.glasses.is_none()) glasses = glasses_arg(a.glasses);
+  if (glasses && a.placement.is_none()) render::check_glasses_and_placement(true, false);
   if (!a.placement.is_none()) {
     if (pyb::isinstance<Placement>(a.placement)) {
       const Placement& p = a.placement.cast<const Placement&>();
@@ -137,7 +176,7 @@ pyb::object render_model(Model& m, const Camera& camera, const RenderArgs& a) {
     if (!m.renderer) m.renderer = std::make_unique<render::Renderer>(m.device->runtime);
     if (placed) {
       mesh::SurfaceParams sp;
-      sp.samples_per_pixel = int(a.surface_spp);
+      sp.samples_per_pixel = int(a.settings.surface_spp);
       auto s = placed->pass->render(cam, sp);
       r = m.renderer->render(*m.nerf, cam, &s, ro);
     } else {
@@ -224,34 +263,40 @@ void bind_model(pyb::module_& m) {
                   "Loads a snapshot; a missing, newer or corrupt file raises with the CLI's message.")
       .def(
           "render",
-          [](Model& self, const Camera& cam, pyb::object glasses, pyb::object placement,
-             std::optional<Size> size, uint32_t spp, uint32_t surface_spp, float step_scale,
-             std::array<float, 3> background, bool alpha, bool depth) {
-            RenderArgs a{glasses, placement, size, spp, surface_spp, step_scale, background, alpha, depth};
+          [](Model& self, const Camera& cam, pyb::object glasses, pyb::object placement, pyb::object size,
+             pyb::object spp, pyb::object surface_spp, pyb::object step_scale, pyb::object background,
+             bool alpha, bool depth) {
+            RenderArgs a;
+            a.glasses = glasses, a.placement = placement, a.depth = depth;
+            if (!size.is_none()) a.size = size_arg(size);
+            a.settings = render_settings(spp, surface_spp, step_scale, background, alpha);
             return render_model(self, cam, a);
           },
           pyb::arg("camera"), pyb::arg("glasses") = pyb::none(), pyb::arg("placement") = pyb::none(),
           pyb::arg("size") = pyb::none(), pyb::arg("spp") = 1, pyb::arg("surface_spp") = 4,
-          pyb::arg("step_scale") = 1.0f, pyb::arg("background") = std::array<float, 3>{1, 1, 1},
+          pyb::arg("step_scale") = 1.0f, pyb::arg("background") = std::make_tuple(1.0, 1.0, 1.0),
           pyb::arg("alpha") = false, pyb::arg("depth") = false,
-          "Renders the head (with glasses placed by a Placement or a 4x4 canonical mm -> scene) as a "
+          "Renders the head (with glasses - a Glasses or a frame's path - placed by a Placement or a 4x4 "
+          "canonical mm -> scene; glasses without a placement are refused as `render` refuses them) as a "
           "float32 H x W x 4 array: linear RGB over `background` and alpha = coverage (alpha=True: no "
           "background, RGB premultiplied). depth=True returns (rgba, depth H x W: distance along the unit "
           "ray, 0 where empty). to_srgb8() gives the CLI's PNG pixels. The GIL is released meanwhile.")
       .def(
           "orbit",
-          [](Model& self, uint32_t views, Size size, float elevation, float fov,
+          [](Model& self, pyb::object views, pyb::object size, pyb::object elevation, pyb::object fov,
              std::optional<render::Vec3> front, bool beyond_capture) {
-            if (views < 1) throw pyb::value_error("views must be >= 1");
-            render::OrbitSpec base = render::model_orbit(*self.nerf, {});
-            base.fov_y_deg = fov, base.width = size[0], base.height = size[1];
-            render::OrbitRequest req;
-            req.views = views, req.elevation_deg = elevation, req.front = front;
-            req.beyond_capture = beyond_capture;
-            render::OrbitPlan plan = render::plan_orbit(base, render::model_view_range(*self.nerf), req);
+            render::OrbitSettings s;  // checked by render::validate, as `render --orbit` is
+            s.views = uint32_t(count_arg(views, bounds::kOrbitViews));
+            Size wh = size_arg(size);
+            s.width = wh[0], s.height = wh[1];
+            s.elevation_deg = float(number_arg(elevation, bounds::kElevationDeg));
+            s.fov_y_deg = float(number_arg(fov, bounds::kFovDeg));
+            s.front = front, s.beyond_capture = beyond_capture;
+            render::OrbitPlan plan =
+                render::plan_model_orbit(*self.nerf, s, render::model_view_range(*self.nerf));
             return render::orbit_cameras(plan.spec);
           },
-          pyb::arg("views"), pyb::arg("size") = Size{854, 480}, pyb::arg("elevation_deg") = 0.0f,
+          pyb::arg("views"), pyb::arg("size") = std::make_tuple(854, 480), pyb::arg("elevation_deg") = 0.0f,
           pyb::arg("fov_y_deg") = 30.0f, pyb::arg("front") = pyb::none(), pyb::arg("beyond_capture") = false,
           "The cameras of `lorgnette render --orbit N`: around the head's box from its front, within the "
           "directions the capture saw plus a margin (captured_range), starting at `front` (a direction from "

@@ -8,9 +8,10 @@
 
 #include <optional>
 
-#include "capture/subject_box.h"
-#include "host/dataset/dataset.h"
+#include "capture/train_request.h"
 #include "host/nerf/train_job.h"
+#include "host/nerf/train_settings.h"
+#include "host/util/bounds.h"
 #include "host/util/interrupt.h"
 #include "python/src/bindings.h"
 
@@ -18,11 +19,9 @@ namespace lorgnette::py {
 namespace {
 
 struct TrainArgs {
-  std::string data, output, box = "auto", background = "auto";
-  uint64_t steps = 0;
-  double seconds = 0.0, hair_mm = fit::HeadExtents{}.hair_mm;
-  uint32_t seed = 1337, batch_log2 = 0, max_side = 0, downscale = 1;
-  bool deterministic = false, force = false, show_progress = false;
+  std::string data;
+  nerf::TrainSettings settings;  // checked by nerf::validate, as `lorgnette train` is
+  bool force = false;
   pyb::object progress;
   std::string device;
 };
@@ -40,7 +39,11 @@ struct StepHook {
       if (PyErr_CheckSignals() != 0) throw pyb::error_already_set();
       if (!fn.is_none()) {
         pyb::object r = fn(step, seconds, loss);
-        if (!r.is_none() && !r.cast<bool>()) stopped = true;
+        if (!r.is_none()) {  // any object's truth, as Python's `if` reads it
+          int truth = PyObject_IsTrue(r.ptr());
+          if (truth < 0) throw pyb::error_already_set();
+          if (truth == 0) stopped = true;
+        }
       }
     } catch (pyb::error_already_set& e) {
       error = std::move(e);
@@ -51,52 +54,28 @@ struct StepHook {
 };
 
 pyb::object run_train(const TrainArgs& a) {
-  if (a.seconds < 0.0)
-    throw pyb::value_error("seconds must be positive (or leave it out for the default budget)");
-  if (a.steps > 0 && a.seconds > 0.0) throw pyb::value_error("give steps or seconds, not both");
-  if (std::filesystem::exists(a.output) && !a.force)
-    throw std::runtime_error("'" + a.output +
+  const nerf::TrainSettings& s = a.settings;
+  nerf::validate(s);
+  if (std::filesystem::exists(s.output) && !a.force)
+    throw std::runtime_error("'" + s.output +
                              "' exists: pass force=True to overwrite it or choose another output");
-  if (a.batch_log2 != 0 && (a.batch_log2 < 10 || a.batch_log2 > 22))
-    throw pyb::value_error("batch_log2 must be 0 (by device: 18 on a GPU, 16 otherwise) or within 10..22");
-  if (!(a.hair_mm >= 0.0 && a.hair_mm <= capture::kMaxHairMm))
-    throw pyb::value_error(
-        fmt::format("hair_mm must be within 0..{} (millimetres of hair or hat above and behind the skull)",
-                    capture::kMaxHairMm));
   if (!std::filesystem::exists(a.data)) require_file(a.data, "dataset");
   auto model = std::make_shared<Model>();
   model->device = device_for(a.device);
-  model->path = a.output;
+  model->path = s.output;
   auto hook = std::make_shared<StepHook>();
   hook->fn = a.progress;
   nerf::TrainResult r;
   std::string budget;
   {
     pyb::gil_scoped_release release;
-    dataset::LoadOptions lo;
-    lo.downscale = int(a.downscale);
-    lo.max_side = int(a.max_side);
-    lo.max_image_bytes = nerf::kTrainImageBytes;
-    lo.splits = {dataset::Split::Train};
-    dataset::Dataset ds = dataset::load_dataset(a.data, lo);
-    nerf::TrainJob job;
-    fit::HeadBoxOptions head;
-    head.extents.hair_mm = a.hair_mm;
-    capture::apply_subject_box(ds, capture::box_source_from_string(a.box), true, job, head);
-    job.batch_log2 = a.batch_log2;
-    job.deterministic = a.deterministic;
-    job.background = a.background;
-    job.train.steps = a.steps;
-    job.train.seconds = a.seconds;
-    job.train.seed = a.seed;
-    job.train.snapshot_path = a.output;
-    job.train.progress = a.show_progress;
-    job.train.on_step = [hook](uint64_t s, double t, double l) { (*hook)(s, t, l); };
-    job.train.on_step_in_time = true;  // returning False at step k stops after step k
+    capture::TrainRequest req = capture::prepare_training(a.data, s);
+    req.job.train.on_step = [hook](uint64_t st, double t, double l) { (*hook)(st, t, l); };
+    req.job.train.on_step_in_time = true;  // returning False at step k stops after step k
     std::lock_guard<std::mutex> lock(model->device->mutex);
     clear_interrupt();
     try {
-      nerf::TrainJobResult out = nerf::train_on_dataset(model->device->runtime, ds, job);
+      nerf::TrainJobResult out = nerf::train_on_dataset(model->device->runtime, req.dataset, req.job);
       clear_interrupt();
       r = out.result;
       budget = out.budget;
@@ -114,7 +93,7 @@ pyb::object run_train(const TrainArgs& a) {
   info["steps"] = r.steps, info["seconds"] = r.seconds, info["samples"] = r.samples;
   info["final_loss"] = r.final_loss, info["stopped"] = r.interrupted, info["budget"] = budget;
   info["loss_curve"] = r.loss_curve;
-  info["output"] = a.output;
+  info["output"] = s.output;
   pyb::object m = pyb::cast(model);
   m.attr("train_info") = info;
   return m;
@@ -125,31 +104,39 @@ pyb::object run_train(const TrainArgs& a) {
 void bind_train(pyb::module_& m) {
   m.def(
       "train",
-      [](const std::string& data, const std::string& output, uint64_t steps, double seconds,
-         pyb::object progress, uint32_t seed, uint32_t batch_log2, const std::string& box,
-         const std::string& background, bool deterministic, uint32_t max_side, uint32_t downscale, bool force,
-         bool show_progress, const std::string& device, double hair_mm) {
+      [](const std::string& data, const std::string& output, pyb::object steps, pyb::object seconds,
+         pyb::object progress, pyb::object seed, pyb::object batch_log2, const std::string& box,
+         const std::string& background, bool deterministic, pyb::object max_side, pyb::object downscale,
+         bool force, bool show_progress, const std::string& device, pyb::object hair_mm) {
+        namespace b = bounds;
         TrainArgs a;
-        a.data = data, a.output = output, a.steps = steps, a.seconds = seconds, a.progress = progress,
-        a.seed = seed;
-        a.batch_log2 = batch_log2, a.box = box, a.background = background, a.deterministic = deterministic;
-        a.max_side = max_side, a.downscale = downscale, a.force = force, a.show_progress = show_progress;
-        a.device = device, a.hair_mm = hair_mm;
+        nerf::TrainSettings& s = a.settings;
+        a.data = data, s.output = output, a.progress = progress, a.force = force, a.device = device;
+        if (!steps.is_none()) s.steps = count_arg(steps, b::kTrainSteps);
+        if (!seconds.is_none()) s.seconds = number_arg(seconds, b::kTrainSeconds);
+        s.seed = uint32_t(count_arg(seed, {"--seed", "seed", 0, 4294967295.0, "random seed"}));
+        s.batch_log2 = uint32_t(count_arg_or_zero(batch_log2, b::kBatchLog2));
+        s.box = box, s.background = background, s.deterministic = deterministic;
+        s.max_side = uint32_t(count_arg_or_zero(max_side, b::kMaxSide));
+        s.downscale = uint32_t(count_arg(downscale, b::kDownscale));
+        if (!hair_mm.is_none()) s.hair_mm = number_arg(hair_mm, b::kHairMm);
+        s.progress = show_progress;
         return run_train(a);
       },
-      pyb::arg("dataset"), pyb::arg("output"), pyb::arg("steps") = 0, pyb::arg("seconds") = 0.0,
-      pyb::arg("progress") = pyb::none(), pyb::arg("seed") = 1337, pyb::arg("batch_log2") = 0,
-      pyb::arg("box") = "auto", pyb::arg("background") = "auto", pyb::arg("deterministic") = false,
-      pyb::arg("max_side") = 0, pyb::arg("downscale") = 1, pyb::arg("force") = false,
-      pyb::arg("show_progress") = false, pyb::arg("device") = "",
-      pyb::arg("hair_mm") = fit::HeadExtents{}.hair_mm,
+      pyb::arg("dataset"), pyb::arg("output"), pyb::arg("steps") = pyb::none(),
+      pyb::arg("seconds") = pyb::none(), pyb::arg("progress") = pyb::none(), pyb::arg("seed") = 1337,
+      pyb::arg("batch_log2") = 0, pyb::arg("box") = "auto", pyb::arg("background") = "auto",
+      pyb::arg("deterministic") = false, pyb::arg("max_side") = 0, pyb::arg("downscale") = 1,
+      pyb::arg("force") = false, pyb::arg("show_progress") = false, pyb::arg("device") = "",
+      pyb::arg("hair_mm") = pyb::none(),
       "`lorgnette train DATASET -o OUTPUT`: trains and saves the snapshot, returns the Model (its "
-      "`train_info` dict: steps, seconds, final_loss, stopped, budget, loss_curve). steps=0 and "
-      "seconds=0: the size-based default budget. hair_mm: `--hair`, the head box's hair (or hat) above and "
-      "behind the skull on a mask-less capture (the sides widen by half of what exceeds 30). Images that "
-      "would hold more than 1.5 GB in memory are shrunk to fit (a warning says to what; max_side sets it). "
-      "progress(step, seconds, loss) is called after every step (GIL held only then); returning False "
-      "stops cleanly (the snapshot is saved, train_info['stopped']).");
+      "`train_info` dict: steps, seconds, final_loss, stopped, budget, loss_curve). steps (1..1e7) and "
+      "seconds (0.1 .. a week) left out: the size-based default budget. hair_mm: `--hair` (0..300, default "
+      "30), the head box's hair (or hat) above and behind the skull on a mask-less capture (the sides widen "
+      "by half of what exceeds 30). Images that would hold more than 1.5 GB in memory are shrunk to fit (a "
+      "warning says to what; max_side sets it). A number outside its range raises lorgnette.RangeError with "
+      "the CLI's message. progress(step, seconds, loss) is called after every step (GIL held only then); "
+      "returning False stops cleanly (the snapshot is saved, train_info['stopped']).");
 }
 
 }  // namespace lorgnette::py

@@ -13,6 +13,7 @@
 #include "host/cl/runtime.h"
 #include "host/nerf/model.h"
 #include "host/render/renderer.h"
+#include "host/util/bounds.h"
 #include "host/util/image_io.h"
 #include "mesh/glasses.h"
 #include "mesh/placed_glasses.h"
@@ -66,6 +67,14 @@ nlohmann::json from_python(const pyb::handle& obj);
 // The Error type (a RuntimeError) carrying the library's messages, and LandmarkError (an Error).
 pyb::handle error_type();
 pyb::handle landmark_error_type();
+
+// Number arguments checked against their Bound (host/util/bounds.h), so Python refuses exactly what
+// the CLI refuses, with the CLI's words: a TypeError naming the argument for something that is not a
+// real number (a bool, a string, None), lorgnette.RangeError (an Error and a ValueError) outside the
+// range, NaN included. count_arg also wants a whole number (an int, or a float without a fraction).
+double number_arg(const pyb::handle& obj, const Bound& bound);
+uint64_t count_arg(const pyb::handle& obj, const Bound& bound);
+uint64_t count_arg_or_zero(const pyb::handle& obj, const Bound& bound);  // 0: automatic
 
 // Raises FileNotFoundError (as the CLI's "File does not exist" check) when `path` is missing.
 void require_file(const std::string& path, const char* what);

@@ -7,6 +7,7 @@
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
+#include <cmath>
 #include <filesystem>
 #include <map>
 #include <new>
@@ -19,7 +20,7 @@
 namespace lorgnette::py {
 namespace {
 
-pyb::handle g_error, g_landmark_error;  // owned for the process (never freed at exit)
+pyb::handle g_error, g_landmark_error, g_range_error;  // owned for the process (never freed at exit)
 std::mutex g_devices_mutex;
 std::map<std::string, std::weak_ptr<Device>> g_devices;  // by resolved device index
 std::string g_device_spec;                               // lorgnette.use_device
@@ -99,6 +100,47 @@ void save_image(const std::string& path, const pyb::array& image) {
 pyb::handle error_type() { return g_error; }
 pyb::handle landmark_error_type() { return g_landmark_error; }
 
+namespace {
+
+// The value of a real-number argument (any range), or a TypeError naming it.
+double real_arg(const pyb::handle& obj, const Bound& bound) {
+  // bool is an int in Python, but True for a count is a mistake, not a 1.
+  const bool number = PyFloat_Check(obj.ptr()) || PyLong_Check(obj.ptr()) ||
+                      (!PyUnicode_Check(obj.ptr()) && PyObject_HasAttrString(obj.ptr(), "__float__"));
+  if (PyBool_Check(obj.ptr()) || !number)
+    throw pyb::type_error(fmt::format("{} must be a number, found {} ({})", bound_name(bound),
+                                      std::string(pyb::repr(obj)).substr(0, 40),
+                                      Py_TYPE(obj.ptr())->tp_name));
+  double v = PyFloat_AsDouble(obj.ptr());
+  if (v == -1.0 && PyErr_Occurred()) {
+    PyErr_Clear();
+    if (!PyLong_Check(obj.ptr()))  // __float__ failed (e.g. an array of several numbers)
+      throw pyb::type_error(fmt::format("{} must be a single number, found {}", bound_name(bound),
+                                        std::string(pyb::repr(obj)).substr(0, 40)));
+    // An int beyond a double's range: infinite, so the range check names it.
+    return PyObject_RichCompareBool(obj.ptr(), pyb::int_(0).ptr(), Py_LT) == 1 ? -HUGE_VAL : HUGE_VAL;
+  }
+  return v;
+}
+
+}  // namespace
+
+double number_arg(const pyb::handle& obj, const Bound& bound) {
+  return check_bound(bound, real_arg(obj, bound));
+}
+
+uint64_t count_arg(const pyb::handle& obj, const Bound& bound) {
+  double v = number_arg(obj, bound);
+  if (v != std::floor(v))
+    throw OutOfRange(fmt::format("{} must be a whole number within {:g}..{:g} ({}), found {:g}",
+                                 bound_name(bound), bound.lo, bound.hi, bound.what, v));
+  return uint64_t(v);
+}
+
+uint64_t count_arg_or_zero(const pyb::handle& obj, const Bound& bound) {
+  return real_arg(obj, bound) == 0.0 ? 0 : count_arg(obj, bound);
+}
+
 void require_file(const std::string& path, const char* what) {
   if (std::filesystem::is_regular_file(path)) return;
   PyErr_SetString(PyExc_FileNotFoundError, fmt::format("{}: File does not exist: {}", what, path).c_str());
@@ -152,9 +194,19 @@ PYBIND11_MODULE(_lorgnette, m) {
 
   g_error = pyb::exception<std::exception>(m, "Error", PyExc_RuntimeError).release();
   g_landmark_error = pyb::exception<std::exception>(m, "LandmarkError", g_error.ptr()).release();
+  // A number outside its range (host/util/bounds.h): an Error with the CLI's text, and a ValueError
+  // as Python's own checks raise.
+  g_range_error = PyErr_NewExceptionWithDoc(
+      "lorgnette._lorgnette.RangeError",
+      "A number outside its range (the CLI's message); both a lorgnette.Error and a ValueError.",
+      pyb::make_tuple(g_error, pyb::handle(PyExc_ValueError)).release().ptr(), nullptr);
+  if (!g_range_error) throw pyb::error_already_set();
+  m.attr("RangeError") = g_range_error;
   pyb::register_exception_translator([](std::exception_ptr p) {
     try {
       if (p) std::rethrow_exception(p);
+    } catch (const OutOfRange& e) {
+      PyErr_SetString(g_range_error.ptr(), e.what());
     } catch (const std::bad_alloc& e) {
       PyErr_SetString(PyExc_MemoryError, e.what());
     } catch (const pyb::builtin_exception& e) {

@@ -13,8 +13,10 @@
 #include "host/dataset/dataset.h"
 #include "host/nerf/model.h"
 #include "host/render/render_job.h"
+#include "host/render/render_settings.h"
 #include "host/render/renderer.h"
 #include "host/render/view_plan.h"
+#include "host/util/bounds.h"
 #include "mesh/placed_glasses.h"
 #include "tools/lorgnette/command.h"
 
@@ -22,11 +24,12 @@ namespace lorgnette::cli {
 namespace {
 
 struct RenderArgs {
-  std::string model, glasses, placement, transform, pose, size = "854x480", out, marcher = "auto";
+  std::string model, glasses, placement, transform, pose, size = "854x480", out;
   std::vector<float> translate, rotate, background, front;
-  float scale = 1.0f, fov = 30.0f, elevation = 0.0f, step_scale = 1.0f;
-  uint32_t orbit = 0, spp = 1, surface_spp = 4;
-  bool alpha = false, force = false, json = false, no_video = false, beyond_capture = false;
+  float scale = 1.0f;
+  render::RenderSettings render;  // checked by render::validate (host/util/bounds.h), as Python's are
+  render::OrbitSettings orbit;    // orbit.views = --orbit (0: a --pose camera instead)
+  bool force = false, json = false, no_video = false;
 };
 
 render::Vec3 vec3(const std::vector<float>& v, render::Vec3 fallback) {
@@ -51,21 +54,29 @@ Eigen::Matrix4f glasses_transform(const RenderArgs& a, std::string& glasses_path
       render::trs_transform(vec3(a.translate, {0, 0, 0}), vec3(a.rotate, {0, 0, 0}), a.scale));
 }
 
-void run(const RenderArgs& a, GlobalOptions& global) {
-  if ((a.orbit > 0) == !a.pose.empty()) throw std::runtime_error("give either --orbit N or --pose JSON");
+void run(RenderArgs& a, GlobalOptions& global) {
+  const bool orbit = a.orbit.views > 0;
+  if (orbit == !a.pose.empty()) throw std::runtime_error("give either --orbit N or --pose JSON");
   if (!a.front.empty()) {
-    if (a.orbit == 0)
+    if (!orbit)
       throw std::runtime_error(
           "--front says where an --orbit starts: give --orbit N too (a --pose camera is placed by its own "
           "transform_matrix)");
-    render::check_orbit_front(vec3(a.front, {}));
+    a.orbit.front = vec3(a.front, {});
   }
   auto size = render::parse_size(a.size);
+  a.orbit.width = size[0], a.orbit.height = size[1];
+  if (!a.background.empty()) a.render.background = vec3(a.background, {1, 1, 1});
+  render::validate(a.render);
+  if (orbit)
+    render::validate(a.orbit);
+  else
+    check_bound(bounds::kFovDeg, a.orbit.fov_y_deg);
   {
     // Refuse outputs the user already has before any work (device, model, glasses).
     render::RenderJob planned;
     planned.video = !a.no_video;
-    planned.cameras.resize(a.orbit > 0 ? a.orbit : 1);
+    planned.cameras.resize(orbit ? a.orbit.views : 1);
     render::check_outputs_free(a.out, render::render_job_outputs(planned), a.force);
   }
   cl::Runtime rt(global.runtime());
@@ -75,29 +86,16 @@ void run(const RenderArgs& a, GlobalOptions& global) {
   job.out_dir = a.out;
   job.force = a.force;
   job.video = !a.no_video;
-  job.options.spp = a.spp;
-  job.options.alpha = a.alpha;
-  job.options.step_scale = a.step_scale;
-  job.options.marcher = render::parse_marcher_kind(a.marcher);
-  if (!a.background.empty()) job.options.background = vec3(a.background, {1, 1, 1});
+  job.options = render::render_options(a.render);
   std::string range_source;
   std::optional<nerf::ViewRange> range = render::model_view_range(model, &range_source);
   if (range) spdlog::info("captured directions: {} from {}", range->summary(), range_source);
-  if (a.orbit > 0) {
-    render::OrbitSpec base = render::model_orbit(model, {});
-    base.fov_y_deg = a.fov;
-    base.width = size[0];
-    base.height = size[1];
-    render::OrbitRequest req;
-    req.views = a.orbit;
-    req.elevation_deg = a.elevation;
-    if (!a.front.empty()) req.front = vec3(a.front, base.front);
-    req.beyond_capture = a.beyond_capture;
-    render::OrbitPlan plan = render::plan_orbit(base, range, req);
+  if (orbit) {
+    render::OrbitPlan plan = render::plan_model_orbit(model, a.orbit, range);
     for (const auto& note : plan.notes) spdlog::info("orbit: {}", note);
     job.cameras = render::orbit_cameras(plan.spec);
   } else {
-    job.cameras = {render::read_pose(a.pose, size[0], size[1], a.fov)};
+    job.cameras = {render::read_pose(a.pose, size[0], size[1], a.orbit.fov_y_deg)};
     if (std::string note = render::pose_outside_note(job.cameras[0], range); !note.empty())
       spdlog::warn("{}", note);
   }
@@ -105,14 +103,15 @@ void run(const RenderArgs& a, GlobalOptions& global) {
   std::string glasses_path = a.glasses;
   mesh::TempleBend temples;
   Eigen::Matrix4f placement = glasses_transform(a, glasses_path, temples);
+  const bool placed = !a.placement.empty() || !a.transform.empty() || !a.translate.empty() ||
+                      !a.rotate.empty() || a.scale != 1.0f;
+  render::check_glasses_and_placement(!glasses_path.empty(), placed);
   std::unique_ptr<mesh::SurfacePass> pass;
   if (!glasses_path.empty()) {
     pass = mesh::load_placed_glasses(glasses_path, placement, temples).pass;
     mesh::SurfaceParams sp;
-    sp.samples_per_pixel = int(a.surface_spp);
+    sp.samples_per_pixel = int(a.render.surface_spp);
     job.surfaces = [&pass, sp](const Camera& cam) { return pass->render(cam, sp); };
-  } else if (!a.placement.empty() || !a.transform.empty()) {
-    throw std::runtime_error("a placement was given but no glasses: add --glasses FRAME");
   }
 
   render::Renderer renderer(rt);
@@ -132,6 +131,7 @@ void run(const RenderArgs& a, GlobalOptions& global) {
 
 void add_render(CLI::App& app, GlobalOptions& global) {
   auto a = std::make_shared<RenderArgs>();
+  a->orbit.views = 0;  // no --orbit: a --pose camera
   auto* cmd = app.add_subcommand("render", "render a trained head (.lnerf) with or without glasses");
   cmd->add_option("model", a->model, "trained model snapshot (.lnerf)")->required()->check(CLI::ExistingFile);
   cmd->add_option("--glasses", a->glasses, "glasses frame (glTF/GLB/OBJ/PLY)")->check(CLI::ExistingFile);
@@ -142,37 +142,37 @@ void add_render(CLI::App& app, GlobalOptions& global) {
   cmd->add_option("--rotate", a->rotate, "glasses rotation about x, y, z (degrees, applied x then y then z)")
       ->expected(3);
   cmd->add_option("--scale", a->scale, "scene units per millimetre of the frame");
-  cmd->add_option("--orbit", a->orbit,
-                  "N views around the head, starting at its front, within the directions the capture saw "
-                  "(plus a margin)");
+  cmd->add_option("--orbit", a->orbit.views,
+                  "N views around the head (1..3600), starting at its front, within the directions the "
+                  "capture saw (plus a margin)");
   cmd->add_option("--pose", a->pose, "one camera: JSON with transform_matrix (+ fl_x, w, h or fov_y_deg)")
       ->check(CLI::ExistingFile);
   cmd->add_option("--size", a->size, "image size WIDTHxHEIGHT")->capture_default_str();
-  cmd->add_option("--spp", a->spp, "NeRF rays per pixel")->capture_default_str()->check(CLI::Range(1, 64));
-  cmd->add_option("--surface-spp", a->surface_spp, "glasses samples per pixel (anti-aliasing)")
-      ->capture_default_str()
-      ->check(CLI::Range(1, 256));
-  cmd->add_option("--step-scale", a->step_scale, "marching step multiplier (>1 faster, coarser)")
-      ->capture_default_str()
-      ->check(CLI::Range(0.25f, 8.0f));
-  cmd->add_option("--marcher", a->marcher, "auto (fused on a GPU, wavefront on a CPU), wavefront or fused")
+  // The ranges are render::validate's (host/util/bounds.h), the same in Python.
+  cmd->add_option("--spp", a->render.spp, "NeRF rays per pixel (1..64)")->capture_default_str();
+  cmd->add_option("--surface-spp", a->render.surface_spp, "glasses samples per pixel, anti-aliasing (1..256)")
+      ->capture_default_str();
+  cmd->add_option("--step-scale", a->render.step_scale,
+                  "marching step multiplier, >1 faster, coarser (0.25..8)")
+      ->capture_default_str();
+  cmd->add_option("--marcher", a->render.marcher,
+                  "auto (fused on a GPU, wavefront on a CPU), wavefront or fused")
       ->capture_default_str()
       ->check(CLI::IsMember({"auto", "wavefront", "fused"}));
-  cmd->add_option("--fov", a->fov, "vertical field of view, degrees")
-      ->capture_default_str()
-      ->check(CLI::Range(5.0f, 120.0f));
-  cmd->add_option("--elevation", a->elevation, "orbit elevation, degrees")
-      ->capture_default_str()
-      ->check(CLI::Range(-80.0f, 80.0f));
+  cmd->add_option("--fov", a->orbit.fov_y_deg, "vertical field of view, degrees (5..120)")
+      ->capture_default_str();
+  cmd->add_option("--elevation", a->orbit.elevation_deg, "orbit elevation, degrees (-80..80)")
+      ->capture_default_str();
   cmd->add_option(
          "--front", a->front,
          "the first view's direction from the head (default: the capture's mean camera); its tilt adds "
          "to --elevation; clamped into the captured directions unless --beyond-capture")
       ->expected(3);
-  cmd->add_flag("--beyond-capture", a->beyond_capture,
+  cmd->add_flag("--beyond-capture", a->orbit.beyond_capture,
                 "orbit the full circle at the given elevation even where the capture never looked");
-  cmd->add_option("--background", a->background, "linear RGB background (default white)")->expected(3);
-  cmd->add_flag("--alpha", a->alpha, "transparent background (RGBA PNGs)");
+  cmd->add_option("--background", a->background, "linear RGB background, each 0..1 (default white)")
+      ->expected(3);
+  cmd->add_flag("--alpha", a->render.alpha, "transparent background (RGBA PNGs)");
   cmd->add_flag("--no-video", a->no_video, "skip the MP4");
   cmd->add_flag("--force", a->force, "overwrite existing outputs in the directory");
   cmd->add_flag("--json", a->json, "print the summary (render.json) on stdout");

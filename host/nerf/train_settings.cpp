@@ -1,0 +1,110 @@
+// TrainSettings -> LoadOptions and TrainJob, with the bounds checks (train_settings.h).
+#include "host/nerf/train_settings.h"
+
+#include <fmt/format.h>
+
+#include <sstream>
+#include <stdexcept>
+
+#include "host/util/bounds.h"
+
+namespace lorgnette::nerf {
+namespace b = bounds;
+
+namespace {
+
+void validate_size(const TrainSettings& s) {
+  if (s.aabb) {
+    for (int a = 0; a < 3; ++a)
+      check_bound(b::kAabbCoord, s.aabb->min[a]), check_bound(b::kAabbCoord, s.aabb->max[a]);
+    if (!s.aabb->valid()) throw OutOfRange("--aabb: max must exceed min on every axis");
+  }
+  check_bound_or_zero(b::kAabbScale, s.aabb_scale);
+  check_bound_or_zero(b::kTrainStep, s.step);
+  check_bound_or_zero(b::kFinestRes, s.finest_res);
+  check_bound_or_zero(b::kLog2Table, s.log2_table);
+  check_bound_or_zero(b::kLevels, s.levels);
+  check_bound_or_zero(b::kOccRes, s.occ_res);
+}
+
+void validate_room(const BackgroundOptions& r) {
+  check_bound(b::kOpacityPrior, r.opacity_prior);
+  check_bound(b::kRoomClear, r.room_clear);
+  check_bound(b::kRoomClearTolerance, r.room_clear_tolerance);
+  check_bound(b::kLeanGate, r.lean_gate);
+}
+
+}  // namespace
+
+void validate(const TrainSettings& s) {
+  if (s.steps && s.seconds)
+    throw std::invalid_argument("give --steps or --seconds (Python: steps or seconds), not both");
+  if (s.steps) check_bound(b::kTrainSteps, double(*s.steps));
+  if (s.seconds) check_bound(b::kTrainSeconds, *s.seconds);
+  check_bound_or_zero(b::kBatchLog2, s.batch_log2);
+  check_bound(b::kDownscale, s.downscale);
+  check_bound_or_zero(b::kMaxSide, s.max_side);
+  if (s.hair_mm) check_bound(b::kHairMm, *s.hair_mm);
+  check_bound(b::kLearningRate, s.lr);
+  check_bound(b::kSnapshotEvery, s.snapshot_every);
+  if (s.background != "auto" && s.background != "on" && s.background != "off")
+    throw std::invalid_argument(
+        fmt::format("--background (Python: background) must be auto, on or off, found '{}'", s.background));
+  validate_size(s);
+  validate_room(s.room);
+}
+
+dataset::LoadOptions train_load_options(const TrainSettings& s) {
+  validate(s);
+  dataset::LoadOptions lo;
+  lo.downscale = int(s.downscale);
+  lo.max_side = int(s.max_side);
+  lo.max_image_bytes = kTrainImageBytes;
+  lo.splits = {dataset::Split::Train};
+  return lo;
+}
+
+TrainJob train_job(const TrainSettings& s) {
+  validate(s);
+  TrainJob job;
+  job.sizing.aabb = s.aabb;
+  job.sizing.use_masks = s.masks;
+  if (s.finest_res) job.sizing.finest_resolution = s.finest_res;
+  if (s.log2_table) job.sizing.log2_table_size = s.log2_table;
+  if (s.levels) job.sizing.levels = s.levels;
+  if (s.occ_res) job.sizing.occupancy_resolution = s.occ_res;
+  if (s.step > 0.0f) job.sizing.step = s.step;
+  job.aabb_scale = s.aabb_scale;
+  job.batch_log2 = s.batch_log2;
+  job.deterministic = s.deterministic;
+  job.background = s.background;
+  TrainOptions& to = job.train;
+  to.steps = s.steps.value_or(0);
+  to.seconds = s.seconds.value_or(0.0);
+  to.seed = s.seed;
+  to.adam.lr = s.lr;
+  to.background = s.room;  // train_on_dataset adds whether the room model runs and the subject's zones
+  to.loss_kind = s.linear_loss ? LOSS_L2_LINEAR : LOSS_L2_SRGB;
+  to.snapshot_path = s.output;
+  to.snapshot_every_seconds = s.snapshot_every;
+  to.progress = s.progress;
+  return job;
+}
+
+std::optional<Aabb> parse_aabb(const std::string& text) {
+  if (text.empty()) return std::nullopt;
+  std::stringstream ss(text);
+  Aabb box;
+  char comma;
+  for (int i = 0; i < 6; ++i) {
+    double v;
+    if (!(ss >> v)) throw std::invalid_argument("--aabb needs six numbers: minx,miny,minz,maxx,maxy,maxz");
+    check_bound(b::kAabbCoord, v);
+    (i < 3 ? box.min[i] : box.max[i - 3]) = float(v);
+    if (i < 5) ss >> comma;
+  }
+  if (!box.valid()) throw OutOfRange("--aabb: max must exceed min on every axis");
+  return box;
+}
+
+}  // namespace lorgnette::nerf
