@@ -233,7 +233,7 @@ void stage_render(Context& c, cl::Runtime& rt, nerf::NerfModel& model, const std
   job.cameras = render::orbit_cameras(plan.spec);
   // canonical mm -> scene, temples spread as the fit chose
   mesh::PlacedGlasses placed =
-      mesh::load_placed_glasses(glasses_path, fitted.placement.transform.cast<float>(), fitted.temples.bend);
+      mesh::load_placed_glasses(glasses_path, fitted.placement.transform, fitted.temples.bend);
   const mesh::Glasses& g = placed.glasses;
   render::RenderSettings look;  // the CLI's defaults: white background, spp 1, 4 glasses samples
   job.options = render::render_options(look);

@@ -17,13 +17,12 @@ GlassesInput load_glasses_input(const std::string& path, int samples, unsigned s
   in.ref.g_c = g.ref.g_c.cast<double>();
   in.ref.g_l = g.ref.g_l.cast<double>();
   in.ref.g_r = g.ref.g_r.cast<double>();
-  std::string why;
-  if (auto h = mesh::detect_temple_hinges(g.mesh, &why)) {
+  if (const auto& h = g.metrics.hinges) {  // detected once, by the load's measurements
     in.ref.has_hinges = true;
     in.ref.hinge_l = h->left;
     in.ref.hinge_r = h->right;
   } else {
-    in.notes.push_back(why + ": the temples stay rigid in the fit");
+    in.notes.push_back(g.metrics.no_hinges + ": the temples stay rigid in the fit");
   }
   std::vector<bool> lens = mesh::lens_triangles(g.mesh);
   std::vector<bool> frame(lens.size());

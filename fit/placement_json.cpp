@@ -3,6 +3,7 @@
 
 #include <fmt/format.h>
 
+#include <Eigen/Geometry>
 #include <climits>
 #include <cmath>
 #include <filesystem>
@@ -14,6 +15,24 @@
 #include "host/util/image_io.h"
 
 namespace lorgnette::fit {
+namespace fs = std::filesystem;
+
+Eigen::Matrix4d nudge_matrix(const PlacementNudge& n) {
+  Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
+  // About +x (the wearer's left) a positive tilt turns canonical +z (forward) down; the bridge
+  // (canonical origin) stays on the rotation axis.
+  m.block<3, 3>(0, 0) =
+      Eigen::AngleAxisd(n.tilt_deg * M_PI / 180.0, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  m(1, 3) = n.up_mm;
+  m(2, 3) = n.forward_mm;
+  return m;
+}
+
+PlacementNudge combined_nudge(const PlacementNudge& a, const PlacementNudge& b) {
+  const double t = a.tilt_deg * M_PI / 180.0, c = std::cos(t), s = std::sin(t);
+  return {a.up_mm + c * b.up_mm - s * b.forward_mm, a.forward_mm + s * b.up_mm + c * b.forward_mm,
+          a.tilt_deg + b.tilt_deg};
+}
 
 // placement.json's optional "temples" object (ARCHITECTURE.md):
 // {"hinge_l": [x,y,z], "hinge_r": [x,y,z], "spread_l_deg": a, "spread_r_deg": b, "ramp_mm": r}
@@ -169,6 +188,9 @@ nlohmann::json to_json(const PlacementFile& p) {
               {"warnings", p.warnings},
               {"ok", p.ok}};
   if (p.has_temples) out["temples"] = temples_json(p.temples);
+  if (p.has_nudge)
+    out["nudge"] = {
+        {"up_mm", p.nudge.up_mm}, {"forward_mm", p.nudge.forward_mm}, {"tilt_deg", p.nudge.tilt_deg}};
   return out;
 }
 
@@ -197,6 +219,48 @@ int field<int>(const nlohmann::json& j, const char* name) {
   return whole_number(j.at(name), name);
 }
 
+// A number that is finite (JSON cannot hold NaN, but 1e999 reads as infinity).
+template <>
+double field<double>(const nlohmann::json& j, const char* name) {
+  if (!j.contains(name)) throw std::runtime_error(fmt::format("placement.json: missing field '{}'", name));
+  const nlohmann::json& v = j.at(name);
+  if (!v.is_number() || !std::isfinite(v.get<double>()))
+    throw std::runtime_error(
+        fmt::format("placement.json: field '{}' must be a finite number, found {}", name, v.dump()));
+  return v.get<double>();
+}
+
+Transform transform_from_json(const nlohmann::json& j) {
+  auto t = field<std::vector<std::vector<double>>>(j, "transform");
+  if (t.size() != 4) throw std::runtime_error("placement.json: 'transform' must be 4 rows of 4 numbers");
+  Transform m;
+  for (int i = 0; i < 4; ++i) {
+    if (t[i].size() != 4) throw std::runtime_error("placement.json: 'transform' must be 4 rows of 4 numbers");
+    for (int k = 0; k < 4; ++k) m(i, k) = t[i][k];
+  }
+  try {
+    check_transform(m, "placement.json: 'transform'");
+  } catch (const std::invalid_argument& e) {
+    throw std::runtime_error(e.what());
+  }
+  return m;
+}
+
+// "nudge", or the "viewer": {"nudge"} object viewers wrote before the field existed.
+void nudge_from_json(const nlohmann::json& j, PlacementFile& p) {
+  const nlohmann::json* n = nullptr;
+  if (j.contains("nudge") && !j["nudge"].is_null())
+    n = &j["nudge"];
+  else if (j.contains("viewer") && j["viewer"].is_object() && j["viewer"].contains("nudge"))
+    n = &j["viewer"]["nudge"];
+  if (!n) return;
+  if (!n->is_object()) throw std::runtime_error("placement.json: 'nudge' must be an object");
+  p.has_nudge = true;
+  p.nudge.up_mm = optional_field<double>(*n, "up_mm", 0.0);
+  p.nudge.forward_mm = optional_field<double>(*n, "forward_mm", 0.0);
+  p.nudge.tilt_deg = optional_field<double>(*n, "tilt_deg", 0.0);
+}
+
 }  // namespace
 
 PlacementFile placement_from_json(const nlohmann::json& j) {
@@ -210,12 +274,7 @@ PlacementFile placement_from_json(const nlohmann::json& j) {
                     p.version, PlacementFile::kVersion));
   // Only the version and the transform are required: a hand-written placement (a transform, maybe
   // the glasses and the temples) is as valid as one `lorgnette fit` wrote with all its numbers.
-  auto t = field<std::vector<std::vector<double>>>(j, "transform");
-  if (t.size() != 4) throw std::runtime_error("placement.json: 'transform' must be 4 rows of 4 numbers");
-  for (int i = 0; i < 4; ++i) {
-    if (t[i].size() != 4) throw std::runtime_error("placement.json: 'transform' must be 4 rows of 4 numbers");
-    for (int k = 0; k < 4; ++k) p.transform(i, k) = t[i][k];
-  }
+  p.transform = transform_from_json(j);
   auto g = optional_field<nlohmann::json>(j, "glasses", nlohmann::json::object());
   p.glasses_path = optional_field<std::string>(g, "path", "");
   p.glasses_hash = optional_field<std::string>(g, "hash", "");
@@ -256,11 +315,25 @@ PlacementFile placement_from_json(const nlohmann::json& j) {
       throw std::runtime_error(fmt::format("placement.json: field 'temples' is malformed ({})", e.what()));
     }
   }
+  nudge_from_json(j, p);
   return p;
 }
 
 void write_placement(const std::string& path, const PlacementFile& p) {
-  write_text_file_atomic(path, to_json(p).dump(2) + "\n");
+  try {
+    check_transform(p.transform, "placement '" + path + "': transform");
+  } catch (const std::invalid_argument& e) {
+    throw std::runtime_error(std::string(e.what()) + ": nothing was written");
+  }
+  PlacementFile stored = p;
+  if (!p.glasses_path.empty() && fs::path(p.glasses_path).is_relative()) {
+    // Relative to the file's folder (fs::relative resolves symbolic links on both sides).
+    std::error_code ec;
+    fs::path rel = fs::relative(fs::absolute(p.glasses_path), fs::absolute(path).parent_path(), ec);
+    stored.glasses_path =
+        ec || rel.empty() ? fs::absolute(p.glasses_path).lexically_normal().string() : rel.string();
+  }
+  write_text_file_atomic(path, to_json(stored).dump(2) + "\n");
 }
 
 PlacementFile read_placement(const std::string& path) {
@@ -272,18 +345,30 @@ PlacementFile read_placement(const std::string& path) {
   } catch (const nlohmann::json::exception& e) {
     throw std::runtime_error(fmt::format("'{}' is not valid JSON: {}", path, e.what()));
   }
+  PlacementFile p;
   try {
-    return placement_from_json(j);
+    p = placement_from_json(j);
   } catch (const std::runtime_error& e) {
     throw std::runtime_error(fmt::format("placement '{}': {}", path, e.what()));
   }
+  if (!p.glasses_path.empty() && fs::path(p.glasses_path).is_relative())
+    p.glasses_path = (fs::path(path).parent_path() / p.glasses_path).lexically_normal().string();
+  return p;
 }
 
-std::string glasses_file(const PlacementFile& p, const std::string& placement_path) {
-  if (p.glasses_path.empty()) return "";
-  std::filesystem::path g(p.glasses_path);
-  if (g.is_relative()) g = std::filesystem::path(placement_path).parent_path() / g;
-  return g.lexically_normal().string();
+std::string glasses_mismatch(const PlacementFile& p, const std::string& glasses_path) {
+  if (p.glasses_hash.empty()) return "";
+  std::string hash;
+  try {
+    hash = file_hash(glasses_path);
+  } catch (const std::runtime_error&) {
+    return "";
+  }
+  if (hash == p.glasses_hash) return "";
+  return fmt::format(
+      "the placement was fitted for another glasses file ('{}', {}) than '{}' ({}): the frame sits where "
+      "the other one was fitted; run `lorgnette fit` for this frame",
+      p.glasses_path, p.glasses_hash, glasses_path, hash);
 }
 
 }  // namespace lorgnette::fit

@@ -116,13 +116,14 @@ FrameMetrics measure_frame(const TriMesh& mesh) {
     m.bridge_mm = std::max(0.0f, left.min().x() - right.max().x());
   }
   lens.flip();
+  m.hinges = detect_temple_hinges(mesh, &m.no_hinges);
   // Dense samples: the temple's centre line is tracked through centroids of 4 mm slabs of it.
   std::vector<Eigen::Vector3f> pts = sample_surface(mesh, 160000, 13u, &lens);
   if (pts.empty()) return m;
-  if (auto hinges = detect_temple_hinges(mesh)) {
+  if (m.hinges) {
     float sum = 0.0f;
     int sides = 0;
-    for (Eigen::Vector3d h : {hinges->left, hinges->right}) {
+    for (Eigen::Vector3d h : {m.hinges->left, m.hinges->right}) {
       h.z() = refined_hinge_z(pts, h, m.total_width_mm);
       float len = temple_centreline_length(pts, h);
       if (len > 0.0f) sum += len, ++sides;

@@ -5,12 +5,15 @@
 // temple). The hinge is where the temple leaves the back of the front (detect_temple_hinges, refined
 // to the front's rearmost point there); the length is that of the temple's tracked centre line,
 // averaged over both temples. Parametric frames (parametric.h) measure within 0.2 mm of the length
-// they were made with; 0 when no temple is found.
+// they were made with; 0 when no temple is found. The hinges found on the way are kept for the fit's
+// temple spread, so a frame's hinges are detected once per load.
 #pragma once
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "mesh/refpoints.h"
+#include "mesh/temple_bend.h"
 #include "mesh/trimesh.h"
 
 namespace lorgnette::mesh {
@@ -19,7 +22,9 @@ struct FrameMetrics {
   float total_width_mm = 0, total_height_mm = 0, total_depth_mm = 0;
   float lens_width_mm = 0, lens_height_mm = 0, bridge_mm = 0;  // 0 when the frame has no lens parts
   float temple_length_mm = 0;
-  std::vector<int> lens_parts;  // parts mostly of lens material and at least 22 % of the width wide
+  std::vector<int> lens_parts;         // parts mostly of lens material and at least 22 % of the width wide
+  std::optional<TempleHinges> hinges;  // detect_temple_hinges (before the rearmost-point refinement)
+  std::string no_hinges;               // why there are none
 };
 
 FrameMetrics measure_frame(const TriMesh& canonical_mesh);

@@ -9,7 +9,7 @@
 
 namespace lorgnette::mesh {
 
-PlacedGlasses place_glasses_mesh(Glasses glasses, const Eigen::Matrix4f& transform,
+PlacedGlasses place_glasses_mesh(Glasses glasses, const Eigen::Matrix4d& transform,
                                  const TempleBend& temples) {
   PlacedGlasses p;
   p.temples = temples;
@@ -20,11 +20,11 @@ PlacedGlasses place_glasses_mesh(Glasses glasses, const Eigen::Matrix4f& transfo
     bend_mesh(temples, glasses.mesh);
   }
   p.glasses = std::move(glasses);
-  p.pass = std::make_unique<SurfacePass>(p.glasses.mesh, transform);
+  p.pass = std::make_unique<SurfacePass>(p.glasses.mesh, transform.cast<float>());
   return p;
 }
 
-PlacedGlasses load_placed_glasses(const std::string& glasses_path, const Eigen::Matrix4f& transform,
+PlacedGlasses load_placed_glasses(const std::string& glasses_path, const Eigen::Matrix4d& transform,
                                   const TempleBend& temples, const GlassesOptions& options) {
   return place_glasses_mesh(load_glasses(glasses_path, options), transform, temples);
 }

@@ -69,18 +69,6 @@ std::optional<std::string> existing_placement(const FrameEntry& e) {
   return std::nullopt;
 }
 
-Eigen::Matrix4d nudge_matrix(const Nudge& n) {
-  Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
-  // Positive tilt turns the lenses' bottoms backwards (towards the face): about +x (left), the
-  // canonical +z (forward) goes down. The bridge (canonical origin) stays on its rotation axis.
-  m.block<3, 3>(0, 0) =
-      Eigen::AngleAxisd(n.tilt_deg * 3.14159265358979323846 / 180.0, Eigen::Vector3d::UnitX())
-          .toRotationMatrix();
-  m(1, 3) = n.up_mm;
-  m(2, 3) = n.forward_mm;
-  return m;
-}
-
 Nudge accumulate(const Nudge& n, const NudgeMsg& d) {
   if (d.reset) return {};
   Nudge o;
@@ -114,12 +102,11 @@ SaveResult save_placement(const std::string& path, const fit::PlacementFile& p, 
   }
   fit::PlacementFile out = p;
   out.transform = p.transform * nudge_matrix(nudge);
-  nlohmann::json j = fit::to_json(out);
-  j["viewer"] = {
-      {"nudge", {{"up_mm", nudge.up_mm}, {"forward_mm", nudge.forward_mm}, {"tilt_deg", nudge.tilt_deg}}},
-      {"note", "adjusted by hand in `lorgnette view`; transform includes the nudge"}};
+  // The record covers every nudge in the transform: an earlier session's and this one's.
+  out.has_nudge = p.has_nudge || !nudge.zero();
+  out.nudge = p.has_nudge ? fit::combined_nudge(p.nudge, nudge) : nudge;
   try {
-    write_text_file_atomic(path, j.dump(2) + "\n");
+    fit::write_placement(path, out);
   } catch (const std::exception& e) {
     r.error = {"io", fmt::format("cannot write {}: {}", fs::path(path).filename().string(), e.what())};
     return r;

@@ -30,13 +30,10 @@ std::vector<FrameEntry> catalogue_single(const std::string& frame, const std::st
 // The placement file to read for an entry, if any.
 std::optional<std::string> existing_placement(const FrameEntry& e);
 
-// The placement after a hand nudge: transform' = transform * N, with N moving the frame in its own
-// canonical axes (up/forward in mm, tilt in degrees about the x axis through the bridge).
-struct Nudge {
-  double up_mm = 0, forward_mm = 0, tilt_deg = 0;
-  bool zero() const { return up_mm == 0 && forward_mm == 0 && tilt_deg == 0; }
-};
-Eigen::Matrix4d nudge_matrix(const Nudge& n);
+// The placement after a hand nudge: transform' = transform * nudge_matrix(n), n moving the frame in
+// its own canonical axes (placement.json's "nudge", fit/placement_json.h).
+using Nudge = fit::PlacementNudge;
+using fit::nudge_matrix;
 // Bounds of the accumulated nudge (a frame cannot be pushed off the face by repeated clicks).
 constexpr double kMaxNudgeMm = 15.0, kMaxNudgeTiltDeg = 20.0;
 Nudge accumulate(const Nudge& n, const NudgeMsg& delta);
@@ -47,7 +44,8 @@ struct SaveResult {
   ProtocolError error;       // code "exists" (needs overwrite) or "io"
 };
 
-// Writes `p` (with the nudge recorded under "viewer") to `path` atomically; see the header comment.
+// Writes `p` with the nudge applied to its transform and recorded as its "nudge" (write_placement:
+// atomic, the glasses path relative to the file); see the header comment.
 SaveResult save_placement(const std::string& path, const fit::PlacementFile& p, const Nudge& nudge,
                           bool overwrite);
 

@@ -15,6 +15,7 @@
 #include "fit/fit_job.h"
 #include "fit/glasses_input.h"
 #include "host/nerf/model.h"
+#include "mesh/placed_glasses.h"
 #include "mesh/temple_bend.h"
 #include "viewer/image_codec.h"
 
@@ -54,31 +55,8 @@ std::string nudge_key(uint32_t i, uint64_t version, const Nudge& n) {
 
 }  // namespace
 
-Eigen::Matrix4d rough_placement(const OrbitFrame& o, const std::array<float, 3>& lo,
-                                const std::array<float, 3>& hi, double frame_width_mm) {
-  Eigen::Vector3d axes[3] = {{o.right[0], o.right[1], o.right[2]},
-                             {o.up[0], o.up[1], o.up[2]},
-                             {o.front[0], o.front[1], o.front[2]}};
-  Eigen::Vector3d c(o.center[0], o.center[1], o.center[2]);
-  double mn[3] = {1e30, 1e30, 1e30}, mx[3] = {-1e30, -1e30, -1e30};
-  for (int k = 0; k < 8; ++k) {
-    Eigen::Vector3d p(k & 1 ? hi[0] : lo[0], k & 2 ? hi[1] : lo[1], k & 4 ? hi[2] : lo[2]);
-    for (int a = 0; a < 3; ++a) {
-      double d = (p - c).dot(axes[a]);
-      mn[a] = std::min(mn[a], d), mx[a] = std::max(mx[a], d);
-    }
-  }
-  double s = 0.8 * (mx[0] - mn[0]) / std::max(frame_width_mm, 1.0);
-  Eigen::Vector3d pos = c + axes[0] * (0.5 * (mn[0] + mx[0])) + axes[1] * (mn[1] + 0.6 * (mx[1] - mn[1])) +
-                        axes[2] * (mx[2] - 0.12 * (mx[2] - mn[2]));
-  Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
-  for (int a = 0; a < 3; ++a) m.block<3, 1>(0, a) = s * axes[a];
-  m.block<3, 1>(0, 3) = pos;
-  return m;
-}
-
 FrameAssets::FrameAssets(std::vector<FrameEntry> catalogue, OrbitFrame orbit, std::array<float, 3> box_min,
-                         std::array<float, 3> box_max, FitSettings fit, FitListener listener)
+                         std::array<float, 3> box_max, FitWorkerConfig fit, FitListener listener)
     : entries_(std::move(catalogue)),
       orbit_(orbit),
       box_min_(box_min),
@@ -119,7 +97,10 @@ void FrameAssets::request(uint32_t i) {
   requested_[i] = true;
   if (auto file = existing_placement(entries_[i])) {
     try {
-      states_[i].placement = std::make_shared<fit::PlacementFile>(fit::read_placement(*file));
+      auto p = std::make_shared<fit::PlacementFile>(fit::read_placement(*file));
+      if (std::string why = fit::glasses_mismatch(*p, entries_[i].path); !why.empty())
+        throw std::runtime_error(fmt::format("{}: {}", *file, why));
+      states_[i].placement = p;
       states_[i].status = PlacementStatus::kReady;
       states_[i].source = "file";
       states_[i].version++;
@@ -140,7 +121,11 @@ void FrameAssets::request(uint32_t i) {
 
 void FrameAssets::set_rough(uint32_t i, const std::string& why) {
   auto p = std::make_shared<fit::PlacementFile>();
-  p->transform = rough_placement(orbit_, box_min_, box_max_, glasses_[i]->metrics.total_width_mm);
+  auto v = [](const std::array<float, 3>& a) { return Eigen::Vector3d(a[0], a[1], a[2]); };
+  fit::HeadAxes axes;  // the orbit's: right is the frame's x, as the fit places it
+  axes.x = v(orbit_.right), axes.up = v(orbit_.up), axes.front = v(orbit_.front),
+  axes.center = v(orbit_.center);
+  p->transform = fit::rough_placement(glasses_[i]->metrics.total_width_mm, v(box_min_), v(box_max_), axes);
   p->glasses_path = entries_[i].path;
   p->warnings.push_back("rough stand-in, not a fit: " + why);
   states_[i].placement = p;
@@ -195,11 +180,10 @@ std::shared_ptr<const mesh::SurfacePass> FrameAssets::pass(uint32_t i, const Nud
       }
   }
   // Built outside the lock (Embree BVH build); a rare duplicate build is harmless.
-  mesh::TriMesh mesh = glasses_[i]->mesh;
-  if (placement->has_temples && placement->temples.bend.active())
-    mesh::bend_mesh(placement->temples.bend, mesh);
-  Eigen::Matrix4f t = (placement->transform * nudge_matrix(nudge)).cast<float>();
-  auto built = std::make_shared<const mesh::SurfacePass>(mesh, t);
+  std::shared_ptr<const mesh::SurfacePass> built =
+      mesh::place_glasses_mesh(*glasses_[i], placement->transform * nudge_matrix(nudge),
+                               placement->has_temples ? placement->temples.bend : mesh::TempleBend{})
+          .pass;
   std::lock_guard<std::mutex> lock(mutex_);
   passes_.push_front({nudge_key(i, version, nudge), built});
   if (passes_.size() > kPassCache) passes_.pop_back();
@@ -247,9 +231,7 @@ void FrameAssets::run_fit(uint32_t i) {
   std::vector<std::string> started;  // the fit's stages as they start (fit.h FitOptions::on_stage)
   auto work = std::async(std::launch::async, [&] {
     fit::GlassesInput glasses = fit::load_glasses_input(e.path);
-    fit::FitOptions opt;
-    opt.cap.views = fit_.views;
-    opt.front.width = opt.front.height = fit_.resolution;
+    fit::FitOptions opt = fit::fit_options(fit_.settings);
     opt.on_stage = [&](const std::string& s) {
       std::lock_guard<std::mutex> lock(stage_mutex);
       started.push_back(s);

@@ -3,7 +3,9 @@
 // stand-in when the fit failed or fitting is off), and the surface passes built from it. A frame with
 // no placement is fitted on a worker thread with its own OpenCL runtime and copy of the model (so
 // renders go on meanwhile); the worker reports progress through a callback and the fit is cached
-// beside the frame (<frame>.placement.json) when that file does not exist yet.
+// beside the frame (<frame>.placement.json) when that file does not exist yet. A placement file
+// that cannot be read, or was fitted for another glasses file (its content hash), is not used: the
+// page shows why and the frame is fitted instead (a warning in the server's log would go unseen).
 #pragma once
 #include <condition_variable>
 #include <deque>
@@ -17,6 +19,7 @@
 #include <thread>
 #include <vector>
 
+#include "fit/fit_job.h"
 #include "fit/placement_json.h"
 #include "host/cl/runtime.h"
 #include "mesh/glasses.h"
@@ -36,9 +39,11 @@ struct FrameState {
   std::string message;                                  // last fit message
 };
 
-struct FitSettings {
+// The viewer's fits: `lorgnette fit`'s settings (fit_options(), fit/fit_job.h), run on the worker
+// with its own runtime and copy of the model.
+struct FitWorkerConfig {
   bool enabled = true;  // false: frames without a placement get the rough stand-in at once
-  int views = 12, resolution = 384;
+  fit::FitSettings settings;
   cl::RuntimeOptions runtime;
   std::string model_path;
 };
@@ -55,7 +60,7 @@ class FrameAssets {
  public:
   // Loads every frame (throws naming a frame that cannot be loaded) and renders the thumbnails.
   FrameAssets(std::vector<FrameEntry> catalogue, OrbitFrame orbit, std::array<float, 3> box_min,
-              std::array<float, 3> box_max, FitSettings fit, FitListener listener);
+              std::array<float, 3> box_max, FitWorkerConfig fit, FitListener listener);
   ~FrameAssets();  // stops the fit worker (waits for a running fit)
 
   size_t size() const { return entries_.size(); }
@@ -84,7 +89,7 @@ class FrameAssets {
   std::vector<std::vector<uint8_t>> thumbnails_;
   OrbitFrame orbit_;
   std::array<float, 3> box_min_, box_max_;
-  FitSettings fit_;
+  FitWorkerConfig fit_;
   FitListener listener_;
 
   std::mutex mutex_;
@@ -100,11 +105,5 @@ class FrameAssets {
   std::deque<CachedPass> passes_;  // most recent first
   std::thread fit_thread_;
 };
-
-// Canonical mm -> scene for a frame `frame_width_mm` wide resting on the box's front at 60 % of its
-// height, 12 % inside, 80 % as wide as the box, axes aligned with the orbit frame. A stand-in for
-// frames that could not be fitted (not a fit).
-Eigen::Matrix4d rough_placement(const OrbitFrame& orbit, const std::array<float, 3>& box_min,
-                                const std::array<float, 3>& box_max, double frame_width_mm);
 
 }  // namespace lorgnette::viewer

@@ -13,6 +13,7 @@
 #include <mutex>
 #include <optional>
 
+#include "viewer/connection_limits.h"
 #include "viewer/web_assets.h"
 
 namespace lorgnette::viewer {
@@ -55,14 +56,21 @@ bool is_loopback_host(const std::string& host) {
 struct Server::Impl {
   ViewerService& service;
   ServerOptions options;
+  // Declared before the io_context: sessions its destructor destroys still count down here.
+  std::atomic<size_t> sockets{0};
+  AddressLimit per_address{options.max_per_address};
   net::io_context ioc{1};
   tcp::acceptor acceptor{ioc};
+  net::steady_timer retry{ioc};
   std::shared_ptr<IoGate> gate = std::make_shared<IoGate>();
-  std::atomic<size_t> sockets{0};
   bool loopback = true;
+  Backoff accept_backoff{std::chrono::milliseconds(10), std::chrono::milliseconds(1000)};
+  ThrottledLog accept_log{options.log_interval}, refuse_log{options.log_interval};
 
   Impl(ViewerService& s, const ServerOptions& o) : service(s), options(o) {}
   void accept();
+  void on_accept(beast::error_code ec, tcp::socket socket);
+  void accept_failed(const beast::error_code& ec);
   // The request may reach the page: Host is this machine's loopback name when bound to loopback.
   bool host_allowed(const http::request<http::string_body>& req) const {
     if (!loopback) return true;
@@ -75,14 +83,21 @@ namespace {
 
 class WsSession : public std::enable_shared_from_this<WsSession> {
  public:
-  WsSession(tcp::socket&& socket, Server::Impl& srv) : ws_(std::move(socket)), srv_(srv) { srv_.sockets++; }
+  WsSession(tcp::socket&& socket, Server::Impl& srv, AddressLimit::Slot slot)
+      : ws_(std::move(socket)), srv_(srv), slot_(std::move(slot)) {
+    srv_.sockets++;
+  }
   ~WsSession() {
     if (id_) srv_.service.disconnect(id_);
     srv_.sockets--;
   }
 
   void run(http::request<http::string_body> req) {
-    ws_.set_option(websocket::stream_base::timeout::suggested(beast::role_type::server));
+    websocket::stream_base::timeout timeout;
+    timeout.handshake_timeout = std::chrono::seconds(30);
+    timeout.idle_timeout = srv_.options.idle_timeout;
+    timeout.keep_alive_pings = true;
+    ws_.set_option(timeout);
     ws_.read_message_max(kHardMessageBytes);
     ws_.auto_fragment(false);
     ws_.set_option(websocket::stream_base::decorator(
@@ -188,6 +203,7 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
 
   websocket::stream<beast::tcp_stream> ws_;
   Server::Impl& srv_;
+  AddressLimit::Slot slot_;
   beast::flat_buffer buffer_;
   ViewerService::ClientId id_ = 0;
   std::deque<std::string> texts_;
@@ -199,7 +215,8 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
 
 class HttpSession : public std::enable_shared_from_this<HttpSession> {
  public:
-  HttpSession(tcp::socket&& socket, Server::Impl& srv) : stream_(std::move(socket)), srv_(srv) {}
+  HttpSession(tcp::socket&& socket, Server::Impl& srv, AddressLimit::Slot slot)
+      : stream_(std::move(socket)), srv_(srv), slot_(std::move(slot)) {}
   void run() { read(); }
 
  private:
@@ -209,7 +226,7 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
     parser_.emplace();
     parser_->header_limit(8192);
     parser_->body_limit(1024);
-    stream_.expires_after(std::chrono::seconds(30));
+    stream_.expires_after(srv_.options.idle_timeout);
     http::async_read(stream_, buffer_, *parser_,
                      beast::bind_front_handler(&HttpSession::on_read, shared_from_this()));
   }
@@ -241,7 +258,7 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
       return send(text_response(req, http::status(status), why.substr(4)));
     }
     stream_.expires_never();
-    std::make_shared<WsSession>(stream_.release_socket(), srv_)->run(std::move(req));
+    std::make_shared<WsSession>(stream_.release_socket(), srv_, std::move(slot_))->run(std::move(req));
   }
 
   Response text_response(const http::request<http::string_body>& req, http::status status,
@@ -308,6 +325,7 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
 
   beast::tcp_stream stream_;
   Server::Impl& srv_;
+  AddressLimit::Slot slot_;
   beast::flat_buffer buffer_{8192};
   std::optional<http::request_parser<http::string_body>> parser_;
 };
@@ -315,14 +333,39 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
 }  // namespace
 
 void Server::Impl::accept() {
-  acceptor.async_accept(ioc, [this](beast::error_code ec, tcp::socket socket) {
-    if (ec) {
-      if (ec != net::error::operation_aborted) spdlog::warn("view: accept failed: {}", ec.message());
-      if (!acceptor.is_open()) return;
-    } else {
-      std::make_shared<HttpSession>(std::move(socket), *this)->run();
-    }
-    accept();
+  acceptor.async_accept(
+      ioc, [this](beast::error_code ec, tcp::socket socket) { on_accept(ec, std::move(socket)); });
+}
+
+void Server::Impl::on_accept(beast::error_code ec, tcp::socket socket) {
+  if (ec == net::error::operation_aborted || !acceptor.is_open()) return;
+  if (ec) return accept_failed(ec);
+  accept_backoff.reset();
+  beast::error_code peer_ec;
+  std::string peer = socket.remote_endpoint(peer_ec).address().to_string();
+  AddressLimit::Slot slot = per_address.acquire(peer_ec ? std::string("?") : peer);
+  if (slot) {
+    std::make_shared<HttpSession>(std::move(socket), *this, std::move(slot))->run();
+  } else {
+    if (auto held = refuse_log.admit())
+      spdlog::warn(
+          "view: refused a connection from {}: it already holds {} ({} more refused since the last "
+          "message)",
+          peer, options.max_per_address, *held);
+    socket.close(peer_ec);
+  }
+  accept();
+}
+
+// The failed connection stays queued (EMFILE, ENFILE, ENOBUFS): wait before taking it again.
+void Server::Impl::accept_failed(const beast::error_code& ec) {
+  auto pause = accept_backoff.next();
+  if (auto held = accept_log.admit())
+    spdlog::warn("view: accept failed: {} ({} more failures since the last message); retrying in {} ms",
+                 ec.message(), *held, pause.count());
+  retry.expires_after(pause);
+  retry.async_wait([this](beast::error_code wait_ec) {
+    if (!wait_ec) accept();
   });
 }
 

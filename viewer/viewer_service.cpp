@@ -87,7 +87,7 @@ ViewerService::ViewerService(ViewerConfig config) : config_(std::move(config)) {
   limits_ = limits_from_range(range);
   spdlog::info("view: orbit limits yaw [{:.0f}, {:.0f}] deg, pitch [{:.0f}, {:.0f}] deg from the {}",
                limits_.yaw_min, limits_.yaw_max, limits_.pitch_min, limits_.pitch_max, limits_.source);
-  FitSettings fit = config_.fit;
+  FitWorkerConfig fit = config_.fit;
   fit.runtime = config_.runtime;
   fit.model_path = config_.model_path;
   const auto& box = engine_->model.aabb();

@@ -60,7 +60,7 @@ struct ViewerConfig {
   uint32_t band_rows = 96;
   int idle_ms = 120;
   int jpeg_quality_coarse = 70, jpeg_quality_full = 90;
-  FitSettings fit;  // runtime and model_path are filled from the fields above
+  FitWorkerConfig fit;  // runtime and model_path are filled from the fields above
   ProtocolLimits limits{32, 1920, 1080, 10.0, 10.0};
 };
 

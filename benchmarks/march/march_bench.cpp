@@ -15,6 +15,7 @@
 #include <memory>
 #include <opencv2/imgproc.hpp>
 
+#include "fit/placement_transform.h"
 #include "host/dataset/metrics.h"
 #include "host/render/analytic_field.h"
 #include "host/render/frame_bench.h"
@@ -195,8 +196,9 @@ int main(int argc, char** argv) {
         for (const auto& sz : CLI::detail::split(a.sizes, ',')) spec.sizes.push_back(parse_size(sz));
       }
       mesh::Glasses g = mesh::load_glasses(a.glasses);
-      Mat4 p = rough_glasses_placement(float(g.metrics.total_width_mm), scene.aabb_min, scene.aabb_max);
-      auto pass = std::make_shared<const mesh::SurfacePass>(g.mesh, mesh::row_major_matrix(p));
+      auto v = [](const std::array<float, 3>& a) { return Eigen::Vector3f(a[0], a[1], a[2]).cast<double>(); };
+      fit::Transform p = fit::rough_placement(g.metrics.total_width_mm, v(scene.aabb_min), v(scene.aabb_max));
+      std::shared_ptr<const mesh::SurfacePass> pass = mesh::place_glasses_mesh(std::move(g), p, {}).pass;
       GlassesSurfaces glasses = mesh::frame_surfaces(pass);
       spec.glasses = &glasses;
       FrameOptions sequential;  // this table times the march and the surface pass one after the other

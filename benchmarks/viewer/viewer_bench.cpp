@@ -371,6 +371,8 @@ void run(const Args& a) {
   ViewerService service(config);
   ServerOptions so;
   so.port = 0;
+  // Every load client comes from 127.0.0.1, as if one machine ran them all.
+  so.max_per_address = std::max<size_t>(so.max_per_address, size_t(a.load_clients) + 4);
   Server server(service, so);
   server.start();
   net::io_context ioc;

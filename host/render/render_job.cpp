@@ -23,36 +23,6 @@
 namespace lorgnette::render {
 namespace fs = std::filesystem;
 
-Mat4 identity4() { return {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1}; }
-
-Mat4 trs_transform(const Vec3& t, const Vec3& r_deg, float s) {
-  for (int i = 0; i < 3; ++i)
-    check_bound(bounds::kTranslate, t[i]), check_bound(bounds::kRotateDeg, r_deg[i]);
-  check_bound(bounds::kGlassesScale, s);
-  const double k = M_PI / 180.0;
-  double cx = std::cos(r_deg[0] * k), sx = std::sin(r_deg[0] * k), cy = std::cos(r_deg[1] * k),
-         sy = std::sin(r_deg[1] * k), cz = std::cos(r_deg[2] * k), sz = std::sin(r_deg[2] * k);
-  // R = Rz * Ry * Rx
-  double R[3][3] = {{cz * cy, cz * sy * sx - sz * cx, cz * sy * cx + sz * sx},
-                    {sz * cy, sz * sy * sx + cz * cx, sz * sy * cx - cz * sx},
-                    {-sy, cy * sx, cy * cx}};
-  Mat4 m = identity4();
-  for (int i = 0; i < 3; ++i) {
-    for (int j = 0; j < 3; ++j) m[4 * i + j] = float(R[i][j] * s);
-    m[4 * i + 3] = t[i];
-  }
-  return m;
-}
-
-Mat4 rough_glasses_placement(float frame_width_mm, const Vec3& lo, const Vec3& hi) {
-  if (!(frame_width_mm > 0.0f))
-    throw std::invalid_argument("rough placement: the frame width must be positive");
-  float s = 0.8f * (hi[0] - lo[0]) / frame_width_mm;
-  return trs_transform(
-      {0.5f * (lo[0] + hi[0]), lo[1] + 0.6f * (hi[1] - lo[1]), hi[2] - 0.12f * (hi[2] - lo[2])}, {0, 0, 0},
-      s);
-}
-
 static void check_affine(const Mat4& m, const std::string& what) {
   for (float v : m)
     if (!std::isfinite(v)) throw std::invalid_argument(what + ": the matrix has a non-finite entry");
@@ -76,29 +46,6 @@ Mat4 matrix_from_json(const nlohmann::json& j, const std::string& what) {
   Mat4 m;
   std::copy(v.begin(), v.end(), m.begin());
   check_affine(m, what);
-  return m;
-}
-
-Mat4 parse_matrix(const std::string& text) {
-  std::string t = std::regex_replace(text, std::regex("[,\\[\\]]"), " ");
-  std::istringstream in(t);
-  std::vector<float> v;
-  std::string tok;
-  while (in >> tok) {
-    try {
-      size_t used = 0;
-      v.push_back(std::stof(tok, &used));
-      if (used != tok.size()) throw std::invalid_argument(tok);
-    } catch (const std::exception&) {
-      throw std::invalid_argument("--transform: '" + tok + "' is not a number");
-    }
-  }
-  if (v.size() != 16)
-    throw std::invalid_argument(
-        fmt::format("--transform: expected 16 numbers (row-major 4x4), got {}", v.size()));
-  Mat4 m;
-  std::copy(v.begin(), v.end(), m.begin());
-  check_affine(m, "--transform");
   return m;
 }
 

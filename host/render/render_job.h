@@ -1,5 +1,5 @@
-// The `lorgnette render` job as a library: glasses placement inputs (placement.json, a 4x4, or
-// translate/rotate/scale), camera poses (an orbit framing the head's box, or a pose JSON), and the
+// The `lorgnette render` job as a library: camera poses (an orbit framing the head's box, or a pose
+// JSON; the glasses' placement transform is fit/placement_transform.h's), and the
 // outputs (colour PNGs, linear depth EXRs, an MP4 of the orbit, a contact sheet, render.json),
 // never overwriting existing files unless forced. The glasses' surface pass comes in as a
 // callback so this library does not depend on the mesh module.
@@ -20,19 +20,10 @@ class NerfModel;
 
 namespace lorgnette::render {
 
-using Mat4 = std::array<float, 16>;  // row-major 4x4
+using Mat4 = std::array<float, 16>;  // row-major 4x4 (a camera pose)
 
-Mat4 identity4();
-// p' = translate + R(rotate_deg) * scale * p, with R = Rz * Ry * Rx (degrees about the scene axes).
-Mat4 trs_transform(const Vec3& translate, const Vec3& rotate_deg, float scale);
-// 16 numbers (row-major) from a string (spaces or commas) or a JSON array (flat or 4x4 nested).
-Mat4 parse_matrix(const std::string& text);
+// 16 numbers (row-major) from a JSON array (flat or 4x4 nested); an affine transform.
 Mat4 matrix_from_json(const nlohmann::json& j, const std::string& what);
-
-// A rough placement without a fit, for timing runs: the frame's bridge (canonical origin) on the
-// front (+z) face of the head box at 60 % of its height, 12 % inside, the frame 80 % as wide as the
-// box. Not a try-on fit: `lorgnette fit` writes real placements.
-Mat4 rough_glasses_placement(float frame_width_mm, const Vec3& box_min, const Vec3& box_max);
 
 // One camera from a pose JSON: {"transform_matrix": 4x4 camera-to-world (OpenGL, as
 // transforms.json)} plus optional "fl_x", "fl_y", "cx", "cy", "w", "h" (scaled to the requested

@@ -153,7 +153,7 @@ std::shared_ptr<Placement> run_fit(Model& model, const std::string& glasses_path
     raise_callback_error(*state);
   }
   auto p = std::make_shared<Placement>();
-  p->json = fit::to_json(pf);
+  p->file = std::move(pf);
   return p;
 }
 

@@ -7,7 +7,7 @@
 #include <unistd.h>
 
 #include "fit/placement_json.h"
-#include "host/render/render_job.h"
+#include "fit/placement_transform.h"
 #include "mesh/gltf_writer.h"
 #include "mesh/parametric.h"
 #include "python/src/bindings.h"
@@ -33,6 +33,12 @@ Eigen::Matrix4d matrix_from(const pyb::handle& obj) {
   Eigen::Matrix4d m;
   for (int i = 0; i < 16; ++i) m(i / 4, i % 4) = a.data()[i];
   return m;
+}
+
+std::shared_ptr<Placement> placement_of(fit::PlacementFile pf) {
+  auto p = std::make_shared<Placement>();
+  p->file = std::move(pf);
+  return p;
 }
 
 // `lorgnette glasses inspect --json`'s object.
@@ -79,16 +85,25 @@ std::shared_ptr<Glasses> make_glasses(const mesh::FrameParams& params, std::stri
   return load_glasses(path);
 }
 
-std::shared_ptr<Placement> placement_from_file(const fit::PlacementFile& pf, const std::string& base_dir) {
-  auto p = std::make_shared<Placement>();
-  p->json = fit::to_json(pf);
-  p->base_dir = base_dir;
-  return p;
+}  // namespace
+
+Eigen::Matrix4d placement_matrix(const pyb::handle& obj, const std::string& what) {
+  auto a = pyb::array_t<double, pyb::array::c_style | pyb::array::forcecast>::ensure(obj);
+  if (!a || a.size() != 16) throw pyb::value_error(what + ": a 4x4 matrix (canonical mm -> scene)");
+  Eigen::Matrix4d m;
+  for (int i = 0; i < 16; ++i) m(i / 4, i % 4) = a.data()[i];
+  try {
+    fit::check_transform(m, what);
+  } catch (const std::invalid_argument& e) {
+    throw pyb::value_error(e.what());
+  }
+  return m;
 }
 
-fit::PlacementFile parsed(const Placement& p) { return fit::placement_from_json(p.json); }
-
-}  // namespace
+void warn_glasses_mismatch(const fit::PlacementFile& p, const std::string& glasses_path) {
+  std::string why = fit::glasses_mismatch(p, glasses_path);
+  if (!why.empty() && PyErr_WarnEx(PyExc_UserWarning, why.c_str(), 1) != 0) throw pyb::error_already_set();
+}
 
 std::shared_ptr<Glasses> load_glasses(const std::string& path, double mm_per_unit) {
   require_file(path, "glasses");
@@ -170,8 +185,7 @@ void bind_glasses(pyb::module_& m) {
           "load",
           [](const std::string& path) {
             require_file(path, "placement");
-            return placement_from_file(fit::read_placement(path),
-                                       std::filesystem::path(path).parent_path().string());
+            return placement_of(fit::read_placement(path));
           },
           pyb::arg("path"),
           "Reads and validates placement.json (the fit's reader: a bad field raises naming it).")
@@ -179,72 +193,65 @@ void bind_glasses(pyb::module_& m) {
           "from_transform",
           [](pyb::object transform, pyb::object glasses) {
             fit::PlacementFile pf;
-            pf.transform = matrix_from(transform);
-            if (!glasses.is_none()) pf.glasses_path = glasses.cast<std::shared_ptr<Glasses>>()->glasses.path;
+            pf.transform = placement_matrix(transform, "transform");
+            if (!glasses.is_none()) {
+              pf.glasses_path = glasses.cast<std::shared_ptr<Glasses>>()->glasses.path;
+              try {  // the frame it names, so a later render can tell another frame from it
+                pf.glasses_hash = fit::file_hash(pf.glasses_path);
+              } catch (const std::runtime_error&) {
+              }
+            }
             pf.ok = true;
-            return placement_from_file(pf, "");
+            return placement_of(std::move(pf));
           },
           pyb::arg("transform"), pyb::arg("glasses") = pyb::none())
       .def_static(
           "from_json",
           [](const std::string& text) {
-            auto p = std::make_shared<Placement>();
-            p->json = fit::to_json(fit::placement_from_json(nlohmann::json::parse(text)));
-            return p;
+            return placement_of(fit::placement_from_json(nlohmann::json::parse(text)));
           },
-          pyb::arg("text"))
-      .def("to_json", [](const Placement& p) { return p.json.dump(2); })
+          pyb::arg("text"), "Reads placement.json's text (a relative glasses path stays as written).")
+      .def("to_json", [](const Placement& p) { return fit::to_json(p.file).dump(2); })
       .def(
           "save",
           [](const Placement& p, const std::string& path, bool force) {
             if (!force && std::filesystem::exists(path))
               throw std::runtime_error("'" + path +
                                        "' exists: pass force=True to overwrite it or choose another path");
-            fit::write_placement(path, parsed(p));
+            fit::write_placement(path, p.file);
           },
           pyb::arg("path"), pyb::arg("force") = false)
       .def_property(
-          "transform", [](const Placement& p) { return matrix(parsed(p).transform); },
-          [](Placement& p, pyb::object t) {
-            fit::PlacementFile pf = parsed(p);
-            pf.transform = matrix_from(t);
-            p.json = fit::to_json(pf);
-          },
+          "transform", [](const Placement& p) { return matrix(p.file.transform); },
+          [](Placement& p, pyb::object t) { p.file.transform = placement_matrix(t, "transform"); },
           "4x4 canonical mm -> scene (writable).")
       .def(
           "adjusted",
           [](const Placement& p, std::array<float, 3> t, std::array<float, 3> r, float s) {
-            Eigen::Matrix4d mm;
-            render::Mat4 a = render::trs_transform(t, r, s);
-            for (int i = 0; i < 16; ++i) mm(i / 4, i % 4) = a[i];
-            fit::PlacementFile pf = parsed(p);
-            pf.transform = pf.transform * mm;
-            auto out = placement_from_file(pf, p.base_dir);
-            return out;
+            fit::PlacementFile pf = p.file;
+            pf.transform = pf.transform * fit::trs_transform(t, r, s);
+            fit::check_transform(pf.transform, "adjusted placement");
+            return placement_of(std::move(pf));
           },
           pyb::arg("translate_mm") = std::array<float, 3>{0, 0, 0},
           pyb::arg("rotate_deg") = std::array<float, 3>{0, 0, 0}, pyb::arg("scale") = 1.0f,
           "A copy moved in the frame's canonical millimetres (e.g. translate_mm=(0, -2, 0): 2 mm down the "
           "nose).")
       .def_property(
-          "glasses_path", [](const Placement& p) { return parsed(p).glasses_path; },
-          [](Placement& p, const std::string& path) {
-            fit::PlacementFile pf = parsed(p);
-            pf.glasses_path = path;
-            p.json = fit::to_json(pf);
-          })
-      .def_property_readonly("ok", [](const Placement& p) { return parsed(p).ok; })
-      .def_property_readonly("warnings", [](const Placement& p) { return parsed(p).warnings; })
-      .def_property_readonly("pd_mm", [](const Placement& p) { return parsed(p).pd_mm; })
-      .def_property_readonly("mm_per_unit", [](const Placement& p) { return parsed(p).mm_per_unit; })
-      .def_property_readonly("scale", [](const Placement& p) { return parsed(p).scale; })
-      .def_property_readonly("penetration_mm", [](const Placement& p) { return parsed(p).penetration_mm; })
-      .def_property_readonly("views_used", [](const Placement& p) { return parsed(p).views_used; })
+          "glasses_path", [](const Placement& p) { return p.file.glasses_path; },
+          [](Placement& p, const std::string& path) { p.file.glasses_path = path; })
+      .def_property_readonly("ok", [](const Placement& p) { return p.file.ok; })
+      .def_property_readonly("warnings", [](const Placement& p) { return p.file.warnings; })
+      .def_property_readonly("pd_mm", [](const Placement& p) { return p.file.pd_mm; })
+      .def_property_readonly("mm_per_unit", [](const Placement& p) { return p.file.mm_per_unit; })
+      .def_property_readonly("scale", [](const Placement& p) { return p.file.scale; })
+      .def_property_readonly("penetration_mm", [](const Placement& p) { return p.file.penetration_mm; })
+      .def_property_readonly("views_used", [](const Placement& p) { return p.file.views_used; })
       .def_property_readonly(
-          "data", [](const Placement& p) { return to_python(p.json); },
+          "data", [](const Placement& p) { return to_python(fit::to_json(p.file)); },
           "The whole placement.json object as Python dicts and lists (a copy).")
       .def("__repr__", [](const Placement& p) {
-        fit::PlacementFile pf = parsed(p);
+        const fit::PlacementFile& pf = p.file;
         return fmt::format("Placement(ok={}, PD {:.1f} mm, {:.1f} mm/unit, glasses '{}')", pf.ok, pf.pd_mm,
                            pf.mm_per_unit, pf.glasses_path);
       });

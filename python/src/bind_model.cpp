@@ -78,26 +78,16 @@ pyb::dict captured_range(const nerf::NerfModel& model) {
 }
 
 // The surface pass of `g` placed by (transform, temples), built once per placement.
-std::shared_ptr<mesh::PlacedGlasses> placed_glasses(Glasses& g, const render::Mat4& transform,
+std::shared_ptr<mesh::PlacedGlasses> placed_glasses(Glasses& g, const fit::Transform& transform,
                                                     const mesh::TempleBend& temples) {
-  std::string key = fmt::format("{}|{}", fmt::join(transform, ","), fit::temple_bend_to_json(temples).dump());
+  std::string key = fmt::format("{}|{}", fmt::join(transform.data(), transform.data() + 16, ","),
+                                fit::temple_bend_to_json(temples).dump());
   std::lock_guard<std::mutex> lock(g.mutex);
   if (!g.placed || g.placed_key != key) {
-    g.placed = std::make_shared<mesh::PlacedGlasses>(
-        mesh::place_glasses_mesh(g.glasses, mesh::row_major_matrix(transform), temples));
+    g.placed = std::make_shared<mesh::PlacedGlasses>(mesh::place_glasses_mesh(g.glasses, transform, temples));
     g.placed_key = key;
   }
   return g.placed;
-}
-
-// A 4x4 (canonical mm -> scene) checked as `render --transform` checks it: finite, affine.
-render::Mat4 matrix_arg(const pyb::handle& obj) {
-  auto a = pyb::array_t<double, pyb::array::c_style | pyb::array::forcecast>::ensure(obj);
-  if (!a || a.size() != 16)
-    throw pyb::value_error("placement: a Placement or a 4x4 matrix (canonical mm -> scene)");
-  nlohmann::json j = nlohmann::json::array();
-  for (int i = 0; i < 16; ++i) j.push_back(a.data()[i]);
-  return render::matrix_from_json(j, "placement");
 }
 
 struct RenderArgs {
@@ -144,25 +134,23 @@ pyb::object render_model(Model& m, const Camera& camera, const RenderArgs& a) {
   Camera cam = a.size ? resized(camera, *a.size) : camera;
   render::RenderOptions ro = render::render_options(a.settings);
   std::shared_ptr<Glasses> glasses;
-  render::Mat4 transform = render::identity4();
+  fit::Transform transform = fit::Transform::Identity();
   mesh::TempleBend temples;
   if (!a.glasses.is_none()) glasses = glasses_arg(a.glasses);
   if (glasses && a.placement.is_none()) render::check_glasses_and_placement(true, false);
   if (!a.placement.is_none()) {
     if (pyb::isinstance<Placement>(a.placement)) {
-      const Placement& p = a.placement.cast<const Placement&>();
-      transform = render::matrix_from_json(p.json.at("transform"), "placement transform");
-      temples = fit::temple_bend_from_placement(p.json);
+      const fit::PlacementFile& p = a.placement.cast<const Placement&>().file;
+      transform = p.transform;
+      temples = p.temples.bend;
       if (!glasses) {
-        std::string path = p.json.contains("glasses") ? p.json["glasses"].value("path", "") : "";
-        if (path.empty())
+        if (p.glasses_path.empty())
           throw std::runtime_error("a placement was given but no glasses: pass glasses=Glasses.load(FRAME)");
-        if (std::filesystem::path(path).is_relative())
-          path = (std::filesystem::path(p.base_dir) / path).string();
-        glasses = load_glasses(path);
+        glasses = load_glasses(p.glasses_path);
       }
+      warn_glasses_mismatch(p, glasses->glasses.path);
     } else {
-      transform = matrix_arg(a.placement);
+      transform = placement_matrix(a.placement, "placement");
       if (!glasses)
         throw std::runtime_error("a placement was given but no glasses: pass glasses=Glasses.load(FRAME)");
     }

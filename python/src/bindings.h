@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "fit/placement_json.h"
 #include "host/cl/runtime.h"
 #include "host/nerf/model.h"
 #include "host/render/renderer.h"
@@ -50,12 +51,19 @@ struct Glasses {
   std::string placed_key;  // transform + temples it was built for
 };
 
-// placement.json in memory: the file's JSON object (what `render` reads from the file) and the
-// directory a relative glasses path is relative to.
+// placement.json in memory, as the placement module reads and writes it (fit/placement_json.h):
+// its glasses path is one this process opens (Placement.load resolves a relative one against the
+// file's folder, save() stores it relative to the new file's folder).
 struct Placement {
-  nlohmann::json json;
-  std::string base_dir;
+  fit::PlacementFile file;
 };
+
+// A 4x4 NumPy-like object as a placement transform (canonical mm -> scene); ValueError naming `what`
+// when it is not 4x4 or not a sane affine transform (fit::check_transform, as every reader checks).
+Eigen::Matrix4d placement_matrix(const pyb::handle& obj, const std::string& what);
+
+// Warns (Python's UserWarning) when the placement was fitted for another glasses file.
+void warn_glasses_mismatch(const fit::PlacementFile& p, const std::string& glasses_path);
 
 // Glasses.load (releases the GIL while loading).
 std::shared_ptr<Glasses> load_glasses(const std::string& path, double mm_per_unit = 0.0);

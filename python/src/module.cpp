@@ -276,9 +276,9 @@ PYBIND11_MODULE(_lorgnette, m) {
   m.def(
       "trs",
       [](std::array<float, 3> t, std::array<float, 3> r, float s) {
-        render::Mat4 a = render::trs_transform(t, r, s);
+        fit::Transform a = fit::trs_transform(t, r, s);
         pyb::array_t<double> out({4, 4});
-        for (int i = 0; i < 16; ++i) out.mutable_data()[i] = a[i];
+        for (int i = 0; i < 16; ++i) out.mutable_data()[i] = a(i / 4, i % 4);
         return out;
       },
       pyb::arg("translate") = std::array<float, 3>{0, 0, 0},

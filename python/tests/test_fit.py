@@ -83,3 +83,23 @@ def test_glasses_make_and_reference_points(tmp_path):
     np.testing.assert_allclose(moved - verts, np.broadcast_to([1.0, 2.0, 3.0], verts.shape), atol=1e-5)
     with pytest.raises(lorgnette.Error, match="exists"):
         lorgnette.Glasses.make(52, 18, 140, "round", path=str(tmp_path / "f.glb"))
+
+
+def test_placement_refuses_broken_transforms_and_warns_for_another_frame(tmp_path, model, cli_placement):
+    """The placement module's checks reach Python: broken transforms raise, another frame warns."""
+    for bad in (np.zeros((4, 4)), np.diag([1e300, 1e300, 1e300, 1.0]), np.full((4, 4), np.nan)):
+        with pytest.raises(ValueError, match="transform"):
+            lorgnette.Placement.from_transform(bad)
+    data = json.loads(cli_placement.read_text())
+    data["transform"] = [[0, 0, 0, 0]] * 3 + [[0, 0, 0, 1]]
+    broken = tmp_path / "broken.json"
+    broken.write_text(json.dumps(data))
+    with pytest.raises(lorgnette.Error, match="transform"):
+        lorgnette.Placement.load(str(broken))
+    placement = lorgnette.Placement.load(str(cli_placement))
+    with pytest.raises(ValueError, match="transform"):
+        placement.transform = np.zeros((4, 4))
+    other = lorgnette.Glasses.make(48, 20, 135, "round", path=str(tmp_path / "other.glb"))
+    camera = model.orbit(1, size=(32, 24))[0]
+    with pytest.warns(UserWarning, match="another glasses file"):
+        model.render(camera, other, placement)

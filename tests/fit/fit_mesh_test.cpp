@@ -77,7 +77,7 @@ Image with_glasses(MeshViewSource& head, const mesh::PlacedGlasses& g, const Cam
 void write_temple_pictures(MeshViewSource& head, const FitResult& r, const std::string& glasses,
                            const std::string& path) {
   mesh::GlassesOptions go;
-  Eigen::Matrix4f t = r.placement.transform.cast<float>();
+  const Eigen::Matrix4d& t = r.placement.transform;
   mesh::PlacedGlasses rigid = mesh::load_placed_glasses(glasses, t, {}, go);
   mesh::PlacedGlasses spread = mesh::place_glasses_mesh(mesh::load_glasses(glasses, go), t, r.temples.bend);
   Orbit o = r.orbit;

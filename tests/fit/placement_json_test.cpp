@@ -1,11 +1,16 @@
-// placement.json round trip (with and without the temple spread), hand-written files, and refusal of
-// newer versions and malformed files with named fields.
+// placement.json round trip (with and without the temple spread and the hand nudge), hand-written
+// files, refusal of newer versions, malformed files and broken transforms with named fields, glasses
+// paths relative to the file whatever the working directory, and the check that a placement belongs
+// to the glasses file it is used with.
 #include "fit/placement_json.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 
 namespace lorgnette::fit {
 namespace {
@@ -30,7 +35,11 @@ TEST(PlacementJson, RoundTrip) {
   const std::string path = std::string(LORGNETTE_TEST_TMP) + "/placement_roundtrip.json";
   write_placement(path, p);
   PlacementFile q = read_placement(path);
-  EXPECT_EQ(q.glasses_path, p.glasses_path);
+  // The same file, named from the working directory as before.
+  auto full = [](const std::string& g) {
+    return std::filesystem::weakly_canonical(std::filesystem::absolute(g));
+  };
+  EXPECT_EQ(full(q.glasses_path), full(p.glasses_path));
   EXPECT_EQ(q.glasses_hash, p.glasses_hash);
   EXPECT_EQ(q.transform, p.transform);  // JSON doubles round-trip exactly
   EXPECT_EQ(q.scale_policy, "true-size");
@@ -121,8 +130,7 @@ TEST(PlacementJson, HandWrittenFileAndRelativeGlassesPath) {
   PlacementFile p = read_placement(dir + "/placement.json");
   EXPECT_FLOAT_EQ(p.transform(0, 0), 0.01f);
   EXPECT_FLOAT_EQ(p.transform(2, 3), 0.3f);
-  EXPECT_EQ(std::filesystem::path(glasses_file(p, dir + "/placement.json")),
-            std::filesystem::path(dir) / "frame.glb");
+  EXPECT_EQ(std::filesystem::path(p.glasses_path), std::filesystem::path(dir) / "frame.glb");
   EXPECT_TRUE(p.ok);  // a transform given by hand is taken as given
   std::ofstream(dir + "/bad.json") << R"({"version":1})";
   EXPECT_THROW(read_placement(dir + "/bad.json"), std::runtime_error);
@@ -170,6 +178,121 @@ TEST(PlacementJson, FileHashIsStable) {
     out << "a";
   }
   EXPECT_EQ(file_hash(path), "fnv1a64:af63dc4c8601ec8c");  // FNV-1a 64 of "a" (published test vector)
+}
+
+// `fit` runs in one directory and `render --placement` in another: the path is stored relative to
+// the placement's folder and resolved against it, so the reader finds the frame from anywhere.
+TEST(PlacementJson, RelativeGlassesPathIsRelativeToThePlacementsFolder) {
+  namespace fs = std::filesystem;
+  const fs::path root = fs::path(LORGNETTE_TEST_TMP) / "placement_cwd";
+  fs::remove_all(root);
+  fs::create_directories(root / "work" / "frames");
+  fs::create_directories(root / "work" / "out");
+  fs::create_directories(root / "elsewhere");
+  std::ofstream(root / "work" / "frames" / "g.glb") << "frame";
+  const fs::path before = fs::current_path();
+  ASSERT_EQ(::chdir((root / "work").c_str()), 0);
+  PlacementFile p;
+  p.glasses_path = "frames/g.glb";  // as the user typed it in `work`
+  p.glasses_hash = file_hash(p.glasses_path);
+  write_placement("out/placement.json", p);
+  std::ifstream in("out/placement.json");
+  EXPECT_EQ(nlohmann::json::parse(in)["glasses"]["path"], "../frames/g.glb");
+  ASSERT_EQ(::chdir((root / "elsewhere").c_str()), 0);
+  PlacementFile q = read_placement("../work/out/placement.json");
+  EXPECT_TRUE(fs::exists(q.glasses_path)) << q.glasses_path;
+  EXPECT_TRUE(fs::equivalent(q.glasses_path, root / "work" / "frames" / "g.glb"));
+  EXPECT_EQ(glasses_mismatch(q, q.glasses_path), "");
+  // Absolute paths stay absolute.
+  p.glasses_path = (root / "work" / "frames" / "g.glb").string();
+  write_placement("abs.json", p);
+  EXPECT_EQ(read_placement("abs.json").glasses_path, p.glasses_path);
+  ASSERT_EQ(::chdir(before.c_str()), 0);
+}
+
+// Transforms that place nothing visible or nothing at all are refused by the reader (so by render,
+// the viewer and Python alike) and by the writer, with the field named.
+TEST(PlacementJson, RefusesBrokenTransforms) {
+  auto with = [](const std::function<void(Transform&)>& edit) {
+    PlacementFile p;
+    p.transform = Transform::Identity() * 0.01;
+    p.transform(3, 3) = 1.0;
+    edit(p.transform);
+    return p;
+  };
+  const std::pair<const char*, std::function<void(Transform&)>> cases[] = {
+      {"all zero", [](Transform& m) { m.setZero(); }},
+      {"all zero but the last row", [](Transform& m) { m.block<3, 4>(0, 0).setZero(); }},
+      {"1e300 scale", [](Transform& m) { m.block<3, 3>(0, 0) *= 1e302; }},
+      {"NaN", [](Transform& m) { m(1, 2) = NAN; }},
+      {"infinite translation", [](Transform& m) { m(0, 3) = INFINITY; }},
+      {"non-affine last row", [](Transform& m) { m(3, 2) = 1.0; }},
+      {"flat", [](Transform& m) { m.col(2) = m.col(0); }},
+  };
+  const std::string path = std::string(LORGNETTE_TEST_TMP) + "/placement_broken.json";
+  for (const auto& [name, edit] : cases) {
+    PlacementFile p = with(edit);
+    std::filesystem::remove(path);
+    EXPECT_THROW(write_placement(path, p), std::runtime_error) << name;
+    EXPECT_FALSE(std::filesystem::exists(path)) << name;
+    // The same matrix written by hand (JSON writes NaN and infinity as null).
+    nlohmann::json j = to_json(PlacementFile{});
+    for (int r = 0; r < 4; ++r)
+      for (int c = 0; c < 4; ++c) j["transform"][r][c] = p.transform(r, c);
+    std::ofstream(path) << j.dump();
+    try {
+      read_placement(path);
+      ADD_FAILURE() << name << " was read";
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find("transform"), std::string::npos) << name << ": " << e.what();
+    }
+  }
+  EXPECT_NO_THROW(write_placement(path, with([](Transform&) {})));
+}
+
+TEST(PlacementJson, AGlassesFileOtherThanTheFittedOneIsNamed) {
+  const std::string dir = std::string(LORGNETTE_TEST_TMP) + "/placement_hash";
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir + "/a.glb") << "frame a";
+  std::ofstream(dir + "/b.glb") << "frame b";
+  PlacementFile p;
+  p.glasses_path = dir + "/a.glb";
+  p.glasses_hash = file_hash(p.glasses_path);
+  EXPECT_EQ(glasses_mismatch(p, dir + "/a.glb"), "");
+  std::string why = glasses_mismatch(p, dir + "/b.glb");
+  EXPECT_NE(why.find("another glasses file"), std::string::npos) << why;
+  EXPECT_NE(why.find("b.glb"), std::string::npos) << why;
+  p.glasses_hash.clear();  // hand-written: nothing to compare
+  EXPECT_EQ(glasses_mismatch(p, dir + "/b.glb"), "");
+}
+
+// The viewer's hand nudge is a field of the format; files written with the earlier "viewer" object
+// still read it.
+TEST(PlacementJson, NudgeRoundTripAndTheEarlierViewerObject) {
+  PlacementFile p;
+  p.has_nudge = true;
+  p.nudge = {1.5, -0.5, 3.0};
+  p.transform = p.transform * nudge_matrix(p.nudge);
+  const std::string path = std::string(LORGNETTE_TEST_TMP) + "/placement_nudge.json";
+  write_placement(path, p);
+  PlacementFile q = read_placement(path);
+  ASSERT_TRUE(q.has_nudge);
+  EXPECT_EQ(q.nudge.up_mm, 1.5);
+  EXPECT_EQ(q.nudge.forward_mm, -0.5);
+  EXPECT_EQ(q.nudge.tilt_deg, 3.0);
+  // nudge_matrix: 1.5 mm up, -0.5 mm forward, tilted about x.
+  EXPECT_NEAR(q.transform(1, 3), 1.5, 1e-12);
+  EXPECT_NEAR(q.transform(2, 3), -0.5, 1e-12);
+  EXPECT_NEAR(q.transform(1, 2), -std::sin(3.0 * M_PI / 180.0), 1e-12);
+  nlohmann::json legacy = to_json(PlacementFile{});
+  legacy["viewer"] = {{"nudge", {{"up_mm", 2.0}, {"forward_mm", 0.0}, {"tilt_deg", 0.0}}}, {"note", "x"}};
+  PlacementFile r = placement_from_json(legacy);
+  EXPECT_TRUE(r.has_nudge);
+  EXPECT_EQ(r.nudge.up_mm, 2.0);
+  EXPECT_FALSE(placement_from_json(to_json(PlacementFile{})).has_nudge);
+  // Two sessions' nudges recorded as one.
+  PlacementNudge a{1.0, 2.0, 10.0}, b{-3.0, 0.5, -4.0};
+  EXPECT_NEAR((nudge_matrix(combined_nudge(a, b)) - nudge_matrix(a) * nudge_matrix(b)).norm(), 0.0, 1e-12);
 }
 
 }  // namespace

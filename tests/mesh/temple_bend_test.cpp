@@ -13,6 +13,7 @@
 #include <fstream>
 #include <random>
 
+#include "mesh/frame_metrics.h"
 #include "mesh/parametric.h"
 #include "mesh/placed_glasses.h"
 
@@ -145,6 +146,11 @@ TEST(TempleBend, HingesOfAParametricFrame) {
     EXPECT_NEAR(h->left.x(), f.ref.g_l.x(), 1.0);
     EXPECT_EQ(h->right.x(), -h->left.x());
     EXPECT_EQ(h->right.z(), h->left.z());
+    // Measuring the frame (every load does) keeps the same hinges for the fit: detected once.
+    FrameMetrics m = measure_frame(f.mesh);
+    ASSERT_TRUE(m.hinges) << m.no_hinges;
+    EXPECT_EQ(m.hinges->left, h->left);
+    EXPECT_EQ(m.hinges->right, h->right);
   }
   TriMesh empty;
   std::string why;
@@ -163,8 +169,8 @@ TEST(TempleBend, SurfacePassDiffersOnlyBehindTheHinges) {
   b.left.spread_deg = b.right.spread_deg = 10.0;
   Glasses g;
   g.mesh = f.mesh;
-  PlacedGlasses rigid = place_glasses_mesh(g, Eigen::Matrix4f::Identity(), {});
-  PlacedGlasses spread = place_glasses_mesh(g, Eigen::Matrix4f::Identity(), b);
+  PlacedGlasses rigid = place_glasses_mesh(g, Eigen::Matrix4d::Identity(), {});
+  PlacedGlasses spread = place_glasses_mesh(g, Eigen::Matrix4d::Identity(), b);
   Camera cam = look_at_camera({0, 400, -50}, {0, 0, -50}, {0, 0, 1}, 30.0f, 96, 96);
   SurfaceParams sp;
   sp.samples_per_pixel = 4;

@@ -152,6 +152,17 @@ TEST(ViewerCatalogue, SavingRefusesToReplaceWithoutConfirmationAndKeepsABackup) 
   fit::PlacementFile back = fit::read_placement(path);
   EXPECT_NEAR(back.transform(1, 3), 1.0, 1e-9);  // identity rotation and scale: up 1 mm = +1 in y
   EXPECT_NEAR(back.transform(0, 3), 1.5, 1e-9);
+  // The nudge is the format's own field (no side object the reader does not know).
+  ASSERT_TRUE(back.has_nudge);
+  EXPECT_EQ(back.nudge.up_mm, 1.0);
+  std::ifstream in(path);
+  nlohmann::json j = nlohmann::json::parse(in);
+  EXPECT_FALSE(j.contains("viewer"));
+  EXPECT_EQ(j["nudge"]["up_mm"], 1.0);
+  // A second session's nudge on the saved file: the record sums both (here: 1 + 0.5 mm up).
+  ASSERT_TRUE(save_placement(path, back, {0.5, 0, 0}, true).ok);
+  EXPECT_NEAR(fit::read_placement(path).nudge.up_mm, 1.5, 1e-12);
+  EXPECT_NEAR(fit::read_placement(path).transform(1, 3), 1.5, 1e-9);
 }
 
 }  // namespace

@@ -5,9 +5,18 @@
 // only that connection, two clients with their own cameras, nudge + save (refused without
 // confirmation, then replaced with a backup), and a client that disconnects mid-render freeing its
 // session. One test fits a frame that has no placement and checks the fit is cached beside it.
+// Misbehaving peers (idle WebSockets filling one address's share, a process out of file
+// descriptors) leave a real client served, and failed accepts log a bounded number of lines.
 #include "viewer/server.h"
 
+#include <fcntl.h>
 #include <gtest/gtest.h>
+#include <poll.h>
+#include <spdlog/sinks/ostream_sink.h>
+#include <spdlog/spdlog.h>
+#include <sys/resource.h>
+#include <sys/socket.h>
+#include <unistd.h>
 
 #include <boost/asio.hpp>
 #include <boost/beast/core.hpp>
@@ -54,7 +63,7 @@ ViewerConfig small_config(const fs::path& catalogue, bool fit = false) {
   c.width = 192, c.height = 108;  // coarse frames 64x36: fast on 2 cores
   c.band_rows = 36;
   c.fit.enabled = fit;
-  c.fit.views = 8;
+  c.fit.settings.views = 8;
   return c;
 }
 
@@ -69,9 +78,14 @@ struct Message {
 // A WebSocket client whose reads time out (async operations run on its own io_context).
 class Client {
  public:
-  explicit Client(uint16_t port, const std::string& origin = "") : ws_(ioc_) {
-    tcp::resolver resolver(ioc_);
-    beast::get_lowest_layer(ws_).connect(tcp::endpoint(net::ip::make_address("127.0.0.1"), port));
+  // `from`: the local address to connect from (127.0.0.0/8 is all loopback: another "machine").
+  explicit Client(uint16_t port, const std::string& origin = "", const std::string& from = "") : ws_(ioc_) {
+    auto& socket = beast::get_lowest_layer(ws_).socket();
+    if (!from.empty()) {
+      socket.open(tcp::v4());
+      socket.bind(tcp::endpoint(net::ip::make_address(from), 0));
+    }
+    socket.connect(tcp::endpoint(net::ip::make_address("127.0.0.1"), port));
     ws_.set_option(websocket::stream_base::decorator([origin](websocket::request_type& req) {
       if (!origin.empty()) req.set(http::field::origin, origin);
     }));
@@ -165,9 +179,8 @@ class ViewerServer : public ::testing::Test {
     if (!fs::exists(kFixture / ".complete"))
       GTEST_SKIP() << "the viewer fixture is missing: run ctest -R viewer_fixture";
   }
-  void start(ViewerConfig config) {
+  void start(ViewerConfig config, ServerOptions o = {}) {
     service_ = std::make_unique<ViewerService>(std::move(config));
-    ServerOptions o;
     o.port = 0;
     server_ = std::make_unique<Server>(*service_, o);
     server_->start();
@@ -376,6 +389,110 @@ TEST_F(ViewerServer, AFrameWithoutPlacementIsFittedWithProgressAndCached) {
   ASSERT_TRUE(state);
   EXPECT_EQ((*state)["frame"]["source"], "fit");
   EXPECT_GT((*state)["frame"]["pd_mm"].get<double>(), 0.0);
+}
+
+// True when the server closes `fd` (end of stream or reset) within `within`.
+bool closed_by_server(int fd, std::chrono::milliseconds within) {
+  auto end = std::chrono::steady_clock::now() + within;
+  while (std::chrono::steady_clock::now() < end) {
+    pollfd p{fd, POLLIN, 0};
+    if (::poll(&p, 1, 50) == 1) {
+      char c;
+      ssize_t n = ::recv(fd, &c, 1, MSG_DONTWAIT);
+      if (n <= 0) return true;
+    }
+  }
+  return false;
+}
+
+TEST_F(ViewerServer, ARealClientIsServedWhileAnotherAddressHoldsIdleConnections) {
+  ServerOptions o;
+  o.max_clients = 4;
+  o.max_per_address = 3;
+  o.idle_timeout = 1500ms;
+  start(small_config(catalogue_copy("idle")), o);
+  // 127.0.0.2 opens WebSockets and never reads (no pong): three fit its share, the fourth is refused.
+  std::vector<std::unique_ptr<Client>> idle;
+  for (int k = 0; k < 3; ++k) idle.push_back(std::make_unique<Client>(port(), "", "127.0.0.2"));
+  bool fourth_refused = false;
+  try {
+    Client fourth(port(), "", "127.0.0.2");
+  } catch (const beast::system_error&) {
+    fourth_refused = true;
+  }
+  EXPECT_TRUE(fourth_refused) << "one address took more than max_per_address connections";
+  {
+    Client real(port());
+    EXPECT_TRUE(real.wait_frame(FrameKind::kFullJpeg)) << "the real client was not served";
+  }
+  // Unanswered pings close the idle WebSockets within the idle timeout (plus scheduling slack).
+  auto t0 = std::chrono::steady_clock::now();
+  while (service_->stats().clients > 0 && std::chrono::steady_clock::now() - t0 < 6s)
+    std::this_thread::sleep_for(50ms);
+  EXPECT_EQ(service_->stats().clients, 0u) << "idle WebSockets were kept open";
+  // A plain connection that never sends a request is closed after the idle timeout too.
+  net::io_context ioc;
+  tcp::socket silent(ioc);
+  silent.connect(tcp::endpoint(net::ip::make_address("127.0.0.1"), port()));
+  EXPECT_FALSE(closed_by_server(silent.native_handle(), 500ms)) << "closed before the idle timeout";
+  EXPECT_TRUE(closed_by_server(silent.native_handle(), 4000ms)) << "an idle HTTP connection was kept open";
+  // The address got its slots back.
+  Client again(port(), "", "127.0.0.2");
+  EXPECT_TRUE(again.wait_text("info"));
+}
+
+TEST_F(ViewerServer, AcceptFailuresBackOffAndLogOncePerInterval) {
+  // The sink is added before the server's threads start and removed after they end (a logger's sink
+  // list is not synchronised).
+  std::ostringstream log;
+  spdlog::default_logger()->sinks().push_back(std::make_shared<spdlog::sinks::ostream_sink_mt>(log));
+  ServerOptions o;
+  o.log_interval = 10s;
+  start(small_config(catalogue_copy("accept")), o);
+  // Out of file descriptors: a lower soft limit, filled up, then three peers connect (the kernel
+  // queues them; every accept fails with EMFILE until descriptors are free again).
+  rlimit old{};
+  ASSERT_EQ(getrlimit(RLIMIT_NOFILE, &old), 0);
+  int highest = 0;
+  for (const auto& e : fs::directory_iterator("/proc/self/fd"))
+    highest = std::max(highest, std::atoi(e.path().filename().c_str()));
+  rlimit low = old;
+  low.rlim_cur = std::min<rlim_t>(old.rlim_cur, rlim_t(highest) + 64);
+  ASSERT_EQ(setrlimit(RLIMIT_NOFILE, &low), 0);
+  std::vector<int> peers, filler;
+  for (int k = 0; k < 3; ++k) peers.push_back(::socket(AF_INET, SOCK_STREAM, 0));
+  for (int fd; (fd = ::open("/dev/null", O_RDONLY)) >= 0;) filler.push_back(fd);
+  sockaddr_in to{};
+  to.sin_family = AF_INET;
+  to.sin_port = htons(port());
+  to.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  for (int fd : peers) EXPECT_EQ(::connect(fd, reinterpret_cast<sockaddr*>(&to), sizeof to), 0);
+  rusage r0{}, r1{};
+  getrusage(RUSAGE_SELF, &r0);
+  std::this_thread::sleep_for(1500ms);
+  getrusage(RUSAGE_SELF, &r1);
+  for (int fd : filler) ::close(fd);
+  setrlimit(RLIMIT_NOFILE, &old);
+  auto cpu = [](const rusage& r) {
+    return double(r.ru_utime.tv_sec + r.ru_stime.tv_sec) +
+           1e-6 * double(r.ru_utime.tv_usec + r.ru_stime.tv_usec);
+  };
+  const double cpu_s = cpu(r1) - cpu(r0);
+  // Idle waiting costs next to nothing; spinning on the queued peers costs the whole 1.5 s.
+  EXPECT_LT(cpu_s, 0.5) << "the accept loop spun";
+  for (int fd : peers) ::close(fd);
+  {
+    Client real(port());  // descriptors back: the server serves again
+    EXPECT_TRUE(real.wait_text("info"));
+  }
+  server_.reset();
+  service_.reset();
+  spdlog::default_logger()->sinks().pop_back();
+  const std::string text = log.str();
+  size_t lines = 0;
+  for (size_t at = 0; (at = text.find("accept failed", at)) != std::string::npos; ++at) ++lines;
+  // All within one log_interval: one message, however many accepts failed.
+  EXPECT_EQ(lines, 1u) << text.substr(0, 2000);
 }
 
 }  // namespace

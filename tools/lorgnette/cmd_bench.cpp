@@ -18,6 +18,7 @@
 #include <stdexcept>
 
 #include "fit/placement_json.h"
+#include "fit/placement_transform.h"
 #include "host/cl/device.h"
 #include "host/nerf/model.h"
 #include "host/render/analytic_field.h"
@@ -118,12 +119,12 @@ nlohmann::json bench_device(const BenchArgs& a, const cl::DeviceInfo& dev, Globa
   render::GlassesSurfaces glasses;  // the callbacks own the surface pass
   if (!a.glasses.empty()) {
     mesh::Glasses g = mesh::load_glasses(a.glasses);
-    Eigen::Matrix4f p = mesh::row_major_matrix(
-        render::rough_glasses_placement(float(g.metrics.total_width_mm), scene.aabb_min, scene.aabb_max));
+    auto v = [](const std::array<float, 3>& a) { return Eigen::Vector3f(a[0], a[1], a[2]).cast<double>(); };
+    fit::Transform p = fit::rough_placement(g.metrics.total_width_mm, v(scene.aabb_min), v(scene.aabb_max));
     mesh::TempleBend temples;
     if (!a.placement.empty()) {
       fit::PlacementFile pf = fit::read_placement(a.placement);
-      p = pf.transform.cast<float>();
+      p = pf.transform;
       temples = pf.temples.bend;
     }
     glasses = mesh::frame_surfaces(mesh::place_glasses_mesh(std::move(g), p, temples).pass);

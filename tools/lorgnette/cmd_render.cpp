@@ -5,11 +5,13 @@
 #include <spdlog/spdlog.h>
 
 #include <Eigen/Core>
+#include <filesystem>
 #include <iostream>
 #include <memory>
 #include <nlohmann/json.hpp>
 
 #include "fit/placement_json.h"
+#include "fit/placement_transform.h"
 #include "host/dataset/dataset.h"
 #include "host/nerf/model.h"
 #include "host/render/render_job.h"
@@ -37,21 +39,29 @@ render::Vec3 vec3(const std::vector<float>& v, render::Vec3 fallback) {
 }
 
 // The placement transform (canonical mm -> scene), and the temple spread when it comes from a
-// placement.json (read by the placement module, fit/placement_json.h).
-Eigen::Matrix4f glasses_transform(const RenderArgs& a, std::string& glasses_path, mesh::TempleBend& temples) {
+// placement.json (read by the placement module, fit/placement_json.h, which refuses broken
+// transforms). A placement fitted for another glasses file than the one rendered gets a warning.
+fit::Transform glasses_transform(const RenderArgs& a, std::string& glasses_path, mesh::TempleBend& temples) {
   int given = !a.placement.empty() + !a.transform.empty() +
               (!a.translate.empty() || !a.rotate.empty() || a.scale != 1.0f);
   if (given > 1)
     throw std::runtime_error("give one of --placement, --transform, or --translate/--rotate/--scale");
   if (!a.placement.empty()) {
     fit::PlacementFile p = fit::read_placement(a.placement);
-    if (glasses_path.empty()) glasses_path = fit::glasses_file(p, a.placement);
+    if (glasses_path.empty()) {
+      glasses_path = p.glasses_path;
+      if (!glasses_path.empty() && !std::filesystem::exists(glasses_path))
+        throw std::runtime_error("placement '" + a.placement + "' names the glasses '" + glasses_path +
+                                 "' (relative to the placement's folder), which does not exist: pass "
+                                 "--glasses FRAME");
+    }
+    if (!glasses_path.empty())
+      if (std::string why = fit::glasses_mismatch(p, glasses_path); !why.empty()) spdlog::warn("{}", why);
     temples = p.temples.bend;
-    return p.transform.cast<float>();
+    return p.transform;
   }
-  if (!a.transform.empty()) return mesh::row_major_matrix(render::parse_matrix(a.transform));
-  return mesh::row_major_matrix(
-      render::trs_transform(vec3(a.translate, {0, 0, 0}), vec3(a.rotate, {0, 0, 0}), a.scale));
+  if (!a.transform.empty()) return fit::parse_transform(a.transform);
+  return fit::trs_transform(vec3(a.translate, {0, 0, 0}), vec3(a.rotate, {0, 0, 0}), a.scale);
 }
 
 void run(RenderArgs& a, GlobalOptions& global) {
@@ -102,7 +112,7 @@ void run(RenderArgs& a, GlobalOptions& global) {
 
   std::string glasses_path = a.glasses;
   mesh::TempleBend temples;
-  Eigen::Matrix4f placement = glasses_transform(a, glasses_path, temples);
+  fit::Transform placement = glasses_transform(a, glasses_path, temples);
   const bool placed = !a.placement.empty() || !a.transform.empty() || !a.translate.empty() ||
                       !a.rotate.empty() || a.scale != 1.0f;
   render::check_glasses_and_placement(!glasses_path.empty(), placed);

@@ -21,6 +21,7 @@ struct ViewArgs {
   uint16_t port = 8080;
   uint32_t coarse = 3;
   int fit_views = 12;
+  size_t max_per_address = viewer::ServerOptions{}.max_per_address;
   bool no_fit = false;
 };
 
@@ -46,12 +47,13 @@ void run_view(const ViewArgs& a, GlobalOptions& global) {
     throw std::runtime_error("--size must be WxH within 32x32 and 1920x1080, found '" + a.size + "'");
   config.coarse_divisor = a.coarse;
   config.fit.enabled = !a.no_fit;
-  config.fit.views = a.fit_views;
+  config.fit.settings.views = a.fit_views;
   spdlog::info("view: loading {} and {} frame(s)", a.model, config.catalogue.size());
   ViewerService service(config);
   ServerOptions so;
   so.host = a.host;
   so.port = a.port;
+  so.max_per_address = a.max_per_address;
   Server server(service, so);
   std::cout << "lorgnette view: open " << server.url() << "  (" << service.device_name() << "; Ctrl-C stops)"
             << std::endl;
@@ -82,6 +84,10 @@ void add_view(CLI::App& app, GlobalOptions& global) {
   cmd->add_option("--fit-views", a->fit_views, "views rendered when fitting a frame")
       ->capture_default_str()
       ->check(CLI::Range(4, 64));
+  cmd->add_option("--max-per-address", a->max_per_address,
+                  "connections one remote address may hold (a page uses up to 7); more are closed at once")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 1024));
   cmd->add_flag("--no-fit", a->no_fit, "frames without a placement get a rough stand-in instead of a fit");
   cmd->callback([a, &global] { run_view(*a, global); });
 }

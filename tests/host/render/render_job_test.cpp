@@ -1,4 +1,4 @@
-// The render job's inputs and outputs: transforms (translate/rotate/scale and 4x4 text), sizes,
+// The render job's inputs and outputs: sizes,
 // placement and pose files, the refusal to overwrite files, and the straight-alpha conversion.
 #include "host/render/render_job.h"
 
@@ -25,25 +25,7 @@ std::string tmp_dir(const std::string& name) {
 void write(const std::string& path, const std::string& text) { std::ofstream(path) << text; }
 }  // namespace
 
-TEST(RenderJob, TrsTransformRotatesScalesThenTranslates) {
-  Mat4 m = trs_transform({1, 2, 3}, {0, 0, 90}, 2.0f);
-  // (1, 0, 0) -> scaled (2, 0, 0) -> rotated 90 deg about z (0, 2, 0) -> translated (1, 4, 3).
-  float p[3] = {1, 0, 0}, q[3];
-  for (int i = 0; i < 3; ++i)
-    q[i] = m[4 * i] * p[0] + m[4 * i + 1] * p[1] + m[4 * i + 2] * p[2] + m[4 * i + 3];
-  EXPECT_NEAR(q[0], 1.0f, 1e-6f);
-  EXPECT_NEAR(q[1], 4.0f, 1e-6f);
-  EXPECT_NEAR(q[2], 3.0f, 1e-6f);
-  EXPECT_THROW(trs_transform({0, 0, 0}, {0, 0, 0}, 0.0f), std::invalid_argument);
-}
-
-TEST(RenderJob, ParsesMatricesAndSizesAndRefusesBadOnes) {
-  Mat4 m = parse_matrix("[[1,0,0,5],[0,1,0,6],[0,0,1,7],[0,0,0,1]]");
-  EXPECT_EQ(m[3], 5.0f);
-  EXPECT_EQ(m[11], 7.0f);
-  EXPECT_THROW(parse_matrix("1 2 3"), std::invalid_argument);
-  EXPECT_THROW(parse_matrix("1 0 0 0 0 1 0 0 0 0 1 0 0 0 1 1"), std::invalid_argument);  // not affine
-  EXPECT_THROW(parse_matrix("1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 x"), std::invalid_argument);
+TEST(RenderJob, ParsesSizesAndRefusesBadOnes) {
   auto s = parse_size("1280x720");
   EXPECT_EQ(s[0], 1280u);
   EXPECT_EQ(s[1], 720u);

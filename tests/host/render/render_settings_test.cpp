@@ -84,21 +84,6 @@ TEST(OrbitSettings, HugeOrbitsAndBadAnglesAreRefusedBeforeAnyAllocation) {
   EXPECT_NO_THROW(check_glasses_and_placement(false, false));
 }
 
-TEST(RenderSettings, HandPlacementsAreFiniteAndInRange) {
-  const float nan = std::numeric_limits<float>::quiet_NaN();
-  EXPECT_HAS(range_error([&] {
-               trs_transform({nan, 0, 0}, {0, 0, 0}, 1.0f);
-             }),
-             "--translate (Python: translate)");
-  EXPECT_HAS(range_error([&] {
-               trs_transform({0, 0, 0}, {0, 1e9f, 0}, 1.0f);
-             }),
-             "--rotate (Python: rotate_deg)");
-  EXPECT_HAS(range_error([&] { trs_transform({0, 0, 0}, {0, 0, 0}, -1.0f); }), "--scale (Python: scale)");
-  EXPECT_HAS(range_error([&] { trs_transform({0, 0, 0}, {0, 0, 0}, 1e30f); }), "--scale");
-  EXPECT_EQ(trs_transform({1, 2, 3}, {0, 0, 0}, 0.5f)[3], 1.0f);
-}
-
 cl::Runtime& runtime() {
   static cl::Runtime rt;
   return rt;
