@@ -10,7 +10,6 @@
 #include <stdexcept>
 
 #include "fit/camera_math.h"
-#include "fit/fit.h"
 #include "fit/landmark_ids.h"
 #include "host/util/file_write.h"
 
@@ -36,14 +35,15 @@ bool is_key(int k) {
 
 }  // namespace
 
-void write_debug_views(const std::string& dir, const FitResult& r) {
+void write_debug_views(const std::string& dir, const std::vector<ViewRecord>& views,
+                       const std::vector<TriangulatedPoint>& points) {
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
   if (ec)
     throw std::runtime_error(fmt::format("cannot create the debug directory '{}': {}", dir, ec.message()));
   std::string index = "view yaw_deg pitch_deg face rms_residual_px\n";
-  for (size_t i = 0; i < r.views.size(); ++i) {
-    const ViewRecord& v = r.views[i];
+  for (size_t i = 0; i < views.size(); ++i) {
+    const ViewRecord& v = views[i];
     if (v.image.empty()) continue;
     cv::Mat m = to_bgr8(v.image);
     const auto& d = v.detection;
@@ -55,10 +55,10 @@ void write_debug_views(const std::string& dir, const FitResult& r) {
       for (const auto& p : d.points)
         cv::circle(m, cv::Point2d(p.x() - 0.5, p.y() - 0.5), 2, cv::Scalar(0, 200, 0), -1);
     }
-    for (int k = 0; k < int(r.points.size()); ++k) {
-      if (!r.points[k].ok) continue;
+    for (int k = 0; k < int(points.size()); ++k) {
+      if (!points[k].ok) continue;
       Eigen::Vector2d uv;
-      if (!camera_project(v.camera, r.points[k].position, &uv)) continue;
+      if (!camera_project(v.camera, points[k].position, &uv)) continue;
       cv::circle(m, cv::Point2d(uv.x() - 0.5, uv.y() - 0.5), is_key(k) ? 4 : 2, cv::Scalar(0, 0, 255), 1);
       if (d.found) sum2 += (uv - d.points[k]).squaredNorm(), ++n;
     }

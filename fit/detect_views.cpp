@@ -1,15 +1,12 @@
-// Rendering and landmark detection of a set of views (optionally cropped, with detection on a worker
-// thread overlapping the next render), and triangulation of the 68 landmarks from the views with a
-// face (detect_views and triangulate_landmarks are declared in fit/fit.h).
+// Rendering and landmark detection of a set of views, and triangulation of their landmarks (see
+// detect_views.h).
 #include "fit/detect_views.h"
 
 #include <algorithm>
 #include <cmath>
 #include <future>
-#include <random>
 #include <stdexcept>
 
-#include "fit/fit.h"
 #include "fit/landmark_ids.h"
 
 namespace lorgnette::fit {
@@ -70,21 +67,21 @@ Image render_cropped(ViewSource& source, const Camera& cam, double keep) {
 }
 
 std::vector<ViewRecord> detect_views(ViewSource& source, const LandmarkDetector& detector,
-                                     const std::vector<Camera>& cameras, const FitOptions& opt) {
+                                     const std::vector<Camera>& cameras, const ViewDetectOptions& opt) {
   std::vector<ViewRecord> out(cameras.size());
   // The cap's views are framed on the face (front search): its expected width lets the detector
   // run its HOG stage on a smaller image (DetectorOptions::hog_face_px).
   auto detect = [&](size_t i, Image img) {
-    out[i].detection = detector.detect(img, opt.front.face_fraction * cameras[i].width);
-    if (!opt.debug_dir.empty()) out[i].image = std::move(img);
+    out[i].detection = detector.detect(img, opt.face_fraction * cameras[i].width);
+    if (opt.keep_images) out[i].image = std::move(img);
   };
   // One detection in flight at most (the detector is not thread-safe); the future's destructor
   // waits for it when rendering throws.
   std::future<void> pending;
   for (size_t i = 0; i < cameras.size(); ++i) {
     out[i].camera = cameras[i];
-    Image img = render_cropped(source, cameras[i], opt.detection.detector.render_crop);
-    if (!opt.detection.detector.overlap_render) {
+    Image img = render_cropped(source, cameras[i], opt.detector.render_crop);
+    if (!opt.detector.overlap_render) {
       detect(i, std::move(img));
       continue;
     }
@@ -93,16 +90,9 @@ std::vector<ViewRecord> detect_views(ViewSource& source, const LandmarkDetector&
   }
   if (pending.valid()) pending.get();
   // Cropped views where the face is missing or touches the crop: redone in full (rare by design).
-  const double keep = opt.detection.detector.render_crop;
+  const double keep = opt.detector.render_crop;
   for (size_t i = 0; i < cameras.size() && cropping(keep); ++i)
     if (needs_full_view(out[i].detection, crop_rect(cameras[i], keep))) detect(i, source.render(cameras[i]));
-  // Noise after all detections, in view order: the same draws as a serial run.
-  std::mt19937 rng(opt.detection.seed);
-  std::normal_distribution<double> noise(0.0, 1.0);
-  if (opt.detection.noise_px > 0.0)
-    for (auto& v : out)
-      for (auto& p : v.detection.points)
-        p += opt.detection.noise_px * Eigen::Vector2d(noise(rng), noise(rng));
   return out;
 }
 

@@ -20,6 +20,10 @@
 
 namespace lorgnette::fit {
 
+ViewDetectOptions view_detect_options(const FitOptions& o) {
+  return {o.detection.detector, o.front.face_fraction, !o.debug_dir.empty()};
+}
+
 double FitResult::total_seconds() const {
   double s = 0.0;
   for (const auto& [name, t] : seconds) s += t;
@@ -52,7 +56,7 @@ std::vector<ViewRecord> plan_and_detect(ViewSource& src, const LandmarkDetector&
                                         const FitOptions& opt) {
   std::vector<Eigen::Vector2d> angles = cap_angles(opt.cap);
   std::vector<Camera> cams = cap_cameras(orbit, opt.cap);
-  std::vector<ViewRecord> views = detect_views(src, det, cams, opt);
+  std::vector<ViewRecord> views = detect_views(src, det, cams, view_detect_options(opt));
   for (size_t i = 0; i < views.size(); ++i)
     views[i].yaw_deg = angles[i].x(), views[i].pitch_deg = angles[i].y();
   int found = 0;
@@ -190,7 +194,7 @@ void estimate_head(FitRun& run) {
   r.head = estimate_head_frame(p, valid, run.mean_face);
   if (o.snap_to_skin) {
     snap_to_surface(run.source, r.views, o.snap_reach_mm / r.head.mm_per_unit, run.surface, r.points,
-                    lm::kTempleR, o.cast_contour ? lm::kTempleL : -1, o.snap_opacity);
+                    lm::kTempleR, o.cast_contour ? lm::kTempleL : -1);
     r.head = estimate_head_frame(positions(r.points), valid, run.mean_face);
   }
   if (!o.cast_contour) return;            // balance_temple_depths reads the casts' view indices
@@ -401,7 +405,7 @@ FitResult fit_glasses(ViewSource& source, const GlassesInput& glasses, const Fit
     }
   }
   summarise(r, opt);
-  if (!opt.debug_dir.empty()) write_debug_views(opt.debug_dir, r);
+  if (!opt.debug_dir.empty()) write_debug_views(opt.debug_dir, r.views, r.points);
   return r;
 }
 

@@ -1,9 +1,10 @@
 // The placement pipeline (paper Sec. 3.1 plus contact refinement) on any ViewSource: find the front
 // of the head, render K views on a cap around it, detect 68 landmarks per view (dlib), triangulate
-// them robustly, align the mean face (d_fwd, mm per unit, PD), estimate the ears (Eq. 2-3), place
-// the frame (scale, Kabsch, Eq. 4-5), let it rest on the skin and spread the temples where they
-// would clip (temple_fit.h). Fatal problems (no face, too few views, degenerate geometry) throw
-// std::runtime_error saying what was seen and what to try.
+// them robustly (detect_views.h), align the mean face (d_fwd, mm per unit, PD), find the ear rests
+// on the density (ear_root.h; Eq. 2-3 where it shows none), place the frame (scale, Kabsch, Eq. 4-5),
+// let it rest on the skin and spread the temples where they would clip (temple_fit.h). Fatal problems
+// (no face, too few views, degenerate geometry) throw std::runtime_error saying what was seen and
+// what to try.
 #pragma once
 #include <functional>
 #include <map>
@@ -12,6 +13,7 @@
 #include <utility>
 #include <vector>
 
+#include "fit/detect_views.h"
 #include "fit/ear_root.h"
 #include "fit/ears.h"
 #include "fit/front_search.h"
@@ -32,10 +34,8 @@ namespace lorgnette::fit {
 // Per stage (the stage names are those of FitResult::seconds).
 struct DetectionOptions {  // "load_detector", "render_detect"
   DetectorOptions detector;
-  DetectFn detect;        // non-empty: this detector instead of dlib's (landmarks_dlib.h)
-  int min_views = 3;      // views with a face needed
-  double noise_px = 0.0;  // added Gaussian noise on 2D landmarks (stability study)
-  unsigned seed = 1;      // ... its draws
+  DetectFn detect;    // non-empty: this detector instead of dlib's (landmarks_dlib.h)
+  int min_views = 3;  // views with a face needed
 };
 
 struct LandmarkOptions {  // "triangulate": the 68 points in 3D
@@ -45,7 +45,6 @@ struct LandmarkOptions {  // "triangulate": the 68 points in 3D
   TempleDepthOptions temple_depth;  // ... then the temples at one depth (with cast_contour)
   bool snap_to_skin = true;         // move triangulated landmarks along their rays onto the skin
   double snap_reach_mm = 12.0;      // how far (estimated with the mean face's scale)
-  double snap_opacity = 0.0;        // > 0: onto that opacity depth (ray_surface.h), not the first crossing
   double max_residual_px = 6.0;     // ok = false when a used landmark's RMS residual is above this
 };
 
@@ -99,13 +98,6 @@ struct NamedLandmark {
   int views = 0;
 };
 
-struct ViewRecord {
-  Camera camera{};
-  double yaw_deg = 0.0, pitch_deg = 0.0;
-  FaceDetection detection;
-  Image image;  // the rendered view, kept only when FitOptions::debug_dir is set
-};
-
 struct FitResult {
   bool ok = false;
   std::vector<std::string> warnings;
@@ -132,13 +124,7 @@ struct FitResult {
 // skipped.
 FitResult fit_glasses(ViewSource& source, const GlassesInput& glasses, const FitOptions& options);
 
-// Renders and detects every view of `cameras` (with the noise of `options`).
-std::vector<ViewRecord> detect_views(ViewSource& source, const LandmarkDetector& detector,
-                                     const std::vector<Camera>& cameras, const FitOptions& options);
-
-// Triangulates the 68 landmarks from the views with a face; each point's inliers and residuals are
-// indexed by view (`views`), as the surface casts' are.
-std::vector<TriangulatedPoint> triangulate_landmarks(const std::vector<ViewRecord>& views,
-                                                     const TriangulateOptions& options);
+// What detect_views (detect_views.h) reads of the fit's options.
+ViewDetectOptions view_detect_options(const FitOptions& options);
 
 }  // namespace lorgnette::fit

@@ -11,7 +11,7 @@
 #include <opencv2/imgproc.hpp>
 #include <stdexcept>
 
-#include "fit/fit.h"
+#include "fit/detect_views.h"
 #include "fit/landmark_ids.h"
 #include "fit/mean_face.h"
 

@@ -6,7 +6,7 @@
 #include <stdexcept>
 
 #include "fit/camera_math.h"
-#include "fit/fit.h"
+#include "fit/detect_views.h"
 #include "fit/front_search.h"
 #include "fit/ray_surface.h"
 

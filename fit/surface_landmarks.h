@@ -19,7 +19,7 @@
 
 namespace lorgnette::fit {
 
-struct ViewRecord;  // fit.h
+struct ViewRecord;  // detect_views.h
 
 // Per-axis median of 3D points (robust centre of a landmark's surface hits); throws on none.
 Eigen::Vector3d component_median(std::vector<Eigen::Vector3d> points);

@@ -6,7 +6,7 @@
 #include <cmath>
 
 #include "fit/camera_math.h"
-#include "fit/fit.h"
+#include "fit/detect_views.h"
 #include "fit/landmark_ids.h"
 #include "fit/surface_landmarks.h"
 

@@ -20,7 +20,7 @@
 
 namespace lorgnette::fit {
 
-struct ViewRecord;  // fit.h
+struct ViewRecord;  // detect_views.h
 
 struct TempleDepthOptions {
   bool enabled = true;

@@ -229,20 +229,6 @@ FrameShape parse_frame_shape(const std::string& name) {
   throw std::runtime_error(fmt::format("unknown frame shape '{}': use round, rect, aviator or cateye", name));
 }
 
-const char* frame_shape_name(FrameShape shape) {
-  switch (shape) {
-    case FrameShape::kRound:
-      return "round";
-    case FrameShape::kRect:
-      return "rect";
-    case FrameShape::kAviator:
-      return "aviator";
-    case FrameShape::kCateye:
-      return "cateye";
-  }
-  return "?";
-}
-
 ParametricFrame make_parametric_frame(const FrameParams& p) {
   check_range("lens width", p.lens_width, 30.0f, 80.0f);
   check_range("bridge", p.bridge, 8.0f, 30.0f);

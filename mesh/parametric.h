@@ -17,7 +17,6 @@ namespace lorgnette::mesh {
 enum class FrameShape { kRound, kRect, kAviator, kCateye };
 
 FrameShape parse_frame_shape(const std::string& name);  // throws with the valid names
-const char* frame_shape_name(FrameShape shape);
 
 struct FrameParams {
   float lens_width = 52.0f;      // mm, horizontal size of one lens

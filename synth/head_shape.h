@@ -20,14 +20,11 @@ class HeadShape {
   float sdf(const Eigen::Vector3f& p) const;
   // Distance from the centre to the outermost surface point along the unit direction `dir`.
   float surface_radius(const Eigen::Vector3f& dir) const;
-  float neck_bottom_y() const { return neck_bottom_; }
-  float ear_top_y() const { return ear_centre_.y() + ear_radii_.y(); }
   Eigen::Vector3f ear_centre(int side) const {
     return {side * ear_centre_.x(), ear_centre_.y(), ear_centre_.z()};
   }
   const Eigen::Vector3f& ear_radii() const { return ear_radii_; }
   float eye_corner_z() const { return glabella_z_ - 12.0f; }
-  float bounding_radius() const { return bound_; }
 
  private:
   float face_part(const Eigen::Vector3f& p) const;

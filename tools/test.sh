@@ -9,7 +9,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 bash tools/setup-debian.sh
 bash tools/check-format.sh
-cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release
+cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DLORGNETTE_BUILD_BENCHMARKS=ON
 cmake --build build -j "$(nproc)"
 FUZZ_REPORT=build-fuzz/fuzz-short-run.md FUZZ_SLOW_IS_FATAL=0 FUZZ_THIRD_PARTY_IS_FATAL=0 bash tools/fuzz.sh 10
 bash tools/standalone-check.sh build

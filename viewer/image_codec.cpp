@@ -52,20 +52,6 @@ void paste_rows(Rgb8& dst, const Rgb8& band, int y0) {
   std::memcpy(dst.pixels.data() + size_t(y0) * dst.width * 3, band.pixels.data(), band.pixels.size());
 }
 
-Rgb8 resize_nearest(const Rgb8& src, int width, int height) {
-  Rgb8 out;
-  out.width = width, out.height = height;
-  out.pixels.resize(size_t(width) * height * 3);
-  for (int y = 0; y < height; ++y)
-    for (int x = 0; x < width; ++x) {
-      int sx = std::min(src.width - 1, x * src.width / width),
-          sy = std::min(src.height - 1, y * src.height / height);
-      std::memcpy(&out.pixels[(size_t(y) * width + x) * 3], &src.pixels[(size_t(sy) * src.width + sx) * 3],
-                  3);
-    }
-  return out;
-}
-
 JpegEncoder::JpegEncoder() : handle_(tjInitCompress()) {
   if (!handle_)
     throw std::runtime_error(std::string("libjpeg-turbo: cannot create a compressor: ") + tjGetErrorStr());

@@ -18,8 +18,6 @@ struct Rgb8 {
 Rgb8 to_srgb8(const Image& linear);
 // Copies `band` into rows [y0, y0 + band.height) of `dst` (same width).
 void paste_rows(Rgb8& dst, const Rgb8& band, int y0);
-// Nearest-neighbour resize (thumbnails and tests).
-Rgb8 resize_nearest(const Rgb8& src, int width, int height);
 
 class JpegEncoder {
  public:

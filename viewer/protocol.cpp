@@ -179,11 +179,6 @@ ParseResult parse_client_message(std::string_view text, const ProtocolLimits& li
   return r;
 }
 
-const char* message_type_name(const ClientMessage& m) {
-  static const char* names[] = {"camera", "size", "glasses", "select", "nudge", "save", "snapshot", "ping"};
-  return names[m.index()];
-}
-
 std::string error_reply(const ProtocolError& e, const std::string& request_type) {
   json j = {{"type", "error"}, {"code", e.code}, {"message", e.message}};
   if (!request_type.empty()) j["request"] = request_type;

@@ -78,7 +78,6 @@ struct ProtocolLimits {
 };
 
 ParseResult parse_client_message(std::string_view text, const ProtocolLimits& limits = {});
-const char* message_type_name(const ClientMessage& m);
 
 // {"type":"error","code":...,"message":...[,"request":type]} as a string.
 std::string error_reply(const ProtocolError& e, const std::string& request_type = "");

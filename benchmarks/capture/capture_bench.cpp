@@ -10,7 +10,7 @@
 #include <iostream>
 
 #include "capture/capture.h"
-#include "capture/pose_compare.h"
+#include "eval/pose_compare.h"
 #include "host/util/chart.h"
 
 namespace fs = std::filesystem;

@@ -11,11 +11,11 @@
 #include <iostream>
 #include <tuple>
 
+#include "eval/mesh_ground_truth.h"
 #include "fit/camera_math.h"
 #include "fit/fit.h"
 #include "fit/glasses_input.h"
 #include "fit/landmark_ids.h"
-#include "fit/mesh_ground_truth.h"
 #include "fit/nerf_view_source.h"
 #include "fit/ray_surface.h"
 #include "subject_mesh.h"

@@ -27,12 +27,12 @@
 #include <optional>
 #include <tuple>
 
+#include "eval/mesh_ground_truth.h"
 #include "fit/camera_math.h"
 #include "fit/debug_draw.h"
 #include "fit/fit.h"
 #include "fit/glasses_input.h"
 #include "fit/landmark_ids.h"
-#include "fit/mesh_ground_truth.h"
 #include "fit/nerf_view_source.h"
 #include "fit/surface_landmarks.h"
 #include "host/util/chart.h"
@@ -210,7 +210,7 @@ int main(int argc, char** argv) {
         // The NeRF at the rays' default opacity and at 0.5 (the level before 28 Nov): a NeRF's soft ear
         // top is met deeper at the higher level (ear_root.h). Then the rays' heights across the side at
         // the mesh's rest depth (the mesh goes first): what the search reads there.
-        const double level = base.head.ear_root.opacity;
+        const double level = base.head.ear_root.rays.opacity;
         std::optional<double> mesh_rest_depth;
         std::vector<ChartSeries> series;
         for (auto [what, fn, opacity] :
@@ -218,7 +218,7 @@ int main(int argc, char** argv) {
               {fmt::format("nerf at opacity {:.2f}", level), &on_nerf, level},
               {"nerf at opacity 0.50", &on_nerf, 0.5}}) {  // (no commas: the CSVs' fields)
           EarRootOptions o = base.head.ear_root;
-          o.opacity = opacity;
+          o.rays.opacity = opacity;
           const std::vector<EarRootSide> lines = find_ear_root_lines(*fn, in, o);
           if (fn == &on_mesh && lines.front().found) mesh_rest_depth = lines.front().depth_mm;
           for (const EarRootSide& line : lines) {

@@ -34,13 +34,13 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "eval/mesh_ground_truth.h"
 #include "fit/camera_math.h"
 #include "fit/detect_views.h"
 #include "fit/fit.h"
 #include "fit/fit_job.h"
 #include "fit/glasses_input.h"
 #include "fit/landmark_ids.h"
-#include "fit/mesh_ground_truth.h"
 #include "fit/nerf_view_source.h"
 #include "fit_variants.h"
 #include "host/util/chart.h"

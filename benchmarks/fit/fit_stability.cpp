@@ -10,9 +10,10 @@
 #include <functional>
 #include <iostream>
 
+#include "eval/landmark_noise.h"
+#include "eval/mesh_ground_truth.h"
 #include "fit/fit.h"
 #include "fit/glasses_input.h"
-#include "fit/mesh_ground_truth.h"
 #include "host/util/chart.h"
 
 using namespace lorgnette;
@@ -129,7 +130,8 @@ int main(int argc, char** argv) {
       add("yaw_range", y, [y](FitOptions& o) { o.cap.yaw_range_deg = y; });
   if (want("noise_px"))
     for (double n : pick({0.5, 1, 2, 4, 8, 16}, {2}))
-      add("noise_px", n, [n](FitOptions& o) { o.detection.noise_px = n; });
+      add("noise_px", n,
+          [n](FitOptions& o) { o.detection.detect = noisy_dlib_detector(o.detection.detector, n, 1); });
   if (want("resolution"))
     for (double w : pick({128, 192, 256, 384, 512, 768}, {256}))
       add("resolution", w, [w](FitOptions& o) { o.front.width = o.front.height = o.cap.size = int(w); });

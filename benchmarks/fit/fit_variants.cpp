@@ -23,7 +23,8 @@ void fast(FitOptions& o) {
 // The product's defaults with the ear search's rays at another opacity: "default_root_o25" for 0.25.
 Variant root_opacity(double level) {
   return {fmt::format("default_root_o{:02.0f}", 100.0 * level),
-          [level](FitOptions& o) { o = fit_options(FitSettings{}), o.head.ear_root.opacity = level; }, 1.5f};
+          [level](FitOptions& o) { o = fit_options(FitSettings{}), o.head.ear_root.rays.opacity = level; },
+          1.5f};
 }
 
 }  // namespace
@@ -93,9 +94,8 @@ const std::vector<Variant>& all_variants() {
       root_opacity(0.2),
       root_opacity(0.1),
       {"default_root_bend30",
-       [](FitOptions& o) { o = fit_options(FitSettings{}), o.head.ear_root.min_bend_deg = 30.0; }, 1.5f},
-      {"default_snap_o50",
-       [](FitOptions& o) { o = fit_options(FitSettings{}), o.landmarks.snap_opacity = 0.5; }, 1.5f},
+       [](FitOptions& o) { o = fit_options(FitSettings{}), o.head.ear_root.crease.min_bend_deg = 30.0; },
+       1.5f},
       // Speed levers for the 10 s target on real captures (issue 13): smaller / fewer views, a coarser
       // march, rays stopped at 1e-3 or 1/255 transmittance.
       {"default_cap224", [](FitOptions& o) { o = fit_options(FitSettings{}), o.cap.size = 224; }, 1.5f},

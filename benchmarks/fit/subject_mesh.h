@@ -6,7 +6,7 @@
 #include <memory>
 #include <string>
 
-#include "fit/mesh_view_source.h"
+#include "eval/mesh_view_source.h"
 #include "host/nerf/model.h"
 
 namespace lorgnette::fit {

@@ -41,9 +41,4 @@ Image make_error_image(const Image& prediction, const Image& truth, const ErrorI
   return out;
 }
 
-void write_error_image(const std::string& path, const Image& prediction, const Image& truth,
-                       const ErrorImageOptions& options) {
-  write_image(path, make_error_image(prediction, truth, options));
-}
-
 }  // namespace lorgnette::dataset

@@ -76,7 +76,5 @@ struct ErrorImageOptions {
 // Side by side, 3 * width x height, linear RGB: prediction | truth | error heat map (OpenCV's
 // INFERNO colour map: black = no error, yellow = max_error or more).
 Image make_error_image(const Image& prediction, const Image& truth, const ErrorImageOptions& options = {});
-void write_error_image(const std::string& path, const Image& prediction, const Image& truth,
-                       const ErrorImageOptions& options = {});
 
 }  // namespace lorgnette::dataset

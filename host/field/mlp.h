@@ -69,7 +69,6 @@ class Mlp {
   // padded) fits the device's local memory, else read from global memory (mlp_chain_per_sample.cl).
   Mlp(cl::Runtime& rt, uint32_t stride, KernelVariant variant = KernelVariant::Auto,
       uint32_t largest_layer = 0);
-  bool gpu_chain() const { return gpu_; }
   bool local_weights() const { return local_floats_ > 0; }
 
   // y = act(W x) for output rows [0, out_rows) (out_rows = 0: all of the layer's rows).

@@ -80,7 +80,6 @@ class RayBatch {
   const cl::Buffer<float>& ray_info() const { return ray_info_; }
   // Writable, for a background model that replaces the rays' background colours (background_field.h).
   cl::Buffer<float>& ray_info_mut() { return ray_info_; }
-  uint32_t written_rays() const { return written_rays_; }
   uint32_t written_samples() const { return written_samples_; }
 
  private:

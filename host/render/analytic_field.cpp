@@ -73,10 +73,6 @@ void AnalyticField::evaluate(const cl::Buffer<float>& pos, const cl::Buffer<floa
   kernel_.args(p, pos, sigma, rgb).launch(rt_, n, 64);
 }
 
-void AnalyticField::eval_host(float x, float y, float z, float* sigma, float* rgb) const {
-  analytic_eval(&params_, x, y, z, sigma, rgb);
-}
-
 namespace {
 bool overlaps(const AnalyticPrimitive& q, const float lo[3], const float hi[3]) {
   if (!(q.sigma > 0.0f)) return false;

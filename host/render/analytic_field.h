@@ -35,8 +35,6 @@ class AnalyticField : public RadianceSource {
   InKernelField in_kernel() override { return {&params_, nullptr}; }
   const AnalyticFieldParams& params() const { return params_; }
 
-  // Host evaluation at a scene point (the same LGN_INLINE code as the kernel).
-  void eval_host(float x, float y, float z, float* sigma, float* rgb) const;
   // res^3 bitfield (LGN_MARCH_OCC_LINEAR) marking every cell a primitive overlaps (conservative).
   std::vector<uint32_t> occupancy_bits(uint32_t res) const;
 

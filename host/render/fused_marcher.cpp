@@ -44,10 +44,6 @@ MarcherKind parse_marcher_kind(const std::string& word) {
   throw std::invalid_argument(fmt::format("marcher '{}': expected auto, wavefront or fused", word));
 }
 
-const char* marcher_kind_name(MarcherKind kind) {
-  return kind == MarcherKind::Fused ? "fused" : kind == MarcherKind::Wavefront ? "wavefront" : "auto";
-}
-
 bool FusedMarcher::supports(RadianceSource& source) {
   InKernelField k = source.in_kernel();
   return k.analytic || k.nerf;

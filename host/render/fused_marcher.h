@@ -24,7 +24,6 @@ enum class MarcherKind { Auto, Wavefront, Fused };
 
 // "auto", "wavefront" or "fused"; throws std::invalid_argument naming the accepted words.
 MarcherKind parse_marcher_kind(const std::string& word);
-const char* marcher_kind_name(MarcherKind kind);
 
 // The buffers one launch reads and adds into (owned by the caller).
 struct FusedMarchBuffers {

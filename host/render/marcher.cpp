@@ -226,27 +226,12 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 }
 }  // namespace
 
-RenderResult Marcher::render(const VolumeScene& scene, const Camera& cam, const PendingSurfaces& surfaces,
-                             const RenderOptions& o) {
-  validate(scene, cam, o);
-  auto start = std::chrono::steady_clock::now();
-  fused_on_ = pick_fused(scene, o);
-  ensure_workspace(scene.field->max_batch(), o.wave_min);
-  const uint32_t pixels = cam.width * cam.height;
-  if (out_depth_.size() != pixels) {
-    out_rgba_ = cl::Buffer<float>(rt_, 4ull * pixels);
-    out_depth_ = cl::Buffer<float>(rt_, pixels);
-    out_samples_ = cl::Buffer<uint32_t>(rt_, pixels);
-  }
-  out_rgba_.fill(rt_, 0.0f);
-  out_depth_.fill(rt_, 0.0f);
-  out_samples_.fill(rt_, 0u);
-  if (surf_ca_.size() == 0) {  // bound (and never read) while no surface is
-    surf_ca_ = cl::Buffer<float>(rt_, 4);
-    surf_depth_ = cl::Buffer<float>(rt_, 1);
-    surf_filter_ = cl::Buffer<float>(rt_, 3);
-  }
+namespace {
 
+// The frame's march parameters without a surface; its rays end after every step across the box plus
+// the segments a surface split adds, unless the options cap them.
+MarchParams march_params(const VolumeScene& scene, const Camera& cam, const RenderOptions& o,
+                         uint32_t stride) {
   MarchParams p{};
   p.cam = cam;
   for (int a = 0; a < 3; ++a) {
@@ -267,7 +252,56 @@ RenderResult Marcher::render(const VolumeScene& scene, const Camera& cam, const 
     p.max_samples =
         uint32_t(std::min(bounds::kMaxStepsPerRay, std::ceil(box_diagonal(scene) / p.step)) + 8.0);
   }
-  p.field_stride = batch_;
+  p.field_stride = stride;
+  return p;
+}
+
+}  // namespace
+
+// The output buffers sized for the frame and cleared; the surface buffers bound (and never read)
+// while no surface is.
+void Marcher::clear_outputs(uint32_t pixels) {
+  if (out_depth_.size() != pixels) {
+    out_rgba_ = cl::Buffer<float>(rt_, 4ull * pixels);
+    out_depth_ = cl::Buffer<float>(rt_, pixels);
+    out_samples_ = cl::Buffer<uint32_t>(rt_, pixels);
+  }
+  out_rgba_.fill(rt_, 0.0f);
+  out_depth_.fill(rt_, 0.0f);
+  out_samples_.fill(rt_, 0u);
+  if (surf_ca_.size() == 0) {
+    surf_ca_ = cl::Buffer<float>(rt_, 4);
+    surf_depth_ = cl::Buffer<float>(rt_, 1);
+    surf_filter_ = cl::Buffer<float>(rt_, 3);
+  }
+}
+
+void Marcher::read_back(const Camera& cam, uint32_t spp, RenderResult& result) {
+  const uint32_t pixels = cam.width * cam.height;
+  result.rays = uint64_t(pixels) * spp;
+  result.rgba = Image(int(cam.width), int(cam.height), 4);
+  result.depth = Image(int(cam.width), int(cam.height), 1);
+  result.samples = Image(int(cam.width), int(cam.height), 1);
+  out_rgba_.read(rt_, result.rgba.pixels.data(), result.rgba.pixels.size());
+  out_depth_.read(rt_, result.depth.pixels.data(), pixels);
+  std::vector<uint32_t> counts = out_samples_.read(rt_, pixels);
+  for (uint32_t i = 0; i < pixels; ++i) {
+    result.samples.pixels[i] = float(counts[i]);
+    result.samples_composited += counts[i];
+  }
+  result.fused = fused_on_;
+  if (fused_on_) result.samples_evaluated = result.samples_composited;  // it evaluates what it composites
+}
+
+RenderResult Marcher::render(const VolumeScene& scene, const Camera& cam, const PendingSurfaces& surfaces,
+                             const RenderOptions& o) {
+  validate(scene, cam, o);
+  auto start = std::chrono::steady_clock::now();
+  fused_on_ = pick_fused(scene, o);
+  ensure_workspace(scene.field->max_batch(), o.wave_min);
+  const uint32_t pixels = cam.width * cam.height;
+  clear_outputs(pixels);
+  MarchParams p = march_params(scene, cam, o, batch_);
 
   // The band of rows the surface may cover; each pixel still gets its passes in order s = 0, 1, ...,
   // so the sums (and the image) do not depend on the order of the ranges.
@@ -291,19 +325,7 @@ RenderResult Marcher::render(const VolumeScene& scene, const Camera& cam, const 
   }
   rt_.finish();  // the march's last kernels belong to the march, not to the read-back
   auto t_read = std::chrono::steady_clock::now();
-  result.rays = uint64_t(pixels) * o.spp;
-  result.rgba = Image(int(cam.width), int(cam.height), 4);
-  result.depth = Image(int(cam.width), int(cam.height), 1);
-  result.samples = Image(int(cam.width), int(cam.height), 1);
-  out_rgba_.read(rt_, result.rgba.pixels.data(), result.rgba.pixels.size());
-  out_depth_.read(rt_, result.depth.pixels.data(), pixels);
-  std::vector<uint32_t> counts = out_samples_.read(rt_, pixels);
-  for (uint32_t i = 0; i < pixels; ++i) {
-    result.samples.pixels[i] = float(counts[i]);
-    result.samples_composited += counts[i];
-  }
-  result.fused = fused_on_;
-  if (fused_on_) result.samples_evaluated = result.samples_composited;  // it evaluates what it composites
+  read_back(cam, o.spp, result);
   result.times.readback = seconds_since(t_read);
   result.seconds = seconds_since(start);
   result.times.march =

@@ -100,6 +100,8 @@ class Marcher {
   bool pick_fused(const VolumeScene& scene, const RenderOptions& o);
   void march_tile_fused(MarchParams p, const VolumeScene& scene, RenderResult& result);
   void upload_surfaces(const lorgnette::SurfaceBuffers& s, uint32_t begin, uint32_t end);
+  void clear_outputs(uint32_t pixels);
+  void read_back(const Camera& cam, uint32_t spp, RenderResult& result);
   uint32_t scan(uint32_t n, const cl::Buffer<uint32_t>& in, cl::Buffer<uint32_t>& out);
 
   cl::Runtime& rt_;

@@ -9,8 +9,8 @@
 #include <filesystem>
 
 #include "capture/capture.h"
-#include "capture/pose_compare.h"
 #include "capture/subprocess.h"
+#include "eval/pose_compare.h"
 #include "host/dataset/dataset.h"
 
 namespace fs = std::filesystem;

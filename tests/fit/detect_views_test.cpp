@@ -1,7 +1,7 @@
 // detect_views tests on a mesh ViewSource of the Lee Perry-Smith head scan: detecting on a worker
-// thread while the next view renders gives exactly the serial results (also with detector noise,
-// whose draws must keep their order); running dlib's HOG stage on a shrunk copy (the framing hint)
-// gives exactly the full-resolution boxes and landmarks; bad options are clear errors.
+// thread while the next view renders gives exactly the serial results (also with a study's detector
+// noise, eval/landmark_noise.h, whose draws must keep their order); running dlib's HOG stage on a shrunk copy
+// (the framing hint) gives exactly the full-resolution boxes and landmarks; bad options are clear errors.
 #include "fit/detect_views.h"
 
 #include <gtest/gtest.h>
@@ -9,9 +9,10 @@
 #include <algorithm>
 #include <filesystem>
 
+#include "eval/landmark_noise.h"
+#include "eval/mesh_view_source.h"
 #include "fit/camera_math.h"
 #include "fit/fit.h"
-#include "fit/mesh_view_source.h"
 
 namespace lorgnette::fit {
 namespace {
@@ -61,12 +62,13 @@ void expect_identical(const std::vector<ViewRecord>& a, const std::vector<ViewRe
 TEST_F(DetectViews, OverlappedDetectionEqualsSerial) {
   FitOptions opt;
   std::vector<Camera> cams = cameras(opt);
-  opt.detection.noise_px = 1.5;  // the noise draws must stay in view order
-  LandmarkDetector det(opt.detection.detector);
+  // Each run with its own noisy detector of the same seed: the noise draws must stay in view order.
+  LandmarkDetector serial_det(noisy_dlib_detector(opt.detection.detector, 1.5, 1));
+  LandmarkDetector overlapped_det(noisy_dlib_detector(opt.detection.detector, 1.5, 1));
   opt.detection.detector.overlap_render = false;
-  std::vector<ViewRecord> serial = detect_views(*source_, det, cams, opt);
+  std::vector<ViewRecord> serial = detect_views(*source_, serial_det, cams, view_detect_options(opt));
   opt.detection.detector.overlap_render = true;
-  std::vector<ViewRecord> overlapped = detect_views(*source_, det, cams, opt);
+  std::vector<ViewRecord> overlapped = detect_views(*source_, overlapped_det, cams, view_detect_options(opt));
   for (const auto& v : serial) EXPECT_TRUE(v.detection.found);
   expect_identical(serial, overlapped);
 }
@@ -80,9 +82,9 @@ TEST_F(DetectViews, ShrunkHogGivesTheFullResolutionResult) {
   DetectorOptions hinted_opt;
   hinted_opt.hog_face_px = 100.0;  // 138 px faces: one pyramid step skipped
   LandmarkDetector hinted(hinted_opt);
-  std::vector<ViewRecord> a = detect_views(*source_, full, cams, opt);
+  std::vector<ViewRecord> a = detect_views(*source_, full, cams, view_detect_options(opt));
   opt.detection.detector.overlap_render = true;
-  std::vector<ViewRecord> b = detect_views(*source_, hinted, cams, opt);
+  std::vector<ViewRecord> b = detect_views(*source_, hinted, cams, view_detect_options(opt));
   for (const auto& v : b) EXPECT_TRUE(v.detection.found);
   // Exact: the shrink is the detector's own pyramid step and boxes are mapped back as dlib does.
   expect_identical(a, b);
@@ -119,9 +121,9 @@ TEST_F(DetectViews, CroppedViewsGiveTheFullViewDetections) {
   std::vector<Camera> cams = cameras(opt);
   LandmarkDetector det(opt.detection.detector);
   opt.detection.detector.render_crop = 0.0;
-  std::vector<ViewRecord> full = detect_views(*source_, det, cams, opt);
+  std::vector<ViewRecord> full = detect_views(*source_, det, cams, view_detect_options(opt));
   opt.detection.detector.render_crop = 0.75;  // the default: the face (0.43 of the width) with a margin
-  std::vector<ViewRecord> cropped = detect_views(*source_, det, cams, opt);
+  std::vector<ViewRecord> cropped = detect_views(*source_, det, cams, view_detect_options(opt));
   expect_identical(full, cropped);
 }
 

@@ -50,26 +50,18 @@ TEST(EarRoot, FindsTheCreaseBetweenSkullAndEarTop) {
       find_ear_root(head(true, true), {in.t_l, in.e_l, {1, 0, 0}, in.d_up, in.d_fwd, +1, 1.0}, o);
   ASSERT_TRUE(l.found) << l.why;
   // The ear's top is flat: every depth over it holds the crease at its height. The rest lies
-  // rest_behind_front_mm behind the line's front end (checked below).
+  // rest_behind_front_mm behind the line's front end.
   EXPECT_NEAR(l.point.y(), kEarTop, 1.0);
-  EXPECT_NEAR(l.point.z(), in.t_l.z() + l.front_mm - o.rest_behind_front_mm, 1e-9);
-  EXPECT_NEAR(l.depth_mm, l.front_mm - o.rest_behind_front_mm, 1e-9);
-  // With rest_behind_front_mm negative: the middle of the ear's depth (within a depth step and the
-  // window's sampling).
-  EarRootOptions middle = o;
-  middle.rest_behind_front_mm = -1.0;
-  const EarRootSide m =
-      find_ear_root(head(true, true), {in.t_l, in.e_l, {1, 0, 0}, in.d_up, in.d_fwd, +1, 1.0}, middle);
-  ASSERT_TRUE(m.found) << m.why;
-  EXPECT_NEAR(m.point.z(), 0.5 * (kEarBack + kEarFront), 2.0 * o.depth_step_mm);
+  EXPECT_NEAR(l.point.z(), in.t_l.z() + l.front_mm - o.line.rest_behind_front_mm, 1e-9);
+  EXPECT_NEAR(l.depth_mm, l.front_mm - o.line.rest_behind_front_mm, 1e-9);
   // Laterally at the skull's side, within the slope's span: the crease lies at 69-75 mm over the depths.
-  EXPECT_GT(l.point.x(), crease_x(kEarBack) - o.bend_span_mm);
-  EXPECT_LT(l.point.x(), crease_x(0.0) + o.bend_span_mm);
-  EXPECT_GE(l.slices, int((kEarFront - kEarBack) / o.depth_step_mm) - 2);
+  EXPECT_GT(l.point.x(), crease_x(kEarBack) - o.crease.bend_span_mm);
+  EXPECT_LT(l.point.x(), crease_x(0.0) + o.crease.bend_span_mm);
+  EXPECT_GE(l.slices, int((kEarFront - kEarBack) / o.rays.depth_step_mm) - 2);
   // The line runs from the window's back (the ear reaches behind it) to the ear's front.
-  EXPECT_NEAR(l.back_mm, -o.back_mm, 1e-9);
-  EXPECT_NEAR(l.front_mm, kEarFront - in.t_l.z(), o.depth_step_mm);
-  EXPECT_NEAR(l.front_mm - l.back_mm, (l.slices - 1) * o.depth_step_mm, 1e-9);
+  EXPECT_NEAR(l.back_mm, -o.rays.back_mm, 1e-9);
+  EXPECT_NEAR(l.front_mm, kEarFront - in.t_l.z(), o.rays.depth_step_mm);
+  EXPECT_NEAR(l.front_mm - l.back_mm, (l.slices - 1) * o.rays.depth_step_mm, 1e-9);
   EXPECT_GT(l.bend_deg, 45.0);  // a near-vertical skull side onto a flat top
 
   // The right side is the mirror image.
@@ -98,42 +90,8 @@ TEST(EarRoot, ScaleAndHeightFollowTheInputs) {
   EXPECT_LT((b.point * mpu - lift - a.point).norm(), 0.2);
 }
 
-TEST(EarRoot, TheRestsDepthIsTheMiddleOfTheRootsTopNotItsHighestRidge) {
-  // The ear's flat top with a ridge 2 mm higher over its front 6 mm (two depths): a NeRF's heights
-  // scatter by a millimetre or two along the top, and a hard plateau (the creases within
-  // plateau_mm of the highest) kept only the ridge, at the run's front end.
-  constexpr double kRidgeFrom = kEarFront - 6.0, kRidge = 2.0;
-  const DensityFn base = head(true, true);
-  const DensityFn ridged = [&](const std::vector<Eigen::Vector3f>& pts) {
-    std::vector<float> d = base(pts);
-    for (size_t i = 0; i < pts.size(); ++i) {
-      const Eigen::Vector3d p = pts[i].cast<double>();
-      if (std::abs(p.x()) > 60.0 && std::abs(p.x()) < 90.0 && p.y() >= kEarTop && p.y() < kEarTop + kRidge &&
-          p.z() > kRidgeFrom && p.z() < kEarFront)
-        d[i] = 1e4f;
-    }
-    return d;
-  };
-  const EarInputs in = inputs();
-  const EarRootInputs left{in.t_l, in.e_l, {1, 0, 0}, in.d_up, in.d_fwd, +1, 1.0};
-  EarRootOptions o;
-  o.rest_behind_front_mm = -1.0;  // the depth from the top's middle, not the line's front end
-  const EarRootSide soft = find_ear_root(ridged, left, o);
-  ASSERT_TRUE(soft.found) << soft.why;
-  // The height is the top's (the ridge), the depth the middle of the top (the ridge weighs twice a
-  // flat depth: 4 mm above the cut-off against 2): within two depth steps of the ear's middle.
-  EXPECT_NEAR(soft.point.y(), kEarTop + kRidge, 1.0);
-  EXPECT_NEAR(soft.point.z(), 0.5 * (kEarBack + kEarFront), 2.0 * o.depth_step_mm);
-  // The hard plateau's depth (depth_window_mm 0) lies on the ridge.
-  o.depth_window_mm = 0.0;
-  const EarRootSide hard = find_ear_root(ridged, left, o);
-  ASSERT_TRUE(hard.found) << hard.why;
-  EXPECT_GT(hard.point.z(), kRidgeFrom - o.depth_step_mm);
-}
-
 // The ear's top cut back to 14 mm behind its front (what an exact mesh shows where the ear stands off
-// the skull) against the whole top (a NeRF filling that gap): the same front end, so the same rest;
-// the top's middle moves with the line's back end.
+// the skull) against the whole top (a NeRF filling that gap): the same front end, so the same rest.
 TEST(EarRoot, TheRestFollowsTheRootsFrontNotHowFarBackTheLineRuns) {
   const DensityFn whole = head(true, true);
   const DensityFn cut = [&](const std::vector<Eigen::Vector3f>& pts) {
@@ -152,11 +110,6 @@ TEST(EarRoot, TheRestFollowsTheRootsFrontNotHowFarBackTheLineRuns) {
   EXPECT_GE(b.back_mm, a.back_mm + 10.0);  // the cut top's line starts 10 mm or more further forward
   EXPECT_NEAR(a.front_mm, b.front_mm, 1e-9);
   EXPECT_NEAR(a.point.z(), b.point.z(), 1e-9);
-  EarRootOptions middle = o;
-  middle.rest_behind_front_mm = -1.0;
-  const EarRootSide am = find_ear_root(whole, left, middle), bm = find_ear_root(cut, left, middle);
-  ASSERT_TRUE(am.found && bm.found);
-  EXPECT_GT(bm.point.z() - am.point.z(), 5.0);
 }
 
 // A NeRF's ear top is soft: the capture sees it only at grazing angles, and its density fades in
@@ -186,7 +139,7 @@ TEST(EarRoot, ASoftEarTopIsMetAtTheOpacityLevel) {
   const EarRootInputs left{in.t_l, in.e_l, {1, 0, 0}, in.d_up, in.d_fwd, +1, 1.0};
   for (double opacity : {0.5, 0.25}) {
     EarRootOptions o;
-    o.opacity = opacity;
+    o.rays.opacity = opacity;
     const EarRootSide s = find_ear_root(soft, left, o);
     ASSERT_TRUE(s.found) << s.why;
     // The crease lies on the skull's sharp side within the bend's span, where the ear's soft top
@@ -194,7 +147,7 @@ TEST(EarRoot, ASoftEarTopIsMetAtTheOpacityLevel) {
     EXPECT_NEAR(kEarTop - s.point.y(), soft_hit_depth(opacity), 0.5) << "opacity " << opacity;
   }
   // The default level meets such a top within 2 mm of the truth; 0.5 would not.
-  EXPECT_LT(soft_hit_depth(EarRootOptions{}.opacity), 2.0);
+  EXPECT_LT(soft_hit_depth(EarRootOptions{}.rays.opacity), 2.0);
   EXPECT_GT(soft_hit_depth(0.5), 2.4);
 }
 
@@ -214,10 +167,10 @@ TEST(EarRoot, ProfilesAreTheRaysHeights) {
   for (size_t j = 0; j < p.lateral_mm.size(); ++j) {
     const double x = in.t_l.x() + p.lateral_mm[j], h = p.height_mm[j];
     if (x < crease_x(z) - 1.0) {
-      EXPECT_NEAR(h, std::sqrt(kSkull * kSkull - x * x - z * z), o.ray_step_mm) << "x " << x;
+      EXPECT_NEAR(h, std::sqrt(kSkull * kSkull - x * x - z * z), o.rays.ray_step_mm) << "x " << x;
       ++skull;
     } else if (x > crease_x(z) + 1.0 && x < 89.5) {
-      EXPECT_NEAR(h, kEarTop, o.ray_step_mm) << "x " << x;
+      EXPECT_NEAR(h, kEarTop, o.rays.ray_step_mm) << "x " << x;
       ++ear;
     } else if (x > 90.5) {
       EXPECT_TRUE(std::isnan(h)) << "x " << x;
@@ -293,7 +246,7 @@ TEST(EarRoot, ApplyNeedsAgreeingHeightsOrOneUnopposedSide) {
   // ... but not when it lies higher than one side alone may (hair makes creases high on the head).
   {
     EarRootOptions low;
-    low.plausible_highest_mm = kEarTop - 5.0;
+    low.pair.plausible_highest_mm = kEarTop - 5.0;
     EarPoints ears = eq23;
     EarRoots r = apply_ear_roots(head(true, false), in, {1, 0, 0}, 1.0, low, ears);
     EXPECT_FALSE(r.from_density()) << r.summary();
@@ -327,7 +280,7 @@ TEST(EarRoot, ApplyNeedsAgreeingHeightsOrOneUnopposedSide) {
   {
     EarPoints lv = eq23;
     EarRootOptions wide;  // a window reaching 10 mm in front of the temples, to hold the moved ear whole
-    wide.front_mm = 10.0;
+    wide.rays.front_mm = 10.0;
     EarRoots fwd = apply_ear_roots(right_half_moved({0.0f, 0.0f, 16.0f}), in, {1, 0, 0}, 1.0, wide, lv);
     ASSERT_TRUE(fwd.left.found && fwd.right.found) << fwd.summary();
     EXPECT_NEAR(fwd.right.point.z() - fwd.left.point.z(), 16.0, 2.0);
@@ -366,7 +319,7 @@ TEST(EarRoot, TakesTheHighestLineTheVetoAccepts) {
   const EarInputs in = inputs();
   const DensityFn with_ledge = head_with_ledge();
   EarRootOptions any_length;
-  any_length.short_line_slices = 1;
+  any_length.line.short_line_slices = 1;
   const EarRootSide highest =
       find_ear_root(with_ledge, {in.t_l, in.e_l, {1, 0, 0}, in.d_up, in.d_fwd, +1, 1.0}, any_length);
   ASSERT_TRUE(highest.found) << highest.why;
@@ -386,7 +339,7 @@ TEST(EarRoot, TakesTheHighestLineTheVetoAccepts) {
   // Ears allowed no higher than 5 mm over the eye corners: the line under the hair is refused too,
   // and with it the side.
   EarRootOptions low = any_length;
-  low.plausible_highest_mm = kEarTop - 5.0;
+  low.pair.plausible_highest_mm = kEarTop - 5.0;
   EarPoints eq23 = ear_points(in), kept = eq23;
   r = apply_ear_roots(with_ledge, in, {1, 0, 0}, 1.0, low, kept, ledge_is_hair);
   EXPECT_FALSE(r.from_density()) << r.summary();
@@ -406,9 +359,9 @@ TEST(EarRoot, AShortLineAboveTheRootFollowsIt) {
       find_ear_root_lines(head_with_ledge(), {in.t_l, in.e_l, {1, 0, 0}, in.d_up, in.d_fwd, +1, 1.0}, o);
   ASSERT_EQ(lines.size(), 2u);
   EXPECT_NEAR(lines[0].point.y(), kEarTop, 1.0);
-  EXPECT_GE(lines[0].slices, o.short_line_slices);
+  EXPECT_GE(lines[0].slices, o.line.short_line_slices);
   EXPECT_NEAR(lines[1].point.y(), kLedgeTop, 1.0);
-  EXPECT_LT(lines[1].slices, o.short_line_slices);
+  EXPECT_LT(lines[1].slices, o.line.short_line_slices);
   EarPoints points = ear_points(in);
   const EarRoots r = apply_ear_roots(head_with_ledge(), in, {1, 0, 0}, 1.0, o, points);
   ASSERT_EQ(r.use, EarRoots::Use::kBoth) << r.summary();
@@ -454,8 +407,8 @@ TEST(EarRoot, AShortLineOppositeALongOneGivesNoDepth) {
   EarPoints ears = ear_points(in);
   const EarRoots roots = apply_ear_roots(density, in, {1, 0, 0}, 1.0, o, ears);
   ASSERT_TRUE(roots.left.found && roots.right.found) << roots.summary();
-  ASSERT_LT(roots.left.slices, o.short_line_slices);
-  ASSERT_GE(roots.right.slices, o.short_line_slices);
+  ASSERT_LT(roots.left.slices, o.line.short_line_slices);
+  ASSERT_GE(roots.right.slices, o.line.short_line_slices);
   // The fragment's own rest lies at its back end, 10 mm or more behind the whole line's.
   EXPECT_LT(roots.left.point.z(), roots.right.point.z() - 10.0);
   EXPECT_NEAR(ears.f_l.z(), roots.right.point.z(), 1e-9);
@@ -489,24 +442,24 @@ TEST(EarRoot, APairOfLinesThatAgreeInDepthIsUsed) {
   EXPECT_NEAR(r.left.point.z(), left[1].point.z(), 1e-9);
   EXPECT_EQ(r.left.passed_over, 1);
   EXPECT_EQ(r.right.passed_over, 0);
-  EXPECT_LE(std::abs(r.left.point.z() - r.right.point.z()), o.max_depth_gap_mm);
+  EXPECT_LE(std::abs(r.left.point.z() - r.right.point.z()), o.pair.max_depth_gap_mm);
   EXPECT_NEAR(ears.f_l.z(), 0.5 * (r.left.point.z() + r.right.point.z()), 1e-9);
   EXPECT_NE(r.summary().find("which agree, were used"), std::string::npos) << r.summary();
   EXPECT_NE(r.summary().find("1 higher line(s) passed over"), std::string::npos) << r.summary();
 
   EarRootOptions any_gap;
-  any_gap.max_depth_gap_mm = std::numeric_limits<double>::infinity();
+  any_gap.pair.max_depth_gap_mm = std::numeric_limits<double>::infinity();
   EarPoints first = ear_points(in);
   const EarRoots f = apply_ear_roots(density, in, {1, 0, 0}, 1.0, any_gap, first);
   ASSERT_EQ(f.use, EarRoots::Use::kBoth) << f.summary();
   EXPECT_NEAR(f.left.point.z(), left[0].point.z(), 1e-9);
-  EXPECT_GT(std::abs(f.left.point.z() - f.right.point.z()), o.max_depth_gap_mm);
+  EXPECT_GT(std::abs(f.left.point.z() - f.right.point.z()), o.pair.max_depth_gap_mm);
   EXPECT_EQ(f.left.passed_over, 0);
 
   // A stand-in must span short_line_slices depths: asked for more than the left root's, the first
   // lines stay (no line here reaches that length, so the order is the heights').
   EarRootOptions long_lines;
-  long_lines.short_line_slices = left[1].slices + 1;
+  long_lines.line.short_line_slices = left[1].slices + 1;
   EarPoints kept = ear_points(in);
   const EarRoots k = apply_ear_roots(density, in, {1, 0, 0}, 1.0, long_lines, kept);
   ASSERT_EQ(k.use, EarRoots::Use::kBoth) << k.summary();
@@ -530,7 +483,7 @@ TEST(EarRoot, RejectsBadInputs) {
                std::invalid_argument);
   EXPECT_THROW(find_ear_root(head(true, true), {in.t_l, in.e_l, {1, 0, 0}, in.d_up, in.d_fwd, 0, 1.0}, o),
                std::invalid_argument);
-  o.ray_step_mm = 0.0;
+  o.rays.ray_step_mm = 0.0;
   EXPECT_THROW(find_ear_root(head(true, true), {in.t_l, in.e_l, {1, 0, 0}, in.d_up, in.d_fwd, +1, 1.0}, o),
                std::invalid_argument);
 }

@@ -5,11 +5,11 @@
 
 #include <filesystem>
 
+#include "eval/mesh_ground_truth.h"
 #include "fit/camera_math.h"
 #include "fit/fit.h"
 #include "fit/glasses_input.h"
 #include "fit/landmark_ids.h"
-#include "fit/mesh_ground_truth.h"
 #include "fit/placement_json.h"
 #include "host/util/image_io.h"
 #include "mesh/placed_glasses.h"

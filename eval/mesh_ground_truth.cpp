@@ -1,5 +1,5 @@
 // Ray-cast ground truth on a mesh head (see mesh_ground_truth.h).
-#include "fit/mesh_ground_truth.h"
+#include "eval/mesh_ground_truth.h"
 
 #include <Eigen/Geometry>
 #include <algorithm>

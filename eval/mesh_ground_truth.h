@@ -6,8 +6,8 @@
 #pragma once
 #include <vector>
 
+#include "eval/mesh_view_source.h"
 #include "fit/fit.h"
-#include "fit/mesh_view_source.h"
 
 namespace lorgnette::fit {
 

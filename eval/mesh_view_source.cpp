@@ -1,5 +1,5 @@
 // Embree-backed ViewSource (see mesh_view_source.h).
-#include "fit/mesh_view_source.h"
+#include "eval/mesh_view_source.h"
 
 #include <algorithm>
 #include <stdexcept>

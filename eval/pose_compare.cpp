@@ -1,5 +1,5 @@
 // Similarity-aligned pose comparison (see pose_compare.h).
-#include "capture/pose_compare.h"
+#include "eval/pose_compare.h"
 
 #include <fmt/format.h>
 
