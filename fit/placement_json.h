@@ -45,6 +45,9 @@ struct PlacementFile {
   // penetration_mm, points, clear.
   bool has_temples = false;
   TempleFitResult temples;
+  // "checks" (optional): the fit's input checks and its verdict's tolerances (fit/input_checks.h),
+  // {name: {"checked", "passed", "value", "limit", "reason"}}; null when absent.
+  nlohmann::json checks;
 };
 
 // The "temples" object: {"hinge_l": [x,y,z], "hinge_r": [x,y,z], "spread_l_deg": a,
