@@ -170,10 +170,13 @@ TEST(Snapshot, HoleFiguresRoundTripAndDefaultToUnchecked) {
   nerf::Snapshot back = nerf::parse_snapshot(file, "holes.lnerf");
   EXPECT_EQ(back.metadata.holes, 0.0375);
   EXPECT_EQ(back.metadata.holes_worst_view, 0.125);
-  auto erase = [](nlohmann::json& h) { h["metadata"].erase("holes"), h["metadata"].erase("holes_worst_view"); };
+  auto erase = [](nlohmann::json& h) {
+    h["metadata"].erase("holes"), h["metadata"].erase("holes_worst_view");
+  };
   EXPECT_EQ(nerf::parse_snapshot(with_header(file, erase), "old.lnerf").metadata.holes, -1.0);
   try {
-    nerf::parse_snapshot(with_header(file, [](nlohmann::json& h) { h["metadata"]["holes"] = 7.0; }), "bad.lnerf");
+    nerf::parse_snapshot(with_header(file, [](nlohmann::json& h) { h["metadata"]["holes"] = 7.0; }),
+                         "bad.lnerf");
     ADD_FAILURE() << "a hole share of 7 was accepted";
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("metadata.holes"), std::string::npos) << e.what();
