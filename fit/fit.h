@@ -20,6 +20,7 @@
 #include "fit/glasses_input.h"
 #include "fit/hair.h"
 #include "fit/head_frame.h"
+#include "fit/input_checks.h"
 #include "fit/landmarks_dlib.h"
 #include "fit/place.h"
 #include "fit/surface_landmarks.h"
@@ -73,7 +74,9 @@ struct PlaceOptions {  // "place", "contact"
   // still 4.75 mm in at 1x, 20 / 23 deg and clear at 5x; fangzhou-frontal: 15 mm slide and 5.5 mm
   // front penetration at 1x, 4 mm and 0 mm at 5x; the quick demo head: 12.75 -> 10.5 mm slide.
   float solid_factor = 5.0f;
-  double max_penetration_mm = 0.5;  // ok = false above this after refinement (and the temples' limit)
+  double max_penetration_mm = 0.5;  // the temples' allowed depth (their spread search clears to it)
+  // ok = false when the front still reaches deeper into the face after refinement (input_checks.h).
+  double front_tolerance_mm = kFrontToleranceMm;
 };
 
 struct FitOptions {
@@ -116,6 +119,7 @@ struct FitResult {
   TempleFitResult temples;                              // the temple spread after the contact refinement
   std::optional<SkinTone> skin;    // the skin's tone the hair test used (none: hair counted as solid)
   TempleDepthResult temple_depth;  // whether a temple was moved to the other's depth, and how far
+  std::vector<InputCheck> checks;  // the inputs checked and the verdict's tolerances (input_checks.h)
   double total_seconds() const;
 };
 

@@ -168,6 +168,8 @@ HeadBox estimate_head_box(const std::vector<PosedPhoto>& photos, const HeadBoxOp
   box.photos_tried = tried;
   box.faces_found = found;
   box.landmarks_triangulated = ok;
+  box.landmarks = p;
+  box.landmark_ok = valid;
   if (!box.min.allFinite() || !box.max.allFinite())
     throw std::runtime_error(std::string("head box: the landmarks gave a non-finite box: ") + kWhatToDo);
   return box;

@@ -93,6 +93,10 @@ struct HeadBox {
   HeadExtents extents;                                    // the extents the box was sized from
   HeadFrame head;                                         // d_fwd, d_up, d_eye, mm per unit, PD
   int photos_tried = 0, faces_found = 0, landmarks_triangulated = 0;
+  // The 68 triangulated landmarks (scene) and which of them triangulated (empty for a box built
+  // from a frame alone): the face's region, which training checks for holes (capture/face_hull.h).
+  std::vector<Eigen::Vector3d> landmarks;
+  std::vector<bool> landmark_ok;
   std::string summary() const;  // one line for logs and reports
 };
 

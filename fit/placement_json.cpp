@@ -110,6 +110,11 @@ PlacementFile make_placement_file(const FitResult& r, const std::string& glasses
   p.ok = r.ok;
   p.has_temples = r.temples.fitted;
   p.temples = r.temples;
+  for (const InputCheck& c : r.checks) {
+    nlohmann::json e = {{"checked", c.checked}, {"passed", c.passed}, {"value", c.value}, {"limit", c.limit}};
+    if (!c.reason.empty()) e["reason"] = c.reason;
+    p.checks[c.name] = e;
+  }
   return p;
 }
 
@@ -191,6 +196,7 @@ nlohmann::json to_json(const PlacementFile& p) {
   if (p.has_nudge)
     out["nudge"] = {
         {"up_mm", p.nudge.up_mm}, {"forward_mm", p.nudge.forward_mm}, {"tilt_deg", p.nudge.tilt_deg}};
+  if (!p.checks.is_null()) out["checks"] = p.checks;
   return out;
 }
 
@@ -307,6 +313,9 @@ PlacementFile placement_from_json(const nlohmann::json& j) {
   p.warnings = optional_field<std::vector<std::string>>(j, "warnings", {});
   // A fit records its verdict; a hand-written transform is taken as given.
   p.ok = optional_field<bool>(j, "ok", true);
+  p.checks = optional_field<nlohmann::json>(j, "checks", nullptr);
+  if (!p.checks.is_null() && !p.checks.is_object())
+    throw std::runtime_error("placement.json: field 'checks' must be an object");
   p.has_temples = j.contains("temples") && !j["temples"].is_null();
   if (p.has_temples) {
     try {

@@ -64,6 +64,9 @@ struct PlacementFile {
   TempleFitResult temples;
   bool has_nudge = false;  // "nudge": written by the viewer's save, included in `transform`
   PlacementNudge nudge;
+  // "checks" (optional): the fit's input checks and its verdict's tolerances (fit/input_checks.h),
+  // {name: {"checked", "passed", "value", "limit", "reason"}}; null when absent.
+  nlohmann::json checks;
 };
 
 // The "temples" object: {"hinge_l": [x,y,z], "hinge_r": [x,y,z], "spread_l_deg": a,

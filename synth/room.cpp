@@ -37,7 +37,7 @@ float value_noise(float x, float y, int cells, uint32_t seed) {
          fy * ((1 - fx) * h(x0, y0 + 1) + fx * h(x0 + 1, y0 + 1));
 }
 
-enum class Pattern { Wallpaper, Planks, Books, Fabric, Picture, Paint, Tiles };
+enum class Pattern { Wallpaper, Planks, Books, Fabric, Picture, Paint, Tiles, Plain };
 
 Image make_texture(Pattern pat, const V3& base, const V3& accent, uint32_t seed) {
   const int n = 256;
@@ -93,6 +93,9 @@ Image make_texture(Pattern pat, const V3& base, const V3& accent, uint32_t seed)
         }
         case Pattern::Paint:
           c = base * (0.88f + 0.24f * noise);
+          break;
+        case Pattern::Plain:
+          c = base;
           break;
         case Pattern::Tiles: {
           float tu = std::fmod(u * 4.0f, 1.0f), tv = std::fmod(v * 4.0f, 1.0f);
@@ -203,6 +206,16 @@ void office(RoomBuilder& b) {
   b.box(V3(500, y0, -900), V3(800, -900, -600), desk, desk, 300.0f);           // crate beside
 }
 
+// Layout 3, a plain room: one wall `wall_mm` behind, floor and side walls of the same paint, no
+// texture and no furniture (room.h).
+void plain_room(RoomBuilder& b, const RoomPlacement& p) {
+  if (!(p.wall_mm >= 200.0f && p.wall_mm <= 5000.0f))
+    throw std::runtime_error(
+        fmt::format("plain room: the wall must lie 200-5000 mm behind, not {}", p.wall_mm));
+  const int paint = b.material(Pattern::Plain, p.wall_rgb, V3(0, 0, 0), 31);
+  b.shell(-1400.0f, -2500.0f, 2500.0f, -p.wall_mm, 1500.0f, 1400.0f, paint, paint, paint);
+}
+
 }  // namespace
 
 mesh::TriMesh make_room(const RoomPlacement& placement) {
@@ -213,6 +226,9 @@ mesh::TriMesh make_room(const RoomPlacement& placement) {
       break;
     case 2:
       office(b);
+      break;
+    case kPlainRoomLayout:
+      plain_room(b, placement);
       break;
     default:
       throw std::runtime_error(

@@ -11,11 +11,19 @@
 
 namespace lorgnette::synth {
 
-constexpr int kRoomLayouts = 2;
+constexpr int kRoomLayouts = 3;
+// Layout 3 is a plain room: one wall of one colour `wall_mm` behind the eye point, without texture
+// or furniture, and a floor of the same paint: the home of most shoppers' selfies, and the case
+// where colour cannot tell a pale face from the wall behind it (#41). Layouts 1 and 2 are textured.
+constexpr int kPlainRoomLayout = 3;
 
 struct RoomPlacement {
   int layout = 1;                                               // 1..kRoomLayouts
   Eigen::Matrix4f mm_to_dataset = Eigen::Matrix4f::Identity();  // room millimetres -> dataset frame
+  // The plain room's wall (layout kPlainRoomLayout only): its distance behind the eye point (mm) and
+  // its linear RGB albedo.
+  float wall_mm = 1000.0f;
+  Eigen::Vector3f wall_rgb{0.80f, 0.80f, 0.78f};
 };
 
 // Part name "room". Throws std::runtime_error for an unknown layout.

@@ -42,6 +42,7 @@ struct Shader {
   const StudioLighting& light;
   V3 key, fill;
   float eps;
+  int subject = -1;  // triangles [0, subject) take the highlight (-1: all)
 
   V3 shade(const mesh::Hit& h, const V3& ray_dir, float la, float lb) const {
     V3 n = h.shading_normal, ng = h.geometric_normal;
@@ -53,7 +54,12 @@ struct Shader {
     float k = std::max(0.0f, n.dot(kd));
     if (k > 0 && light.shadows && scene.occluded(p, kd)) k = 0;
     e += light.key * k + light.fill * std::max(0.0f, n.dot(fill));
-    return e * albedo_at(scene.mesh(), h);
+    V3 c = e * albedo_at(scene.mesh(), h);
+    if (light.specular > 0.0f && k > 0.0f && (subject < 0 || h.triangle < subject)) {
+      const V3 half = (kd - ray_dir.normalized()).normalized();
+      c += V3::Constant(light.specular * light.key * std::pow(std::max(0.0f, n.dot(half)), light.shininess));
+    }
+    return c;
   }
 };
 
@@ -71,7 +77,8 @@ RenderedView render_view(const mesh::EmbreeScene& scene, const Camera& cam, cons
   if (subject >= 0) out.matte = Image(w, hgt, 1);
   auto is_subject = [subject](const mesh::Hit& h) { return subject < 0 || h.triangle < subject; };
   const float diag = scene.bounds().diagonal().norm();
-  Shader shader{scene, lighting, lighting.key_dir.normalized(), lighting.fill_dir.normalized(), 1e-4f * diag};
+  Shader shader{scene,        lighting, lighting.key_dir.normalized(), lighting.fill_dir.normalized(),
+                1e-4f * diag, subject};
   const V3 origin = to_v3(camera_origin(&cam));
   mesh::parallel_rows(hgt, settings.threads, [&](int y) {
     for (int x = 0; x < w; ++x) {

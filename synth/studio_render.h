@@ -1,8 +1,8 @@
 // Offline rendering of a textured TriMesh for dataset synthesis: Embree primary rays with stratified
-// anti-aliasing, a diffuse (Lambert) surface shaded by a soft studio setup fixed in the world frame
-// (key light with soft shadows, fill light, sky/ground ambient), so the lighting is baked
-// consistently into every view. Outputs linear RGBA with coverage alpha (straight colour, as
-// instant-ngp reads PNGs) and the depth of the pixel-centre ray.
+// anti-aliasing, a diffuse (Lambert) surface (with an optional highlight on the subject) shaded by a soft
+// studio setup fixed in the world frame (key light with soft shadows, fill light, sky/ground ambient), so the
+// lighting is baked consistently into every view. Outputs linear RGBA with coverage alpha (straight colour,
+// as instant-ngp reads PNGs) and the depth of the pixel-centre ray.
 #pragma once
 #include <Eigen/Core>
 #include <optional>
@@ -22,6 +22,11 @@ struct StudioLighting {
   float sky = 0.30f;     // ambient from above (hemisphere, world +y)
   float ground = 0.12f;  // ambient from below
   bool shadows = true;
+  // A white Blinn-Phong highlight of the key light on the subject (RenderSettings::subject_triangles),
+  // added to its diffuse colour: oily skin's sheen on the forehead and the nose, which a room model
+  // can explain with a pale wall's colour (#41). 0 = Lambert only.
+  float specular = 0.0f;
+  float shininess = 40.0f;
 };
 
 struct RenderSettings {

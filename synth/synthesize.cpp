@@ -81,15 +81,18 @@ json ground_truth_json(const Subject& s, const SynthOptions& o, const std::vecto
                   {"pitch_deg", views[i].pitch_deg}});
   gt["views"] = vj;
   const StudioLighting& l = o.lighting;
-  gt["lighting"] = {{"model", "lambert"},
-                    {"key_dir", vec_json(l.key_dir.normalized())},
-                    {"key", l.key},
-                    {"key_radius_deg", l.key_radius_deg},
-                    {"fill_dir", vec_json(l.fill_dir.normalized())},
-                    {"fill", l.fill},
-                    {"sky", l.sky},
-                    {"ground", l.ground},
-                    {"shadows", l.shadows}};
+  gt["lighting"] = {
+      {"model", l.specular > 0.0f ? "lambert + blinn-phong highlight on the subject" : "lambert"},
+      {"key_dir", vec_json(l.key_dir.normalized())},
+      {"key", l.key},
+      {"key_radius_deg", l.key_radius_deg},
+      {"fill_dir", vec_json(l.fill_dir.normalized())},
+      {"fill", l.fill},
+      {"sky", l.sky},
+      {"ground", l.ground},
+      {"shadows", l.shadows},
+      {"specular", l.specular},
+      {"shininess", l.shininess}};
   gt["render"] = {{"samples_per_pixel", o.samples_per_axis * o.samples_per_axis},
                   {"background", o.background ? vec_json(*o.background) : json("transparent")}};
   if (o.room > 0) {
@@ -97,6 +100,8 @@ json ground_truth_json(const Subject& s, const SynthOptions& o, const std::vecto
                   {"mm_per_unit", s.room_mm_per_unit},
                   {"eye_point", vec_json(s.eye_point)},
                   {"cameras", "hand-held sweep"},
+                  {"wall_mm", o.room == kPlainRoomLayout ? json(o.wall_mm) : json()},
+                  {"wall_rgb", o.room == kPlainRoomLayout ? vec_json(o.wall_rgb) : json()},
                   {"fov_y_deg", o.fov_y_deg},
                   {"distance_mm", o.phone_distance_mm},
                   {"mattes", "mattes/NNNN.png: subject coverage 0..255 (not sRGB); frames' eval_matte_path"},
@@ -122,11 +127,13 @@ void add_depth_paths(const std::string& dir, size_t count, bool mattes) {
 
 }  // namespace
 
-RoomScene subject_in_room(const Subject& subject, int layout) {
+RoomScene subject_in_room(const Subject& subject, int layout, const RoomPlacement& plain) {
   RoomScene out;
   append_mesh(out.mesh, subject.mesh, subject.mesh_to_dataset);
   out.subject_triangles = int(out.mesh.triangles.size());
-  RoomPlacement placement{layout, Eigen::Matrix4f::Identity()};
+  RoomPlacement placement = plain;
+  placement.layout = layout;
+  placement.mm_to_dataset = Eigen::Matrix4f::Identity();
   placement.mm_to_dataset.topLeftCorner<3, 3>() *= float(1.0 / subject.room_mm_per_unit);
   placement.mm_to_dataset.topRightCorner<3, 1>() = subject.eye_point;
   append_mesh(out.mesh, make_room(placement), Eigen::Matrix4f::Identity());
@@ -164,7 +171,9 @@ SynthReport synthesize_dataset(const Subject& subject, const std::string& out_di
   RenderSettings settings{o.samples_per_axis, o.background, 0};
   std::unique_ptr<mesh::EmbreeScene> scene_ptr;
   if (o.room > 0) {
-    RoomScene room = subject_in_room(subject, o.room);
+    RoomPlacement plain;
+    plain.wall_mm = o.wall_mm, plain.wall_rgb = o.wall_rgb;
+    RoomScene room = subject_in_room(subject, o.room, plain);
     settings.subject_triangles = room.subject_triangles;
     if (!settings.background) settings.background = room_sky();
     scene_ptr = std::make_unique<mesh::EmbreeScene>(std::move(room.mesh));

@@ -19,6 +19,7 @@
 #include <string>
 
 #include "synth/camera_rig.h"
+#include "synth/room.h"
 #include "synth/studio_render.h"
 #include "synth/subject.h"
 
@@ -41,6 +42,10 @@ struct SynthOptions {
   int room = 0;
   float fov_y_deg = 60.0f;
   float phone_distance_mm = 480.0f;
+  // The plain room's wall (room kPlainRoomLayout, synth/room.h): distance behind the eye point (mm)
+  // and linear RGB albedo.
+  float wall_mm = 1000.0f;
+  Eigen::Vector3f wall_rgb{0.80f, 0.80f, 0.78f};
   std::function<void(int done, int total)> progress;  // called after each view
 };
 
@@ -57,7 +62,8 @@ struct RoomScene {
   mesh::TriMesh mesh;
   int subject_triangles = 0;
 };
-RoomScene subject_in_room(const Subject& subject, int layout);
+// `plain`: the plain room's wall (its layout is `layout`'s).
+RoomScene subject_in_room(const Subject& subject, int layout, const RoomPlacement& plain = {});
 
 // Linear RGB of rays that leave the room (it is open above and towards the cameras).
 inline Eigen::Vector3f room_sky() { return {0.55f, 0.56f, 0.58f}; }

@@ -217,7 +217,8 @@ std::string fit_stage_label(const std::string& stage) {
       {"contact", "seating the frame on the skin"},
       {"temples", "fitting the temples"},
       {"contact_eq23_ears", "seating the frame again, ears at the eye height"},
-      {"temples_eq23_ears", "fitting the temples again"}};
+      {"temples_eq23_ears", "fitting the temples again"},
+      {"checks", "checking the head for holes"}};
   auto it = labels.find(stage);
   return it != labels.end() ? it->second : stage;
 }

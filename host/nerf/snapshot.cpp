@@ -100,7 +100,9 @@ json metadata_json(const ModelMetadata& m) {
           {"dataset_hash", m.dataset_hash},
           {"device", m.device},
           {"created", m.created},
-          {"subject_problem", m.subject_problem}};
+          {"subject_problem", m.subject_problem},
+          {"holes", m.holes},
+          {"holes_worst_view", m.holes_worst_view}};
 }
 
 ModelMetadata metadata_from_json(const json& j) {
@@ -121,6 +123,10 @@ ModelMetadata metadata_from_json(const json& j) {
     if (!v->is_string()) throw BadValue("'metadata.subject_problem' must be a string, found " + v->dump());
     m.subject_problem = v->get<std::string>();
   }
+  // Absent in files written before the hole check: not checked.
+  if (auto* v = optional(j, "holes")) m.holes = to_double(*v, "metadata.holes", 1.0);
+  if (auto* v = optional(j, "holes_worst_view"))
+    m.holes_worst_view = to_double(*v, "metadata.holes_worst_view", 1.0);
   return m;
 }
 

@@ -51,6 +51,10 @@ struct ModelMetadata {
   // Why the subject could not be separated from the room, with what to film differently ("" when it
   // was): the fit then never passes this model as good.
   std::string subject_problem;
+  // The product's check of its own output (subject_holes.h): the share of the face's and neck's rays
+  // from the training views that are transparent, over all views and in the worst one; -1 when not
+  // checked (no face region known, or no room model).
+  double holes = -1.0, holes_worst_view = -1.0;
 };
 
 // Occupancy grid state: per-cell density estimate (EMA; empty until training updates it) and the

@@ -62,6 +62,17 @@ struct SubjectRim {
   }
 };
 
+// Points of the subject whose projection into a view outlines a region that the subject must fill
+// solidly there (a face: the hull of its landmarks; host/nerf/subject_holes.h measures the holes in
+// it), with the direction it faces: views more than `max_view_deg` from it see the region's points
+// round its side, where their hull outlines air.
+struct SolidHull {
+  std::vector<Vec3f> points;  // scene frame
+  Vec3f facing{0.0f, 0.0f, 1.0f};
+  float max_view_deg = 50.0f;
+  std::string name;  // for logs: "face", "neck"
+};
+
 // A subject's volume with the zones of the room model's clearing inside it (background_field.h;
 // capture/head_volume.h builds them from a landmark head box). Empty zones do not apply.
 struct SubjectZones {
@@ -79,6 +90,9 @@ struct SubjectZones {
   // below its box): the room's cutout around the volume (BackgroundOptions::volume_cutout_margin)
   // leaves it to the room, so no band below the volume belongs to neither model.
   SubjectVolume body;
+  // Not a clearing zone: the regions the trained subject must fill solidly, seen from the training
+  // views (subject_holes.h: holes in the face or the neck).
+  std::vector<SolidHull> whole;
 };
 
 // The occupancy mask of `volume` over `box` at res^3 cells (occ_word_count(res) words, the grid's

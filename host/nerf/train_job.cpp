@@ -7,6 +7,7 @@
 #include <filesystem>
 
 #include "host/nerf/subject_cut.h"
+#include "host/nerf/subject_holes.h"
 #include "host/nerf/subject_region.h"
 
 namespace lorgnette::nerf {
@@ -116,9 +117,12 @@ NerfModel planned_model(cl::Runtime& rt, const dataset::Dataset& ds, const std::
   return model;
 }
 
-TrainJobResult train_on_dataset(cl::Runtime& rt, const dataset::Dataset& ds, TrainJob job) {
-  std::vector<View> views = training_views(ds);
-  TrainPlan plan = plan_training(rt, ds, views, job);
+namespace {
+
+// One training of `plan` with its room-model aftermath (the subject's connected region, the volume's
+// cut check, the hole check); the model is saved to the plan's snapshot path when it changed.
+TrainJobResult train_planned(cl::Runtime& rt, const dataset::Dataset& ds, const std::vector<View>& views,
+                             TrainPlan plan, const TrainJob& job) {
   NerfModel model = planned_model(rt, ds, views, plan, job);
   spdlog::info("training budget: {}", plan.budget);
   const bool background = plan.background;
@@ -126,40 +130,81 @@ TrainJobResult train_on_dataset(cl::Runtime& rt, const dataset::Dataset& ds, Tra
                background ? "a room model behind the subject (mask-less capture, subject box)"
                           : (ds.has_alpha ? "none (the images' alpha masks separate the subject)" : "none"));
   std::string region;
-  {
-    Trainer trainer(model, views, plan.train, plan.sizing.occupancy_mask);
-    TrainResult result = trainer.run();
-    // As the trainer's own snapshots: an untrained model is never saved.
-    std::string snapshot = result.steps > 0 ? plan.train.snapshot_path : std::string();
-    if (background) {
-      OccupancyGrid grid = model.occupancy();
-      SubjectRegionReport rep = keep_central_region(grid);
-      region = rep.summary();
-      if (rep.found) {
-        model.set_occupancy(std::move(grid));
-        if (!snapshot.empty()) model.save(snapshot);
-      }
-      spdlog::info("{}", region);
-      if (rep.found && job.subject && !job.subject->rim.empty()) {
-        std::vector<Camera> cameras;
-        for (const View& v : views) cameras.push_back(v.camera);
-        const SubjectCutReport cut = check_subject_cut(model, cameras, job.subject->rim);
-        spdlog::info("{}", cut.summary());
-        if (cut.cut()) spdlog::warn("{}", cut.advice());
-      }
-      if (!rep.found) {
-        model.metadata.subject_problem =
-            "the subject could not be separated from the room: nothing was reconstructed in the middle of "
-            "the subject box. Film the face filling a third of the frame, in focus, sweeping slowly from "
-            "one side to the other";
-        spdlog::warn("{}", model.metadata.subject_problem);
-        if (!snapshot.empty()) model.save(snapshot);
-      }
+  Trainer trainer(model, views, plan.train, plan.sizing.occupancy_mask);
+  TrainResult result = trainer.run();
+  // As the trainer's own snapshots: an untrained model is never saved.
+  const std::string snapshot = result.steps > 0 ? plan.train.snapshot_path : std::string();
+  if (background) {
+    OccupancyGrid grid = model.occupancy();
+    SubjectRegionReport rep = keep_central_region(grid);
+    region = rep.summary();
+    if (rep.found) model.set_occupancy(std::move(grid));
+    spdlog::info("{}", region);
+    std::vector<Camera> cameras;
+    for (const View& v : views) cameras.push_back(v.camera);
+    if (rep.found && job.subject && !job.subject->rim.empty()) {
+      const SubjectCutReport cut = check_subject_cut(model, cameras, job.subject->rim);
+      spdlog::info("{}", cut.summary());
+      if (cut.cut()) spdlog::warn("{}", cut.advice());
     }
-    return {std::move(model),  std::move(plan.sizing),
-            std::move(result), std::move(plan.budget),
-            background,        region};
+    if (rep.found && job.subject && !job.subject->whole.empty()) {
+      const HoleReport holes = check_subject_holes(model, cameras, job.subject->whole);
+      spdlog::info("{}", holes.summary());
+      if (holes.checked)
+        model.metadata.holes = holes.holes, model.metadata.holes_worst_view = holes.worst_view;
+    }
+    if (!rep.found) {
+      model.metadata.subject_problem =
+          "the subject could not be separated from the room: nothing was reconstructed in the middle of "
+          "the subject box. Film the face filling a third of the frame, in focus, sweeping slowly from "
+          "one side to the other";
+      spdlog::warn("{}", model.metadata.subject_problem);
+    }
+    if (!snapshot.empty()) model.save(snapshot);
   }
+  return {std::move(model),  std::move(plan.sizing),
+          std::move(result), std::move(plan.budget),
+          background,        region};
+}
+
+bool has_holes(const NerfModel& m) { return m.metadata.holes >= kSubjectHoleShare; }
+
+}  // namespace
+
+TrainJobResult train_on_dataset(cl::Runtime& rt, const dataset::Dataset& ds, TrainJob job) {
+  std::vector<View> views = training_views(ds);
+  const TrainPlan plan = plan_training(rt, ds, views, job);
+  TrainJobResult out = train_planned(rt, ds, views, plan, job);
+  const BackgroundOptions& room = plan.train.background;
+  const bool clearing = room.room_clear > 0.0f || room.lean_gate > 0.0f;
+  if (has_holes(out.model) && job.retrain_on_holes && clearing && !out.result.interrupted) {
+    // The room-explained clearing is the separation that takes skin whose colour the room model also
+    // explains (a pale face before a pale wall, #41); without it only the binary prior separates.
+    spdlog::warn(
+        "the head has holes ({:.2f} % of the face and neck transparent): training again without the "
+        "room-explained clearing (--room-clear 0 --lean-gate 0), which keeps more of the subject",
+        100.0 * out.model.metadata.holes);
+    TrainPlan safer = plan;
+    safer.train.background.room_clear = 0.0f;
+    safer.train.background.lean_gate = 0.0f;
+    TrainJobResult again = train_planned(rt, ds, views, safer, job);
+    if (again.model.metadata.holes < out.model.metadata.holes || again.result.interrupted) {
+      again.result.seconds += out.result.seconds;
+      out = std::move(again);
+    } else if (!plan.train.snapshot_path.empty()) {
+      out.model.save(plan.train.snapshot_path);  // the first model had fewer holes: keep it
+    }
+  }
+  if (has_holes(out.model) && out.model.metadata.subject_problem.empty()) {
+    HoleReport rep;
+    rep.checked = true;
+    rep.holes = out.model.metadata.holes;
+    rep.worst_view = out.model.metadata.holes_worst_view;
+    out.model.metadata.subject_problem = rep.advice();
+    spdlog::warn("{}", out.model.metadata.subject_problem);
+    if (!plan.train.snapshot_path.empty()) out.model.save(plan.train.snapshot_path);
+  }
+  return out;
 }
 
 }  // namespace lorgnette::nerf

@@ -40,6 +40,10 @@ struct TrainJob {
   // Why the subject could not be separated (capture/subject_box.h), kept in the model's metadata;
   // training adds its own reason when the room model finds no subject region.
   std::string subject_problem;
+  // When the trained head has holes in its face or neck (subject_holes.h), train once more without
+  // the room-explained clearing and keep the model with fewer holes; holes that remain become the
+  // model's subject_problem either way.
+  bool retrain_on_holes = true;
 };
 
 struct TrainJobResult {

@@ -7,6 +7,8 @@
 #include <opencv2/imgproc.hpp>
 #include <stdexcept>
 
+#include "host/render/hole_eval.h"
+
 namespace lorgnette::render {
 namespace {
 
@@ -90,6 +92,7 @@ MatteScore score_matte(const MatteView& v, const nerf::Aabb& box) {
   s.leak = subject ? leak / double(subject) : 0.0;
   s.leak_excess = subject ? excess / double(subject) : 0.0;
   s.subject_pixels = subject;
+  s.holes = s.holes_worst = head_interior_holes(pred, matte).share;
   if (!v.face_points.empty() && v.truth)
     score_face(pred, *v.truth, matte, project_face(v.camera, v.face_points), s);
   return s;
@@ -103,6 +106,8 @@ MatteScore mean_score(const std::vector<MatteScore>& scores) {
     m.leak += s.leak / double(scores.size());
     m.leak_excess += s.leak_excess / double(scores.size());
     m.subject_pixels += s.subject_pixels;
+    m.holes += s.holes / double(scores.size());
+    m.holes_worst = std::max(m.holes_worst, s.holes_worst);
     if (s.face_pixels) m.face_psnr += s.face_psnr, m.face_pixels += s.face_pixels, ++faces;
     if (s.face_subject_pixels)
       m.face_psnr_subject += s.face_psnr_subject, m.face_subject_pixels += s.face_subject_pixels, ++covered;

@@ -40,6 +40,8 @@ struct MatteScore {
   // that paints the room around the head scores higher there than one that renders it clear.
   double face_psnr_subject = 0.0;
   long subject_pixels = 0, face_pixels = 0, face_subject_pixels = 0;
+  // The head's interior left transparent (hole_eval.h), and the worst view's (mean_score: the largest).
+  double holes = 0.0, holes_worst = 0.0;
 };
 
 MatteScore score_matte(const MatteView& view, const nerf::Aabb& box);

@@ -75,10 +75,11 @@ TEST(Room, MatteEqualsTheSubjectsOwnCoverage) {
 }
 
 // Behind the subject the room is seen: at least 85 % of the non-subject pixels are not the sky
-// colour, and they are textured (standard deviation of luminance above 0.03).
+// colour, and they are textured (standard deviation of luminance above 0.03), in the textured layouts.
 TEST(Room, RoomIsSeenBehindTheSubject) {
   const Subject& s = head_with_body();
   for (int room = 1; room <= kRoomLayouts; ++room) {
+    if (room == kPlainRoomLayout) continue;  // plain by design (next test)
     RenderedView v = render_in_room(s, room, first_camera(s, room_options(room)));
     int bg = 0, room_px = 0;
     double sum = 0, sum2 = 0;
@@ -167,6 +168,54 @@ TEST(Room, MatteFileRoundTrips) {
   Image r = read_matte(p.string());
   for (int i = 0; i < 5; ++i)
     EXPECT_NEAR(r.pixels[i], m.pixels[i], 0.5f / 255.0f + 1e-5f);  // half a step + float rounding
+}
+
+// The plain room: its paint is one colour (every texel the wall's albedo) and the lit wall is seen
+// behind the subject; the skin's highlight brightens the subject only (its matte unchanged, the room
+// identical); a wall closer than 200 mm is refused.
+TEST(Room, PlainWallIsUntexturedAndTheHighlightLiesOnTheSubject) {
+  const Subject& s = head_with_body();
+  const Camera cam = first_camera(s, room_options(kPlainRoomLayout));
+  auto render = [&](float wall_mm, float specular) {
+    RoomPlacement plain;
+    plain.wall_mm = wall_mm;
+    RoomScene rs = subject_in_room(s, kPlainRoomLayout, plain);
+    RenderSettings settings{3, room_sky(), 1};
+    settings.subject_triangles = rs.subject_triangles;
+    mesh::EmbreeScene scene(std::move(rs.mesh));
+    StudioLighting light;
+    light.specular = specular;
+    return render_view(scene, cam, light, settings);
+  };
+  const RenderedView near = render(600.0f, 0.0f), shiny = render(600.0f, 0.6f);
+  RoomPlacement paint;
+  paint.layout = kPlainRoomLayout;
+  const mesh::TriMesh room = make_room(paint);
+  ASSERT_FALSE(room.textures.empty());
+  for (const Image& t : room.textures)
+    for (size_t i = 0; i < t.pixels.size(); ++i) ASSERT_EQ(t.pixels[i], paint.wall_rgb[int(i % 3)]);
+  int wall = 0;
+  double sum = 0, subject_gain = 0;
+  for (int y = 0; y < near.rgba.height; ++y)
+    for (int x = 0; x < near.rgba.width; ++x) {
+      EXPECT_EQ(near.matte.at(x, y, 0), shiny.matte.at(x, y, 0));
+      const double l = (near.rgba.at(x, y, 0) + near.rgba.at(x, y, 1) + near.rgba.at(x, y, 2)) / 3.0;
+      const double ls = (shiny.rgba.at(x, y, 0) + shiny.rgba.at(x, y, 1) + shiny.rgba.at(x, y, 2)) / 3.0;
+      if (near.matte.at(x, y, 0) > 0.0f) {
+        EXPECT_GE(ls, l - 1e-6);
+        subject_gain = std::max(subject_gain, ls - l);
+        continue;
+      }
+      EXPECT_EQ(ls, l);  // no highlight on the room
+      if (!std::isfinite(near.depth.at(x, y, 0))) ++wall, sum += l;
+    }
+  ASSERT_GT(wall, 100);
+  EXPECT_GT(sum / wall, 0.3);  // the off-white wall, lit
+  EXPECT_GT(subject_gain, 0.1);
+  RoomPlacement bad;
+  bad.layout = kPlainRoomLayout;
+  bad.wall_mm = 50.0f;
+  EXPECT_THROW(make_room(bad), std::runtime_error);
 }
 
 TEST(Room, UnknownLayoutIsRefused) {

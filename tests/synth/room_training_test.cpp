@@ -10,7 +10,10 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "capture/face_hull.h"
+#include "fit/landmark_ids.h"
 #include "host/dataset/dataset.h"
+#include "host/nerf/subject_holes.h"
 #include "host/nerf/train_job.h"
 #include "host/render/matte_eval.h"
 #include "host/render/renderer.h"
@@ -31,6 +34,27 @@ nerf::Aabb head_box(const synth::Subject& s, const synth::HeadParams& p) {
   Eigen::Vector3f grow = 0.1f * box.sizes();
   for (int a = 0; a < 3; ++a) out.min[a] = box.min()[a] - grow[a], out.max[a] = box.max()[a] + grow[a];
   return out;
+}
+
+// The face and neck regions of the subject's true head box (capture/face_hull.h), as the landmark
+// head box gives them on a real capture: the true frame, scale and landmarks (head_volume_test's
+// anchor: the eye corners' centroid at the inner corners' depth).
+std::vector<nerf::SolidHull> true_solid_hulls(const synth::Subject& s) {
+  std::vector<Eigen::Vector3d> lm;
+  for (const auto& p : s.ibug68) lm.push_back(p.cast<double>());
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  for (int k : {fit::lm::kEyeOuterR, fit::lm::kEyeInnerR, fit::lm::kEyeInnerL, fit::lm::kEyeOuterL})
+    centroid += 0.25 * lm[size_t(k)];
+  const Eigen::Vector3d inner = 0.5 * (lm[fit::lm::kEyeInnerR] + lm[fit::lm::kEyeInnerL]);
+  fit::HeadFrame head;
+  head.d_eye = Eigen::Vector3d::UnitX(), head.d_up = Eigen::Vector3d::UnitY(),
+  head.d_fwd = Eigen::Vector3d::UnitZ();
+  head.mm_per_unit = *s.mm_per_unit;
+  fit::HeadBox box = fit::head_box_from_frame(head, centroid + head.d_fwd * head.d_fwd.dot(inner - centroid),
+                                              fit::HeadExtents{});
+  box.landmarks = lm;
+  box.landmark_ok.assign(lm.size(), true);
+  return capture::head_solid_hulls(box);
 }
 
 // IoU floor 0.88 and leak ceiling 10 % after 500 steps of 2^15 samples on 24 views of 120x160
@@ -67,6 +91,10 @@ TEST(RoomTraining, SubjectSeparatesFromTheRoom) {
   job.background = "on";
   job.train.steps = 500;
   job.train.progress = false;
+  // Only the regions the self-check judges (no volume: training is as before); no second training.
+  job.subject = nerf::SubjectZones{};
+  job.subject->whole = true_solid_hulls(subject);
+  job.retrain_on_holes = false;
   nerf::TrainJobResult tr = nerf::train_on_dataset(rt, ds, job);
   ASSERT_TRUE(tr.background);
   ASSERT_FALSE(tr.region.empty());
@@ -93,10 +121,15 @@ TEST(RoomTraining, SubjectSeparatesFromTheRoom) {
   }
   ASSERT_GE(scores.size(), 3u);
   render::MatteScore m = render::mean_score(scores);
+  // The self-check passes a whole head (subject_holes.h): the training views see its face and neck.
+  EXPECT_GE(tr.model.metadata.holes, 0.0);
+  EXPECT_LT(tr.model.metadata.holes, nerf::kSubjectHoleShare);
+  EXPECT_TRUE(tr.model.metadata.subject_problem.empty()) << tr.model.metadata.subject_problem;
   EXPECT_GE(m.iou, 0.88);
   EXPECT_LE(m.leak, 0.10);
   std::cout << "room capture, 500 steps: IoU " << m.iou << ", leak " << 100.0 * m.leak << " %, face PSNR "
-            << m.face_psnr << " dB, subject batch filled " << 100.0 * fill << " %\n";
+            << m.face_psnr << " dB, head interior holes " << 100.0 * m.holes << " %, self-check holes "
+            << 100.0 * tr.model.metadata.holes << " %, subject batch filled " << 100.0 * fill << " %\n";
 }
 
 }  // namespace

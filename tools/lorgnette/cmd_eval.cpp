@@ -82,13 +82,17 @@ nlohmann::json matte_scores(nerf::NerfModel& model, const dataset::Dataset& ds,
                    {"leak", s.leak},
                    {"leak_excess", s.leak_excess},
                    {"face_psnr", s.face_psnr},
-                   {"face_psnr_covered", s.face_psnr_subject}});
+                   {"face_psnr_covered", s.face_psnr_subject},
+                   {"holes", s.holes}});
   return {{"iou", m.iou},
           {"leak", m.leak},
           {"leak_excess", m.leak_excess},
           {"face_psnr", m.face_psnr},
           // over the face hull's pixels the subject covers fully: the whole hull's rim holds room
           {"face_psnr_covered", m.face_psnr_subject},
+          {"holes", m.holes},
+          {"holes_worst_view", m.holes_worst},
+          {"holes_region", "the matte eroded 7 px, upper 45 % of the subject's rows; opacity < 0.5"},
           {"views", scores.size()},
           {"region", "subject inside the model's box (head to neck); opacity >= 0.5 vs matte >= 0.5"},
           {"per_view", per}};
@@ -132,6 +136,11 @@ void run_eval(const EvalArgs& a, GlobalOptions& global) {
                           {"model", a.model}};
     if (!mattes.is_null()) out["mattes"] = mattes;
     if (!model.metadata.subject_problem.empty()) out["subject_problem"] = model.metadata.subject_problem;
+    // Training's check of its own output (host/nerf/subject_holes.h); null when it did not run.
+    out["holes"] = model.metadata.holes >= 0.0 ? nlohmann::json(model.metadata.holes) : nlohmann::json();
+    out["holes_worst_view"] = model.metadata.holes_worst_view >= 0.0
+                                  ? nlohmann::json(model.metadata.holes_worst_view)
+                                  : nlohmann::json();
     std::cout << out.dump() << "\n";
   } else {
     std::cout << fmt::format(
@@ -141,11 +150,21 @@ void run_eval(const EvalArgs& a, GlobalOptions& global) {
       std::cout << fmt::format(
           "true mattes ({} views, head to neck inside the model's box): IoU {:.4f}, leak {:.2f} % "
           "of the subject's area ({:.2f} % beyond the matte's own coverage), face PSNR {:.2f} dB "
-          "({:.2f} dB where the subject covers the face's pixels fully)\n",
+          "({:.2f} dB where the subject covers the face's pixels fully), holes {:.2f} % of the head's "
+          "interior (worst view {:.2f} %)\n",
           mattes["views"].get<int>(), mattes["iou"].get<double>(), 100.0 * mattes["leak"].get<double>(),
           100.0 * mattes["leak_excess"].get<double>(), mattes["face_psnr"].get<double>(),
-          mattes["face_psnr_covered"].get<double>());
+          mattes["face_psnr_covered"].get<double>(), 100.0 * mattes["holes"].get<double>(),
+          100.0 * mattes["holes_worst_view"].get<double>());
   }
+  if (!a.json)
+    std::cout << (model.metadata.holes >= 0.0
+                      ? fmt::format(
+                            "holes in the face and neck (training's self-check, training views): {:.2f} % "
+                            "transparent, worst view {:.2f} %\n",
+                            100.0 * model.metadata.holes, 100.0 * model.metadata.holes_worst_view)
+                      : std::string("holes in the face and neck: not checked (no room model or no face "
+                                    "landmarks in training)\n"));
   if (!a.output.empty()) spdlog::info("prediction | truth | error images in '{}'", a.output);
   // The scores judge the pixels, not whether the subject was separated: say so when it was not.
   if (!model.metadata.subject_problem.empty())

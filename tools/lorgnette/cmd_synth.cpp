@@ -18,7 +18,8 @@ namespace lorgnette::cli {
 namespace {
 
 struct SynthArgs {
-  std::string mesh, out, size = "256x256", background = "transparent";
+  std::string mesh, out, size = "256x256", background = "transparent", skin, wall;
+  float specular = 0.0f, wall_mm = 1000.0f;
   bool procedural = false, force = false, json = false;
   int views = 24, samples = 3, room = 0;
   float fov = 60.0f, phone_mm = 480.0f;
@@ -38,21 +39,29 @@ std::pair<int, int> parse_size(const std::string& s) {
   return {w, h};
 }
 
-std::optional<Eigen::Vector3f> parse_background(const std::string& s) {
-  if (s == "transparent") return std::nullopt;
+// r,g,b in 0-255 sRGB as linear RGB; `flag` names the option in errors.
+Eigen::Vector3f parse_srgb(const std::string& s, const char* flag) {
   float c[3];
   char comma1 = 0, comma2 = 0;
   std::istringstream in(s);
   if (!(in >> c[0] >> comma1 >> c[1] >> comma2 >> c[2]) || comma1 != ',' || comma2 != ',' || !in.eof())
-    throw std::runtime_error(
-        fmt::format("--background '{}' is not 'transparent' or r,g,b (0-255 sRGB, e.g. 255,255,255)", s));
+    throw std::runtime_error(fmt::format("{} '{}' is not r,g,b (0-255 sRGB, e.g. 255,255,255)", flag, s));
   Eigen::Vector3f lin;
   for (int k = 0; k < 3; ++k) {
     if (c[k] < 0 || c[k] > 255)
-      throw std::runtime_error(fmt::format("--background component {} is outside 0..255", c[k]));
+      throw std::runtime_error(fmt::format("{} component {} is outside 0..255", flag, c[k]));
     lin[k] = srgb_to_linear(c[k] / 255.0f);
   }
   return lin;
+}
+
+std::optional<Eigen::Vector3f> parse_background(const std::string& s) {
+  if (s == "transparent") return std::nullopt;
+  try {
+    return parse_srgb(s, "--background");
+  } catch (const std::runtime_error& e) {
+    throw std::runtime_error(std::string(e.what()) + " or 'transparent'");
+  }
 }
 
 void run_synth(const SynthArgs& a) {
@@ -70,9 +79,20 @@ void run_synth(const SynthArgs& a) {
   o.room = a.room;
   o.fov_y_deg = a.fov;
   o.phone_distance_mm = a.phone_mm;
+  o.lighting.specular = a.specular;
+  o.wall_mm = a.wall_mm;
+  if (!a.wall.empty()) o.wall_rgb = parse_srgb(a.wall, "--wall");
+  if ((!a.wall.empty() || a.wall_mm != 1000.0f) && a.room != synth::kPlainRoomLayout)
+    throw std::runtime_error(
+        fmt::format("--wall and --wall-mm describe the plain room: give --room {}", synth::kPlainRoomLayout));
+  if (!a.skin.empty() && !a.procedural)
+    throw std::runtime_error(
+        "--skin colours the procedural head: give --procedural (a mesh has its texture)");
+  synth::HeadParams params = synth::random_head_params(a.seed);
+  if (!a.skin.empty()) params.skin = parse_srgb(a.skin, "--skin");
   synth::Subject subject =
       a.procedural
-          ? synth::procedural_subject(synth::random_head_params(a.seed), {}, a.room > 0)
+          ? synth::procedural_subject(params, {}, a.room > 0)
           : synth::mesh_subject(a.mesh, a.mesh_mm > 0 ? std::optional<double>(a.mesh_mm) : std::nullopt);
   if (!a.look_at.empty()) subject.look_at = Eigen::Vector3f(a.look_at[0], a.look_at[1], a.look_at[2]);
   if (a.frame_radius > 0.0f) subject.frame_radius = a.frame_radius;
@@ -120,16 +140,32 @@ void add_synth(CLI::App& app, GlobalOptions&) {
       ->check(CLI::PositiveNumber);
   cmd->add_option(
          "--room", a->room,
-         fmt::format("place the subject in room layout 1..{} (RGB images without alpha, true mattes in "
+         fmt::format("place the subject in room layout 1..{} ({}: a plain wall, see --wall; RGB images "
+                     "without alpha, true mattes in "
                      "mattes/, hand-held phone cameras sweeping --yaw-range; the procedural head gets "
                      "a neck and shoulders)",
-                     synth::kRoomLayouts))
+                     synth::kRoomLayouts, synth::kPlainRoomLayout))
       ->check(CLI::Range(0, synth::kRoomLayouts));
   cmd->add_option("--fov", a->fov, "with --room: the phone's vertical field of view in degrees (default 60)")
       ->check(CLI::Range(10.0, 120.0));
   cmd->add_option("--phone-distance", a->phone_mm,
                   "with --room: camera distance in millimetres (default 480)")
       ->check(CLI::Range(150.0, 3000.0));
+  cmd->add_option("--skin", a->skin,
+                  "the procedural head's skin albedo, r,g,b in 0-255 sRGB (e.g. 250,222,205 very pale, "
+                  "70,45,35 very dark)");
+  cmd->add_option("--specular", a->specular,
+                  "a white highlight of the key light on the subject (oily skin's sheen), 0 = none")
+      ->check(CLI::Range(0.0, 2.0));
+  cmd->add_option(
+         "--wall-mm", a->wall_mm,
+         fmt::format("with --room {}: the plain wall's distance behind the eyes in mm (default 1000)",
+                     synth::kPlainRoomLayout))
+      ->check(CLI::Range(200.0, 5000.0));
+  cmd->add_option(
+      "--wall", a->wall,
+      fmt::format("with --room {}: the plain wall's colour, r,g,b in 0-255 sRGB (default off-white)",
+                  synth::kPlainRoomLayout));
   cmd->add_flag("--force", a->force, "replace an earlier synth output in the output directory");
   cmd->add_flag("--json", a->json, "print one JSON object on stdout");
   cmd->callback([a] { run_synth(*a); });

@@ -160,6 +160,29 @@ TEST(Snapshot, DivergedLossIsWrittenAsNullAndReadsBackAsNan) {
   EXPECT_EQ(back.params, s.params);
 }
 
+// The hole check's figures (subject_holes.h) round-trip; a file without them reads as not checked,
+// and a share outside [-1, 1] is refused naming the field.
+TEST(Snapshot, HoleFiguresRoundTripAndDefaultToUnchecked) {
+  nerf::Snapshot s = host_snapshot();
+  EXPECT_EQ(s.metadata.holes, -1.0);
+  s.metadata.holes = 0.0375, s.metadata.holes_worst_view = 0.125;
+  const std::string file = nerf::encode_snapshot(s);
+  nerf::Snapshot back = nerf::parse_snapshot(file, "holes.lnerf");
+  EXPECT_EQ(back.metadata.holes, 0.0375);
+  EXPECT_EQ(back.metadata.holes_worst_view, 0.125);
+  auto erase = [](nlohmann::json& h) {
+    h["metadata"].erase("holes"), h["metadata"].erase("holes_worst_view");
+  };
+  EXPECT_EQ(nerf::parse_snapshot(with_header(file, erase), "old.lnerf").metadata.holes, -1.0);
+  try {
+    nerf::parse_snapshot(with_header(file, [](nlohmann::json& h) { h["metadata"]["holes"] = 7.0; }),
+                         "bad.lnerf");
+    ADD_FAILURE() << "a hole share of 7 was accepted";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("metadata.holes"), std::string::npos) << e.what();
+  }
+}
+
 // Found by fuzzing (fuzz/regressions/snapshot/): header numbers beyond their type were cast anyway
 // (undefined behaviour); each is refused naming the field.
 TEST(Snapshot, HeaderNumbersBeyondTheirTypeAreRefused) {

@@ -1,0 +1,30 @@
+// The regions of a head that its trained model must fill solidly, for training's check of its own
+// output (host/nerf/subject_holes.h): the face, as the hull of its triangulated landmarks from the
+// landmark head box (fit/head_box.h), and the neck's core below the chin. Holes there are what the
+// room model's separation takes from a face before a wall of the same colour (#41).
+#pragma once
+#include <vector>
+
+#include "fit/head_box.h"
+#include "host/nerf/subject_volume.h"
+
+namespace lorgnette::capture {
+
+// The neck's core in the head frame (millimetres from HeadExtents' anchor: eye level, between the
+// eyes, at the inner eye corners' depth; x left, y up, z forward): a vertical cylinder of this
+// radius about an axis this far behind the anchor, between these depths below the eyes. The neck's
+// axis lies ~90 mm behind the inner eye corners (the procedural heads: 92 mm; a neck of radius
+// ~50 mm, circumference 32 cm, whose front, the throat, lies ~45 mm behind the eyes), and an average
+// chin 114 mm below the eyes (the mean face). A 20 mm core stays inside a real neck's 50-60 mm radius
+// when the head is pitched 20 deg against the body (the neck's axis then moves ~25 mm in the head's
+// frame at chin level), and 15-40 mm below the chin it lies above the head box's bottom (175 mm).
+struct NeckCoreMm {
+  double radius = 20.0, behind_eyes = 90.0, top_below_eyes = 130.0, bottom_below_eyes = 155.0;
+};
+
+// The face hull (the jaw contour from below the ears round the chin, 2-14, and the inner points
+// 17-67 that triangulated; facing the head's forward axis, judged from views within 50 deg of it) and
+// the neck's core (seen from any side); empty when the box holds no landmarks.
+std::vector<nerf::SolidHull> head_solid_hulls(const fit::HeadBox& box, const NeckCoreMm& neck = {});
+
+}  // namespace lorgnette::capture

@@ -1,0 +1,154 @@
+// The face and neck regions that training checks for holes (capture/face_hull.h), on procedural
+// heads whose density is their exact signed distance function (opaque inside): a whole head has
+// no hole ray in its face hull or its neck core from a selfie's arc of views (yaw -40..+40, pitch
+// -10..+15), for several head shapes, upright and pitched; the same head with a hole 30 mm wide
+// through its cheek (everything in the cone the frontal view sees it through) is caught (the hole
+// check of host/nerf/subject_holes.h on these regions), and so is a neck cut away below the chin.
+#include "capture/face_hull.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <cmath>
+#include <iostream>
+#include <memory>
+
+#include "fit/landmark_ids.h"
+#include "host/nerf/subject_holes.h"
+#include "kernels/train/occupancy.h"
+#include "synth/camera_rig.h"
+#include "synth/head_shape.h"
+#include "synth/subject.h"
+
+namespace lorgnette::capture {
+namespace {
+
+struct PlacedHead {
+  synth::HeadParams params;
+  synth::Subject subject;
+  Eigen::Matrix3d rot;  // the head's rotation in the scene
+  fit::HeadBox box;
+};
+
+// The head box of a procedural head from its true frame and landmarks, as fit::estimate_head_box
+// builds it (anchor: the eye corners' centroid at the inner corners' depth).
+PlacedHead place(uint64_t seed, const Eigen::Matrix3d& rot) {
+  PlacedHead h{synth::random_head_params(seed), {}, rot, {}};
+  h.subject = synth::procedural_subject(h.params, synth::HeadMeshOptions{96, 48, 256}, true);
+  std::vector<Eigen::Vector3d> lm;
+  for (const auto& p : h.subject.ibug68) lm.push_back(rot * p.cast<double>());
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  for (int k : {fit::lm::kEyeOuterR, fit::lm::kEyeInnerR, fit::lm::kEyeInnerL, fit::lm::kEyeOuterL})
+    centroid += 0.25 * lm[size_t(k)];
+  const Eigen::Vector3d inner = 0.5 * (lm[fit::lm::kEyeInnerR] + lm[fit::lm::kEyeInnerL]);
+  fit::HeadFrame head;
+  head.d_eye = rot.col(0), head.d_up = rot.col(1), head.d_fwd = rot.col(2);
+  head.mm_per_unit = *h.subject.mm_per_unit;
+  h.box = fit::head_box_from_frame(head, centroid + head.d_fwd * head.d_fwd.dot(inner - centroid),
+                                   fit::HeadExtents{});
+  h.box.landmarks = lm;
+  h.box.landmark_ok.assign(lm.size(), true);
+  return h;
+}
+
+struct Holes {
+  // Radius (mm, at the cheek) of a hole through the right cheek as the frontal view sees it: a cone
+  // from that camera's centre through the cheek, every density in it removed.
+  float cheek_hole_mm = 0.0f;
+  bool no_neck = false;  // everything 15 mm below the chin removed
+};
+
+constexpr float kDistance = 2.5f;  // views 0.5 m from the head (dataset units of 200 mm)
+
+Eigen::Vector3d frontal_eye(const PlacedHead& h) {
+  return h.rot * (h.subject.look_at.cast<double>() + Eigen::Vector3d(0.0, 0.0, kDistance));
+}
+
+// The head's density at model-normalised points of `box` (scene = rot * dataset).
+nerf::DensityAt head_density(const PlacedHead& h, const nerf::Aabb& box, const Holes& holes) {
+  const Eigen::Matrix4f to_mesh = h.subject.mesh_to_dataset.inverse();
+  auto shape = std::make_shared<synth::HeadShape>(h.params, synth::make_face_layout(h.params));
+  const float chin = h.subject.ibug68[8].y();
+  const Eigen::Vector3d eye = frontal_eye(h);
+  const Eigen::Vector3d cheek =
+      h.rot * synth::transform_point(h.subject.mesh_to_dataset, Eigen::Vector3f(-30.0f, -35.0f, 60.0f))
+                  .cast<double>();
+  const double cheek_dist = (cheek - eye).norm(),
+               cone = holes.cheek_hole_mm / *h.subject.mm_per_unit / cheek_dist;
+  const Eigen::Vector3d axis = (cheek - eye) / cheek_dist;
+  return [=, &h](const std::vector<nerf::Vec3f>& q, std::vector<float>& sigma) {
+    sigma.resize(q.size());
+    for (size_t i = 0; i < q.size(); ++i) {
+      Eigen::Vector3d scene;
+      for (int a = 0; a < 3; ++a) scene[a] = box.min[a] + q[i][a] * box.extent(a);
+      const Eigen::Vector3f d = (h.rot.transpose() * scene).cast<float>();
+      const Eigen::Vector3f mm = synth::transform_point(to_mesh, d);
+      bool hole = holes.no_neck && (d.y() - chin) * float(*h.subject.mm_per_unit) < -15.0f;
+      const Eigen::Vector3d v = scene - eye;
+      const double along = v.dot(axis);
+      hole = hole || (along > 0.0 && (v - along * axis).norm() < cone * along);
+      sigma[i] = !hole && shape->sdf(mm) < 0.0f ? 4000.0f : 0.0f;
+    }
+  };
+}
+
+// Views of a selfie's arc about the head (the scene's rotation applied), 0.5 m away.
+std::vector<Camera> arc(const PlacedHead& h, const std::vector<float>& yaws, float pitch) {
+  std::vector<Camera> cams;
+  const Eigen::Vector3f target = (h.rot * h.subject.look_at.cast<double>()).cast<float>();
+  for (float yaw : yaws) {
+    const float y = yaw * float(M_PI) / 180.0f, p = pitch * float(M_PI) / 180.0f;
+    const Eigen::Vector3d dir(std::sin(y) * std::cos(p), std::sin(p), std::cos(y) * std::cos(p));
+    const Eigen::Vector3f eye = target + (h.rot * dir).cast<float>() * kDistance;
+    cams.push_back(synth::look_at_camera(eye, target, 160, 200, 0.7f));
+  }
+  return cams;
+}
+
+nerf::HoleReport holes_of(const PlacedHead& h, const std::vector<Camera>& cams, const Holes& holes) {
+  nerf::Aabb box;
+  for (int a = 0; a < 3; ++a) box.min[a] = float(h.box.min[a]), box.max[a] = float(h.box.max[a]);
+  nerf::OccupancyGrid occ;
+  occ.res = 8;
+  occ.bits.assign(occ_word_count(occ.res), ~0u);
+  nerf::HoleCheckOptions o;
+  o.rays_across = 64;
+  return nerf::measure_holes(cams, box, {}, 0.006f, occ, head_density(h, box, holes), head_solid_hulls(h.box),
+                             o);
+}
+
+TEST(FaceHull, WholeHeadsHaveNoHoles) {
+  const Eigen::Matrix3d pitched = Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  for (uint64_t seed : {0u, 3u, 5u})
+    for (const Eigen::Matrix3d& rot : {Eigen::Matrix3d(Eigen::Matrix3d::Identity()), pitched}) {
+      const PlacedHead h = place(seed, rot);
+      ASSERT_EQ(head_solid_hulls(h.box).size(), 2u);
+      const nerf::HoleReport r = holes_of(h, arc(h, {-40.0f, -15.0f, 0.0f, 20.0f, 40.0f}, 10.0f), {});
+      EXPECT_TRUE(r.checked);
+      EXPECT_GT(r.rays, 1000u);
+      std::cout << r.summary() << "\n";
+      EXPECT_LT(r.holes, 0.002) << "seed " << seed << ": " << r.summary();
+      EXPECT_FALSE(r.broken()) << r.summary();
+    }
+}
+
+TEST(FaceHull, PunchedCheekAndMissingNeckAreCaught) {
+  const PlacedHead h = place(1, Eigen::Matrix3d::Identity());
+  const std::vector<Camera> cams = arc(h, {-6.0f, 0.0f, 6.0f}, 0.0f);
+  const nerf::HoleReport cheek = holes_of(h, cams, {15.0f, false});
+  std::cout << cheek.summary() << "\n";
+  EXPECT_TRUE(cheek.broken()) << cheek.summary();
+  EXPECT_NE(cheek.summary().find("face"), std::string::npos);
+  const nerf::HoleReport neck = holes_of(h, cams, {0.0f, true});
+  std::cout << neck.summary() << "\n";
+  EXPECT_TRUE(neck.broken()) << neck.summary();
+  EXPECT_NE(neck.summary().find("neck"), std::string::npos);
+}
+
+TEST(FaceHull, NoLandmarksNoHulls) {
+  fit::HeadBox box;
+  EXPECT_TRUE(head_solid_hulls(box).empty());
+}
+
+}  // namespace
+}  // namespace lorgnette::capture
