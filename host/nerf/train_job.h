@@ -41,8 +41,8 @@ struct TrainJob {
   // training adds its own reason when the room model finds no subject region.
   std::string subject_problem;
   // When the trained head has holes in its face or neck (subject_holes.h), train once more without
-  // the room-explained clearing and keep the model with fewer holes; holes that remain become the
-  // model's subject_problem either way.
+  // the room-explained clearing and keep that model when it is whole; holes that remain become the
+  // model's subject_problem (on the first model, which keeps the clearing's cleaner room).
   bool retrain_on_holes = true;
 };
 
