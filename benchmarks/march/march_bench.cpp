@@ -196,7 +196,7 @@ int main(int argc, char** argv) {
         for (const auto& sz : CLI::detail::split(a.sizes, ',')) spec.sizes.push_back(parse_size(sz));
       }
       mesh::Glasses g = mesh::load_glasses(a.glasses);
-      auto v = [](const std::array<float, 3>& a) { return Eigen::Vector3f(a[0], a[1], a[2]).cast<double>(); };
+      auto v = [](const std::array<float, 3>& a) { return Eigen::Vector3d(a[0], a[1], a[2]); };
       fit::Transform p = fit::rough_placement(g.metrics.total_width_mm, v(scene.aabb_min), v(scene.aabb_max));
       std::shared_ptr<const mesh::SurfacePass> pass = mesh::place_glasses_mesh(std::move(g), p, {}).pass;
       GlassesSurfaces glasses = mesh::frame_surfaces(pass);

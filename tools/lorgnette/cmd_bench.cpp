@@ -119,7 +119,7 @@ nlohmann::json bench_device(const BenchArgs& a, const cl::DeviceInfo& dev, Globa
   render::GlassesSurfaces glasses;  // the callbacks own the surface pass
   if (!a.glasses.empty()) {
     mesh::Glasses g = mesh::load_glasses(a.glasses);
-    auto v = [](const std::array<float, 3>& a) { return Eigen::Vector3f(a[0], a[1], a[2]).cast<double>(); };
+    auto v = [](const std::array<float, 3>& a) { return Eigen::Vector3d(a[0], a[1], a[2]); };
     fit::Transform p = fit::rough_placement(g.metrics.total_width_mm, v(scene.aabb_min), v(scene.aabb_max));
     mesh::TempleBend temples;
     if (!a.placement.empty()) {

@@ -135,7 +135,9 @@ TEST(MlpGradSplit, EveryChunkCountMatchesItsOrderAndTheReference) {
     GradChunks used;
     const std::vector<float> got = device_grad(in, groups, used);
     ASSERT_EQ(used.chunks, expect_chunks);
-    if (groups == 7) EXPECT_NE(20000u % used.chunk, 0u) << "the chunk should not divide the batch";
+    if (groups == 7) {
+      EXPECT_NE(20000u % used.chunk, 0u) << "the chunk should not divide the batch";
+    }
     EXPECT_EQ(got, replay(in, used)) << "the device sums in the documented order";
     // Float sums of 19990 products of O(1) values in chunks: rounding is far below 1e-6 of the sum
     // of |terms| (one chunk of 128 samples lost or doubled is about 1e-2 of it).
