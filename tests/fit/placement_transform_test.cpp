@@ -10,21 +10,12 @@
 #include <cmath>
 
 #include "host/util/bounds.h"
+#include "tests/common/range_error.h"
 
 namespace lorgnette::fit {
 namespace {
 
-#define EXPECT_HAS(text, part) EXPECT_NE(std::string(text).find(part), std::string::npos) << (text)
-
-template <class F>
-std::string range_error(F&& f) {
-  try {
-    f();
-  } catch (const OutOfRange& e) {
-    return e.what();
-  }
-  return "";
-}
+using lorgnette::testing::range_error;
 
 TEST(PlacementTransform, HandPlacementsAreFiniteAndInRange) {
   const float nan = std::numeric_limits<float>::quiet_NaN();

@@ -12,21 +12,12 @@
 
 #include "host/nerf/model.h"
 #include "host/util/bounds.h"
+#include "tests/common/range_error.h"
 
 namespace lorgnette::nerf {
 namespace {
 
-#define EXPECT_HAS(text, part) EXPECT_NE(std::string(text).find(part), std::string::npos) << (text)
-
-template <class F>
-std::string range_error(F&& f) {
-  try {
-    f();
-  } catch (const OutOfRange& e) {
-    return e.what();
-  }
-  return "";
-}
+using lorgnette::testing::range_error;
 
 TEST(TrainSettings, OutOfRangeNumbersAreRefusedNamingFlagAndArgument) {
   TrainSettings s;

@@ -15,21 +15,12 @@
 #include "host/render/render_job.h"
 #include "host/render/renderer.h"
 #include "host/util/bounds.h"
+#include "tests/common/range_error.h"
 
 namespace lorgnette::render {
 namespace {
 
-#define EXPECT_HAS(text, part) EXPECT_NE(std::string(text).find(part), std::string::npos) << (text)
-
-template <class F>
-std::string range_error(F&& f) {
-  try {
-    f();
-  } catch (const OutOfRange& e) {
-    return e.what();
-  }
-  return "";
-}
+using lorgnette::testing::range_error;
 
 TEST(RenderSettings, NumbersOutsideTheirRangeAreRefusedNamingFlagAndArgument) {
   const float nan = std::numeric_limits<float>::quiet_NaN();
