@@ -139,13 +139,14 @@ nerf::Snapshot host_snapshot() {
   return s;
 }
 
-// A snapshot with its header replaced by `edit(header)`.
+// A snapshot with its header replaced by `edit(header)`, sealed with the edited header's checksum
+// (so only the edit, not the checksum, decides whether it reads).
 std::string with_header(const std::string& file, const std::function<void(nlohmann::json&)>& edit) {
   uint64_t hlen = 0;
   std::memcpy(&hlen, file.data() + 8, 8);
   nlohmann::json header = nlohmann::json::parse(file.substr(16, hlen));
   edit(header);
-  std::string text = header.dump();
+  std::string text = nerf::seal_header(header.dump());
   uint64_t new_len = text.size();
   return file.substr(0, 8) + std::string(reinterpret_cast<const char*>(&new_len), 8) + text +
          file.substr(16 + hlen);
