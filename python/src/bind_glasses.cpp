@@ -8,6 +8,7 @@
 
 #include "fit/placement_json.h"
 #include "fit/placement_transform.h"
+#include "host/util/bounds.h"
 #include "mesh/gltf_writer.h"
 #include "mesh/parametric.h"
 #include "python/src/bindings.h"
@@ -95,7 +96,7 @@ Eigen::Matrix4d placement_matrix(const pyb::handle& obj, const std::string& what
   try {
     fit::check_transform(m, what);
   } catch (const std::invalid_argument& e) {
-    throw pyb::value_error(e.what());
+    throw OutOfRange(e.what());  // lorgnette.RangeError: a lorgnette.Error and a ValueError
   }
   return m;
 }

@@ -2,6 +2,7 @@
 // synthetic dataset (the procedural head, `lorgnette synth`) every job test trains on.
 #pragma once
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <chrono>
 #include <cstdlib>
@@ -62,16 +63,17 @@ inline int run_cli(const std::vector<std::string>& args, const fs::path& log) {
 }
 
 // The procedural head at 64x64 from 8 views with alpha (the job tests' capture stage result), made
-// once per test binary under the test folder.
+// once per test process under the test folder, in a folder of its own: ctest runs the tests of one
+// binary as parallel processes, which must not replace each other's dataset.
 inline fs::path tiny_dataset() {
   static const fs::path dir = [] {
-    fs::path d = fs::path(LORGNETTE_TEST_TMP) / "service" / "tiny-dataset";
+    fs::path d = fs::path(LORGNETTE_TEST_TMP) / "service" / ("tiny-dataset-" + std::to_string(::getpid()));
     fs::remove_all(d);
     fs::create_directories(d.parent_path());
     const int status = run_cli({"-q", "synth", "--procedural", "--views", "8", "--size", "64x64", "--samples",
                                 "1", "-o", d.string()},
-                               d.parent_path() / "tiny-dataset.log");
-    if (status != 0) throw std::runtime_error("synth failed; see tiny-dataset.log");
+                               d.string() + ".log");
+    if (status != 0) throw std::runtime_error("synth failed; see " + d.string() + ".log");
     return d;
   }();
   return dir;

@@ -119,7 +119,7 @@ async function touchGestures(browser, url, check) {
     await wait(() => window.lgnViewer.saved.length >= 1);
     const saved = path.join(work, "catalogue", "b-rect.glb.placement.json");
     const written = fs.existsSync(saved) && JSON.parse(fs.readFileSync(saved, "utf8"));
-    check(written && written.viewer && written.viewer.nudge.up_mm === 2, "saving writes a placement with the nudge");
+    check(written && written.nudge && written.nudge.up_mm === 2, "saving writes a placement with the nudge");
 
     // Frame 0 has a placement file already: saving over it asks first and keeps a backup.
     await page.click('.thumb[data-index="0"]');
