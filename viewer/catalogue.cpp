@@ -102,7 +102,7 @@ SaveResult save_placement(const std::string& path, const fit::PlacementFile& p, 
   }
   fit::PlacementFile out = p;
   out.transform = p.transform * nudge_matrix(nudge);
-  // The record covers every nudge in the transform: an earlier session's and this one's.
+  // The record covers every nudge in the transform: those of earlier saves and this one.
   out.has_nudge = p.has_nudge || !nudge.zero();
   out.nudge = p.has_nudge ? fit::combined_nudge(p.nudge, nudge) : nudge;
   try {

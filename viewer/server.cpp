@@ -56,7 +56,7 @@ bool is_loopback_host(const std::string& host) {
 struct Server::Impl {
   ViewerService& service;
   ServerOptions options;
-  // Declared before the io_context: sessions its destructor destroys still count down here.
+  // Declared before the io_context: connections its destructor closes still count down here.
   std::atomic<size_t> sockets{0};
   AddressLimit per_address{options.max_per_address};
   net::io_context ioc{1};

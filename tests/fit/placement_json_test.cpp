@@ -290,7 +290,7 @@ TEST(PlacementJson, NudgeRoundTripAndTheEarlierViewerObject) {
   EXPECT_TRUE(r.has_nudge);
   EXPECT_EQ(r.nudge.up_mm, 2.0);
   EXPECT_FALSE(placement_from_json(to_json(PlacementFile{})).has_nudge);
-  // Two sessions' nudges recorded as one.
+  // Two saves' nudges recorded as one.
   PlacementNudge a{1.0, 2.0, 10.0}, b{-3.0, 0.5, -4.0};
   EXPECT_NEAR((nudge_matrix(combined_nudge(a, b)) - nudge_matrix(a) * nudge_matrix(b)).norm(), 0.0, 1e-12);
 }

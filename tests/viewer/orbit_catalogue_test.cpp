@@ -159,7 +159,7 @@ TEST(ViewerCatalogue, SavingRefusesToReplaceWithoutConfirmationAndKeepsABackup) 
   nlohmann::json j = nlohmann::json::parse(in);
   EXPECT_FALSE(j.contains("viewer"));
   EXPECT_EQ(j["nudge"]["up_mm"], 1.0);
-  // A second session's nudge on the saved file: the record sums both (here: 1 + 0.5 mm up).
+  // A second nudge saved onto the saved file: the record sums both (here: 1 + 0.5 mm up).
   ASSERT_TRUE(save_placement(path, back, {0.5, 0, 0}, true).ok);
   EXPECT_NEAR(fit::read_placement(path).nudge.up_mm, 1.5, 1e-12);
   EXPECT_NEAR(fit::read_placement(path).transform(1, 3), 1.5, 1e-9);
