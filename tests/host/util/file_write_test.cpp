@@ -11,6 +11,7 @@
 
 #include "host/util/image_io.h"
 #include "tests/common/scoped_tmpfs.h"
+#include "tests/common/text_and_errors.h"
 
 namespace lorgnette {
 namespace {
@@ -27,21 +28,8 @@ fs::path fresh(const std::string& name) {
 // A mount point for ScopedTmpfs (which clears it itself).
 fs::path mount_dir(const std::string& name) { return fs::path(LORGNETTE_TEST_TMP) / "file_write" / name; }
 
-std::string read(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
-std::string error_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const std::exception& e) {
-    return e.what();
-  }
-  return "";
-}
+using lorgnette::testing::error_of;
+using lorgnette::testing::read;
 
 // Every file in `dir` other than the tmpfs filler and `keep`.
 std::vector<std::string> others(const fs::path& dir, const std::string& keep = "") {

@@ -9,6 +9,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "tests/common/text_and_errors.h"
+
 namespace lorgnette {
 namespace {
 namespace fs = std::filesystem;
@@ -22,21 +24,8 @@ fs::path fresh(const std::string& name) {
   return p;
 }
 
-std::string read(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
-std::string error_of(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const std::exception& e) {
-    return e.what();
-  }
-  return "";
-}
+using lorgnette::testing::error_of;
+using lorgnette::testing::read;
 
 // Names in `dir` that are not `keep`: staging or moved-aside folders left behind.
 std::vector<std::string> leftovers(const fs::path& dir, const std::string& keep) {
