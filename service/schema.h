@@ -14,6 +14,11 @@ struct Migration {
 };
 
 const std::vector<Migration>& migrations();
+
+// The captures table's columns in the order every store reads and writes them.
+inline constexpr const char* kCaptureColumns =
+    "id, token_hash, state, stage, message, percent, attempts, upload_kind, created_unix, updated_unix, "
+    "queued_unix";
 inline int latest_schema_version() { return migrations().back().version; }
 
 }  // namespace lorgnette::service

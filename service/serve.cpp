@@ -9,7 +9,7 @@
 
 #include "host/util/image_io.h"
 #include "host/util/interrupt.h"
-#include "service/sqlite_store.h"
+#include "service/store_selection.h"
 
 namespace fs = std::filesystem;
 
@@ -39,15 +39,15 @@ void run_serve(ServeOptions o) {
   if (o.db.empty()) o.db = (fs::path(o.data_dir) / "jobs.sqlite").string();
   o.local.data_dir = o.api.data_dir = o.data_dir;
   o.api.job.validate();
-  auto store = open_sqlite_store(o.db);
+  auto store = open_job_store(o.db);
   LocalExecutor executor(*store, o.local);
   executor.reconcile();
   Api api(o.api, *store, executor);
   HttpServer http(api, o.http);
   http.start();
   if (!o.port_file.empty()) write_text_file_atomic(o.port_file, std::to_string(http.port()) + "\n");
-  spdlog::info("serving the try-on API on http://{}:{}/api/v1 (data '{}', store '{}', {} worker slot(s))",
-               o.http.host, http.port(), o.data_dir, o.db, o.local.slots);
+  spdlog::info("serving the try-on API on http://{}:{}/api/v1 (data '{}', store {}, {} worker slot(s))",
+               o.http.host, http.port(), o.data_dir, describe_job_store(o.db), o.local.slots);
   auto last_sweep = std::chrono::steady_clock::time_point{};
   while (!interrupted()) {
     executor.tick();

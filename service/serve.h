@@ -15,7 +15,7 @@ namespace lorgnette::service {
 
 struct ServeOptions {
   std::string data_dir;
-  std::string db;  // SQLite file; "" = <data>/jobs.sqlite
+  std::string db;  // SQLite file or PostgreSQL connection string (store_selection.h); "" = <data>/jobs.sqlite
   std::string executor = "local";
   HttpOptions http;
   LocalExecutorOptions local;  // its data_dir is set from data_dir

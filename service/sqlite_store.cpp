@@ -21,10 +21,6 @@ struct StmtFinalize {
 using Db = std::unique_ptr<sqlite3, DbClose>;
 using Stmt = std::unique_ptr<sqlite3_stmt, StmtFinalize>;
 
-constexpr const char* kColumns =
-    "id, token_hash, state, stage, message, percent, attempts, upload_kind, created_unix, updated_unix, "
-    "queued_unix";
-
 class SqliteStore final : public JobStore {
  public:
   explicit SqliteStore(const std::string& path);
@@ -46,6 +42,7 @@ class SqliteStore final : public JobStore {
   Stmt prepare(const std::string& sql);
   int version_unlocked();
   void migrate();
+  bool migrate_one_step();
   std::vector<CaptureRecord> rows(Stmt& st);
   void bind_record(sqlite3_stmt* st, const CaptureRecord& r);
 
@@ -96,24 +93,38 @@ int SqliteStore::version_unlocked() {
   return sqlite3_column_int(st.get(), 0);
 }
 
-void SqliteStore::migrate() {
-  const int have = version_unlocked();
-  if (have > latest_schema_version())
-    throw std::runtime_error(fmt::format(
-        "job store '{}' has schema version {}, newer than this Lorgnette's {}: run the newer Lorgnette, or "
-        "point --db at another file",
-        path_, have, latest_schema_version()));
-  for (const Migration& m : migrations()) {
-    if (m.version <= have) continue;
-    exec("BEGIN IMMEDIATE");
-    try {
-      for (const auto& sql : m.statements) exec(sql);
-      exec(fmt::format("INSERT INTO schema_migrations VALUES ({}, {})", m.version, unix_now()));
-      exec("COMMIT");
-    } catch (...) {
-      sqlite3_exec(db_.get(), "ROLLBACK", nullptr, nullptr, nullptr);
-      throw;
+// Applies the next missing migration in one write transaction; returns false when none is missing.
+// The version is read inside the transaction, so a second process opening the same new file at
+// the same moment waits for the write lock, then finds the migration recorded.
+bool SqliteStore::migrate_one_step() {
+  exec("BEGIN IMMEDIATE");
+  try {
+    const int have = version_unlocked();
+    if (have > latest_schema_version())
+      throw std::runtime_error(fmt::format(
+          "job store '{}' has schema version {}, newer than this Lorgnette's {}: run the newer Lorgnette, or "
+          "point --db at another file",
+          path_, have, latest_schema_version()));
+    const Migration* next = nullptr;
+    for (const Migration& m : migrations())
+      if (m.version > have) {
+        next = &m;
+        break;
+      }
+    if (next) {
+      for (const auto& sql : next->statements) exec(sql);
+      exec(fmt::format("INSERT INTO schema_migrations VALUES ({}, {})", next->version, unix_now()));
     }
+    exec("COMMIT");
+    return next != nullptr;
+  } catch (...) {
+    sqlite3_exec(db_.get(), "ROLLBACK", nullptr, nullptr, nullptr);
+    throw;
+  }
+}
+
+void SqliteStore::migrate() {
+  while (migrate_one_step()) {
   }
 }
 
@@ -158,14 +169,14 @@ std::vector<CaptureRecord> SqliteStore::rows(Stmt& st) {
 
 void SqliteStore::insert(const CaptureRecord& r) {
   std::lock_guard<std::mutex> lock(mutex_);
-  Stmt st = prepare(fmt::format("INSERT INTO captures ({}) VALUES (?,?,?,?,?,?,?,?,?,?,?)", kColumns));
+  Stmt st = prepare(fmt::format("INSERT INTO captures ({}) VALUES (?,?,?,?,?,?,?,?,?,?,?)", kCaptureColumns));
   bind_record(st.get(), r);
   if (sqlite3_step(st.get()) != SQLITE_DONE) fail("cannot insert capture " + r.id);
 }
 
 std::optional<CaptureRecord> SqliteStore::get(const std::string& id) {
   std::lock_guard<std::mutex> lock(mutex_);
-  Stmt st = prepare(fmt::format("SELECT {} FROM captures WHERE id = ?", kColumns));
+  Stmt st = prepare(fmt::format("SELECT {} FROM captures WHERE id = ?", kCaptureColumns));
   sqlite3_bind_text(st.get(), 1, id.c_str(), -1, SQLITE_TRANSIENT);
   auto r = rows(st);
   if (r.empty()) return std::nullopt;
@@ -196,7 +207,7 @@ bool SqliteStore::remove(const std::string& id) {
 std::vector<CaptureRecord> SqliteStore::with_state(JobState s) {
   std::lock_guard<std::mutex> lock(mutex_);
   Stmt st = prepare(fmt::format(
-      "SELECT {} FROM captures WHERE state = ? ORDER BY queued_unix, created_unix, id", kColumns));
+      "SELECT {} FROM captures WHERE state = ? ORDER BY queued_unix, created_unix, id", kCaptureColumns));
   sqlite3_bind_text(st.get(), 1, to_string(s), -1, SQLITE_STATIC);
   return rows(st);
 }
@@ -228,7 +239,7 @@ std::optional<CaptureRecord> SqliteStore::claim_next() {
   try {
     Stmt st = prepare(fmt::format(
         "SELECT {} FROM captures WHERE state = 'queued' ORDER BY queued_unix, created_unix, id LIMIT 1",
-        kColumns));
+        kCaptureColumns));
     auto r = rows(st);
     if (!r.empty()) {
       Stmt up = prepare(

@@ -18,8 +18,9 @@ PACKAGES=(
   libgtest-dev libgmock-dev libbenchmark-dev
   # the browser viewer (`lorgnette view`): Beast/Asio headers, JPEG frames; Chromium + node/npm for its e2e test
   libboost-dev libturbojpeg0-dev chromium nodejs
-  # the try-on service (`lorgnette serve`): its job store (SQLite; libpq-dev for PostgreSQL), token hashing
-  libsqlite3-dev libpq-dev libssl-dev
+  # the try-on service (`lorgnette serve`): its job store (SQLite; libpq-dev for PostgreSQL, and the
+  # postgresql server its tests start in a temporary folder), token hashing
+  libsqlite3-dev libpq-dev postgresql libssl-dev
   # the Python bindings (python/) and their tests
   pybind11-dev python3-dev python3-numpy python3-pytest
   # the .deb (dpkg-shlibdeps), the parser fuzzers (clang's libFuzzer) and the format check

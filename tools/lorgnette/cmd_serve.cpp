@@ -49,7 +49,9 @@ void add_serve(CLI::App& app, GlobalOptions& global) {
       ->required();
   cmd->add_option("--catalogue", o.api.job.catalogue,
                   "folder of the shop's frames, fitted on every finished head");
-  cmd->add_option("--db", o.db, "SQLite job store (default: DATA/jobs.sqlite)");
+  cmd->add_option("--db", o.db,
+                  "job store: a SQLite file (default: DATA/jobs.sqlite) or a PostgreSQL connection string "
+                  "(postgresql://user@host/db, or 'host=... dbname=...')");
   cmd->add_option("--executor", o.executor, "where jobs run: local (worker processes on this machine)")
       ->capture_default_str();
   cmd->add_option("--workers", o.local.slots, "local worker slots (one per GPU, or one on a CPU)")

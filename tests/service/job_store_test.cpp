@@ -1,0 +1,256 @@
+// The job store's contract, the same tests on a real SQLite file and a real PostgreSQL server
+// (started by the test, postgres_server.h): the schema is migrated once and recorded (also when two
+// servers open a new database at once), rows round-trip every field, the queue hands out the oldest
+// job once (attempts counted), two connections claiming at once take every job exactly once,
+// counts and retention queries see what was written, a database from a newer Lorgnette is refused,
+// and an unreachable database is named in the error (a PostgreSQL password never is).
+#include <gtest/gtest.h>
+#include <libpq-fe.h>
+#include <sqlite3.h>
+
+#include <atomic>
+#include <set>
+#include <thread>
+
+#include "postgres_server.h"
+#include "service/postgres_store.h"
+#include "service/schema.h"
+#include "service/sqlite_store.h"
+#include "service/store_selection.h"
+#include "service_test_util.h"
+
+using namespace lorgnette::service;
+using namespace lorgnette::service::test;
+
+namespace {
+
+struct SqliteBackend {
+  fs::path file = test_dir("service_store_sqlite") / "jobs.sqlite";
+  bool available() const { return true; }
+  std::string why() const { return ""; }
+  std::string db() const { return file.string(); }
+  void exec_raw(const std::string& sql) const {
+    sqlite3* raw = nullptr;
+    ASSERT_EQ(sqlite3_open(file.c_str(), &raw), SQLITE_OK);
+    EXPECT_EQ(sqlite3_exec(raw, sql.c_str(), nullptr, nullptr, nullptr), SQLITE_OK) << sqlite3_errmsg(raw);
+    sqlite3_close(raw);
+  }
+  // A location that cannot be opened, and the part of it the error must name.
+  std::pair<std::string, std::string> unreachable() const {
+    return {"/nonexistent-folder/jobs.sqlite", "/nonexistent-folder/jobs.sqlite"};
+  }
+};
+
+struct PostgresBackend {
+  ScopedPostgres server;
+  bool available() const { return server.running(); }
+  std::string why() const { return server.why(); }
+  std::string db() const { return server.conninfo(); }
+  void exec_raw(const std::string& sql) const {
+    PGconn* c = PQconnectdb(db().c_str());
+    ASSERT_EQ(PQstatus(c), CONNECTION_OK) << PQerrorMessage(c);
+    PGresult* r = PQexec(c, sql.c_str());
+    EXPECT_EQ(PQresultStatus(r), PGRES_COMMAND_OK) << PQerrorMessage(c);
+    PQclear(r);
+    PQfinish(c);
+  }
+  std::pair<std::string, std::string> unreachable() const {
+    return {"postgresql://shop:not-to-be-shown@/jobs?host=/nonexistent-folder", "/nonexistent-folder"};
+  }
+};
+
+template <class Backend>
+class JobStoreTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    if (!backend.available()) GTEST_SKIP() << backend.why();
+  }
+  std::unique_ptr<JobStore> open() { return open_job_store(backend.db()); }
+  Backend backend;
+};
+
+struct BackendNames {
+  template <class T>
+  static std::string GetName(int) {
+    return std::is_same_v<T, SqliteBackend> ? "SQLite" : "PostgreSQL";
+  }
+};
+using Backends = ::testing::Types<SqliteBackend, PostgresBackend>;
+TYPED_TEST_SUITE(JobStoreTest, Backends, BackendNames);
+
+CaptureRecord record(const std::string& id, JobState state, int64_t created, int64_t queued = 0) {
+  CaptureRecord r;
+  r.id = id;
+  r.token_hash = "hash-of-" + id;
+  r.state = state;
+  r.created_unix = created;
+  r.queued_unix = queued;
+  return r;
+}
+
+}  // namespace
+
+TYPED_TEST(JobStoreTest, MigratesOnceAndRoundTripsEveryField) {
+  {
+    auto store = this->open();
+    EXPECT_EQ(store->schema_version(), latest_schema_version());
+    CaptureRecord r = record("abc", JobState::Running, 1000, 1001);
+    // Quotes, a semicolon and non-ASCII text: values are parameters, never spliced into SQL.
+    r.stage = "train", r.message = "it's the head's model; 'quoted' \xC3\xA9t\xC3\xA9", r.percent = 1.0 / 3.0;
+    r.attempts = 2, r.upload_kind = "video";
+    store->insert(r);
+    EXPECT_THROW(store->insert(r), std::runtime_error);  // ids are unique
+  }
+  auto store = this->open();  // reopened: no migration runs twice
+  EXPECT_EQ(store->schema_version(), latest_schema_version());
+  auto got = store->get("abc");
+  ASSERT_TRUE(got);
+  EXPECT_EQ(got->token_hash, "hash-of-abc");
+  EXPECT_EQ(got->state, JobState::Running);
+  EXPECT_EQ(got->stage, "train");
+  EXPECT_EQ(got->message, "it's the head's model; 'quoted' \xC3\xA9t\xC3\xA9");
+  EXPECT_EQ(got->percent, 1.0 / 3.0);  // exactly: the double round-trips
+  EXPECT_EQ(got->attempts, 2);
+  EXPECT_EQ(got->upload_kind, "video");
+  EXPECT_EQ(got->created_unix, 1000);
+  EXPECT_EQ(got->queued_unix, 1001);
+  EXPECT_FALSE(store->get("abd"));
+}
+
+TYPED_TEST(JobStoreTest, TwoServersOpeningANewDatabaseAtOnceMigrateItOnce) {
+  std::vector<std::unique_ptr<JobStore>> stores(2);
+  std::vector<std::string> errors(2);
+  std::vector<std::thread> threads;
+  for (int i = 0; i < 2; ++i)
+    threads.emplace_back([&, i] {
+      try {
+        stores[i] = this->open();
+      } catch (const std::exception& e) {
+        errors[i] = e.what();
+      }
+    });
+  for (auto& t : threads) t.join();
+  for (int i = 0; i < 2; ++i) {
+    ASSERT_TRUE(stores[i]) << errors[i];
+    EXPECT_EQ(stores[i]->schema_version(), latest_schema_version());
+  }
+  stores[0]->insert(record("one", JobState::Created, 1));
+  EXPECT_TRUE(stores[1]->get("one"));  // one database, one table
+}
+
+TYPED_TEST(JobStoreTest, ClaimsTheOldestQueuedJobOnceAndCountsAttempts) {
+  auto store = this->open();
+  store->insert(record("late", JobState::Queued, 10, 300));
+  store->insert(record("early", JobState::Queued, 20, 200));
+  store->insert(record("new", JobState::Created, 30));
+  auto first = store->claim_next();
+  ASSERT_TRUE(first);
+  EXPECT_EQ(first->id, "early");
+  EXPECT_EQ(first->state, JobState::Running);
+  EXPECT_EQ(first->attempts, 1);
+  EXPECT_EQ(store->get("early")->attempts, 1);
+  EXPECT_EQ(store->get("early")->state, JobState::Running);
+  EXPECT_EQ(store->claim_next()->id, "late");
+  EXPECT_FALSE(store->claim_next());  // "new" was never queued
+  auto counts = store->count_by_state();
+  EXPECT_EQ(counts[JobState::Running], 2);
+  EXPECT_EQ(counts[JobState::Created], 1);
+  EXPECT_EQ(counts[JobState::Queued], 0);
+  EXPECT_EQ(counts[JobState::Finished], 0);
+  EXPECT_EQ(store->with_state(JobState::Running).size(), 2u);
+}
+
+TYPED_TEST(JobStoreTest, TwoConnectionsClaimingAtOnceTakeEveryJobExactlyOnce) {
+  constexpr int kJobs = 200;
+  auto a = this->open(), b = this->open();
+  for (int i = 0; i < kJobs; ++i) a->insert(record("job" + std::to_string(i), JobState::Queued, i, 100 + i));
+  std::vector<std::string> claimed[2];
+  std::atomic<int> ready{0};
+  auto claim_all = [&](JobStore& store, std::vector<std::string>& out) {
+    ++ready;
+    while (ready < 2) {
+    }
+    while (auto r = store.claim_next()) out.push_back(r->id);
+  };
+  std::thread ta(claim_all, std::ref(*a), std::ref(claimed[0]));
+  std::thread tb(claim_all, std::ref(*b), std::ref(claimed[1]));
+  ta.join(), tb.join();
+  std::multiset<std::string> all(claimed[0].begin(), claimed[0].end());
+  all.insert(claimed[1].begin(), claimed[1].end());
+  EXPECT_EQ(all.size(), size_t(kJobs));
+  EXPECT_EQ(std::set<std::string>(all.begin(), all.end()).size(), size_t(kJobs));  // none twice
+  for (const CaptureRecord& r : a->with_state(JobState::Running)) EXPECT_EQ(r.attempts, 1) << r.id;
+  EXPECT_EQ(a->count_by_state()[JobState::Running], kJobs);
+  this->RecordProperty("claimed_by_first", int(claimed[0].size()));
+  this->RecordProperty("claimed_by_second", int(claimed[1].size()));
+}
+
+TYPED_TEST(JobStoreTest, UpdatesRemovesAndFindsCapturesPastRetention) {
+  auto store = this->open();
+  store->insert(record("old", JobState::Finished, 100));
+  store->insert(record("young", JobState::Finished, 500));
+  EXPECT_EQ(store->created_before(200), std::vector<std::string>{"old"});
+  EXPECT_EQ(store->created_before(501), (std::vector<std::string>{"old", "young"}));
+  CaptureRecord r = *store->get("young");
+  r.state = JobState::Failed;
+  r.message = "film from ear to ear";
+  EXPECT_TRUE(store->update(r));
+  EXPECT_EQ(store->get("young")->message, "film from ear to ear");
+  EXPECT_EQ(store->get("young")->state, JobState::Failed);
+  EXPECT_GT(store->get("young")->updated_unix, 0);
+  EXPECT_TRUE(store->remove("old"));
+  EXPECT_FALSE(store->remove("old"));
+  EXPECT_FALSE(store->get("old"));
+  EXPECT_FALSE(store->update(record("gone", JobState::Queued, 1)));
+}
+
+TYPED_TEST(JobStoreTest, RefusesADatabaseFromANewerLorgnette) {
+  this->open();
+  this->backend.exec_raw("INSERT INTO schema_migrations VALUES (" +
+                         std::to_string(latest_schema_version() + 1) + ", 0)");
+  try {
+    this->open();
+    FAIL() << "expected a refusal";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("newer than this Lorgnette"), std::string::npos) << e.what();
+  }
+}
+
+TYPED_TEST(JobStoreTest, AnUnreachableDatabaseIsNamedButNeverItsPassword) {
+  const auto [db, named] = this->backend.unreachable();
+  try {
+    open_job_store(db);
+    FAIL() << "expected an error";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find(named), std::string::npos) << e.what();
+    EXPECT_EQ(std::string(e.what()).find("not-to-be-shown"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(describe_job_store(db).find("not-to-be-shown"), std::string::npos) << describe_job_store(db);
+}
+
+TEST(SqliteStore, UsesWriteAheadLogging) {
+  const fs::path db = test_dir("service_store_sqlite") / "jobs.sqlite";
+  open_sqlite_store(db.string());
+  // WAL mode, as the header promises (readers never wait for the writer).
+  sqlite3* raw = nullptr;
+  ASSERT_EQ(sqlite3_open(db.c_str(), &raw), SQLITE_OK);
+  sqlite3_stmt* st = nullptr;
+  sqlite3_prepare_v2(raw, "PRAGMA journal_mode", -1, &st, nullptr);
+  ASSERT_EQ(sqlite3_step(st), SQLITE_ROW);
+  EXPECT_STREQ(reinterpret_cast<const char*>(sqlite3_column_text(st, 0)), "wal");
+  sqlite3_finalize(st);
+  sqlite3_close(raw);
+}
+
+TEST(StoreSelection, ConnectionStringsOpenPostgresAndPathsSqlite) {
+  EXPECT_TRUE(is_postgres_conninfo("postgresql://shop@db.internal/lorgnette"));
+  EXPECT_TRUE(is_postgres_conninfo("postgres://shop@db.internal/lorgnette"));
+  EXPECT_TRUE(is_postgres_conninfo("host=/run/postgresql dbname=lorgnette"));
+  EXPECT_TRUE(is_postgres_conninfo(" dbname = lorgnette"));
+  EXPECT_FALSE(is_postgres_conninfo("/srv/lorgnette/jobs.sqlite"));
+  EXPECT_FALSE(is_postgres_conninfo("jobs.sqlite"));
+  EXPECT_FALSE(is_postgres_conninfo("./a=b.sqlite"));
+  const std::string d = describe_job_store("postgresql://shop:s3cret@db.internal:5433/lorgnette");
+  EXPECT_EQ(d, "postgresql database 'lorgnette' on 'db.internal:5433' as 'shop'");
+  EXPECT_EQ(describe_job_store("host=/tmp password=s3cret dbname=x").find("s3cret"), std::string::npos);
+}
