@@ -42,12 +42,16 @@ class BodySource {
   virtual ~BodySource() = default;
   // Throws BodyTooLarge past `limit` bytes.
   virtual std::string read_all(uint64_t limit) = 0;
-  // Streams the body into `path` (created); returns its size. Throws BodyTooLarge past `limit`
-  // (the caller removes the file).
+  // Streams the body into `path` (created); returns its size. Throws BodyTooLarge past `limit`,
+  // InsufficientStorage when the disk fills (the caller removes the file either way).
   virtual uint64_t read_to_file(const std::filesystem::path& path, uint64_t limit) = 0;
 };
 
 struct BodyTooLarge : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+// The disk (or the user's quota) filled while a body was written to a file.
+struct InsufficientStorage : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 

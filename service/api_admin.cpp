@@ -1,6 +1,7 @@
 // The admin endpoints (api.h): the queue as JSON and /metrics in Prometheus' text format
 // (https://prometheus.io/docs/instrumenting/exposition_formats/): jobs by state, queue length,
-// busy worker slots, responses by status and refused uploads by reason.
+// busy worker slots, stage seconds and failures by cause (job_metrics.h), responses by status and
+// refused uploads by reason.
 #include <fmt/format.h>
 
 #include <nlohmann/json.hpp>
@@ -33,6 +34,7 @@ ApiResponse Api::metrics() {
   out += fmt::format("lorgnette_queue_length {}\n", counts.at(JobState::Queued));
   out += "# HELP lorgnette_workers_busy Worker slots running a job.\n# TYPE lorgnette_workers_busy gauge\n";
   out += fmt::format("lorgnette_workers_busy {}\n", executor_.running());
+  out += executor_.metrics().prometheus_text();
   std::lock_guard<std::mutex> lock(metrics_mutex_);
   out += "# HELP lorgnette_http_responses_total API responses by status.\n";
   out += "# TYPE lorgnette_http_responses_total counter\n";

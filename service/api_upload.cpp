@@ -1,7 +1,9 @@
 // Uploads (api.h): the body is streamed into a temporary file in the capture's upload folder with
 // the size limit enforced while it arrives, then judged by its first bytes, and only then renamed
-// to its final name; a refused, oversized, empty or broken upload leaves nothing behind.
+// to its final name; a refused, oversized, empty or broken upload, or one stopped by a full disk,
+// leaves nothing behind.
 #include <fmt/format.h>
+#include <spdlog/spdlog.h>
 
 #include <nlohmann/json.hpp>
 
@@ -60,6 +62,11 @@ ApiResponse Api::upload(const CaptureRecord& rec, BodySource& body, std::optiona
     size = body.read_to_file(tmp.path, options_.max_upload_bytes);
   } catch (const BodyTooLarge&) {
     throw reject(413, "too_large", too_large);
+  } catch (const InsufficientStorage& e) {
+    spdlog::error("capture {}: an upload stopped at a full disk ({}): free space under {}", rec.id, e.what(),
+                  options_.data_dir);
+    throw reject(507, "insufficient_storage",
+                 "the server has no room for this upload right now: try again later (the operator is told)");
   }
   if (size == 0)
     throw reject(400, "empty_upload", "the upload is empty: send the video's or photo's bytes as the body");

@@ -46,6 +46,7 @@ class BeastBody final : public BodySource {
     p.body_limit(limit);
     beast::error_code ec;
     p.get().body().open(path.c_str(), beast::file_mode::write_new, ec);
+    if (disk_full(ec)) throw InsufficientStorage(ec.message());
     if (ec) throw std::runtime_error("cannot write the upload: " + ec.message());
     read(p);
     p.get().body().file().close(ec);
@@ -55,9 +56,14 @@ class BeastBody final : public BodySource {
   bool consumed() const { return consumed_; }
 
  private:
+  static bool disk_full(const beast::error_code& ec) {
+    return ec == std::errc::no_space_on_device || ec == std::errc::file_too_large ||
+           ec == std::error_code(EDQUOT, std::system_category());
+  }
+  // consumed_ is set only when the whole body was read: after a refusal or an error mid-body the
+  // rest of it is still on the wire, so the connection must close rather than read it as a request.
   template <class Parser>
   void read(Parser& p) {
-    consumed_ = true;
     beast::error_code ec;
     // A client that asked "Expect: 100-continue" (curl does for uploads) waits for this first.
     if (beast::iequals(p.get()[http::field::expect], "100-continue")) {
@@ -66,7 +72,9 @@ class BeastBody final : public BodySource {
     }
     http::read(socket_, buffer_, p, ec);
     if (ec == http::error::body_limit) throw BodyTooLarge("body over the limit");
+    if (disk_full(ec)) throw InsufficientStorage(ec.message());
     if (ec) throw std::runtime_error("the request body could not be read: " + ec.message());
+    consumed_ = true;
   }
   tcp::socket& socket_;
   beast::flat_buffer& buffer_;

@@ -54,15 +54,27 @@ void LocalExecutor::refresh(CaptureRecord& r) const {
   }
 }
 
-void LocalExecutor::finish(const std::string& id, const ChildEnd& end) {
-  auto rec = store_.get(id);
+// Records the stage that ended when a worker moved on from it (or finished the job with it).
+void LocalExecutor::follow_stage(Worker& w, const std::string& stage, bool job_finished) {
+  const auto now = std::chrono::steady_clock::now();
+  if (!w.stage.empty() && (stage != w.stage || job_finished))
+    metrics_.observe_stage(w.stage, std::chrono::duration<double>(now - w.stage_since).count());
+  if (stage != w.stage) w.stage = stage, w.stage_since = now;
+}
+
+void LocalExecutor::finish(Worker& w, const ChildEnd& end) {
+  auto rec = store_.get(w.id);
   if (!rec) return;  // deleted meanwhile
   CaptureRecord r = *rec;
   refresh(r);
-  if (end.exited && end.code == int(JobOutcome::Finished)) {
+  const bool finished = end.exited && end.code == int(JobOutcome::Finished);
+  follow_stage(w, r.stage, finished);
+  std::string cause;
+  if (finished) {
     r.state = JobState::Finished;
   } else if (end.exited && end.code == int(JobOutcome::Failed)) {
     r.state = JobState::Failed;  // the message is the product's, from progress.json
+    cause = "refused";
   } else if (end.exited && end.code == int(JobOutcome::Interrupted)) {
     r.state = JobState::Queued;
   } else if (!end.exited && retryable_signal(end.signal) && r.attempts < options_.max_attempts) {
@@ -72,13 +84,15 @@ void LocalExecutor::finish(const std::string& id, const ChildEnd& end) {
                     r.stage.empty() ? "its start" : r.stage, r.attempts + 1, options_.max_attempts);
   } else {
     r.state = JobState::Failed;
+    cause = end.exited ? "exit_status" : retryable_signal(end.signal) ? "killed" : "crashed";
     r.message = end.exited ? fmt::format("the worker ended with status {} during {}", end.code, r.stage)
                            : fmt::format("the worker crashed ({}) during {} after {} attempt(s)",
                                          strsignal(end.signal), r.stage, r.attempts);
   }
+  if (!cause.empty()) metrics_.count_failure(r.stage, cause);
   if (r.state == JobState::Queued) r.queued_unix = unix_now();
   store_.update(r);
-  spdlog::info("job {}: worker ended ({} {}), now {}", id, end.exited ? "status" : "signal",
+  spdlog::info("job {}: worker ended ({} {}), now {}", w.id, end.exited ? "status" : "signal",
                end.exited ? end.code : end.signal, to_string(r.state));
 }
 
@@ -86,13 +100,14 @@ void LocalExecutor::tick() {
   std::lock_guard<std::mutex> lock(mutex_);
   for (auto it = workers_.begin(); it != workers_.end();) {
     if (auto end = it->second->process.poll()) {
-      finish(it->first, *end);
+      finish(*it->second, *end);
       it = workers_.erase(it);
       continue;
     }
     if (auto rec = store_.get(it->first)) {
       CaptureRecord r = *rec;
       refresh(r);
+      follow_stage(*it->second, r.stage, false);
       if (r.stage != rec->stage || r.percent != rec->percent || r.message != rec->message) store_.update(r);
     }
     ++it;
@@ -105,12 +120,13 @@ void LocalExecutor::tick() {
     argv.insert(argv.end(), {"job", "run", folder(job->id)});
     try {
       auto w = std::make_unique<Worker>(
-          Worker{job->id, ChildProcess(argv, (fs::path(folder(job->id)) / "worker.log").string())});
+          Worker{job->id, ChildProcess(argv, (fs::path(folder(job->id)) / "worker.log").string()), "", {}});
       workers_[job->id] = std::move(w);
     } catch (const std::exception& e) {
       job->state = JobState::Failed;
       job->message = e.what();
       store_.update(*job);
+      metrics_.count_failure("", "start");
     }
   }
 }

@@ -9,6 +9,7 @@
 // After a server restart no worker of the old server is ours: reconcile() hands every job the store
 // says is running back to the queue (each stage resumes after its last finished stage).
 #pragma once
+#include <chrono>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -16,6 +17,7 @@
 #include <vector>
 
 #include "service/child_process.h"
+#include "service/job_metrics.h"
 #include "service/job_store.h"
 
 namespace lorgnette::service {
@@ -45,13 +47,21 @@ class LocalExecutor {
   void interrupt_all();
   int running() const;
   pid_t worker_pid(const std::string& id) const;  // -1 when none
+  // Stage seconds and failures by cause (job_metrics.h), measured at each tick: a stage's seconds
+  // run from the tick that first sees it in progress.json to the one that sees the next stage or
+  // the job finished, so they are exact to a tick (0.2 s in `serve`). A stage a resumed job skips
+  // (its output already there) is counted, near zero, when a tick happens to see it.
+  const JobMetrics& metrics() const { return metrics_; }
 
  private:
   struct Worker {
     std::string id;
     ChildProcess process;
+    std::string stage;  // the stage last seen in progress.json, and since when
+    std::chrono::steady_clock::time_point stage_since;
   };
-  void finish(const std::string& id, const ChildEnd& end);
+  void finish(Worker& w, const ChildEnd& end);
+  void follow_stage(Worker& w, const std::string& stage, bool job_finished);
   void refresh(CaptureRecord& r) const;  // the worker's progress.json into the record
   std::string folder(const std::string& id) const;
 
@@ -60,6 +70,7 @@ class LocalExecutor {
   mutable std::mutex mutex_;
   std::map<std::string, std::unique_ptr<Worker>> workers_;
   bool draining_ = false;
+  JobMetrics metrics_;
 };
 
 }  // namespace lorgnette::service

@@ -179,7 +179,8 @@ bool PostgresStore::update(const CaptureRecord& r) {
   CaptureRecord copy = r;
   copy.updated_unix = unix_now();
   Result res = exec(
-      "UPDATE captures SET token_hash = $2, state = $3, stage = $4, message = $5, percent = $6, attempts = $7, "
+      "UPDATE captures SET token_hash = $2, state = $3, stage = $4, message = $5, percent = $6, attempts = "
+      "$7, "
       "upload_kind = $8, created_unix = $9, updated_unix = $10, queued_unix = $11 WHERE id = $1",
       record_params(copy));
   return std::string(PQcmdTuples(res.get())) != "0";
@@ -193,10 +194,10 @@ bool PostgresStore::remove(const std::string& id) {
 
 std::vector<CaptureRecord> PostgresStore::with_state(JobState s) {
   std::lock_guard<std::mutex> lock(mutex_);
-  Result res = exec(
-      fmt::format("SELECT {} FROM captures WHERE state = $1 ORDER BY queued_unix, created_unix, id",
-                  kCaptureColumns),
-      {to_string(s)});
+  Result res =
+      exec(fmt::format("SELECT {} FROM captures WHERE state = $1 ORDER BY queued_unix, created_unix, id",
+                       kCaptureColumns),
+           {to_string(s)});
   return rows(res.get());
 }
 

@@ -11,7 +11,8 @@ namespace lorgnette::service {
 bool is_postgres_conninfo(const std::string& db) {
   // libpq's two forms: a URI with either of its schemes, or "keyword = value" pairs.
   static const std::regex keywords(R"(^\s*[A-Za-z_]+\s*=)");
-  return db.rfind("postgresql://", 0) == 0 || db.rfind("postgres://", 0) == 0 || std::regex_search(db, keywords);
+  return db.rfind("postgresql://", 0) == 0 || db.rfind("postgres://", 0) == 0 ||
+         std::regex_search(db, keywords);
 }
 
 std::unique_ptr<JobStore> open_job_store(const std::string& db) {

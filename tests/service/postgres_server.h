@@ -37,8 +37,8 @@ class ScopedPostgres {
     dir_ = tmpl;
     if (::geteuid() == 0 && ::chown(dir_.c_str(), uid_, gid_) != 0)
       throw std::runtime_error("cannot give " + dir_.string() + " to the postgres user");
-    if (run({(bin_ / "initdb").string(), "-D", (dir_ / "db").string(), "-A", "trust", "-U", "lorgnette",
-             "-E", "UTF8", "--no-sync"}) != 0)
+    if (run({(bin_ / "initdb").string(), "-D", (dir_ / "db").string(), "-A", "trust", "-U", "lorgnette", "-E",
+             "UTF8", "--no-sync"}) != 0)
       throw std::runtime_error("initdb failed: " + log());
     const std::string opts = "-c listen_addresses='' -k " + dir_.string() + " -c fsync=off";
     if (run({(bin_ / "pg_ctl").string(), "-D", (dir_ / "db").string(), "-l", (dir_ / "server.log").string(),
