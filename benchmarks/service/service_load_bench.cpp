@@ -1,0 +1,387 @@
+// The try-on service under load, on loopback: `lorgnette serve` as a real process, and N shoppers
+// (threads) who each create a capture, upload the same small synthetic head-turn video (`synth
+// --room 1` encoded by ffmpeg), start it and poll its status until it ends, processed at a short
+// shop-wide training budget. Checks that every job finishes, none is lost (all N finished in the
+// store's counts) and none is done twice (one worker start each), and writes into --out:
+//   jobs.csv      per job: upload, queue wait, capture / train / fit seconds (seen by polling every
+//                 0.25 s), total from start to end, attempts, state
+//   jobs.png      those seconds per shopper, in the order they started
+//   summary.json  the totals, jobs per hour, requests per second on the status endpoint (keep-alive
+//                 clients for --status-seconds), the server's memory (RSS) per open capture and the
+//                 workers' peak memory, and the server's own /metrics stage histograms
+// Usage: service_load_bench --out DIR [--shoppers 20] [--workers 1] [--train-steps 30] [--db ...]
+#include <fmt/format.h>
+#include <signal.h>
+
+#include <CLI/CLI.hpp>
+#include <atomic>
+#include <boost/asio.hpp>
+#include <boost/beast/core.hpp>
+#include <boost/beast/http.hpp>
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <mutex>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <sstream>
+#include <thread>
+
+#include "host/util/chart.h"
+#include "service/child_process.h"
+
+namespace fs = std::filesystem;
+namespace beast = boost::beast;
+namespace http = beast::http;
+using lorgnette::service::ChildEnd;
+using lorgnette::service::ChildProcess;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+const std::string kAdmin = "bench-admin-token-0123456789abcdef0123";
+
+struct Args {
+  std::string out, lorgnette = LGN_CLI_PATH, db, size = "256x192";
+  int shoppers = 20, workers = 1, train_steps = 30, views = 16, status_clients = 4, idle_captures = 500;
+  double status_seconds = 5.0, timeout_seconds = 3600.0;
+};
+
+// One keep-alive HTTP/1.1 connection to the server.
+class Client {
+ public:
+  explicit Client(uint16_t port) : socket_(ioc_) {
+    socket_.connect({boost::asio::ip::make_address("127.0.0.1"), port});
+  }
+  std::pair<int, std::string> request(http::verb verb, const std::string& target,
+                                      const std::string& token = "", const std::string& body = "") {
+    http::request<http::string_body> req{verb, target, 11};
+    req.set(http::field::host, "127.0.0.1");
+    if (!token.empty()) req.set(http::field::authorization, "Bearer " + token);
+    req.body() = body;
+    req.prepare_payload();
+    http::write(socket_, req);
+    http::response<http::string_body> res;
+    http::read(socket_, buffer_, res);
+    return {int(res.result_int()), res.body()};
+  }
+
+ private:
+  boost::asio::io_context ioc_;
+  boost::asio::ip::tcp::socket socket_;
+  beast::flat_buffer buffer_;
+};
+
+std::string read_text(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+void run_or_throw(const std::vector<std::string>& argv, const fs::path& log) {
+  ChildEnd e = ChildProcess(argv, log.string()).wait();
+  if (!e.exited || e.code != 0) throw std::runtime_error(argv[0] + " failed; see " + log.string());
+}
+
+// kB of resident memory of process `pid` (VmRSS), 0 when it is gone.
+double rss_kb(pid_t pid) {
+  std::istringstream in(read_text(fmt::format("/proc/{}/status", pid)));
+  for (std::string line; std::getline(in, line);)
+    if (line.rfind("VmRSS:", 0) == 0) return std::stod(line.substr(6));
+  return 0.0;
+}
+
+// The children of `pid` (the workers of the server), from /proc/<pid>/task/*/children.
+std::vector<pid_t> children(pid_t pid) {
+  std::vector<pid_t> out;
+  std::error_code ec;
+  for (auto it = fs::directory_iterator(fmt::format("/proc/{}/task", pid), ec);
+       !ec && it != fs::directory_iterator(); ++it) {
+    std::istringstream in(read_text(it->path() / "children"));
+    for (pid_t c; in >> c;) out.push_back(c);
+  }
+  return out;
+}
+
+fs::path make_video(const Args& a) {
+  const fs::path dir = fs::path(a.out) / "video";
+  fs::create_directories(dir);
+  run_or_throw({a.lorgnette, "-q", "synth", "--procedural", "--room", "1", "--views", std::to_string(a.views),
+                "--size", a.size, "--samples", "1", "-o", (dir / "room").string()},
+               dir / "synth.log");
+  run_or_throw({"/usr/bin/ffmpeg", "-y", "-loglevel", "error", "-framerate", "8", "-i",
+                (dir / "room/images/%04d.png").string(), "-c:v", "libx264", "-pix_fmt", "yuv420p",
+                (dir / "room.mp4").string()},
+               dir / "ffmpeg.log");
+  return dir / "room.mp4";
+}
+
+struct Job {
+  std::string id, token, state, message;
+  int attempts = 0;
+  double upload_s = 0, queue_wait_s = 0, total_s = 0;
+  std::map<std::string, double> stage_s;  // capture / train / fit
+  bool ok = false;
+};
+
+double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+// One shopper: create, upload, start, then poll every 0.25 s until the job ends.
+Job shopper(uint16_t port, const std::string& video, double timeout_s) {
+  Job j;
+  Client c(port);
+  auto [st, body] = c.request(http::verb::post, "/api/v1/captures", "", "{}");
+  if (st != 201) throw std::runtime_error("create: " + std::to_string(st) + " " + body);
+  auto created = nlohmann::json::parse(body);
+  j.id = created["id"], j.token = created["token"];
+  const std::string base = "/api/v1/captures/" + j.id;
+  const auto t_up = Clock::now();
+  if (auto [s, b] = c.request(http::verb::put, base + "/video", j.token, video); s != 201)
+    throw std::runtime_error("upload: " + b);
+  j.upload_s = since(t_up);
+  const auto t0 = Clock::now();
+  if (auto [s, b] = c.request(http::verb::post, base + "/start", j.token); s != 202)
+    throw std::runtime_error("start: " + b);
+  std::map<std::string, double> first_seen;
+  double running_at = -1;
+  nlohmann::json s;
+  while (since(t0) < timeout_s) {
+    s = nlohmann::json::parse(c.request(http::verb::get, base, j.token).second);
+    const double t = since(t0);
+    if (s["state"] == "running" && running_at < 0) running_at = t;
+    const std::string stage = s["stage"];
+    if (s["state"] == "running" && !stage.empty() && !first_seen.count(stage)) first_seen[stage] = t;
+    if (s["state"] == "finished" || s["state"] == "failed") break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(250));
+  }
+  j.total_s = since(t0);
+  j.state = s["state"], j.message = s["message"], j.attempts = s["attempts"];
+  j.queue_wait_s = running_at < 0 ? j.total_s : running_at;
+  const std::vector<std::string> order{"capture", "train", "fit"};
+  for (size_t i = 0; i < order.size(); ++i) {
+    if (!first_seen.count(order[i])) continue;
+    double end = j.total_s;
+    for (size_t k = i + 1; k < order.size(); ++k)
+      if (first_seen.count(order[k])) {
+        end = first_seen[order[k]];
+        break;
+      }
+    j.stage_s[order[i]] = end - first_seen[order[i]];
+  }
+  j.ok = j.state == "finished";
+  return j;
+}
+
+// Requests per second on one capture's status with `clients` keep-alive connections.
+double status_rps(uint16_t port, const Job& j, int clients, double seconds) {
+  std::atomic<long> ok{0};
+  std::vector<std::thread> threads;
+  const auto end = Clock::now() + std::chrono::duration<double>(seconds);
+  for (int i = 0; i < clients; ++i)
+    threads.emplace_back([&] {
+      Client c(port);
+      while (Clock::now() < end)
+        if (c.request(http::verb::get, "/api/v1/captures/" + j.id, j.token).first == 200) ++ok;
+    });
+  for (auto& t : threads) t.join();
+  return double(ok) / seconds;
+}
+
+void write_outputs(const Args& a, const std::vector<Job>& jobs, nlohmann::json summary) {
+  std::vector<std::vector<std::string>> rows;
+  lorgnette::ChartSeries wait{"queue wait"}, cap{"capture"}, train{"train"}, fit{"fit"}, total{"total"};
+  for (size_t i = 0; i < jobs.size(); ++i) {
+    const Job& j = jobs[i];
+    auto st = [&](const char* s) { return j.stage_s.count(s) ? j.stage_s.at(s) : 0.0; };
+    rows.push_back({std::to_string(i + 1), j.id, j.state, std::to_string(j.attempts),
+                    fmt::format("{:.2f}", j.upload_s), fmt::format("{:.2f}", j.queue_wait_s),
+                    fmt::format("{:.2f}", st("capture")), fmt::format("{:.2f}", st("train")),
+                    fmt::format("{:.2f}", st("fit")), fmt::format("{:.2f}", j.total_s)});
+    const double x = double(i + 1);
+    for (auto [series, v] : std::vector<std::pair<lorgnette::ChartSeries*, double>>{{&wait, j.queue_wait_s},
+                                                                                    {&cap, st("capture")},
+                                                                                    {&train, st("train")},
+                                                                                    {&fit, st("fit")},
+                                                                                    {&total, j.total_s}})
+      series->x.push_back(x), series->y.push_back(v);
+  }
+  lorgnette::write_csv(a.out + "/jobs.csv",
+                       {"shopper", "id", "state", "attempts", "upload_s", "queue_wait_s", "capture_s",
+                        "train_s", "fit_s", "total_s"},
+                       rows);
+  lorgnette::write_chart(
+      a.out + "/jobs.png",
+      {fmt::format("{} shoppers, {} worker slot(s): seconds per job", jobs.size(), a.workers),
+       "shopper (in start order)", "seconds"},
+      {wait, cap, train, fit, total});
+  std::ofstream(a.out + "/summary.json") << summary.dump(2) << "\n";
+}
+
+}  // namespace
+
+namespace {
+
+// Starts `serve` on an ephemeral port over OUT/data; returns the process and its port.
+std::pair<std::unique_ptr<ChildProcess>, uint16_t> start_server(const Args& a) {
+  const fs::path data = fs::path(a.out) / "data", state = fs::path(a.out) / "server";
+  fs::remove_all(data);
+  fs::create_directories(state);
+  fs::remove(state / "port");
+  std::ofstream(state / "admin-token") << kAdmin << "\n";
+  std::vector<std::string> argv{a.lorgnette,
+                                "serve",
+                                "--data",
+                                data.string(),
+                                "--port",
+                                "0",
+                                "--port-file",
+                                (state / "port").string(),
+                                "--admin-token-file",
+                                (state / "admin-token").string(),
+                                "--workers",
+                                std::to_string(a.workers),
+                                "--train-steps",
+                                std::to_string(a.train_steps),
+                                "--train-batch-log2",
+                                "12",
+                                "--capture-fps",
+                                "8",
+                                "--capture-max-side",
+                                "256"};
+  if (!a.db.empty()) argv.insert(argv.end(), {"--db", a.db});
+  auto p = std::make_unique<ChildProcess>(argv, (state / "serve.log").string());
+  for (int i = 0; i < 600 && !fs::exists(state / "port"); ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  if (!fs::exists(state / "port"))
+    throw std::runtime_error("serve did not start: see " + (state / "serve.log").string());
+  return {std::move(p), uint16_t(std::stoi(read_text(state / "port")))};
+}
+
+// Peak resident memory of the server and of its workers, sampled every 0.2 s until stopped.
+struct MemoryMonitor {
+  pid_t server;
+  std::atomic<bool> stop{false};
+  double server_peak_kb = 0, worker_peak_kb = 0, workers_total_peak_kb = 0;
+  std::thread thread;
+  explicit MemoryMonitor(pid_t pid) : server(pid) {
+    thread = std::thread([this] {
+      while (!stop) {
+        server_peak_kb = std::max(server_peak_kb, rss_kb(server));
+        double total = 0;
+        for (pid_t c : children(server)) {
+          const double kb = rss_kb(c);
+          worker_peak_kb = std::max(worker_peak_kb, kb), total += kb;
+        }
+        workers_total_peak_kb = std::max(workers_total_peak_kb, total);
+        std::this_thread::sleep_for(std::chrono::milliseconds(200));
+      }
+    });
+  }
+  ~MemoryMonitor() {
+    stop = true;
+    thread.join();
+  }
+};
+
+std::vector<Job> run_shoppers(const Args& a, uint16_t port, const std::string& video) {
+  std::vector<Job> jobs(a.shoppers);
+  std::vector<std::string> errors(a.shoppers);
+  std::vector<std::thread> threads;
+  for (int i = 0; i < a.shoppers; ++i)
+    threads.emplace_back([&, i] {
+      try {
+        jobs[i] = shopper(port, video, a.timeout_seconds);
+      } catch (const std::exception& e) {
+        errors[i] = e.what();
+      }
+    });
+  for (auto& t : threads) t.join();
+  for (int i = 0; i < a.shoppers; ++i)
+    if (!errors[i].empty()) fmt::print(stderr, "shopper {}: {}\n", i + 1, errors[i]);
+  return jobs;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Args a;
+  CLI::App app{"The try-on service under N shoppers on loopback (CSV, chart, summary.json)"};
+  app.add_option("--out", a.out, "output folder")->required();
+  app.add_option("--shoppers", a.shoppers, "shoppers at once");
+  app.add_option("--workers", a.workers, "serve --workers");
+  app.add_option("--train-steps", a.train_steps, "the shop-wide training budget (serve --train-steps)");
+  app.add_option("--views", a.views, "frames of the synthetic head turn");
+  app.add_option("--size", a.size, "their size, WxH");
+  app.add_option("--db", a.db, "serve --db (default: SQLite in the data folder)");
+  app.add_option("--status-seconds", a.status_seconds, "seconds of the status-endpoint load");
+  app.add_option("--status-clients", a.status_clients, "keep-alive clients of the status-endpoint load");
+  app.add_option("--idle-captures", a.idle_captures, "captures created to measure memory per open capture");
+  app.add_option("--lorgnette", a.lorgnette, "the lorgnette binary");
+  CLI11_PARSE(app, argc, argv);
+  try {
+    fs::create_directories(a.out);
+    const std::string video = read_text(make_video(a));
+    auto [server, port] = start_server(a);
+    const double rss0 = rss_kb(server->pid());
+    std::vector<Job> jobs;
+    const auto t0 = Clock::now();
+    double server_peak = 0, worker_peak = 0, workers_total_peak = 0;
+    {
+      MemoryMonitor mem(server->pid());
+      jobs = run_shoppers(a, port, video);
+      server_peak = mem.server_peak_kb, worker_peak = mem.worker_peak_kb;
+      workers_total_peak = mem.workers_total_peak_kb;
+    }
+    const double wall = since(t0);
+    std::set<std::string> ids;
+    int finished = 0, single_start = 0;
+    for (const Job& j : jobs) ids.insert(j.id), finished += j.ok, single_start += j.attempts == 1;
+    Client admin(port);
+    const std::string metrics = admin.request(http::verb::get, "/metrics", kAdmin).second;
+    const double rps = jobs.empty() || jobs[0].id.empty()
+                           ? 0
+                           : status_rps(port, jobs[0], a.status_clients, a.status_seconds);
+    const double rss1 = rss_kb(server->pid());
+    for (int i = 0; i < a.idle_captures; ++i) admin.request(http::verb::post, "/api/v1/captures", "", "{}");
+    const double rss2 = rss_kb(server->pid());
+    server->signal(SIGTERM);
+    server->wait();
+    double stage_sum = 0;
+    for (const Job& j : jobs) stage_sum += j.total_s - j.queue_wait_s;
+    nlohmann::json summary = {
+        {"shoppers", a.shoppers},
+        {"workers", a.workers},
+        {"train_steps", a.train_steps},
+        {"video", {{"views", a.views}, {"size", a.size}, {"bytes", video.size()}}},
+        {"finished", finished},
+        {"distinct_ids", ids.size()},
+        {"one_worker_start_each", single_start},
+        {"wall_seconds", wall},
+        {"jobs_per_hour", finished / wall * 3600.0},
+        {"seconds_per_job_in_a_worker_mean", jobs.empty() ? 0 : stage_sum / jobs.size()},
+        {"status_requests_per_second", rps},
+        {"status_clients", a.status_clients},
+        {"server_rss_kb", {{"idle", rss0}, {"peak_under_load", server_peak}, {"after_load", rss1}}},
+        {"server_rss_kb_per_open_capture", a.idle_captures > 0 ? (rss2 - rss1) / a.idle_captures : 0.0},
+        {"worker_rss_kb_peak", worker_peak},
+        {"workers_rss_kb_peak_total", workers_total_peak},
+        {"server_metrics", metrics}};
+    write_outputs(a, jobs, summary);
+    fmt::print(
+        "{} of {} finished ({} distinct ids, {} with one worker start) in {:.1f} s: {:.1f} jobs/hour\n",
+        finished, a.shoppers, ids.size(), single_start, wall, finished / wall * 3600.0);
+    fmt::print(
+        "status endpoint: {:.0f} requests/s ({} keep-alive clients); server RSS {:.0f} kB idle, {:.0f} kB "
+        "peak; {:.2f} kB per open capture; worker peak {:.0f} kB\n",
+        rps, a.status_clients, rss0, server_peak, summary["server_rss_kb_per_open_capture"].get<double>(),
+        worker_peak);
+    const bool all_good =
+        finished == a.shoppers && int(ids.size()) == a.shoppers && single_start == a.shoppers;
+    if (!all_good) fmt::print(stderr, "NOT all jobs finished exactly once: see {}/jobs.csv\n", a.out);
+    return all_good ? 0 : 1;
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "service_load_bench: {}\n", e.what());
+    return 2;
+  }
+}
