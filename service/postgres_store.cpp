@@ -58,6 +58,7 @@ class PostgresStore final : public JobStore {
 };
 
 PostgresStore::PostgresStore(const std::string& conninfo) : description_(describe_conninfo(conninfo)) {
+  if (description_.front() == '(') throw std::runtime_error("job store: " + description_);
   conn_.reset(PQconnectdb(conninfo.c_str()));
   if (!conn_ || PQstatus(conn_.get()) != CONNECTION_OK)
     throw std::runtime_error(fmt::format(
@@ -244,10 +245,10 @@ std::string describe_conninfo(const std::string& conninfo) {
   char* err = nullptr;
   PQconninfoOption* opts = PQconninfoParse(conninfo.c_str(), &err);
   if (!opts) {
-    const std::string why = trimmed(err);
+    // libpq's message may quote the faulty part, which can be the password: not shown.
     PQfreemem(err);
-    // libpq's message names the faulty part of the syntax, not the values, so it is safe to show.
-    return fmt::format("(an unreadable PostgreSQL connection string: {})", why);
+    return "(an unreadable PostgreSQL connection string: write it as postgresql://user@host:port/dbname "
+           "or 'host=... dbname=...')";
   }
   std::string db, host, port, user;
   for (PQconninfoOption* o = opts; o->keyword; ++o) {

@@ -253,4 +253,13 @@ TEST(StoreSelection, ConnectionStringsOpenPostgresAndPathsSqlite) {
   const std::string d = describe_job_store("postgresql://shop:s3cret@db.internal:5433/lorgnette");
   EXPECT_EQ(d, "postgresql database 'lorgnette' on 'db.internal:5433' as 'shop'");
   EXPECT_EQ(describe_job_store("host=/tmp password=s3cret dbname=x").find("s3cret"), std::string::npos);
+  // A string libpq cannot read is refused before connecting, without quoting any of it.
+  try {
+    open_job_store("postgresql://shop:s3cr%zzet@db.internal/lorgnette");
+    FAIL() << "expected a refusal";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("unreadable PostgreSQL connection string"), std::string::npos)
+        << e.what();
+    EXPECT_EQ(std::string(e.what()).find("s3cr"), std::string::npos) << e.what();
+  }
 }
