@@ -124,11 +124,28 @@ void SlurmExecutor::refresh(CaptureRecord& r) const {
   }
 }
 
+std::string SlurmExecutor::active_job_named(const std::string& name) const {
+  const CommandResult r = run_command(
+      {program("squeue"), "--noheader", "--me", "--states=all", "--name=" + name, "--format=%i|%T"},
+      kCommandSeconds);
+  std::istringstream in(r.out);
+  for (std::string line; std::getline(in, line);) {
+    const size_t bar = line.find('|');
+    if (bar != std::string::npos && active(line.substr(bar + 1))) return line.substr(0, bar);
+  }
+  return "";
+}
+
 int SlurmExecutor::reconcile() {
   std::lock_guard<std::mutex> lock(mutex_);
   int attached = 0, requeued = 0;
   for (CaptureRecord r : store_.with_state(JobState::Running)) {
     if (jobs_.count(r.id)) continue;
+    if (r.executor_job_id.empty()) {
+      // The old server may have died between sbatch and recording the id: find the job by name.
+      r.executor_job_id = active_job_named("lgn-" + r.id);
+      if (!r.executor_job_id.empty()) store_.update(r);
+    }
     if (!r.executor_job_id.empty()) {
       jobs_[r.id] = r.executor_job_id;  // the next poll learns whether it still runs
       ++attached;

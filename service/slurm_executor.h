@@ -58,6 +58,7 @@ class SlurmExecutor final : public Executor {
  private:
   bool submit(CaptureRecord job);  // false when sbatch failed (the job queued again or failed)
   std::optional<std::map<std::string, std::string>> poll_states();  // Slurm id -> state
+  std::string active_job_named(const std::string& name) const;      // its Slurm id, or ""
   void finish(const std::string& id, const std::string& slurm_id, const std::string& slurm_state);
   void refresh(CaptureRecord& r) const;
   std::string folder(const std::string& id) const;

@@ -242,7 +242,7 @@ TEST_F(Slurm, DeletingACaptureCancelsItsSlurmJob) {
 TEST_F(Slurm, AServerKilledAndRestartedReattachesItsRunningSlurmJob) {
   const fs::path data = test_dir("service_slurm");
   SlurmServer server(data);
-  const Started c = start_capture(server, data, 250);
+  const Started c = start_capture(server, data, 200);
   ASSERT_TRUE(wait_for([&] { return training(server, c); }, 60.0)) << status_of(server, c).dump();
   const std::vector<std::string> ids = slurm_ids(c.id);
   ASSERT_EQ(ids.size(), 1u);
@@ -264,6 +264,53 @@ TEST_F(Slurm, AServerKilledAndRestartedReattachesItsRunningSlurmJob) {
   ASSERT_EQ(done.size(), 1u);
   EXPECT_NE(done[0].find("JobId=" + ids[0] + " "), std::string::npos);
   auto snap = lorgnette::nerf::read_snapshot((data / "captures" / c.id / "model/head.lnerf").string());
-  EXPECT_EQ(snap.metadata.steps, 250u);  // one whole training
+  EXPECT_EQ(snap.metadata.steps, 200u);  // one whole training
   EXPECT_NE(read_file(data / "serve.log").find("re-attached 1 Slurm job"), std::string::npos);
+}
+
+TEST_F(Slurm, AJobSlurmRequeuesRunsAgainUnderItsIdAndFinishes) {
+  // `scontrol requeue` is what Slurm does to a job whose node fails; it works only on jobs submitted
+  // requeueable. The worker is stopped, the job runs again under the same id, the executor keeps
+  // following it, and the job finishes without an attempt of ours.
+  const fs::path data = test_dir("service_slurm");
+  auto store = open_sqlite_store((data / "jobs.sqlite").string());
+  make_job_folder(data / "captures/rq", 200);
+  CaptureRecord rec;
+  rec.id = "rq", rec.token_hash = "x", rec.state = JobState::Queued;
+  rec.created_unix = rec.queued_unix = unix_now();
+  store->insert(rec);
+  SlurmExecutorOptions o;
+  o.data_dir = data.string(), o.worker_exe = LGN_CLI_PATH, o.poll_seconds = 0.5;
+  SlurmExecutor ex(*store, o);
+  ASSERT_TRUE(wait_for(
+      [&] {
+        ex.tick();
+        auto p = read_progress(data / "captures/rq/progress.json");
+        return p && p->stage == "train" && p->percent > 21.0;
+      },
+      60.0));
+  const std::string id = ex.slurm_job_id("rq");
+  ASSERT_FALSE(id.empty());
+  const CommandResult requeue = run_command({find_program("scontrol"), "requeue", id}, 30.0);
+  ASSERT_TRUE(requeue.ok()) << requeue.err;
+  ASSERT_TRUE(wait_for(
+      [&] {
+        ex.tick();
+        return slurm_state(id) == "PENDING";
+      },
+      30.0))
+      << slurm_state(id);
+  g_cluster->client({"scontrol", "update", "jobid=" + id, "StartTime=now"});  // not Slurm's 2 min delay
+  ASSERT_TRUE(wait_for(
+      [&] {
+        ex.tick();
+        return store->get("rq")->state == JobState::Finished;
+      },
+      120.0))
+      << store->get("rq")->message << read_file(data / "captures/rq/worker.log");
+  EXPECT_EQ(store->get("rq")->attempts, 1);
+  EXPECT_EQ(store->get("rq")->executor_job_id, id);
+  EXPECT_NE(read_file(data / "captures/rq/worker.log").find("DUE TO JOB REQUEUE"), std::string::npos);
+  auto snap = lorgnette::nerf::read_snapshot((data / "captures/rq/model/head.lnerf").string());
+  EXPECT_EQ(snap.metadata.steps, 200u);
 }
