@@ -236,7 +236,10 @@ TEST_F(Slurm, DeletingACaptureCancelsItsSlurmJob) {
   ASSERT_EQ(http_request(server.port(), "DELETE", c.base, c.token).status, 204);
   EXPECT_TRUE(wait_for([&] { return slurm_state(ids[0]) == "CANCELLED"; }, 20.0)) << slurm_state(ids[0]);
   EXPECT_TRUE(wait_for([&] { return processes_naming(data / "captures" / c.id) == 0; }, 20.0));
-  EXPECT_FALSE(fs::exists(data / "captures" / c.id));
+  EXPECT_FALSE(fs::exists(data / "captures" / c.id));  // the stopped worker recreated nothing
+  EXPECT_TRUE(finished_slurm_jobs(c.id).size() == 1 &&
+              finished_slurm_jobs(c.id)[0].find("JobState=CANCELLED") != std::string::npos)
+      << read_file(g_cluster->jobcomp());
 }
 
 TEST_F(Slurm, AServerKilledAndRestartedReattachesItsRunningSlurmJob) {
