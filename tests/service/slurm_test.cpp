@@ -1,11 +1,15 @@
-// (LABELS slow) The Slurm executor against a real one-node Slurm cluster started by the test
+// (LABELS slow, ~90 s) The Slurm executor against a real one-node Slurm cluster started by each test
 // (slurm_cluster.h), with real `lorgnette job run` workers on the tiny synthetic head:
 //   - a job goes through sbatch to finished (one COMPLETED Slurm job named after the capture, its
 //     output in worker.log, the model trained to its budget);
+//   - a submission the controller refuses (an unknown partition) is retried, then fails the job
+//     with Slurm's reason;
 //   - DELETE on a capture whose Slurm job runs cancels it with scancel (the worker process ends);
 //   - a server killed with SIGKILL and restarted re-attaches the running Slurm job by its stored id,
-//     and the job finishes once: one Slurm job, one attempt, one whole training.
-// The option checks need no cluster and always run. Skips with a message without root or Slurm.
+//     and the job finishes once: one Slurm job, one attempt, one whole training;
+//   - a job Slurm requeues (as on a node failure) runs again under its id and finishes.
+// The option and command checks need no cluster and always run. Skips with a message without root
+// or Slurm.
 #include <gtest/gtest.h>
 #include <signal.h>
 
@@ -84,6 +88,13 @@ void make_job_folder(const fs::path& job, uint64_t steps) {
   write_job_settings(job / "job.json", js);
 }
 
+void insert_queued(JobStore& store, const std::string& id) {
+  CaptureRecord rec;
+  rec.id = id, rec.token_hash = "x", rec.state = JobState::Queued;
+  rec.created_unix = rec.queued_unix = unix_now();
+  store.insert(rec);
+}
+
 }  // namespace
 
 TEST(SlurmOptions, RefuseWhatCouldReachSbatchAsSomethingElse) {
@@ -121,16 +132,24 @@ TEST(SlurmOptions, CommandsRunWithoutAShellAndTimeOut) {
   EXPECT_EQ(r.status, 127);
   EXPECT_TRUE(find_program("no-such-program-lgn").empty());
   EXPECT_EQ(find_program("sh", "/bin"), "/bin/sh");
+  // An executor without the Slurm clients refuses to start, naming the package.
+  const fs::path empty = test_dir("service_slurm_options");
+  auto store = open_sqlite_store((empty / "jobs.sqlite").string());
+  SlurmExecutorOptions o;
+  o.data_dir = empty.string(), o.bin_dir = empty.string();
+  try {
+    SlurmExecutor ex(*store, o);
+    ADD_FAILURE() << "started without sbatch";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("slurm-client"), std::string::npos) << e.what();
+  }
 }
 
 TEST_F(Slurm, AJobGoesThroughSbatchToFinished) {
   const fs::path data = test_dir("service_slurm");
   auto store = open_sqlite_store((data / "jobs.sqlite").string());
   make_job_folder(data / "captures/job1", 30);
-  CaptureRecord rec;
-  rec.id = "job1", rec.token_hash = "x", rec.state = JobState::Queued;
-  rec.created_unix = rec.queued_unix = unix_now();
-  store->insert(rec);
+  insert_queued(*store, "job1");
   SlurmExecutorOptions o;
   o.data_dir = data.string(), o.worker_exe = LGN_CLI_PATH, o.poll_seconds = 0.5;
   SlurmExecutor ex(*store, o);
@@ -155,6 +174,29 @@ TEST_F(Slurm, AJobGoesThroughSbatchToFinished) {
   auto snap = lorgnette::nerf::read_snapshot((data / "captures/job1/model/head.lnerf").string());
   EXPECT_EQ(snap.metadata.steps, 30u);
   EXPECT_EQ(ex.running(), 0);
+}
+
+TEST_F(Slurm, ASubmissionSlurmRefusesIsRetriedThenFailsWithSlurmsReason) {
+  const fs::path data = test_dir("service_slurm");
+  auto store = open_sqlite_store((data / "jobs.sqlite").string());
+  fs::create_directories(data / "captures/nopart");  // never runs: no dataset needed
+  insert_queued(*store, "nopart");
+  SlurmExecutorOptions o;
+  o.data_dir = data.string(), o.worker_exe = LGN_CLI_PATH, o.poll_seconds = 0.2, o.max_attempts = 2;
+  o.partition = "no-such-partition";  // well-formed, so only the controller can refuse it
+  SlurmExecutor ex(*store, o);
+  ASSERT_TRUE(wait_for(
+      [&] {
+        ex.tick();
+        return store->get("nopart")->state == JobState::Failed;
+      },
+      30.0))
+      << store->get("nopart")->message;
+  const CaptureRecord r = *store->get("nopart");
+  EXPECT_EQ(r.attempts, 2);
+  EXPECT_NE(r.message.find("sbatch failed"), std::string::npos) << r.message;
+  EXPECT_NE(r.message.find("partition"), std::string::npos) << r.message;  // Slurm's own reason
+  EXPECT_TRUE(r.executor_job_id.empty());
 }
 
 namespace {
@@ -245,7 +287,7 @@ TEST_F(Slurm, DeletingACaptureCancelsItsSlurmJob) {
 TEST_F(Slurm, AServerKilledAndRestartedReattachesItsRunningSlurmJob) {
   const fs::path data = test_dir("service_slurm");
   SlurmServer server(data);
-  const Started c = start_capture(server, data, 200);
+  const Started c = start_capture(server, data, 120);
   ASSERT_TRUE(wait_for([&] { return training(server, c); }, 60.0)) << status_of(server, c).dump();
   const std::vector<std::string> ids = slurm_ids(c.id);
   ASSERT_EQ(ids.size(), 1u);
@@ -267,7 +309,7 @@ TEST_F(Slurm, AServerKilledAndRestartedReattachesItsRunningSlurmJob) {
   ASSERT_EQ(done.size(), 1u);
   EXPECT_NE(done[0].find("JobId=" + ids[0] + " "), std::string::npos);
   auto snap = lorgnette::nerf::read_snapshot((data / "captures" / c.id / "model/head.lnerf").string());
-  EXPECT_EQ(snap.metadata.steps, 200u);  // one whole training
+  EXPECT_EQ(snap.metadata.steps, 120u);  // one whole training
   EXPECT_NE(read_file(data / "serve.log").find("re-attached 1 Slurm job"), std::string::npos);
 }
 
@@ -277,11 +319,8 @@ TEST_F(Slurm, AJobSlurmRequeuesRunsAgainUnderItsIdAndFinishes) {
   // following it, and the job finishes without an attempt of ours.
   const fs::path data = test_dir("service_slurm");
   auto store = open_sqlite_store((data / "jobs.sqlite").string());
-  make_job_folder(data / "captures/rq", 200);
-  CaptureRecord rec;
-  rec.id = "rq", rec.token_hash = "x", rec.state = JobState::Queued;
-  rec.created_unix = rec.queued_unix = unix_now();
-  store->insert(rec);
+  make_job_folder(data / "captures/rq", 120);
+  insert_queued(*store, "rq");
   SlurmExecutorOptions o;
   o.data_dir = data.string(), o.worker_exe = LGN_CLI_PATH, o.poll_seconds = 0.5;
   SlurmExecutor ex(*store, o);
@@ -315,5 +354,5 @@ TEST_F(Slurm, AJobSlurmRequeuesRunsAgainUnderItsIdAndFinishes) {
   EXPECT_EQ(store->get("rq")->executor_job_id, id);
   EXPECT_NE(read_file(data / "captures/rq/worker.log").find("DUE TO JOB REQUEUE"), std::string::npos);
   auto snap = lorgnette::nerf::read_snapshot((data / "captures/rq/model/head.lnerf").string());
-  EXPECT_EQ(snap.metadata.steps, 200u);
+  EXPECT_EQ(snap.metadata.steps, 120u);
 }
