@@ -33,7 +33,7 @@ TEST(SqliteStore, MigratesOnceAndRoundTripsEveryField) {
     EXPECT_EQ(store->schema_version(), latest_schema_version());
     CaptureRecord r = record("abc", JobState::Running, 1000, 1001);
     r.stage = "train", r.message = "training the head's model", r.percent = 42.5, r.attempts = 2;
-    r.upload_kind = "video";
+    r.upload_kind = "video", r.executor_job_id = "4711";
     store->insert(r);
     EXPECT_THROW(store->insert(r), std::runtime_error);  // ids are unique
   }
@@ -50,6 +50,7 @@ TEST(SqliteStore, MigratesOnceAndRoundTripsEveryField) {
   EXPECT_EQ(got->upload_kind, "video");
   EXPECT_EQ(got->created_unix, 1000);
   EXPECT_EQ(got->queued_unix, 1001);
+  EXPECT_EQ(got->executor_job_id, "4711");
   EXPECT_FALSE(store->get("abd"));
   // WAL mode, as the header promises (readers never wait for the writer).
   sqlite3* raw = nullptr;
@@ -123,4 +124,30 @@ TEST(SqliteStore, AnUnwritableLocationSaysWhichFile) {
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("/nonexistent-folder/jobs.sqlite"), std::string::npos) << e.what();
   }
+}
+
+TEST(SqliteStore, ADatabaseOfTheFirstSchemaGainsTheSchedulerJobIdAndKeepsItsRows) {
+  fs::path db = test_dir("service_store") / "jobs.sqlite";
+  {
+    sqlite3* raw = nullptr;
+    ASSERT_EQ(sqlite3_open(db.c_str(), &raw), SQLITE_OK);
+    std::string sql =
+        "CREATE TABLE schema_migrations (version INTEGER PRIMARY KEY, applied_unix BIGINT NOT NULL);"
+        "INSERT INTO schema_migrations VALUES (1, 0);";
+    for (const auto& s : migrations().at(0).statements) sql += s + ";";
+    sql +=
+        "INSERT INTO captures (id, token_hash, state, created_unix, updated_unix) VALUES ('old', 'h', "
+        "'running', 5, 5);";
+    ASSERT_EQ(sqlite3_exec(raw, sql.c_str(), nullptr, nullptr, nullptr), SQLITE_OK) << sqlite3_errmsg(raw);
+    sqlite3_close(raw);
+  }
+  auto store = open_sqlite_store(db.string());
+  EXPECT_EQ(store->schema_version(), latest_schema_version());
+  auto got = store->get("old");
+  ASSERT_TRUE(got);
+  EXPECT_EQ(got->state, JobState::Running);
+  EXPECT_EQ(got->executor_job_id, "");  // never submitted to a scheduler
+  got->executor_job_id = "12";
+  ASSERT_TRUE(store->update(*got));
+  EXPECT_EQ(store->get("old")->executor_job_id, "12");
 }
