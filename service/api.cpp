@@ -45,7 +45,7 @@ ApiResponse json_response(int status, const nlohmann::json& j) {
 
 }  // namespace
 
-Api::Api(ApiOptions options, JobStore& store, LocalExecutor& executor)
+Api::Api(ApiOptions options, JobStore& store, Executor& executor)
     : options_(std::move(options)), store_(store), executor_(executor) {
   fs::create_directories(fs::path(options_.data_dir) / "captures");
 }

@@ -19,9 +19,9 @@
 #include <optional>
 #include <string>
 
+#include "service/executor.h"
 #include "service/job_settings.h"
 #include "service/job_store.h"
-#include "service/local_executor.h"
 
 namespace lorgnette::service {
 
@@ -66,7 +66,7 @@ struct ApiOptions {
 
 class Api {
  public:
-  Api(ApiOptions options, JobStore& store, LocalExecutor& executor);
+  Api(ApiOptions options, JobStore& store, Executor& executor);
   // Never throws: every failure is a response with a JSON error {"error": {"code", "message"}}.
   ApiResponse handle(const ApiRequest& request, BodySource& body);
   // Deletes captures created longer than the retention period ago; returns how many.
@@ -88,7 +88,7 @@ class Api {
 
   ApiOptions options_;
   JobStore& store_;
-  LocalExecutor& executor_;
+  Executor& executor_;
   std::mutex upload_mutex_;  // the check-and-rename of an upload into a capture's folder
   std::mutex metrics_mutex_;
   std::map<std::string, int64_t> responses_by_status_, rejected_uploads_;

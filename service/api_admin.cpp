@@ -34,7 +34,7 @@ ApiResponse Api::metrics() {
   out += fmt::format("lorgnette_queue_length {}\n", counts.at(JobState::Queued));
   out += "# HELP lorgnette_workers_busy Worker slots running a job.\n# TYPE lorgnette_workers_busy gauge\n";
   out += fmt::format("lorgnette_workers_busy {}\n", executor_.running());
-  out += executor_.metrics().prometheus_text();
+  if (const JobMetrics* m = executor_.metrics()) out += m->prometheus_text();
   std::lock_guard<std::mutex> lock(metrics_mutex_);
   out += "# HELP lorgnette_http_responses_total API responses by status.\n";
   out += "# TYPE lorgnette_http_responses_total counter\n";

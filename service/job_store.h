@@ -27,6 +27,7 @@ struct CaptureRecord {
   int attempts = 0;         // worker starts, including retries after a worker was killed
   std::string upload_kind;  // "" (nothing yet), "video" or "images"
   int64_t created_unix = 0, updated_unix = 0, queued_unix = 0;
+  std::string executor_job_id;  // the worker's id in an external scheduler (Slurm); "" = none
 };
 
 class JobStore {

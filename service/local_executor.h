@@ -17,7 +17,7 @@
 #include <vector>
 
 #include "service/child_process.h"
-#include "service/job_metrics.h"
+#include "service/executor.h"
 #include "service/job_store.h"
 
 namespace lorgnette::service {
@@ -30,28 +30,28 @@ struct LocalExecutorOptions {
   std::vector<std::string> global_flags;  // passed before `job run` (e.g. --kernel-cache DIR)
 };
 
-class LocalExecutor {
+class LocalExecutor final : public Executor {
  public:
   LocalExecutor(JobStore& store, LocalExecutorOptions options);
   ~LocalExecutor();  // kills and reaps running workers (their jobs stay "running" until reconcile)
 
   // Running jobs (left by a previous server) back to the queue; returns how many.
-  int reconcile();
+  int reconcile() override;
   // One pass: record ended workers and the progress of running ones, then start queued jobs in the
   // free slots. Thread-safe; the server calls it from one loop every fraction of a second.
-  void tick();
+  void tick() override;
   // Stops the worker of `id` if it has one (a deleted capture) and forgets it.
-  void cancel(const std::string& id);
+  void cancel(const std::string& id) override;
   // Asks every worker to stop after its current step (SIGTERM; their jobs go back to the queue) and
   // starts no new ones from then on: the server is shutting down.
-  void interrupt_all();
-  int running() const;
+  void interrupt_all() override;
+  int running() const override;
   pid_t worker_pid(const std::string& id) const;  // -1 when none
   // Stage seconds and failures by cause (job_metrics.h), measured at each tick: a stage's seconds
   // run from the tick that first sees it in progress.json to the one that sees the next stage or
   // the job finished, so they are exact to a tick (0.2 s in `serve`). A stage a resumed job skips
   // (its output already there) is counted, near zero, when a tick happens to see it.
-  const JobMetrics& metrics() const { return metrics_; }
+  const JobMetrics* metrics() const override { return &metrics_; }
 
  private:
   struct Worker {

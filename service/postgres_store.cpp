@@ -144,7 +144,8 @@ std::vector<std::string> PostgresStore::record_params(const CaptureRecord& r) {
           r.upload_kind,
           std::to_string(r.created_unix),
           std::to_string(r.updated_unix),
-          std::to_string(r.queued_unix)};
+          std::to_string(r.queued_unix),
+          r.executor_job_id};
 }
 
 std::vector<CaptureRecord> PostgresStore::rows(const PGresult* res) {
@@ -155,7 +156,7 @@ std::vector<CaptureRecord> PostgresStore::rows(const PGresult* res) {
     r.id = v(0), r.token_hash = v(1), r.state = job_state_from_string(v(2));
     r.stage = v(3), r.message = v(4), r.percent = std::stod(v(5)), r.attempts = std::stoi(v(6));
     r.upload_kind = v(7), r.created_unix = std::stoll(v(8)), r.updated_unix = std::stoll(v(9));
-    r.queued_unix = std::stoll(v(10));
+    r.queued_unix = std::stoll(v(10)), r.executor_job_id = v(11);
     out.push_back(std::move(r));
   }
   return out;
@@ -163,7 +164,8 @@ std::vector<CaptureRecord> PostgresStore::rows(const PGresult* res) {
 
 void PostgresStore::insert(const CaptureRecord& r) {
   std::lock_guard<std::mutex> lock(mutex_);
-  exec(fmt::format("INSERT INTO captures ({}) VALUES ($1,$2,$3,$4,$5,$6,$7,$8,$9,$10,$11)", kCaptureColumns),
+  exec(fmt::format("INSERT INTO captures ({}) VALUES ($1,$2,$3,$4,$5,$6,$7,$8,$9,$10,$11,$12)",
+                   kCaptureColumns),
        record_params(r));
 }
 
@@ -182,7 +184,9 @@ bool PostgresStore::update(const CaptureRecord& r) {
   Result res = exec(
       "UPDATE captures SET token_hash = $2, state = $3, stage = $4, message = $5, percent = $6, attempts = "
       "$7, "
-      "upload_kind = $8, created_unix = $9, updated_unix = $10, queued_unix = $11 WHERE id = $1",
+      "upload_kind = $8, created_unix = $9, updated_unix = $10, queued_unix = $11, executor_job_id = $12 "
+      "WHERE id = "
+      "$1",
       record_params(copy));
   return std::string(PQcmdTuples(res.get())) != "0";
 }

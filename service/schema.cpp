@@ -20,6 +20,9 @@ const std::vector<Migration>& migrations() {
         " queued_unix BIGINT NOT NULL DEFAULT 0)",
         "CREATE INDEX captures_by_state ON captures (state, queued_unix)",
         "CREATE INDEX captures_by_age ON captures (created_unix)"}},
+      // The id of a job's worker in an external scheduler (a Slurm job id), so that a restarted
+      // server re-attaches the running worker instead of starting a second one.
+      {2, {"ALTER TABLE captures ADD COLUMN executor_job_id TEXT NOT NULL DEFAULT ''"}},
   };
   return list;
 }

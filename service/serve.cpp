@@ -16,7 +16,7 @@ namespace fs = std::filesystem;
 namespace lorgnette::service {
 namespace {
 
-void drain_workers(LocalExecutor& executor, double grace_seconds) {
+void drain_workers(Executor& executor, double grace_seconds) {
   executor.interrupt_all();
   const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(grace_seconds);
   while (executor.running() > 0 && std::chrono::steady_clock::now() < end) {
@@ -28,11 +28,22 @@ void drain_workers(LocalExecutor& executor, double grace_seconds) {
                  executor.running(), grace_seconds);
 }
 
+std::unique_ptr<Executor> make_executor(const ServeOptions& o, JobStore& store) {
+  if (o.executor == "local") return std::make_unique<LocalExecutor>(store, o.local);
+  if (o.executor == "slurm") {
+    SlurmExecutorOptions s = o.slurm;
+    s.data_dir = fs::absolute(o.data_dir).string();  // the nodes start in the job folder, not here
+    s.max_attempts = o.local.max_attempts;
+    s.worker_exe = o.local.worker_exe;
+    s.global_flags = o.local.global_flags;
+    return std::make_unique<SlurmExecutor>(store, s);
+  }
+  throw std::runtime_error("--executor '" + o.executor + "' is not one of: local, slurm");
+}
+
 }  // namespace
 
 void run_serve(ServeOptions o) {
-  if (o.executor != "local")
-    throw std::runtime_error("--executor '" + o.executor + "' is not available yet: use 'local'");
   if (o.data_dir.empty())
     throw std::runtime_error("serve needs --data DIR (uploads, models, fits and the job store)");
   fs::create_directories(o.data_dir);
@@ -40,14 +51,16 @@ void run_serve(ServeOptions o) {
   o.local.data_dir = o.api.data_dir = o.data_dir;
   o.api.job.validate();
   auto store = open_job_store(o.db);
-  LocalExecutor executor(*store, o.local);
+  const std::unique_ptr<Executor> owned = make_executor(o, *store);
+  Executor& executor = *owned;
   executor.reconcile();
   Api api(o.api, *store, executor);
   HttpServer http(api, o.http);
   http.start();
   if (!o.port_file.empty()) write_text_file_atomic(o.port_file, std::to_string(http.port()) + "\n");
-  spdlog::info("serving the try-on API on http://{}:{}/api/v1 (data '{}', store {}, {} worker slot(s))",
-               o.http.host, http.port(), o.data_dir, describe_job_store(o.db), o.local.slots);
+  spdlog::info("serving the try-on API on http://{}:{}/api/v1 (data '{}', store {}, executor {})",
+               o.http.host, http.port(), o.data_dir, describe_job_store(o.db),
+               o.executor == "local" ? std::to_string(o.local.slots) + " local worker slot(s)" : o.executor);
   auto last_sweep = std::chrono::steady_clock::time_point{};
   while (!interrupted()) {
     executor.tick();

@@ -145,6 +145,7 @@ void SqliteStore::bind_record(sqlite3_stmt* st, const CaptureRecord& r) {
   sqlite3_bind_int64(st, 9, r.created_unix);
   sqlite3_bind_int64(st, 10, r.updated_unix);
   sqlite3_bind_int64(st, 11, r.queued_unix);
+  sqlite3_bind_text(st, 12, r.executor_job_id.c_str(), -1, SQLITE_TRANSIENT);
 }
 
 std::vector<CaptureRecord> SqliteStore::rows(Stmt& st) {
@@ -161,6 +162,7 @@ std::vector<CaptureRecord> SqliteStore::rows(Stmt& st) {
     r.upload_kind = column_text(s, 7);
     r.created_unix = sqlite3_column_int64(s, 8), r.updated_unix = sqlite3_column_int64(s, 9);
     r.queued_unix = sqlite3_column_int64(s, 10);
+    r.executor_job_id = column_text(s, 11);
     out.push_back(std::move(r));
   }
   if (rc != SQLITE_DONE) fail("cannot read captures");
@@ -169,7 +171,8 @@ std::vector<CaptureRecord> SqliteStore::rows(Stmt& st) {
 
 void SqliteStore::insert(const CaptureRecord& r) {
   std::lock_guard<std::mutex> lock(mutex_);
-  Stmt st = prepare(fmt::format("INSERT INTO captures ({}) VALUES (?,?,?,?,?,?,?,?,?,?,?)", kCaptureColumns));
+  Stmt st =
+      prepare(fmt::format("INSERT INTO captures ({}) VALUES (?,?,?,?,?,?,?,?,?,?,?,?)", kCaptureColumns));
   bind_record(st.get(), r);
   if (sqlite3_step(st.get()) != SQLITE_DONE) fail("cannot insert capture " + r.id);
 }
@@ -187,8 +190,9 @@ bool SqliteStore::update(const CaptureRecord& r) {
   std::lock_guard<std::mutex> lock(mutex_);
   Stmt st = prepare(
       "UPDATE captures SET id = ?1, token_hash = ?2, state = ?3, stage = ?4, message = ?5, percent = ?6, "
-      "attempts = ?7, upload_kind = ?8, created_unix = ?9, updated_unix = ?10, queued_unix = ?11 WHERE id = "
-      "?1");
+      "attempts = ?7, upload_kind = ?8, created_unix = ?9, updated_unix = ?10, queued_unix = ?11, "
+      "executor_job_id = ?12 "
+      "WHERE id = ?1");
   CaptureRecord copy = r;
   copy.updated_unix = unix_now();
   bind_record(st.get(), copy);

@@ -21,6 +21,8 @@ PACKAGES=(
   # the try-on service (`lorgnette serve`): its job store (SQLite; libpq-dev for PostgreSQL, and the
   # postgresql server its tests start in a temporary folder), token hashing
   libsqlite3-dev libpq-dev postgresql libssl-dev
+  # its Slurm executor's tests start a one-node cluster (slurmctld, slurmd, the clients) with munge
+  slurm-wlm munge
   # the Python bindings (python/) and their tests
   pybind11-dev python3-dev python3-numpy python3-pytest
   # the .deb (dpkg-shlibdeps), the parser fuzzers (clang's libFuzzer) and the format check

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "service/content_type.h"
+#include "service/local_executor.h"
 #include "service/sqlite_store.h"
 #include "service/tokens.h"
 #include "service_test_util.h"

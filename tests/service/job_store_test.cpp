@@ -97,7 +97,7 @@ TYPED_TEST(JobStoreTest, MigratesOnceAndRoundTripsEveryField) {
     CaptureRecord r = record("abc", JobState::Running, 1000, 1001);
     // Quotes, a semicolon and non-ASCII text: values are parameters, never spliced into SQL.
     r.stage = "train", r.message = "it's the head's model; 'quoted' \xC3\xA9t\xC3\xA9", r.percent = 1.0 / 3.0;
-    r.attempts = 2, r.upload_kind = "video";
+    r.attempts = 2, r.upload_kind = "video", r.executor_job_id = "4711";
     store->insert(r);
     EXPECT_THROW(store->insert(r), std::runtime_error);  // ids are unique
   }
@@ -114,6 +114,7 @@ TYPED_TEST(JobStoreTest, MigratesOnceAndRoundTripsEveryField) {
   EXPECT_EQ(got->upload_kind, "video");
   EXPECT_EQ(got->created_unix, 1000);
   EXPECT_EQ(got->queued_unix, 1001);
+  EXPECT_EQ(got->executor_job_id, "4711");
   EXPECT_FALSE(store->get("abd"));
 }
 
@@ -214,6 +215,26 @@ TYPED_TEST(JobStoreTest, RefusesADatabaseFromANewerLorgnette) {
   } catch (const std::runtime_error& e) {
     EXPECT_NE(std::string(e.what()).find("newer than this Lorgnette"), std::string::npos) << e.what();
   }
+}
+
+TYPED_TEST(JobStoreTest, ADatabaseOfTheFirstSchemaGainsTheSchedulerJobIdAndKeepsItsRows) {
+  std::string sql =
+      "CREATE TABLE schema_migrations (version INTEGER PRIMARY KEY, applied_unix BIGINT NOT NULL);"
+      "INSERT INTO schema_migrations VALUES (1, 0);";
+  for (const auto& s : migrations().at(0).statements) sql += s + ";";
+  sql +=
+      "INSERT INTO captures (id, token_hash, state, created_unix, updated_unix) VALUES ('old', 'h', "
+      "'running', 5, 5);";
+  this->backend.exec_raw(sql);
+  auto store = this->open();
+  EXPECT_EQ(store->schema_version(), latest_schema_version());
+  auto got = store->get("old");
+  ASSERT_TRUE(got);
+  EXPECT_EQ(got->state, JobState::Running);
+  EXPECT_EQ(got->executor_job_id, "");  // never submitted to a scheduler
+  got->executor_job_id = "12";
+  ASSERT_TRUE(store->update(*got));
+  EXPECT_EQ(store->get("old")->executor_job_id, "12");
 }
 
 TYPED_TEST(JobStoreTest, AnUnreachableDatabaseIsNamedButNeverItsPassword) {

@@ -52,7 +52,21 @@ void add_serve(CLI::App& app, GlobalOptions& global) {
   cmd->add_option("--db", o.db,
                   "job store: a SQLite file (default: DATA/jobs.sqlite) or a PostgreSQL connection string "
                   "(postgresql://user@host/db, or 'host=... dbname=...')");
-  cmd->add_option("--executor", o.executor, "where jobs run: local (worker processes on this machine)")
+  cmd->add_option("--executor", o.executor,
+                  "where jobs run: local (worker processes on this machine) or slurm (one sbatch job each)")
+      ->check(CLI::IsMember({"local", "slurm"}))
+      ->capture_default_str();
+  cmd->add_option("--slurm-partition", o.slurm.partition,
+                  "Slurm partition for the jobs (default: the cluster's)");
+  cmd->add_option("--slurm-gres", o.slurm.gres,
+                  "generic resources per job, passed as sbatch --gres (e.g. gpu:1)");
+  cmd->add_option("--slurm-arg", o.slurm.sbatch_args,
+                  "one more sbatch option as --name=value (repeatable; e.g. --slurm-arg=--time=02:00:00)")
+      ->allow_extra_args(false);
+  cmd->add_option("--slurm-bin-dir", o.slurm.bin_dir,
+                  "folder of sbatch, squeue, scontrol, scancel (default: $PATH)");
+  cmd->add_option("--slurm-poll-seconds", o.slurm.poll_seconds, "how often squeue is asked")
+      ->check(CLI::Range(0.1, 600.0))
       ->capture_default_str();
   cmd->add_option("--workers", o.local.slots, "local worker slots (one per GPU, or one on a CPU)")
       ->check(CLI::Range(1, 256))
