@@ -26,7 +26,8 @@ namespace lorgnette::cli {
 namespace {
 
 struct RenderArgs {
-  std::string model, glasses, placement, transform, pose, size = "854x480", out;
+  std::string model, glasses, placement, transform, pose, out;
+  std::string size = fmt::format("{}x{}", render::OrbitSettings{}.width, render::OrbitSettings{}.height);
   std::vector<float> translate, rotate, background, front;
   float scale = 1.0f;
   render::RenderSettings render;  // checked by render::validate (host/util/bounds.h), as Python's are
