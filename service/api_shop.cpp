@@ -47,8 +47,9 @@ std::optional<ApiResponse> shop_page(const std::string& path) {
 
 ApiResponse Api::artifact(const CaptureRecord& rec, const std::string& relative) {
   if (rec.state != JobState::Finished)
-    throw ApiError(409, "not_finished",
-                   fmt::format("this capture's job is {}: its files exist once it is finished", to_string(rec.state)));
+    throw ApiError(
+        409, "not_finished",
+        fmt::format("this capture's job is {}: its files exist once it is finished", to_string(rec.state)));
   const JobFolder f{capture_dir(rec.id)};
   const auto p = read_progress(f.progress());
   std::vector<std::string> listed;

@@ -30,7 +30,7 @@ PlacementFile exact_placement(const synth::Subject& s) {
 }
 
 struct Extent {
-  double rows = 0;   // projected height of the head (crown to chin), as a share of the image height
+  double rows = 0;  // projected height of the head (crown to chin), as a share of the image height
   bool inside = true;
 };
 
@@ -85,9 +85,11 @@ TEST(HeadFraming, TheModelsBoxWithShouldersDrawsTheHeadSmall) {
   const double mm = *s.mm_per_unit;
   base.center = {float(s.look_at.x()), float(s.look_at.y() - 150 / mm), float(s.look_at.z())};
   base.half_extent = {float(250 / mm), float(300 / mm), float(150 / mm)};
-  const double boxed = head_extent(s, render::orbit_cameras(render::plan_settings_orbit(base, o, {}).spec)[0]).rows;
+  const double boxed =
+      head_extent(s, render::orbit_cameras(render::plan_settings_orbit(base, o, {}).spec)[0]).rows;
   o.subject = head_framing(exact_placement(s));
-  const double framed = head_extent(s, render::orbit_cameras(render::plan_settings_orbit(base, o, {}).spec)[0]).rows;
+  const double framed =
+      head_extent(s, render::orbit_cameras(render::plan_settings_orbit(base, o, {}).spec)[0]).rows;
   std::printf("head height share: box %.2f, head framing %.2f\n", boxed, framed);
   EXPECT_LT(boxed, 0.45);
   EXPECT_GT(framed, 1.5 * boxed);

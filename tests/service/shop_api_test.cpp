@@ -110,8 +110,9 @@ TEST(ShopArtifacts, ServesListedFilesBehindTheCapturesTokenOnly) {
   EXPECT_EQ(shop.get(base + "fits/round.glb/view_00.jpg", other_token).status, 404);  // another's token
   for (const std::string& escape :
        {std::string("model/head.lnerf"), std::string("upload/video.mp4"), std::string("job.json"),
-        std::string("../") + other_id + "/fits/round.glb/view_00.jpg", std::string("fits/round.glb/../../job.json"),
-        std::string("%2e%2e/%2e%2e/jobs.sqlite"), std::string("/etc/passwd"), std::string("fits/round.glb"),
+        std::string("../") + other_id + "/fits/round.glb/view_00.jpg",
+        std::string("fits/round.glb/../../job.json"), std::string("%2e%2e/%2e%2e/jobs.sqlite"),
+        std::string("/etc/passwd"), std::string("fits/round.glb"),
         std::string("fits/round.glb/view_00.jpg/")}) {
     ApiResponse r = shop.get(base + escape, token);
     EXPECT_EQ(r.status, 404) << escape;
