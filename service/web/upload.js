@@ -21,6 +21,8 @@
       xhr.upload.onprogress = (e) => {
         if (e.lengthComputable) $("bar").value = (100 * e.loaded) / e.total;
       };
+      // A fast upload may end without a progress event: its end fills the bar.
+      xhr.upload.onload = () => { $("bar").value = 100; };
       xhr.onload = () => {
         if (xhr.status >= 200 && xhr.status < 300) return resolve();
         let msg = "the upload was refused (" + xhr.status + ")";

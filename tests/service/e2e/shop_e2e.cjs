@@ -44,9 +44,11 @@ function canvasStats() {
     await page.evaluate(() => {
       // Keep the bar's highest value across the navigation that follows the upload.
       const bar = document.getElementById("bar");
-      new MutationObserver(() => sessionStorage.setItem("bar", String(bar.value))).observe(bar, { attributes: true });
-      const set = Object.getOwnPropertyDescriptor(HTMLProgressElement.prototype, "value").set;
-      Object.defineProperty(bar, "value", { set(v) { set.call(bar, v); sessionStorage.setItem("bar", String(v)); } });
+      const native = Object.getOwnPropertyDescriptor(HTMLProgressElement.prototype, "value");
+      Object.defineProperty(bar, "value", {
+        get() { return native.get.call(bar); },
+        set(v) { native.set.call(bar, v); sessionStorage.setItem("bar", String(native.get.call(bar))); },
+      });
     });
     await page.click("#send");
     await page.waitForURL(/status\.html#id=/, { timeout: 30000 });
@@ -54,7 +56,7 @@ function canvasStats() {
     const fragment = new URLSearchParams(new URL(page.url()).hash.slice(1));
     fs.writeFileSync(path.join(work, "token"), fragment.get("token"));
     const stages = new Set();
-    const deadline = Date.now() + 240000;
+    const deadline = Date.now() + 480000;  // minutes on a loaded 2-core machine
     while (!page.url().includes("tryon.html") && Date.now() < deadline) {
       const text = await page.textContent("#stage").catch(() => "");
       if (text) stages.add(text.replace(/ \(\d+ %\)/, ""));
