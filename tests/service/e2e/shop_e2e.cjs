@@ -50,6 +50,7 @@ function canvasStats() {
         set(v) { native.set.call(bar, v); sessionStorage.setItem("bar", String(native.get.call(bar))); },
       });
     });
+    const t0 = Date.now();
     await page.click("#send");
     await page.waitForURL(/status\.html#id=/, { timeout: 30000 });
     check(Number(await page.evaluate(() => sessionStorage.getItem("bar"))) === 100, "upload page: the progress bar reached 100 %");
@@ -64,7 +65,7 @@ function canvasStats() {
       if (err) { console.log(`# status error: ${await page.textContent("#error")}`); }
       await page.waitForTimeout(250);
     }
-    console.log(`# stages seen: ${JSON.stringify([...stages])}`);
+    console.log(`# stages seen: ${JSON.stringify([...stages])}; upload to try-on page ${(Date.now() - t0) / 1000} s`);
     check(page.url().includes("tryon.html"), "status page: follows the job to the try-on page");
     check([...stages].some((s) => /3D head/.test(s)), "status page: showed the training stage");
     await page.waitForFunction(() => document.body.dataset.ready === "1", null, { timeout: 30000 });
