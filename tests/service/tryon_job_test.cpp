@@ -60,7 +60,8 @@ Coverage coverage(const lorgnette::Image& im) {
 }  // namespace
 
 TEST(TryOnJob, FitsOnceRendersTheViewsAndReusesThem) {
-  if (!fs::exists(kFixture / "head.lnerf")) GTEST_SKIP() << "the viewer fixture is missing (ctest -R viewer_fixture)";
+  if (!fs::exists(kFixture / "head.lnerf"))
+    GTEST_SKIP() << "the viewer fixture is missing (ctest -R viewer_fixture)";
   fs::path catalogue = test_dir("service_tryon_catalogue");
   fs::copy_file(kFixture / "catalogue" / "a-round.glb", catalogue / "round.glb");
   const fs::path job = trained_job(catalogue);
@@ -76,8 +77,8 @@ TEST(TryOnJob, FitsOnceRendersTheViewsAndReusesThem) {
     ASSERT_EQ(im.width, 96);
     ASSERT_EQ(im.height, 96);
     const Coverage c = coverage(im);
-    std::printf("%s: head over %.2f of the height, %d dark pixels\n", v.get<std::string>().c_str(), c.head_rows,
-                c.dark);
+    std::printf("%s: head over %.2f of the height, %d dark pixels\n", v.get<std::string>().c_str(),
+                c.head_rows, c.dark);
     // The fixture's model box cuts the head at the neck and crown, so the head spans the framing
     // sphere's middle: at least 60 % of the height (the model's box alone frames it at ~45 %).
     EXPECT_GE(c.head_rows, 0.6) << v;
@@ -90,7 +91,8 @@ TEST(TryOnJob, FitsOnceRendersTheViewsAndReusesThem) {
 }
 
 TEST(TryOnJob, AFitMadeFromAnotherModelIsMadeAgain) {
-  if (!fs::exists(kFixture / "head.lnerf")) GTEST_SKIP() << "the viewer fixture is missing (ctest -R viewer_fixture)";
+  if (!fs::exists(kFixture / "head.lnerf"))
+    GTEST_SKIP() << "the viewer fixture is missing (ctest -R viewer_fixture)";
   fs::path catalogue = test_dir("service_tryon_catalogue");
   fs::copy_file(kFixture / "catalogue" / "a-round.glb", catalogue / "round.glb");
   const fs::path job = trained_job(catalogue);
