@@ -6,6 +6,7 @@
 #include <string>
 
 #include "fit/fit.h"
+#include "fit/fit_placement.h"
 #include "fit/glasses_input.h"
 #include "fit/nerf_view_source.h"
 #include "fit/placement_json.h"

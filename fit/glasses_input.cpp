@@ -1,7 +1,7 @@
 // Glasses reference points and frame samples from the mesh module (see glasses_input.h).
 #include "fit/glasses_input.h"
 
-#include "mesh/canonical.h"
+#include "mesh/frame_samples.h"
 #include "mesh/glasses.h"
 #include "mesh/refpoints.h"
 #include "mesh/temple_bend.h"
@@ -24,12 +24,8 @@ GlassesInput load_glasses_input(const std::string& path, int samples, unsigned s
   } else {
     in.notes.push_back(g.metrics.no_hinges + ": the temples stay rigid in the fit");
   }
-  std::vector<bool> lens = mesh::lens_triangles(g.mesh);
-  std::vector<bool> frame(lens.size());
-  for (size_t i = 0; i < lens.size(); ++i) frame[i] = !lens[i];
-  std::vector<Eigen::Vector3f> pts = mesh::sample_surface(g.mesh, samples, seed, &frame);
-  if (pts.empty()) pts = mesh::sample_surface(g.mesh, samples, seed);  // lens-only mesh: use everything
-  for (const auto& p : pts) in.frame_points.push_back(p.cast<double>());
+  for (const auto& p : mesh::sample_frame_surface(g.mesh, samples, seed))
+    in.frame_points.push_back(p.cast<double>());
   in.notes.insert(in.notes.begin(), g.notes.begin(), g.notes.end());
   return in;
 }

@@ -23,8 +23,6 @@
 
 namespace lorgnette::fit {
 
-struct FitResult;
-
 // A hand adjustment of the placement (`lorgnette view`): the frame moved along its own canonical
 // axes, up and forward in mm, tilted in degrees about its x axis through the bridge (positive: the
 // lenses' bottoms towards the face). A placement's transform already includes its nudge.
@@ -78,9 +76,6 @@ mesh::TempleBend temple_bend_from_placement(const nlohmann::json& placement);
 
 // Content hash of a file (FNV-1a 64, hex); throws when it cannot be read.
 std::string file_hash(const std::string& path);
-
-PlacementFile make_placement_file(const FitResult& r, const std::string& glasses_path,
-                                  const std::string& scale_policy);
 
 nlohmann::json to_json(const PlacementFile& p);
 PlacementFile placement_from_json(const nlohmann::json& j);  // throws naming the bad field

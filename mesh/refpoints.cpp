@@ -16,6 +16,7 @@
 #include "host/util/file_kind.h"
 #include "host/util/image_io.h"
 #include "mesh/canonical.h"
+#include "mesh/frame_samples.h"
 
 namespace lorgnette::mesh {
 namespace {
@@ -128,10 +129,7 @@ std::vector<bool> lens_triangles(const TriMesh& mesh) {
 }
 
 RefPoints detect_refpoints(const TriMesh& mesh) {
-  std::vector<bool> frame = lens_triangles(mesh);
-  frame.flip();
-  std::vector<Eigen::Vector3f> pts = sample_surface(mesh, 80000, 11u, &frame);
-  if (pts.empty()) pts = sample_surface(mesh, 80000, 11u);  // lens-only mesh: use everything
+  std::vector<Eigen::Vector3f> pts = sample_frame_surface(mesh, 80000, 11u);
   Eigen::AlignedBox3f box;
   for (const auto& p : pts) box.extend(p);
   const float width = box.sizes().x(), front = box.max().z();

@@ -6,8 +6,7 @@
 #include <Eigen/Geometry>
 #include <map>
 
-#include "mesh/canonical.h"
-#include "mesh/refpoints.h"
+#include "mesh/frame_samples.h"
 
 namespace lorgnette::mesh {
 namespace {
@@ -67,10 +66,7 @@ void bend_mesh(const TempleBend& b, TriMesh& mesh) {
 }
 
 std::optional<TempleHinges> detect_temple_hinges(const TriMesh& mesh, std::string* why) {
-  std::vector<bool> frame = lens_triangles(mesh);
-  frame.flip();
-  std::vector<Eigen::Vector3f> pts = sample_surface(mesh, 80000, 17u, &frame);
-  if (pts.empty()) pts = sample_surface(mesh, 80000, 17u);
+  std::vector<Eigen::Vector3f> pts = sample_frame_surface(mesh, 80000, 17u);
   if (pts.size() < 100) {
     if (why) *why = "the frame has too little surface to find its temples";
     return std::nullopt;

@@ -74,6 +74,8 @@ ApiResponse Api::route(const ApiRequest& rq, BodySource& body) {
   const std::string& m = rq.method;
   if (p == std::vector<std::string>{"metrics"} && m == "GET")
     return require_admin(rq.authorization), metrics();
+  if (m == "GET" && (p.empty() || p[0] != "api"))
+    if (auto page = shop_page(rq.target.substr(0, rq.target.find('?')))) return *page;
   if (p.size() < 3 || p[0] != "api" || p[1] != "v1")
     throw ApiError(404, "not_found", "no such endpoint: the API is under /api/v1 (docs/service.md)");
   if (p.size() == 3 && p[2] == "health" && m == "GET") return json_response(200, {{"ok", true}});
@@ -84,9 +86,14 @@ ApiResponse Api::route(const ApiRequest& rq, BodySource& body) {
     if (m != "POST") throw ApiError(405, "method_not_allowed", "create a capture with POST /api/v1/captures");
     return create(body);
   }
-  if (!valid_capture_id(p[3]) || p.size() > 5)
+  const bool is_artifact = p.size() > 5 && p[4] == "artifacts" && m == "GET";
+  if (!valid_capture_id(p[3]) || (p.size() > 5 && !is_artifact))
     throw ApiError(404, "not_found", "no capture with this id and token");
   const CaptureRecord rec = authorise(p[3], rq.authorization);
+  if (is_artifact) {
+    const std::string path = rq.target.substr(0, rq.target.find('?'));
+    return artifact(rec, path.substr(path.find("/artifacts/") + 11));
+  }
   const std::string action = p.size() == 5 ? p[4] : "";
   if (action.empty() && m == "GET") return status(rec);
   if (action.empty() && m == "DELETE") return remove(rec);

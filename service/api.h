@@ -8,6 +8,9 @@
 //   DELETE /api/v1/captures/{id}            the capture and everything made from it -> 204
 //   GET    /api/v1/queue, /metrics          admin token only (Prometheus text for /metrics)
 //   GET    /api/v1/health                   no token
+//   GET    /api/v1/captures/{id}/artifacts/P a finished job's preview, try-on views, placements
+//   GET    /, /status.html, /tryon.html ... the shopper's pages (api_shop.cpp; no token: they carry
+//                                            it in the URL fragment, which browsers never send)
 // A capture's requests carry "Authorization: Bearer <token>"; an unknown id and a wrong token get
 // the same 404, so a token confirms nothing about other captures.
 #pragma once
@@ -35,6 +38,9 @@ struct ApiResponse {
   std::string content_type = "application/json";
   std::string body;
 };
+
+// The shopper's page at `path` ("/" is the upload page), or nothing (api_shop.cpp).
+std::optional<ApiResponse> shop_page(const std::string& path);
 
 // The request's body, read by the transport only when the API asks for it.
 class BodySource {
@@ -80,6 +86,7 @@ class Api {
   ApiResponse start(CaptureRecord rec);
   ApiResponse status(const CaptureRecord& rec);
   ApiResponse remove(const CaptureRecord& rec);
+  ApiResponse artifact(const CaptureRecord& rec, const std::string& relative);  // api_shop.cpp
   ApiResponse queue();
   ApiResponse metrics();
   CaptureRecord authorise(const std::string& id, const std::string& authorization);

@@ -8,9 +8,12 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <fstream>
 #include <optional>
 #include <stdexcept>
 
+#include "fit/placement_json.h"
+#include "host/util/image_io.h"
 #include "host/util/interrupt.h"
 #include "service/job_folder.h"
 #include "service/job_settings.h"
@@ -82,20 +85,50 @@ void train_stage(const JobFolder& f, const JobSettings& s, cl::Runtime& rt, Repo
   r.artifacts()["model"] = "model/head.lnerf";
 }
 
+// What a frame's cached fit and views were made from: the model's and the frame file's content
+// hashes. A fit folder made from another model (retrained) or another file under the same name is
+// stale and is made again; one made from these is complete and reused.
+nlohmann::json made_from(const std::string& model_hash, const std::string& glasses) {
+  return {{"model_hash", model_hash}, {"glasses_hash", fit::file_hash(glasses)}};
+}
+
+void drop_stale_fit(const fs::path& dir, const nlohmann::json& expected) {
+  if (!fs::exists(dir)) return;
+  std::ifstream in(dir / "made_from.json");
+  const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
+  if (!j.is_discarded() && j == expected) return;
+  spdlog::info("fit '{}' was made from another model or frame file: making it again", dir.string());
+  fs::remove_all(dir);
+}
+
 void fit_stage(const JobFolder& f, const JobSettings& s, cl::Runtime& rt, Reporter& r) {
   if (s.catalogue.empty()) return;
   const std::vector<viewer::FrameEntry> frames = viewer::catalogue_from_dir(s.catalogue);
-  nlohmann::json fits = nlohmann::json::object();
+  const std::string model_hash = fit::file_hash(f.model().string());
+  nlohmann::json fits = nlohmann::json::object(), views = nlohmann::json::object();
   for (size_t i = 0; i < frames.size(); ++i) {
     check_interrupt("a fit");
     const double pct = kTrainEnd + (kFitEnd - kTrainEnd) * double(i) / double(frames.size());
     r.update("fit", pct, fmt::format("placing frame {} of {} ({})", i + 1, frames.size(), frames[i].name));
     const std::string key = frame_key(frames[i].name);
-    run_stage(f.fit_dir(key),
-              [&](const fs::path& tmp) { fit_frame(rt, f.model(), f.dataset(), frames[i].path, tmp, s); });
-    fits[frames[i].name] = "fits/" + key + "/placement.json";
+    const nlohmann::json stamp = made_from(model_hash, frames[i].path);
+    drop_stale_fit(f.fit_dir(key), stamp);
+    run_stage(f.fit_dir(key), [&](const fs::path& tmp) {
+      fit_frame(rt, f.model(), f.dataset(), frames[i].path, tmp, s);
+      const auto names = render_tryon_views(rt, f.model(), frames[i].path, tmp / "placement.json", tmp, s);
+      write_text_file_atomic((tmp / "views.json").string(), nlohmann::json(names).dump() + "\n");
+      write_text_file_atomic((tmp / "made_from.json").string(), stamp.dump() + "\n");
+    });
+    const std::string dir = "fits/" + key + "/";
+    fits[frames[i].name] = dir + "placement.json";
+    views[frames[i].name] = nlohmann::json::array();
+    std::ifstream in(f.fit_dir(key) / "views.json");
+    for (const auto& n : nlohmann::json::parse(in))
+      views[frames[i].name].push_back(dir + n.get<std::string>());
   }
   r.artifacts()["fits"] = fits;
+  r.artifacts()["views"] = views;
+  if (!frames.empty()) r.artifacts()["preview"] = views[frames[0].name].at(0);
 }
 
 // Holds job.lock in the capture folder for the worker's life (flock: released by the kernel when

@@ -20,7 +20,9 @@ nlohmann::json JobSettings::to_json() const {
           {"train_seed", train_seed},
           {"train_max_side", train_max_side},
           {"fit_views", fit_views},
-          {"fit_resolution", fit_resolution}};
+          {"fit_resolution", fit_resolution},
+          {"tryon_views", tryon_views},
+          {"tryon_size", tryon_size}};
 }
 
 JobSettings JobSettings::from_json(const nlohmann::json& j) {
@@ -36,6 +38,8 @@ JobSettings JobSettings::from_json(const nlohmann::json& j) {
     s.train_max_side = j.value("train_max_side", s.train_max_side);
     s.fit_views = j.value("fit_views", s.fit_views);
     s.fit_resolution = j.value("fit_resolution", s.fit_resolution);
+    s.tryon_views = j.value("tryon_views", s.tryon_views);
+    s.tryon_size = j.value("tryon_size", s.tryon_size);
   } catch (const nlohmann::json::exception& e) {
     throw std::runtime_error(std::string("job settings: a field has the wrong type: ") + e.what());
   }
@@ -55,6 +59,8 @@ void JobSettings::validate() const {
   check(train_max_side >= 0, "train_max_side must be >= 0 (0: keep)");
   check(fit_views >= 2 && fit_views <= 200, "fit_views must be within 2..200");
   check(fit_resolution >= 64 && fit_resolution <= 4096, "fit_resolution must be within 64..4096");
+  check(tryon_views >= 1 && tryon_views <= 72, "tryon_views must be within 1..72");
+  check(tryon_size >= 64 && tryon_size <= 2048, "tryon_size must be within 64..2048");
 }
 
 void write_job_settings(const std::filesystem::path& path, const JobSettings& s) {

@@ -24,6 +24,10 @@ struct JobSettings {
   // Fit (fit::FitSettings): rendered views and their size.
   int fit_views = 12;
   int fit_resolution = 384;
+  // Try-on views per fitted frame (product_calls.h render_tryon_views): an orbit of this many square
+  // images of this side, rendered once and served as files.
+  int tryon_views = 12;
+  int tryon_size = 512;
 
   nlohmann::json to_json() const;
   // Throws naming the field that is missing, of the wrong type or out of range.

@@ -9,9 +9,15 @@
 #include "capture/capture.h"
 #include "capture/subject_box.h"
 #include "fit/fit_job.h"
+#include "fit/head_framing.h"
+#include "fit/placement_json.h"
 #include "host/dataset/dataset.h"
 #include "host/nerf/train_job.h"
+#include "host/render/render_settings.h"
+#include "host/render/renderer.h"
+#include "host/util/image_io.h"
 #include "host/util/interrupt.h"
+#include "mesh/placed_glasses.h"
 
 namespace fs = std::filesystem;
 
@@ -74,6 +80,35 @@ bool fit_frame(cl::Runtime& rt, const fs::path& model_file, const fs::path& data
   fit::write_placement((output_dir / "placement.json").string(), job.placement);
   for (const auto& w : job.fit.warnings) spdlog::warn("fit {}: {}", glasses, w);
   return job.placement.ok;
+}
+
+std::vector<std::string> render_tryon_views(cl::Runtime& rt, const fs::path& model_file,
+                                            const std::string& glasses, const fs::path& placement_file,
+                                            const fs::path& output_dir, const JobSettings& settings) {
+  nerf::NerfModel model = nerf::NerfModel::load(rt, model_file.string());
+  const fit::PlacementFile p = fit::read_placement(placement_file.string());
+  render::OrbitSettings orbit;
+  orbit.views = uint32_t(settings.tryon_views);
+  orbit.width = orbit.height = uint32_t(settings.tryon_size);
+  orbit.subject = fit::head_framing(p);
+  orbit.front = fit::head_front(p);  // the first view faces the face (clamped into the captured arc)
+  render::OrbitPlan plan = render::plan_model_orbit(model, orbit, render::model_view_range(model));
+  for (const auto& note : plan.notes) spdlog::info("try-on orbit: {}", note);
+  render::RenderSettings rs;  // the CLI's defaults: white background, 4 surface samples per pixel
+  const render::RenderOptions options = render::render_options(rs);
+  mesh::PlacedGlasses placed = mesh::load_placed_glasses(glasses, p.transform, p.temples.bend);
+  mesh::SurfaceParams sp;
+  sp.samples_per_pixel = int(rs.surface_spp);
+  render::Renderer renderer(rt);
+  std::vector<std::string> names;
+  const std::vector<Camera> cams = render::orbit_cameras(plan.spec);
+  for (size_t i = 0; i < cams.size(); ++i) {
+    const lorgnette::SurfaceBuffers surfaces = placed.pass->render(cams[i], sp);
+    const render::RenderResult r = renderer.render(model, cams[i], &surfaces, options);
+    names.push_back(fmt::format("view_{:02d}.jpg", i));
+    write_image((output_dir / names.back()).string(), r.rgba);
+  }
+  return names;
 }
 
 }  // namespace lorgnette::service

@@ -1,6 +1,7 @@
 // The only place the service calls the product's capture, train and fit: each stage's work as one
 // function over folders, built from JobSettings through the same owners the CLI uses (CaptureOptions,
-// nerf::TrainJob with capture::apply_subject_box, fit::FitSettings -> fit_options -> run_fit_job).
+// nerf::TrainJob with capture::apply_subject_box, fit::FitSettings -> fit_options -> run_fit_job,
+// render::OrbitSettings / RenderSettings -> plan_model_orbit / render_options).
 // Kept in one small file so it can move to the shared request owners (TrainSettings -> TrainJob)
 // in one change.
 #pragma once
@@ -8,6 +9,7 @@
 #include <filesystem>
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "host/cl/runtime.h"
 #include "service/job_settings.h"
@@ -35,5 +37,15 @@ void train_model(cl::Runtime& rt, const std::filesystem::path& dataset_dir,
 bool fit_frame(cl::Runtime& rt, const std::filesystem::path& model_file,
                const std::filesystem::path& dataset_dir, const std::string& glasses,
                const std::filesystem::path& output_dir, const JobSettings& settings);
+
+// The try-on views of one fitted frame: an orbit of settings.tryon_views images (view_NN.jpg,
+// settings.tryon_size square) framing the head (fit/head_framing.h) within the directions the
+// capture saw, the frame placed by `placement_file`, rendered through the RenderSettings /
+// OrbitSettings owners as `lorgnette render --orbit --placement` does. Returns the file names.
+std::vector<std::string> render_tryon_views(cl::Runtime& rt, const std::filesystem::path& model_file,
+                                            const std::string& glasses,
+                                            const std::filesystem::path& placement_file,
+                                            const std::filesystem::path& output_dir,
+                                            const JobSettings& settings);
 
 }  // namespace lorgnette::service

@@ -269,7 +269,15 @@ void FrameAssets::run_fit(uint32_t i) {
   };
   while (work.wait_for(std::chrono::milliseconds(100)) != std::future_status::ready) progress(false);
   progress(true);
-  nlohmann::json done = {{"type", "fit"}, {"frame", i}, {"seconds", elapsed()}};
+  const double seconds = elapsed();
+  nlohmann::json done = store_fit(i, work);
+  done["seconds"] = seconds;
+  listener_(done, i);
+}
+
+nlohmann::json FrameAssets::store_fit(uint32_t i, std::future<fit::PlacementFile>& work) {
+  const FrameEntry& e = entries_[i];
+  nlohmann::json done = {{"type", "fit"}, {"frame", i}};
   try {
     auto pf = std::make_shared<fit::PlacementFile>(work.get());
     std::string note;
@@ -300,7 +308,7 @@ void FrameAssets::run_fit(uint32_t i) {
     done["message"] =
         std::string(ex.what()) + " (showing a rough stand-in; nudge it and save, or run `lorgnette fit`)";
   }
-  listener_(done, i);
+  return done;
 }
 
 }  // namespace lorgnette::viewer

@@ -10,6 +10,7 @@
 #include <condition_variable>
 #include <deque>
 #include <functional>
+#include <future>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -83,6 +84,9 @@ class FrameAssets {
   void set_rough(uint32_t i, const std::string& why);  // under mutex_
   void fit_loop();
   void run_fit(uint32_t i);
+  // The fit's outcome for frame i: its placement (cached beside the frame when none is there) or,
+  // when it failed, the rough stand-in with the reason; the "fit" message for the listeners.
+  nlohmann::json store_fit(uint32_t i, std::future<fit::PlacementFile>& work);
 
   std::vector<FrameEntry> entries_;
   std::vector<std::unique_ptr<mesh::Glasses>> glasses_;

@@ -24,18 +24,19 @@ Vec3 normalized(Vec3 a, Vec3 fallback) {
 
 }  // namespace
 
-OrbitFrame make_orbit_frame(const Vec3& center, const Vec3& front, const Vec3& up, float radius,
-                            float fov_y_deg) {
+OrbitFrame make_orbit_frame(const render::OrbitSpec& spec) {
   OrbitFrame f;
-  f.center = center;
-  f.front = normalized(front, {0, 0, 1});
+  f.center = spec.center;
+  f.front = normalized(spec.front, {0, 0, 1});
+  const Vec3& up = spec.up;
   Vec3 u = sub(up, mul(f.front, dot(up, f.front)));
   f.up = normalized(u, std::abs(f.front[1]) < 0.9f ? Vec3{0, 1, 0} : Vec3{0, 0, 1});
   if (std::abs(dot(f.up, f.front)) > 0.5)
     f.up = normalized(sub(f.up, mul(f.front, dot(f.up, f.front))), {1, 0, 0});
   f.right = normalized(cross(f.up, f.front), {1, 0, 0});
-  f.radius = radius;
-  f.fov_y_deg = fov_y_deg;
+  f.radius = float(std::sqrt(dot(spec.half_extent, spec.half_extent)));
+  f.fov_y_deg = spec.fov_y_deg;
+  f.margin = spec.margin;
   return f;
 }
 
@@ -75,7 +76,7 @@ Camera orbit_camera(const OrbitFrame& f, const OrbitState& s, uint32_t width, ui
   double yaw = s.yaw_deg * kDeg, pitch = s.pitch_deg * kDeg;
   Vec3 dir = add(add(mul(f.right, std::cos(pitch) * std::sin(yaw)), mul(f.up, std::sin(pitch))),
                  mul(f.front, std::cos(pitch) * std::cos(yaw)));
-  float dist = render::framing_distance(f.radius, f.fov_y_deg, width, height, 1.05f) * float(s.distance);
+  float dist = render::framing_distance(f.radius, f.fov_y_deg, width, height, f.margin) * float(s.distance);
   // Pan is a fraction of the radius along the orbit's right and up axes.
   Vec3 target = add(f.center, add(mul(f.right, s.pan_x * f.radius), mul(f.up, s.pan_y * f.radius)));
   return render::look_at(add(target, mul(dir, dist)), target, f.up, width, height, f.fov_y_deg);

@@ -19,6 +19,7 @@ struct OrbitFrame {
   render::Vec3 front{0, 0, 1}, up{0, 1, 0}, right{1, 0, 0};  // orthonormal, right = up x front
   float radius = 1.0f;                                       // framed sphere (scene units)
   float fov_y_deg = 30.0f;
+  float margin = 1.05f;  // x the distance that just frames the sphere (render::OrbitSpec::margin)
 };
 
 struct OrbitLimits {
@@ -32,9 +33,11 @@ struct OrbitState {
   double yaw_deg = 0, pitch_deg = 0, distance = 1, pan_x = 0, pan_y = 0;
 };
 
-// Builds the orthonormal frame from a front and an up that need not be orthogonal.
-OrbitFrame make_orbit_frame(const render::Vec3& center, const render::Vec3& front, const render::Vec3& up,
-                            float radius, float fov_y_deg);
+// The frame of a planned orbit (render::plan_model_orbit, the request every front end makes): its
+// centre, the sphere round its box, its field of view and margin, and an orthonormal front and up
+// (the spec's need not be orthogonal). The start state (yaw 0, pitch 0, distance 1, no pan) is then
+// the spec's first camera at elevation 0, so the viewer opens on the view `render --orbit` starts at.
+OrbitFrame make_orbit_frame(const render::OrbitSpec& spec);
 
 // The limits of a capture's view range (host/nerf/view_range.h, the rule render::plan_orbit follows
 // too): its yaw/pitch extremes widened by `margin_deg`, at least `min_span_deg` wide and holding the

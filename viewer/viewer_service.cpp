@@ -75,15 +75,13 @@ ViewerService::ViewerService(ViewerConfig config) : config_(std::move(config)) {
     throw std::runtime_error("the viewer needs at least one frame (--glasses or --catalogue)");
   engine_ = std::make_unique<Engine>(config_.runtime, config_.model_path);
   device_name_ = engine_->rt.device().name;
-  // The orbit turns in the capture's view-range frame and is clamped to it, server-side
-  // (host/render/view_plan.h).
+  // The orbit is the one every front end requests (render::OrbitSettings, planned by
+  // render::plan_model_orbit): it turns in the capture's view-range frame and is clamped to it,
+  // server-side (host/render/view_plan.h).
   std::optional<nerf::ViewRange> range = render::model_view_range(engine_->model);
-  render::OrbitSpec spec = render::model_orbit(engine_->model, {});
-  if (range) spec.front = range->front, spec.up = range->up;
-  float radius =
-      std::sqrt(spec.half_extent[0] * spec.half_extent[0] + spec.half_extent[1] * spec.half_extent[1] +
-                spec.half_extent[2] * spec.half_extent[2]);
-  orbit_ = make_orbit_frame(spec.center, spec.front, spec.up, radius, 30.0f);
+  render::OrbitPlan plan = render::plan_model_orbit(engine_->model, render::OrbitSettings{}, range);
+  for (const auto& note : plan.notes) spdlog::info("view: orbit: {}", note);
+  orbit_ = make_orbit_frame(plan.spec);
   limits_ = limits_from_range(range);
   spdlog::info("view: orbit limits yaw [{:.0f}, {:.0f}] deg, pitch [{:.0f}, {:.0f}] deg from the {}",
                limits_.yaw_min, limits_.yaw_max, limits_.pitch_min, limits_.pitch_max, limits_.source);

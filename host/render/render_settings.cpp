@@ -2,6 +2,7 @@
 // (render_settings.h).
 #include "host/render/render_settings.h"
 
+#include <cmath>
 #include <stdexcept>
 
 #include "host/render/fused_marcher.h"
@@ -54,12 +55,29 @@ void validate(const OrbitSettings& s) {
   check_bound(b::kFovDeg, s.fov_y_deg);
   check_bound(b::kElevationDeg, s.elevation_deg);
   if (s.front) check_orbit_front(*s.front);
+  if (s.subject) {
+    const FramedSphere& f = *s.subject;
+    const bool finite =
+        std::isfinite(f.center[0]) && std::isfinite(f.center[1]) && std::isfinite(f.center[2]);
+    if (!finite || !(f.radius > 0.0f) || !std::isfinite(f.radius))
+      throw std::invalid_argument("the framed subject needs a finite centre and a positive radius");
+  }
 }
 
 OrbitPlan plan_model_orbit(const nerf::NerfModel& model, const OrbitSettings& s,
                            const std::optional<nerf::ViewRange>& range, const std::vector<Camera>& capture) {
+  return plan_settings_orbit(model_orbit(model, capture), s, range);
+}
+
+OrbitPlan plan_settings_orbit(OrbitSpec base, const OrbitSettings& s,
+                              const std::optional<nerf::ViewRange>& range) {
   validate(s);
-  OrbitSpec base = model_orbit(model, capture);
+  if (s.subject) {
+    // OrbitSpec frames the sphere around its half extent: a cube's half diagonal of radius r.
+    const float h = s.subject->radius / std::sqrt(3.0f);
+    base.center = s.subject->center;
+    base.half_extent = {h, h, h};
+  }
   base.fov_y_deg = s.fov_y_deg;
   base.width = s.width;
   base.height = s.height;

@@ -86,6 +86,153 @@ std::shared_ptr<Glasses> make_glasses(const mesh::FrameParams& params, std::stri
   return load_glasses(path);
 }
 
+// Glasses.make: the arguments of `lorgnette glasses make`.
+std::shared_ptr<Glasses> make_glasses_args(float lens, float bridge, float temple, const std::string& shape,
+                                           const std::string& path, const std::string& color,
+                                           const std::string& tint, bool force) {
+  mesh::FrameParams p;
+  p.lens_width = lens, p.bridge = bridge, p.temple_length = temple;
+  p.shape = mesh::parse_frame_shape(shape);
+  p.color = mesh::parse_color(color);
+  p.lens_tint = mesh::parse_color(tint);
+  return make_glasses(p, path, force);
+}
+
+// N x 3 vertices in canonical mm, or mapped by a 4x4.
+pyb::array_t<double> glasses_vertices(const Glasses& g, pyb::object transform) {
+  const auto& pos = g.glasses.mesh.positions;
+  Eigen::Matrix4d t = transform.is_none() ? Eigen::Matrix4d::Identity() : matrix_from(transform);
+  pyb::array_t<double> out({pyb::ssize_t(pos.size()), pyb::ssize_t(3)});
+  double* o = out.mutable_data();
+  for (size_t i = 0; i < pos.size(); ++i) {
+    Eigen::Vector4d p = t * Eigen::Vector4d(pos[i].x(), pos[i].y(), pos[i].z(), 1.0);
+    o[3 * i] = p.x(), o[3 * i + 1] = p.y(), o[3 * i + 2] = p.z();
+  }
+  return out;
+}
+
+pyb::array_t<int32_t> glasses_triangles(const Glasses& g) {
+  const auto& t = g.glasses.mesh.triangles;
+  pyb::array_t<int32_t> out({pyb::ssize_t(t.size()), pyb::ssize_t(3)});
+  for (size_t i = 0; i < t.size(); ++i)
+    for (int k = 0; k < 3; ++k) out.mutable_data()[3 * i + k] = t[i][k];
+  return out;
+}
+
+// Placement.from_transform: a placement made by hand, naming its frame (path and content hash) so a
+// later render can tell another frame from it.
+std::shared_ptr<Placement> placement_from_transform(pyb::object transform, pyb::object glasses) {
+  fit::PlacementFile pf;
+  pf.transform = placement_matrix(transform, "transform");
+  if (!glasses.is_none()) {
+    pf.glasses_path = glasses.cast<std::shared_ptr<Glasses>>()->glasses.path;
+    try {
+      pf.glasses_hash = fit::file_hash(pf.glasses_path);
+    } catch (const std::runtime_error&) {
+    }
+  }
+  pf.ok = true;
+  return placement_of(std::move(pf));
+}
+
+// Placement.save: an existing file is kept unless force=True (nothing the user made is lost).
+void save_placement(const Placement& p, const std::string& path, bool force) {
+  if (!force && std::filesystem::exists(path))
+    throw std::runtime_error("'" + path + "' exists: pass force=True to overwrite it or choose another path");
+  fit::write_placement(path, p.file);
+}
+
+std::shared_ptr<Placement> adjusted_placement(const Placement& p, std::array<float, 3> t,
+                                              std::array<float, 3> r, float s) {
+  fit::PlacementFile pf = p.file;
+  pf.transform = pf.transform * fit::trs_transform(t, r, s);
+  fit::check_transform(pf.transform, "adjusted placement");
+  return placement_of(std::move(pf));
+}
+
+void bind_glasses_class(pyb::module_& m) {
+  pyb::class_<Glasses, std::shared_ptr<Glasses>>(m, "Glasses",
+                                                 "A glasses frame in its canonical frame: millimetres, x to "
+                                                 "the wearer's left, +y up, +z forward, origin "
+                                                 "at the bridge point g_c.")
+      .def_static("load", &load_glasses, pyb::arg("path"), pyb::arg("mm_per_unit") = 0.0,
+                  "glTF/GLB/OBJ/PLY (a <file>.refpoints.json sidecar overrides the detected points).")
+      .def_static("make", &make_glasses_args, pyb::arg("lens"), pyb::arg("bridge"), pyb::arg("temple"),
+                  pyb::arg("shape") = "rect", pyb::arg("path") = "", pyb::arg("color") = "black",
+                  pyb::arg("lens_tint") = "clear", pyb::arg("force") = false,
+                  "`lorgnette glasses make`: writes PATH (.glb; default a temporary file) and its sidecar, "
+                  "then loads it.")
+      .def_property_readonly("path", [](const Glasses& g) { return g.glasses.path; })
+      .def_property_readonly(
+          "info", [](const Glasses& g) { return glasses_info(g.glasses); },
+          "What `lorgnette glasses inspect --json` prints.")
+      .def_property_readonly("size_mm",
+                             [](const Glasses& g) { return pyb::object(glasses_info(g.glasses)["size_mm"]); })
+      .def_property_readonly(
+          "reference_points",
+          [](const Glasses& g) { return pyb::object(glasses_info(g.glasses)["reference_points_mm"]); },
+          "g_c (bridge), g_l and g_r (temple tips resting on the ears), canonical mm, and their source.")
+      .def_property_readonly("notes", [](const Glasses& g) { return g.glasses.notes; })
+      .def("vertices", &glasses_vertices, pyb::arg("transform") = pyb::none(),
+           "N x 3 vertices in canonical mm, or mapped by a 4x4 (e.g. placement.transform: into the scene).")
+      .def_property_readonly("triangles", &glasses_triangles)
+      .def("__repr__", [](const Glasses& g) {
+        const auto& mm = g.glasses.metrics;
+        return fmt::format("Glasses('{}', {:.0f}-{:.0f}-{:.0f} mm)", g.glasses.path, mm.lens_width_mm,
+                           mm.bridge_mm, mm.temple_length_mm);
+      });
+}
+
+void bind_placement_class(pyb::module_& m) {
+  pyb::class_<Placement, std::shared_ptr<Placement>>(m, "Placement",
+                                                     "placement.json in memory: `transform` (canonical mm -> "
+                                                     "scene), the fit's estimates, the temple spread.")
+      .def_static(
+          "load",
+          [](const std::string& path) {
+            require_file(path, "placement");
+            return placement_of(fit::read_placement(path));
+          },
+          pyb::arg("path"),
+          "Reads and validates placement.json (the fit's reader: a bad field raises naming it).")
+      .def_static("from_transform", &placement_from_transform, pyb::arg("transform"),
+                  pyb::arg("glasses") = pyb::none())
+      .def_static(
+          "from_json",
+          [](const std::string& text) {
+            return placement_of(fit::placement_from_json(nlohmann::json::parse(text)));
+          },
+          pyb::arg("text"), "Reads placement.json's text (a relative glasses path stays as written).")
+      .def("to_json", [](const Placement& p) { return fit::to_json(p.file).dump(2); })
+      .def("save", &save_placement, pyb::arg("path"), pyb::arg("force") = false)
+      .def_property(
+          "transform", [](const Placement& p) { return matrix(p.file.transform); },
+          [](Placement& p, pyb::object t) { p.file.transform = placement_matrix(t, "transform"); },
+          "4x4 canonical mm -> scene (writable).")
+      .def("adjusted", &adjusted_placement, pyb::arg("translate_mm") = std::array<float, 3>{0, 0, 0},
+           pyb::arg("rotate_deg") = std::array<float, 3>{0, 0, 0}, pyb::arg("scale") = 1.0f,
+           "A copy moved in the frame's canonical millimetres (e.g. translate_mm=(0, -2, 0): 2 mm down the "
+           "nose).")
+      .def_property(
+          "glasses_path", [](const Placement& p) { return p.file.glasses_path; },
+          [](Placement& p, const std::string& path) { p.file.glasses_path = path; })
+      .def_property_readonly("ok", [](const Placement& p) { return p.file.ok; })
+      .def_property_readonly("warnings", [](const Placement& p) { return p.file.warnings; })
+      .def_property_readonly("pd_mm", [](const Placement& p) { return p.file.pd_mm; })
+      .def_property_readonly("mm_per_unit", [](const Placement& p) { return p.file.mm_per_unit; })
+      .def_property_readonly("scale", [](const Placement& p) { return p.file.scale; })
+      .def_property_readonly("penetration_mm", [](const Placement& p) { return p.file.penetration_mm; })
+      .def_property_readonly("views_used", [](const Placement& p) { return p.file.views_used; })
+      .def_property_readonly(
+          "data", [](const Placement& p) { return to_python(fit::to_json(p.file)); },
+          "The whole placement.json object as Python dicts and lists (a copy).")
+      .def("__repr__", [](const Placement& p) {
+        const fit::PlacementFile& pf = p.file;
+        return fmt::format("Placement(ok={}, PD {:.1f} mm, {:.1f} mm/unit, glasses '{}')", pf.ok, pf.pd_mm,
+                           pf.mm_per_unit, pf.glasses_path);
+      });
+}
+
 }  // namespace
 
 Eigen::Matrix4d placement_matrix(const pyb::handle& obj, const std::string& what) {
@@ -117,145 +264,8 @@ std::shared_ptr<Glasses> load_glasses(const std::string& path, double mm_per_uni
 }
 
 void bind_glasses(pyb::module_& m) {
-  pyb::class_<Glasses, std::shared_ptr<Glasses>>(m, "Glasses",
-                                                 "A glasses frame in its canonical frame: millimetres, x to "
-                                                 "the wearer's left, +y up, +z forward, origin "
-                                                 "at the bridge point g_c.")
-      .def_static("load", &load_glasses, pyb::arg("path"), pyb::arg("mm_per_unit") = 0.0,
-                  "glTF/GLB/OBJ/PLY (a <file>.refpoints.json sidecar overrides the detected points).")
-      .def_static(
-          "make",
-          [](float lens, float bridge, float temple, const std::string& shape, const std::string& path,
-             const std::string& color, const std::string& tint, bool force) {
-            mesh::FrameParams p;
-            p.lens_width = lens, p.bridge = bridge, p.temple_length = temple;
-            p.shape = mesh::parse_frame_shape(shape);
-            p.color = mesh::parse_color(color);
-            p.lens_tint = mesh::parse_color(tint);
-            return make_glasses(p, path, force);
-          },
-          pyb::arg("lens"), pyb::arg("bridge"), pyb::arg("temple"), pyb::arg("shape") = "rect",
-          pyb::arg("path") = "", pyb::arg("color") = "black", pyb::arg("lens_tint") = "clear",
-          pyb::arg("force") = false,
-          "`lorgnette glasses make`: writes PATH (.glb; default a temporary file) and its sidecar, then "
-          "loads it.")
-      .def_property_readonly("path", [](const Glasses& g) { return g.glasses.path; })
-      .def_property_readonly(
-          "info", [](const Glasses& g) { return glasses_info(g.glasses); },
-          "What `lorgnette glasses inspect --json` prints.")
-      .def_property_readonly("size_mm",
-                             [](const Glasses& g) { return pyb::object(glasses_info(g.glasses)["size_mm"]); })
-      .def_property_readonly(
-          "reference_points",
-          [](const Glasses& g) { return pyb::object(glasses_info(g.glasses)["reference_points_mm"]); },
-          "g_c (bridge), g_l and g_r (temple tips resting on the ears), canonical mm, and their source.")
-      .def_property_readonly("notes", [](const Glasses& g) { return g.glasses.notes; })
-      .def(
-          "vertices",
-          [](const Glasses& g, pyb::object transform) {
-            const auto& pos = g.glasses.mesh.positions;
-            Eigen::Matrix4d t = transform.is_none() ? Eigen::Matrix4d::Identity() : matrix_from(transform);
-            pyb::array_t<double> out({pyb::ssize_t(pos.size()), pyb::ssize_t(3)});
-            double* o = out.mutable_data();
-            for (size_t i = 0; i < pos.size(); ++i) {
-              Eigen::Vector4d p = t * Eigen::Vector4d(pos[i].x(), pos[i].y(), pos[i].z(), 1.0);
-              o[3 * i] = p.x(), o[3 * i + 1] = p.y(), o[3 * i + 2] = p.z();
-            }
-            return out;
-          },
-          pyb::arg("transform") = pyb::none(),
-          "N x 3 vertices in canonical mm, or mapped by a 4x4 (e.g. placement.transform: into the scene).")
-      .def_property_readonly("triangles",
-                             [](const Glasses& g) {
-                               const auto& t = g.glasses.mesh.triangles;
-                               pyb::array_t<int32_t> out({pyb::ssize_t(t.size()), pyb::ssize_t(3)});
-                               for (size_t i = 0; i < t.size(); ++i)
-                                 for (int k = 0; k < 3; ++k) out.mutable_data()[3 * i + k] = t[i][k];
-                               return out;
-                             })
-      .def("__repr__", [](const Glasses& g) {
-        const auto& mm = g.glasses.metrics;
-        return fmt::format("Glasses('{}', {:.0f}-{:.0f}-{:.0f} mm)", g.glasses.path, mm.lens_width_mm,
-                           mm.bridge_mm, mm.temple_length_mm);
-      });
-
-  pyb::class_<Placement, std::shared_ptr<Placement>>(m, "Placement",
-                                                     "placement.json in memory: `transform` (canonical mm -> "
-                                                     "scene), the fit's estimates, the temple spread.")
-      .def_static(
-          "load",
-          [](const std::string& path) {
-            require_file(path, "placement");
-            return placement_of(fit::read_placement(path));
-          },
-          pyb::arg("path"),
-          "Reads and validates placement.json (the fit's reader: a bad field raises naming it).")
-      .def_static(
-          "from_transform",
-          [](pyb::object transform, pyb::object glasses) {
-            fit::PlacementFile pf;
-            pf.transform = placement_matrix(transform, "transform");
-            if (!glasses.is_none()) {
-              pf.glasses_path = glasses.cast<std::shared_ptr<Glasses>>()->glasses.path;
-              try {  // the frame it names, so a later render can tell another frame from it
-                pf.glasses_hash = fit::file_hash(pf.glasses_path);
-              } catch (const std::runtime_error&) {
-              }
-            }
-            pf.ok = true;
-            return placement_of(std::move(pf));
-          },
-          pyb::arg("transform"), pyb::arg("glasses") = pyb::none())
-      .def_static(
-          "from_json",
-          [](const std::string& text) {
-            return placement_of(fit::placement_from_json(nlohmann::json::parse(text)));
-          },
-          pyb::arg("text"), "Reads placement.json's text (a relative glasses path stays as written).")
-      .def("to_json", [](const Placement& p) { return fit::to_json(p.file).dump(2); })
-      .def(
-          "save",
-          [](const Placement& p, const std::string& path, bool force) {
-            if (!force && std::filesystem::exists(path))
-              throw std::runtime_error("'" + path +
-                                       "' exists: pass force=True to overwrite it or choose another path");
-            fit::write_placement(path, p.file);
-          },
-          pyb::arg("path"), pyb::arg("force") = false)
-      .def_property(
-          "transform", [](const Placement& p) { return matrix(p.file.transform); },
-          [](Placement& p, pyb::object t) { p.file.transform = placement_matrix(t, "transform"); },
-          "4x4 canonical mm -> scene (writable).")
-      .def(
-          "adjusted",
-          [](const Placement& p, std::array<float, 3> t, std::array<float, 3> r, float s) {
-            fit::PlacementFile pf = p.file;
-            pf.transform = pf.transform * fit::trs_transform(t, r, s);
-            fit::check_transform(pf.transform, "adjusted placement");
-            return placement_of(std::move(pf));
-          },
-          pyb::arg("translate_mm") = std::array<float, 3>{0, 0, 0},
-          pyb::arg("rotate_deg") = std::array<float, 3>{0, 0, 0}, pyb::arg("scale") = 1.0f,
-          "A copy moved in the frame's canonical millimetres (e.g. translate_mm=(0, -2, 0): 2 mm down the "
-          "nose).")
-      .def_property(
-          "glasses_path", [](const Placement& p) { return p.file.glasses_path; },
-          [](Placement& p, const std::string& path) { p.file.glasses_path = path; })
-      .def_property_readonly("ok", [](const Placement& p) { return p.file.ok; })
-      .def_property_readonly("warnings", [](const Placement& p) { return p.file.warnings; })
-      .def_property_readonly("pd_mm", [](const Placement& p) { return p.file.pd_mm; })
-      .def_property_readonly("mm_per_unit", [](const Placement& p) { return p.file.mm_per_unit; })
-      .def_property_readonly("scale", [](const Placement& p) { return p.file.scale; })
-      .def_property_readonly("penetration_mm", [](const Placement& p) { return p.file.penetration_mm; })
-      .def_property_readonly("views_used", [](const Placement& p) { return p.file.views_used; })
-      .def_property_readonly(
-          "data", [](const Placement& p) { return to_python(fit::to_json(p.file)); },
-          "The whole placement.json object as Python dicts and lists (a copy).")
-      .def("__repr__", [](const Placement& p) {
-        const fit::PlacementFile& pf = p.file;
-        return fmt::format("Placement(ok={}, PD {:.1f} mm, {:.1f} mm/unit, glasses '{}')", pf.ok, pf.pd_mm,
-                           pf.mm_per_unit, pf.glasses_path);
-      });
+  bind_glasses_class(m);
+  bind_placement_class(m);
 }
 
 }  // namespace lorgnette::py

@@ -20,6 +20,9 @@ namespace lorgnette::py {
 namespace {
 
 using Size = std::array<uint32_t, 2>;
+// Model.render's and Model.orbit's defaults are `lorgnette render`'s: the one request's.
+const render::RenderSettings kRenderDefaults;
+const render::OrbitSettings kOrbitDefaults;
 
 pyb::array_t<double> c2w_matrix(const Camera& c) {
   pyb::array_t<double> out({4, 4});
@@ -187,9 +190,62 @@ std::shared_ptr<Model> load_model(const std::string& path, const std::string& de
   return m;
 }
 
-}  // namespace
+Camera camera_from_transforms(const std::string& path, size_t index, std::optional<Size> size) {
+  if (!std::filesystem::exists(path)) require_file(path, "transforms");
+  dataset::LoadOptions lo;
+  lo.load_images = false;
+  lo.any_missing_images_ok = true;
+  auto ds = dataset::load_dataset(path, lo);
+  if (index >= ds.frames.size())
+    throw pyb::index_error(fmt::format("frame {} of '{}': it has {} frames", index, path, ds.frames.size()));
+  return size ? resized(ds.frames[index].camera, *size) : ds.frames[index].camera;
+}
 
-void bind_model(pyb::module_& m) {
+// Model.render's Python arguments, checked as `lorgnette render` checks its options.
+pyb::object render_with_args(Model& self, const Camera& cam, pyb::object glasses, pyb::object placement,
+                             pyb::object size, pyb::object spp, pyb::object surface_spp,
+                             pyb::object step_scale, pyb::object background, bool alpha, bool depth) {
+  RenderArgs a;
+  a.glasses = glasses, a.placement = placement, a.depth = depth;
+  if (!size.is_none()) a.size = size_arg(size);
+  a.settings = render_settings(spp, surface_spp, step_scale, background, alpha);
+  return render_model(self, cam, a);
+}
+
+// Model.orbit: the orbit request every front end makes (render::OrbitSettings), checked by
+// render::validate as `render --orbit` is.
+std::vector<Camera> orbit_with_args(Model& self, pyb::object views, pyb::object size, pyb::object elevation,
+                                    pyb::object fov, std::optional<render::Vec3> front, bool beyond_capture) {
+  render::OrbitSettings s;
+  s.views = uint32_t(count_arg(views, bounds::kOrbitViews));
+  Size wh = size_arg(size);
+  s.width = wh[0], s.height = wh[1];
+  s.elevation_deg = float(number_arg(elevation, bounds::kElevationDeg));
+  s.fov_y_deg = float(number_arg(fov, bounds::kFovDeg));
+  s.front = front, s.beyond_capture = beyond_capture;
+  render::OrbitPlan plan = render::plan_model_orbit(*self.nerf, s, render::model_view_range(*self.nerf));
+  return render::orbit_cameras(plan.spec);
+}
+
+void save_model(Model& self, const std::string& path, bool force) {
+  if (!force && std::filesystem::exists(path))
+    throw std::runtime_error("'" + path + "' exists: pass force=True to overwrite it or choose another path");
+  pyb::gil_scoped_release release;
+  std::lock_guard<std::mutex> lock(self.device->mutex);
+  self.nerf->save(path);
+  self.path = path;
+}
+
+pyb::dict model_metadata(const Model& self) {
+  const auto& md = self.nerf->metadata;
+  pyb::dict d;
+  d["steps"] = md.steps, d["train_seconds"] = md.train_seconds, d["samples_trained"] = md.samples_trained;
+  d["seed"] = md.seed, d["final_loss"] = md.final_loss, d["dataset_path"] = md.dataset_path;
+  d["dataset_hash"] = md.dataset_hash, d["device"] = md.device, d["created"] = md.created;
+  return d;
+}
+
+void bind_camera(pyb::module_& m) {
   pyb::class_<Camera>(m, "Camera",
                       "A pinhole camera (OpenGL convention: looks down -z, +y up; pixel centres at i + 0.5).")
       .def(pyb::init(&make_camera), pyb::arg("c2w"), pyb::arg("fx"), pyb::arg("fy"), pyb::arg("cx"),
@@ -209,21 +265,9 @@ void bind_model(pyb::module_& m) {
           },
           pyb::arg("path"), pyb::arg("size") = Size{854, 480}, pyb::arg("fov_y_deg") = 30.0f,
           "The camera `lorgnette render --pose PATH --size WxH --fov F` renders.")
-      .def_static(
-          "from_transforms",
-          [](const std::string& path, size_t index, std::optional<Size> size) {
-            if (!std::filesystem::exists(path)) require_file(path, "transforms");
-            dataset::LoadOptions lo;
-            lo.load_images = false;
-            lo.any_missing_images_ok = true;
-            auto ds = dataset::load_dataset(path, lo);
-            if (index >= ds.frames.size())
-              throw pyb::index_error(
-                  fmt::format("frame {} of '{}': it has {} frames", index, path, ds.frames.size()));
-            return size ? resized(ds.frames[index].camera, *size) : ds.frames[index].camera;
-          },
-          pyb::arg("path"), pyb::arg("index") = 0, pyb::arg("size") = pyb::none(),
-          "Frame `index` of a transforms.json (or its directory), in the loader's frame order.")
+      .def_static("from_transforms", &camera_from_transforms, pyb::arg("path"), pyb::arg("index") = 0,
+                  pyb::arg("size") = pyb::none(),
+                  "Frame `index` of a transforms.json (or its directory), in the loader's frame order.")
       .def("resized", &resized, pyb::arg("size"), "The same rays on a (width, height) image.")
       .def_property_readonly("width", [](const Camera& c) { return c.width; })
       .def_property_readonly("height", [](const Camera& c) { return c.height; })
@@ -244,52 +288,37 @@ void bind_model(pyb::module_& m) {
         return fmt::format("Camera({}x{}, f=({:.1f}, {:.1f}), eye=({:.3f}, {:.3f}, {:.3f}))", c.width,
                            c.height, c.fx, c.fy, c.c2w[3], c.c2w[7], c.c2w[11]);
       });
+}
 
+}  // namespace
+
+void bind_model(pyb::module_& m) {
+  bind_camera(m);
   pyb::class_<Model, std::shared_ptr<Model>>(m, "Model", pyb::dynamic_attr(),
                                              "A trained NeRF head (.lnerf) on an OpenCL device.")
       .def_static("load", &load_model, pyb::arg("path"), pyb::arg("device") = "",
                   "Loads a snapshot; a missing, newer or corrupt file raises with the CLI's message.")
-      .def(
-          "render",
-          [](Model& self, const Camera& cam, pyb::object glasses, pyb::object placement, pyb::object size,
-             pyb::object spp, pyb::object surface_spp, pyb::object step_scale, pyb::object background,
-             bool alpha, bool depth) {
-            RenderArgs a;
-            a.glasses = glasses, a.placement = placement, a.depth = depth;
-            if (!size.is_none()) a.size = size_arg(size);
-            a.settings = render_settings(spp, surface_spp, step_scale, background, alpha);
-            return render_model(self, cam, a);
-          },
-          pyb::arg("camera"), pyb::arg("glasses") = pyb::none(), pyb::arg("placement") = pyb::none(),
-          pyb::arg("size") = pyb::none(), pyb::arg("spp") = 1, pyb::arg("surface_spp") = 4,
-          pyb::arg("step_scale") = 1.0f, pyb::arg("background") = std::make_tuple(1.0, 1.0, 1.0),
-          pyb::arg("alpha") = false, pyb::arg("depth") = false,
-          "Renders the head (with glasses - a Glasses or a frame's path - placed by a Placement or a 4x4 "
-          "canonical mm -> scene; glasses without a placement are refused as `render` refuses them) as a "
-          "float32 H x W x 4 array: linear RGB over `background` and alpha = coverage (alpha=True: no "
-          "background, RGB premultiplied). depth=True returns (rgba, depth H x W: distance along the unit "
-          "ray, 0 where empty). to_srgb8() gives the CLI's PNG pixels. The GIL is released meanwhile.")
-      .def(
-          "orbit",
-          [](Model& self, pyb::object views, pyb::object size, pyb::object elevation, pyb::object fov,
-             std::optional<render::Vec3> front, bool beyond_capture) {
-            render::OrbitSettings s;  // checked by render::validate, as `render --orbit` is
-            s.views = uint32_t(count_arg(views, bounds::kOrbitViews));
-            Size wh = size_arg(size);
-            s.width = wh[0], s.height = wh[1];
-            s.elevation_deg = float(number_arg(elevation, bounds::kElevationDeg));
-            s.fov_y_deg = float(number_arg(fov, bounds::kFovDeg));
-            s.front = front, s.beyond_capture = beyond_capture;
-            render::OrbitPlan plan =
-                render::plan_model_orbit(*self.nerf, s, render::model_view_range(*self.nerf));
-            return render::orbit_cameras(plan.spec);
-          },
-          pyb::arg("views"), pyb::arg("size") = std::make_tuple(854, 480), pyb::arg("elevation_deg") = 0.0f,
-          pyb::arg("fov_y_deg") = 30.0f, pyb::arg("front") = pyb::none(), pyb::arg("beyond_capture") = false,
-          "The cameras of `lorgnette render --orbit N`: around the head's box from its front, within the "
-          "directions the capture saw plus a margin (captured_range), starting at `front` (a direction from "
-          "the head; its tilt adds to elevation_deg) clamped into them; beyond_capture=True: the full "
-          "circle from `front`.")
+      .def("render", &render_with_args, pyb::arg("camera"), pyb::arg("glasses") = pyb::none(),
+           pyb::arg("placement") = pyb::none(), pyb::arg("size") = pyb::none(),
+           pyb::arg("spp") = kRenderDefaults.spp, pyb::arg("surface_spp") = kRenderDefaults.surface_spp,
+           pyb::arg("step_scale") = kRenderDefaults.step_scale,
+           pyb::arg("background") = std::make_tuple(
+               kRenderDefaults.background[0], kRenderDefaults.background[1], kRenderDefaults.background[2]),
+           pyb::arg("alpha") = kRenderDefaults.alpha, pyb::arg("depth") = false,
+           "Renders the head (with glasses - a Glasses or a frame's path - placed by a Placement or a 4x4 "
+           "canonical mm -> scene; glasses without a placement are refused as `render` refuses them) as a "
+           "float32 H x W x 4 array: linear RGB over `background` and alpha = coverage (alpha=True: no "
+           "background, RGB premultiplied). depth=True returns (rgba, depth H x W: distance along the unit "
+           "ray, 0 where empty). to_srgb8() gives the CLI's PNG pixels. The GIL is released meanwhile.")
+      .def("orbit", &orbit_with_args, pyb::arg("views"),
+           pyb::arg("size") = std::make_tuple(kOrbitDefaults.width, kOrbitDefaults.height),
+           pyb::arg("elevation_deg") = kOrbitDefaults.elevation_deg,
+           pyb::arg("fov_y_deg") = kOrbitDefaults.fov_y_deg, pyb::arg("front") = pyb::none(),
+           pyb::arg("beyond_capture") = false,
+           "The cameras of `lorgnette render --orbit N`: around the head's box from its front, within the "
+           "directions the capture saw plus a margin (captured_range), starting at `front` (a direction from "
+           "the head; its tilt adds to elevation_deg) clamped into them; beyond_capture=True: the full "
+           "circle from `front`.")
       .def(
           "capture_cameras", [](Model& self) { return render::capture_cameras(*self.nerf); },
           "The cameras of the dataset the model was trained on (empty when it is gone).")
@@ -297,18 +326,7 @@ void bind_model(pyb::module_& m) {
           "captured_range", [](Model& self) { return captured_range(*self.nerf); },
           "The yaw and pitch range (degrees) of the capture's cameras around the head, in the orbit's frame "
           "(orbits stay inside it plus margin_deg); {} when the model records none and its dataset is gone.")
-      .def(
-          "save",
-          [](Model& self, const std::string& path, bool force) {
-            if (!force && std::filesystem::exists(path))
-              throw std::runtime_error("'" + path +
-                                       "' exists: pass force=True to overwrite it or choose another path");
-            pyb::gil_scoped_release release;
-            std::lock_guard<std::mutex> lock(self.device->mutex);
-            self.nerf->save(path);
-            self.path = path;
-          },
-          pyb::arg("path"), pyb::arg("force") = false)
+      .def("save", &save_model, pyb::arg("path"), pyb::arg("force") = false)
       .def_property_readonly("path", [](const Model& self) { return self.path; })
       .def_property_readonly("device", [](const Model& self) { return self.device->runtime.device().name; })
       .def_property_readonly(
@@ -316,17 +334,7 @@ void bind_model(pyb::module_& m) {
           [](const Model& self) { return std::make_pair(self.nerf->aabb().min, self.nerf->aabb().max); },
           "The scene box (min, max) the field covers.")
       .def_property_readonly("step", [](const Model& self) { return self.nerf->step(); })
-      .def_property_readonly(
-          "metadata",
-          [](const Model& self) {
-            const auto& md = self.nerf->metadata;
-            pyb::dict d;
-            d["steps"] = md.steps, d["train_seconds"] = md.train_seconds,
-            d["samples_trained"] = md.samples_trained;
-            d["seed"] = md.seed, d["final_loss"] = md.final_loss, d["dataset_path"] = md.dataset_path;
-            d["dataset_hash"] = md.dataset_hash, d["device"] = md.device, d["created"] = md.created;
-            return d;
-          })
+      .def_property_readonly("metadata", &model_metadata)
       .def("__repr__", [](const Model& self) {
         return fmt::format("Model('{}', {} steps, on {})", self.path, self.nerf->metadata.steps,
                            self.device->runtime.device().name);

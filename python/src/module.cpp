@@ -184,18 +184,14 @@ nlohmann::json from_python(const pyb::handle& obj) {
   return nlohmann::json::parse(pyb::module_::import("json").attr("dumps")(obj).cast<std::string>());
 }
 
-}  // namespace lorgnette::py
+namespace {
 
-PYBIND11_MODULE(_lorgnette, m) {
-  using namespace lorgnette;
-  using namespace lorgnette::py;
-  m.doc() = "Lorgnette: view-consistent virtual try-on of glasses (NeRF head + ray-traced frame)";
-  m.attr("__version__") = version_string();
-
+// lorgnette.Error (the library's messages), LandmarkError (an Error) and RangeError (an Error and a
+// ValueError, for a number outside its range in host/util/bounds.h, as Python's own checks raise),
+// and the translator that maps the library's C++ exceptions onto them.
+void register_errors(pyb::module_& m) {
   g_error = pyb::exception<std::exception>(m, "Error", PyExc_RuntimeError).release();
   g_landmark_error = pyb::exception<std::exception>(m, "LandmarkError", g_error.ptr()).release();
-  // A number outside its range (host/util/bounds.h): an Error with the CLI's text, and a ValueError
-  // as Python's own checks raise.
   g_range_error = PyErr_NewExceptionWithDoc(
       "lorgnette._lorgnette.RangeError",
       "A number outside its range (the CLI's message); both a lorgnette.Error and a ValueError.",
@@ -215,8 +211,10 @@ PYBIND11_MODULE(_lorgnette, m) {
       PyErr_SetString(g_error.ptr(), e.what());
     }
   });
+}
 
-  // Messages go to stderr as the CLI's do; warnings and errors only unless asked.
+// Messages go to stderr as the CLI's do; warnings and errors only unless asked.
+void bind_logging(pyb::module_& m) {
   if (!spdlog::get("lorgnette")) spdlog::set_default_logger(spdlog::stderr_color_mt("lorgnette"));
   spdlog::set_pattern("lorgnette: %^%l%$: %v");
   spdlog::set_level(spdlog::level::warn);
@@ -229,7 +227,9 @@ PYBIND11_MODULE(_lorgnette, m) {
         spdlog::set_level(l);
       },
       pyb::arg("level"), "Log level of the library's messages on stderr (default 'warning').");
+}
 
+void bind_devices(pyb::module_& m) {
   m.def(
       "devices",
       [] {
@@ -256,7 +256,9 @@ PYBIND11_MODULE(_lorgnette, m) {
         return device_dict(d, d.index);
       },
       "The device in use (use_device, else $LORGNETTE_DEVICE, else the CLI's default rule).");
+}
 
+void bind_images(pyb::module_& m) {
   m.def(
       "load_image",
       [](const std::string& path, bool raw) -> pyb::object {
@@ -273,6 +275,9 @@ PYBIND11_MODULE(_lorgnette, m) {
   m.def("to_srgb8", &srgb8, pyb::arg("rgba"), pyb::arg("alpha") = false,
         "Model.render's float RGBA as the 8-bit sRGB pixels `lorgnette render` writes to its PNGs "
         "(H x W x 3, or H x W x 4 straight alpha with alpha=True).");
+}
+
+void bind_trs(pyb::module_& m) {
   m.def(
       "trs",
       [](std::array<float, 3> t, std::array<float, 3> r, float s) {
@@ -285,7 +290,20 @@ PYBIND11_MODULE(_lorgnette, m) {
       pyb::arg("rotate_deg") = std::array<float, 3>{0, 0, 0}, pyb::arg("scale") = 1.0f,
       "4x4 p' = translate + R(rotate_deg) * scale * p with R = Rz Ry Rx (render "
       "--translate/--rotate/--scale).");
+}
 
+}  // namespace
+}  // namespace lorgnette::py
+
+PYBIND11_MODULE(_lorgnette, m) {
+  using namespace lorgnette::py;
+  m.doc() = "Lorgnette: view-consistent virtual try-on of glasses (NeRF head + ray-traced frame)";
+  m.attr("__version__") = lorgnette::version_string();
+  register_errors(m);
+  bind_logging(m);
+  bind_devices(m);
+  bind_images(m);
+  bind_trs(m);
   bind_model(m);
   bind_glasses(m);
   bind_fit(m);

@@ -8,6 +8,7 @@
 #include "eval/mesh_ground_truth.h"
 #include "fit/camera_math.h"
 #include "fit/fit.h"
+#include "fit/fit_placement.h"
 #include "fit/glasses_input.h"
 #include "fit/landmark_ids.h"
 #include "fit/placement_json.h"

@@ -10,6 +10,7 @@
 #include <cmath>
 
 #include "fit/fit.h"
+#include "fit/fit_placement.h"
 #include "fit/placement_json.h"
 
 namespace lorgnette::fit {

@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "fit/placement_json.h"
+#include "tests/common/cli_run.h"
 
 namespace lorgnette::fit {
 namespace {
@@ -20,24 +21,17 @@ namespace {
 namespace fs = std::filesystem;
 const fs::path kFixture = fs::path(LORGNETTE_TEST_TMP) / "viewer-fixture";
 
-struct CliResult {
-  int status = -1;
-  std::string err;
-};
+using lorgnette::testing::CliResult;
 
 // `lorgnette render MODEL <args> --orbit 1 --size 32x32 --no-video --json -o out` run in `dir`;
 // its summary goes to dir/summary.json.
 CliResult render(const fs::path& dir, const std::string& args) {
-  const fs::path err = dir / "stderr.txt";
-  std::string cmd = "cd '" + dir.string() + "' && '" LGN_CLI_PATH "' render '" +
-                    (kFixture / "head.lnerf").string() + "' " + args +
-                    " --orbit 1 --size 32x32 --no-video --force --json -o out > summary.json 2> '" +
-                    err.string() + "'";
-  int raw = std::system(cmd.c_str());
-  std::ifstream in(err);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, ss.str()};
+  lorgnette::testing::CliCall call;
+  call.stdout_to = "summary.json";
+  return lorgnette::testing::run_cli(LGN_CLI_PATH, dir,
+                                     "render '" + (kFixture / "head.lnerf").string() + "' " + args +
+                                         " --orbit 1 --size 32x32 --no-video --force --json -o out",
+                                     call);
 }
 
 class PlacementRender : public ::testing::Test {

@@ -15,6 +15,7 @@
 #include <thread>
 
 #include "service/child_process.h"
+#include "tests/common/cli_run.h"
 
 namespace lorgnette::service::test {
 
@@ -22,19 +23,10 @@ namespace fs = std::filesystem;
 
 // A fresh, empty folder named after the running test.
 inline fs::path test_dir(const std::string& suite) {
-  const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-  fs::path d = fs::path(LORGNETTE_TEST_TMP) / suite / info->name();
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
+  return lorgnette::testing::fresh_test_dir(LORGNETTE_TEST_TMP, suite);
 }
 
-inline std::string read_file(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+inline std::string read_file(const fs::path& p) { return lorgnette::testing::read(p); }
 
 inline void write_file(const fs::path& p, const std::string& bytes) {
   fs::create_directories(p.parent_path());

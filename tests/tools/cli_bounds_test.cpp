@@ -13,47 +13,24 @@
 #include <string>
 
 #include "host/nerf/snapshot.h"
+#include "tests/common/cli_run.h"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-struct CliResult {
-  int status = -1;
-  std::string err;
-  double seconds = 0.0;
-};
+namespace lt = lorgnette::testing;
+using lt::CliResult;
+using lt::write_file;
 
-fs::path test_dir() {
-  fs::path d = fs::path(LORGNETTE_TEST_TMP) / "cli_bounds" /
-               ::testing::UnitTest::GetInstance()->current_test_info()->name();
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
-
-std::string read_file(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+fs::path test_dir() { return lt::fresh_test_dir(LORGNETTE_TEST_TMP, "cli_bounds"); }
 
 // Runs `lorgnette -q <args>` in `dir` with a 60 s limit (a hang exits 124).
 CliResult run_cli(const fs::path& dir, const std::string& args) {
-  const fs::path err = dir / "stderr.txt";
-  std::string cmd = "cd '" + dir.string() + "' && timeout 60 '" LGN_CLI_PATH "' -q " + args +
-                    " > /dev/null 2> '" + err.string() + "'";
-  auto t0 = std::chrono::steady_clock::now();
-  int raw = std::system(cmd.c_str());
-  CliResult r;
-  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-  r.err = read_file(err);
-  return r;
+  lt::CliCall call;
+  call.timeout_s = 60;
+  return lt::run_cli(LGN_CLI_PATH, dir, "-q " + args, call);
 }
-
-void write_file(const fs::path& p, const std::string& text) { std::ofstream(p, std::ios::binary) << text; }
 
 // Runs the command once and checks it was refused with `part` on stderr (and no raw bad_alloc).
 #define EXPECT_REFUSED(call, part)                                                      \

@@ -15,48 +15,28 @@
 #include <string>
 #include <vector>
 
+#include "tests/common/cli_run.h"
 #include "tests/common/scoped_tmpfs.h"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-struct CliResult {
-  int status = -1;  // exit status
-  std::string err;  // stderr
-};
+namespace lt = lorgnette::testing;
+using lt::CliResult;
+using lt::write_file;
 
 // A fresh, empty directory for one test.
 fs::path test_dir() {
-  fs::path d =
+  const fs::path d =
       fs::path(LORGNETTE_TEST_TMP) / "cli" / ::testing::UnitTest::GetInstance()->current_test_info()->name();
   for (const char* mount_point : {"ro", "full"})  // left mounted by a killed run
     ::umount2((d / mount_point).c_str(), MNT_DETACH);
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
-
-std::string read_file(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
+  return lt::fresh_test_dir(LORGNETTE_TEST_TMP, "cli");
 }
 
 // Runs `lorgnette <args>` in `dir` (stdout is dropped, stderr kept).
-CliResult lorgnette(const fs::path& dir, const std::string& args) {
-  const fs::path err = dir / "stderr.txt";
-  std::string cmd =
-      "cd '" + dir.string() + "' && '" LGN_CLI_PATH "' " + args + " > /dev/null 2> '" + err.string() + "'";
-  int raw = std::system(cmd.c_str());
-  CliResult r;
-  r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-  r.err = read_file(err);
-  return r;
-}
-
-void write_file(const fs::path& p, const std::string& text) { std::ofstream(p, std::ios::binary) << text; }
+CliResult cli(const fs::path& dir, const std::string& args) { return lt::run_cli(LGN_CLI_PATH, dir, args); }
 
 #define EXPECT_CONTAINS(text, part) EXPECT_NE((text).find(part), std::string::npos) << "stderr: " << (text)
 
@@ -69,20 +49,20 @@ TEST(Cli, FitRefusesAnExistingPlacementBeforeLoadingAnything) {
   write_file(d / "model.lnerf", "not a model");  // CLI11 only checks that these exist
   write_file(d / "frame.glb", "not a mesh");
   write_file(d / "placement.json", kKeep);
-  CliResult r = lorgnette(d, "fit model.lnerf --glasses frame.glb -o placement.json");
+  CliResult r = cli(d, "fit model.lnerf --glasses frame.glb -o placement.json");
   EXPECT_EQ(r.status, 1);
   EXPECT_CONTAINS(r.err, "'placement.json' exists");
   EXPECT_CONTAINS(r.err, "--force");
-  EXPECT_EQ(read_file(d / "placement.json"), kKeep);
+  EXPECT_EQ(lt::read(d / "placement.json"), kKeep);
   // The default output is placement.json too.
-  r = lorgnette(d, "fit model.lnerf --glasses frame.glb");
+  r = cli(d, "fit model.lnerf --glasses frame.glb");
   EXPECT_EQ(r.status, 1);
   EXPECT_CONTAINS(r.err, "--force");
   // With --force the check passes and the command gets as far as reading the (dummy) frame.
-  r = lorgnette(d, "fit model.lnerf --glasses frame.glb -o placement.json --force");
+  r = cli(d, "fit model.lnerf --glasses frame.glb -o placement.json --force");
   EXPECT_EQ(r.status, 1);
   EXPECT_EQ(r.err.find("--force"), std::string::npos) << r.err;
-  EXPECT_EQ(read_file(d / "placement.json"), kKeep);
+  EXPECT_EQ(lt::read(d / "placement.json"), kKeep);
 }
 
 TEST(Cli, FitRefusesADebugDirectoryWithAnEarlierFitsViews) {
@@ -91,15 +71,15 @@ TEST(Cli, FitRefusesADebugDirectoryWithAnEarlierFitsViews) {
   write_file(d / "frame.glb", "not a mesh");
   fs::create_directories(d / "debug");
   write_file(d / "debug" / "view_03.png", kKeep);
-  CliResult r = lorgnette(d, "fit model.lnerf --glasses frame.glb -o placement.json --debug debug");
+  CliResult r = cli(d, "fit model.lnerf --glasses frame.glb -o placement.json --debug debug");
   EXPECT_EQ(r.status, 1);
   EXPECT_CONTAINS(r.err, "view_03.png");
   EXPECT_CONTAINS(r.err, "--force");
-  EXPECT_EQ(read_file(d / "debug" / "view_03.png"), kKeep);
+  EXPECT_EQ(lt::read(d / "debug" / "view_03.png"), kKeep);
   // Other files in the directory are no obstacle: the command goes on to the (dummy) frame.
   fs::remove(d / "debug" / "view_03.png");
   write_file(d / "debug" / "notes.txt", kKeep);
-  r = lorgnette(d, "fit model.lnerf --glasses frame.glb -o placement.json --debug debug");
+  r = cli(d, "fit model.lnerf --glasses frame.glb -o placement.json --debug debug");
   EXPECT_EQ(r.status, 1);
   EXPECT_EQ(r.err.find("debug views"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(d / "placement.json"));
@@ -108,47 +88,47 @@ TEST(Cli, FitRefusesADebugDirectoryWithAnEarlierFitsViews) {
 TEST(Cli, GlassesMakeRefusesExistingOutputsUnlessForced) {
   fs::path d = test_dir();
   write_file(d / "frame.glb", kKeep);
-  CliResult r = lorgnette(d, "glasses make --temple 140 -o frame.glb");
+  CliResult r = cli(d, "glasses make --temple 140 -o frame.glb");
   EXPECT_EQ(r.status, 1);
   EXPECT_CONTAINS(r.err, "'frame.glb' exists");
   EXPECT_CONTAINS(r.err, "--force");
-  EXPECT_EQ(read_file(d / "frame.glb"), kKeep);
+  EXPECT_EQ(lt::read(d / "frame.glb"), kKeep);
   EXPECT_FALSE(fs::exists(d / "frame.glb.refpoints.json"));
 
   // A new name works; a second run into the same name is refused (the .glb and its sidecar).
-  r = lorgnette(d, "glasses make --temple 140 -o new.glb");
+  r = cli(d, "glasses make --temple 140 -o new.glb");
   ASSERT_EQ(r.status, 0) << r.err;
-  const std::string made = read_file(d / "new.glb");
+  const std::string made = lt::read(d / "new.glb");
   EXPECT_EQ(made.substr(0, 4), "glTF");
   ASSERT_TRUE(fs::exists(d / "new.glb.refpoints.json"));
   fs::remove(d / "new.glb");  // a stale sidecar alone is an output too
-  r = lorgnette(d, "glasses make --temple 140 -o new.glb");
+  r = cli(d, "glasses make --temple 140 -o new.glb");
   EXPECT_EQ(r.status, 1);
   EXPECT_CONTAINS(r.err, "new.glb.refpoints.json' exists");
 
   write_file(d / "preview.png", kKeep);
-  r = lorgnette(d, "glasses make -o other.glb --preview preview.png");
+  r = cli(d, "glasses make -o other.glb --preview preview.png");
   EXPECT_EQ(r.status, 1);
   EXPECT_CONTAINS(r.err, "--preview");
   EXPECT_FALSE(fs::exists(d / "other.glb")) << "nothing is written when one output is refused";
-  EXPECT_EQ(read_file(d / "preview.png"), kKeep);
+  EXPECT_EQ(lt::read(d / "preview.png"), kKeep);
 
-  r = lorgnette(d, "glasses make --temple 140 -o frame.glb --force");
+  r = cli(d, "glasses make --temple 140 -o frame.glb --force");
   ASSERT_EQ(r.status, 0) << r.err;
-  EXPECT_EQ(read_file(d / "frame.glb").substr(0, 4), "glTF");
+  EXPECT_EQ(lt::read(d / "frame.glb").substr(0, 4), "glTF");
 }
 
 TEST(Cli, GlassesInspectRefusesAnExistingPreview) {
   fs::path d = test_dir();
-  ASSERT_EQ(lorgnette(d, "glasses make -o frame.glb").status, 0);
+  ASSERT_EQ(cli(d, "glasses make -o frame.glb").status, 0);
   write_file(d / "preview.png", kKeep);
-  CliResult r = lorgnette(d, "glasses inspect frame.glb -o preview.png");
+  CliResult r = cli(d, "glasses inspect frame.glb -o preview.png");
   EXPECT_EQ(r.status, 1);
   EXPECT_CONTAINS(r.err, "'preview.png' exists");
-  EXPECT_EQ(read_file(d / "preview.png"), kKeep);
-  r = lorgnette(d, "glasses inspect frame.glb -o preview.png --force");
+  EXPECT_EQ(lt::read(d / "preview.png"), kKeep);
+  r = cli(d, "glasses inspect frame.glb -o preview.png --force");
   ASSERT_EQ(r.status, 0) << r.err;
-  EXPECT_EQ(read_file(d / "preview.png").substr(1, 3), "PNG");
+  EXPECT_EQ(lt::read(d / "preview.png").substr(1, 3), "PNG");
 }
 
 TEST(Cli, EvalRefusesADirectoryWithEvaluationImages) {
@@ -157,13 +137,13 @@ TEST(Cli, EvalRefusesADirectoryWithEvaluationImages) {
   fs::create_directories(d / "data");
   fs::create_directories(d / "eval");
   write_file(d / "eval" / "000_pred_truth_error.png", kKeep);
-  CliResult r = lorgnette(d, "eval model.lnerf data -o eval");
+  CliResult r = cli(d, "eval model.lnerf data -o eval");
   EXPECT_EQ(r.status, 1);
   EXPECT_CONTAINS(r.err, "evaluation images");
   EXPECT_CONTAINS(r.err, "--force");
-  EXPECT_EQ(read_file(d / "eval" / "000_pred_truth_error.png"), kKeep);
+  EXPECT_EQ(lt::read(d / "eval" / "000_pred_truth_error.png"), kKeep);
   // --force gets past the check to the (dummy) model.
-  r = lorgnette(d, "eval model.lnerf data -o eval --force");
+  r = cli(d, "eval model.lnerf data -o eval --force");
   EXPECT_EQ(r.status, 1);
   EXPECT_EQ(r.err.find("evaluation images"), std::string::npos) << r.err;
 }
@@ -173,21 +153,21 @@ TEST(Cli, RenderRefusesExistingFramesBeforeLoadingTheModel) {
   write_file(d / "model.lnerf", "not a model");
   fs::create_directories(d / "out");
   write_file(d / "out" / "frame_0002.png", kKeep);
-  CliResult r = lorgnette(d, "render model.lnerf --orbit 4 -o out");
+  CliResult r = cli(d, "render model.lnerf --orbit 4 -o out");
   EXPECT_EQ(r.status, 1);
   EXPECT_CONTAINS(r.err, "frame_0002.png");
   EXPECT_CONTAINS(r.err, "--force");
-  EXPECT_EQ(read_file(d / "out" / "frame_0002.png"), kKeep);
+  EXPECT_EQ(lt::read(d / "out" / "frame_0002.png"), kKeep);
   // A single --pose view writes frame_0000 only, so frame_0002 is no obstacle: the (dummy) model is.
   write_file(d / "pose.json", R"({"transform_matrix": [[1,0,0,0],[0,1,0,0],[0,0,1,2],[0,0,0,1]]})");
-  r = lorgnette(d, "render model.lnerf --pose pose.json -o out");
+  r = cli(d, "render model.lnerf --pose pose.json -o out");
   EXPECT_EQ(r.status, 1);
   EXPECT_EQ(r.err.find("--force"), std::string::npos) << r.err;
   // --force gets past the check to the (dummy) model.
-  r = lorgnette(d, "render model.lnerf --orbit 4 -o out --force");
+  r = cli(d, "render model.lnerf --orbit 4 -o out --force");
   EXPECT_EQ(r.status, 1);
   EXPECT_EQ(r.err.find("already holds"), std::string::npos) << r.err;
-  EXPECT_EQ(read_file(d / "out" / "frame_0002.png"), kKeep);
+  EXPECT_EQ(lt::read(d / "out" / "frame_0002.png"), kKeep);
 }
 
 // --front is checked before the model is loaded: it needs --orbit and must be a direction.
@@ -195,14 +175,14 @@ TEST(Cli, RenderFrontNeedsAnOrbitAndADirection) {
   fs::path d = test_dir();
   write_file(d / "model.lnerf", "not a model");
   write_file(d / "pose.json", R"({"transform_matrix": [[1,0,0,0],[0,1,0,0],[0,0,1,2],[0,0,0,1]]})");
-  CliResult r = lorgnette(d, "render model.lnerf --pose pose.json --front 0 0 1 -o out");
+  CliResult r = cli(d, "render model.lnerf --pose pose.json --front 0 0 1 -o out");
   EXPECT_EQ(r.status, 1);
   EXPECT_CONTAINS(r.err, "give --orbit N too");
-  r = lorgnette(d, "render model.lnerf --orbit 4 --front 0 0 0 -o out");
+  r = cli(d, "render model.lnerf --orbit 4 --front 0 0 0 -o out");
   EXPECT_EQ(r.status, 1);
   EXPECT_CONTAINS(r.err, "--front 0 0 0 is not a direction");
   // A good one gets as far as the (dummy) model.
-  r = lorgnette(d, "render model.lnerf --orbit 4 --front 0 0.2 1 -o out");
+  r = cli(d, "render model.lnerf --orbit 4 --front 0 0.2 1 -o out");
   EXPECT_EQ(r.status, 1);
   EXPECT_EQ(r.err.find("--front"), std::string::npos) << r.err;
   EXPECT_CONTAINS(r.err, "model.lnerf");
@@ -212,9 +192,9 @@ TEST(Cli, RenderFrontNeedsAnOrbitAndADirection) {
 // (every row with the frame's split and both rates), and the files are not overwritten by a rerun.
 TEST(Cli, BenchFramesWritesCsvAndChartPerDeviceAndKeepsThem) {
   fs::path d = test_dir();
-  ASSERT_EQ(lorgnette(d, "glasses make --temple 140 -o frame.glb").status, 0);
+  ASSERT_EQ(cli(d, "glasses make --temple 140 -o frame.glb").status, 0);
   const std::string bench = "bench frames --glasses frame.glb --sizes 64x36 --repeats 1 --compare --out out";
-  CliResult r = lorgnette(d, bench);
+  CliResult r = cli(d, bench);
   ASSERT_EQ(r.status, 0) << r.err;
   std::vector<fs::path> csvs;
   for (const auto& e : fs::directory_iterator(d / "out"))
@@ -224,20 +204,20 @@ TEST(Cli, BenchFramesWritesCsvAndChartPerDeviceAndKeepsThem) {
     fs::path png = csv;
     png.replace_extension(".png");
     EXPECT_TRUE(fs::exists(png)) << png;
-    std::string text = read_file(csv);
+    std::string text = lt::read(csv);
     for (const char* column : {"median_ms", "march_ms", "surface_ms", "surface_wait_ms", "transfer_ms",
                                "samples_per_second", "composited_per_second", "variant"})
       EXPECT_CONTAINS(text, column);
     // Head alone: default and baseline (their waves differ); with glasses: default, sequential, baseline.
     EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), 1 + 2 + 3) << text;
   }
-  const std::string before = read_file(csvs[0]);
-  r = lorgnette(d, bench);
+  const std::string before = lt::read(csvs[0]);
+  r = cli(d, bench);
   EXPECT_EQ(r.status, 1);
   EXPECT_CONTAINS(r.err, "already holds");
   EXPECT_CONTAINS(r.err, "--out");
   EXPECT_CONTAINS(r.err, "--force");
-  EXPECT_EQ(read_file(csvs[0]), before);
+  EXPECT_EQ(lt::read(csvs[0]), before);
 }
 
 // `bench frames --marcher auto,fused` times both marchers side by side, and each row names the
@@ -245,16 +225,16 @@ TEST(Cli, BenchFramesWritesCsvAndChartPerDeviceAndKeepsThem) {
 // clear error.
 TEST(Cli, BenchFramesTimesSeveralMarchersSideBySide) {
   fs::path d = test_dir();
-  ASSERT_EQ(lorgnette(d, "glasses make --temple 140 -o frame.glb").status, 0);
-  CliResult r = lorgnette(d,
-                          "--device 0 bench frames --glasses frame.glb --sizes 64x36 --repeats 1 --compare "
-                          "--marcher auto,fused --out out");
+  ASSERT_EQ(cli(d, "glasses make --temple 140 -o frame.glb").status, 0);
+  CliResult r = cli(d,
+                    "--device 0 bench frames --glasses frame.glb --sizes 64x36 --repeats 1 --compare "
+                    "--marcher auto,fused --out out");
   ASSERT_EQ(r.status, 0) << r.err;
   std::vector<fs::path> csvs;
   for (const auto& e : fs::directory_iterator(d / "out"))
     if (e.path().extension() == ".csv") csvs.push_back(e.path());
   ASSERT_EQ(csvs.size(), 1u);
-  std::istringstream text(read_file(csvs[0]));
+  std::istringstream text(lt::read(csvs[0]));
   std::string line;
   std::getline(text, line);
   EXPECT_CONTAINS(line, ",marcher,");
@@ -263,9 +243,9 @@ TEST(Cli, BenchFramesTimesSeveralMarchersSideBySide) {
     for (const char* m : {",wavefront,", ",fused,"})
       if (line.find(m) != std::string::npos) rows[m]++;
   // Per marcher: head alone default and baseline, with glasses default, sequential and baseline.
-  EXPECT_EQ(rows[",wavefront,"], 5) << read_file(csvs[0]);
-  EXPECT_EQ(rows[",fused,"], 5) << read_file(csvs[0]);
-  r = lorgnette(d, "bench frames --sizes 64x36 --repeats 1 --marcher auto,warp --out out2");
+  EXPECT_EQ(rows[",wavefront,"], 5) << lt::read(csvs[0]);
+  EXPECT_EQ(rows[",fused,"], 5) << lt::read(csvs[0]);
+  r = cli(d, "bench frames --sizes 64x36 --repeats 1 --marcher auto,warp --out out2");
   EXPECT_NE(r.status, 0);
   EXPECT_CONTAINS(r.err, "'warp' is not a marcher");
 }
@@ -278,17 +258,17 @@ TEST(Cli, SynthForceReplacesOnlyAnEarlierSynthOutput) {
   fs::path d = test_dir();
   fs::create_directories(d / "photos");
   write_file(d / "photos" / "mine.jpg", kKeep);
-  CliResult r = lorgnette(d, kTinySynth + " -o photos --force");
+  CliResult r = cli(d, kTinySynth + " -o photos --force");
   EXPECT_EQ(r.status, 1);
   EXPECT_CONTAINS(r.err, "is not an earlier synthetic dataset");
-  EXPECT_EQ(read_file(d / "photos" / "mine.jpg"), kKeep);
+  EXPECT_EQ(lt::read(d / "photos" / "mine.jpg"), kKeep);
   // Its own earlier output: refused without --force, replaced with it.
-  r = lorgnette(d, kTinySynth + " -o data");
+  r = cli(d, kTinySynth + " -o data");
   ASSERT_EQ(r.status, 0) << r.err;
-  r = lorgnette(d, kTinySynth + " -o data");
+  r = cli(d, kTinySynth + " -o data");
   EXPECT_EQ(r.status, 1);
   EXPECT_CONTAINS(r.err, "--force");
-  r = lorgnette(d, kTinySynth + " -o data --force");
+  r = cli(d, kTinySynth + " -o data --force");
   EXPECT_EQ(r.status, 0) << r.err;
   EXPECT_TRUE(fs::exists(d / "data" / "transforms.json"));
 }
@@ -296,13 +276,13 @@ TEST(Cli, SynthForceReplacesOnlyAnEarlierSynthOutput) {
 TEST(Cli, SynthIntoTheWorkingDirectoryIsRefused) {
   fs::path d = test_dir();
   write_file(d / "notes.txt", kKeep);
-  CliResult r = lorgnette(d, kTinySynth + " -o . --force");
+  CliResult r = cli(d, kTinySynth + " -o . --force");
   EXPECT_EQ(r.status, 1);
   EXPECT_CONTAINS(r.err, "working directory");
-  EXPECT_EQ(read_file(d / "notes.txt"), kKeep);
+  EXPECT_EQ(lt::read(d / "notes.txt"), kKeep);
   // An empty working directory too: the dataset would replace the folder the shell stands in.
   fs::create_directories(d / "empty");
-  r = lorgnette(d / "empty", kTinySynth + " -o .");
+  r = cli(d / "empty", kTinySynth + " -o .");
   EXPECT_EQ(r.status, 1);
   EXPECT_CONTAINS(r.err, "working directory");
   EXPECT_TRUE(fs::is_directory(d / "empty"));
@@ -314,14 +294,14 @@ TEST(Cli, TrainChecksTheModelFolderBeforeAnyWork) {
   fs::path d = test_dir();
   lgn_test::ScopedTmpfs read_only(d / "ro", 64 * 1024, true);
   LGN_SKIP_UNLESS_MOUNTED(read_only);
-  CliResult r = lorgnette(d, "train no-such-dataset -o ro/head.lnerf");
+  CliResult r = cli(d, "train no-such-dataset -o ro/head.lnerf");
   EXPECT_EQ(r.status, 1);
   EXPECT_CONTAINS(r.err, "cannot write the model (-o ro/head.lnerf)");
   EXPECT_CONTAINS(r.err, "Read-only file system");
   lgn_test::ScopedTmpfs full(d / "full", 64 * 1024);
   LGN_SKIP_UNLESS_MOUNTED(full);
   full.fill();
-  r = lorgnette(d, "train no-such-dataset -o full/head.lnerf");
+  r = cli(d, "train no-such-dataset -o full/head.lnerf");
   EXPECT_EQ(r.status, 1);
   EXPECT_CONTAINS(r.err, "No space left on device");
   EXPECT_FALSE(fs::exists(d / "full" / "head.lnerf"));
@@ -329,16 +309,16 @@ TEST(Cli, TrainChecksTheModelFolderBeforeAnyWork) {
 
 TEST(Cli, GlassesPreviewOnAFullDiskIsAnError) {
   fs::path d = test_dir();
-  CliResult r = lorgnette(d, "glasses make -o frame.glb");
+  CliResult r = cli(d, "glasses make -o frame.glb");
   ASSERT_EQ(r.status, 0) << r.err;
   lgn_test::ScopedTmpfs full(d / "full", 64 * 1024);
   LGN_SKIP_UNLESS_MOUNTED(full);
   full.fill();
-  r = lorgnette(d, "glasses inspect frame.glb -o full/preview.png");
+  r = cli(d, "glasses inspect frame.glb -o full/preview.png");
   EXPECT_EQ(r.status, 1);
   EXPECT_CONTAINS(r.err, "No space left on device");
   EXPECT_FALSE(fs::exists(d / "full" / "preview.png"));
-  r = lorgnette(d, "glasses make -o full/other.glb");
+  r = cli(d, "glasses make -o full/other.glb");
   EXPECT_EQ(r.status, 1);
   EXPECT_CONTAINS(r.err, "No space left on device");
   EXPECT_FALSE(fs::exists(d / "full" / "other.glb"));

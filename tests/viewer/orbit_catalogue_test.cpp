@@ -5,6 +5,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <tuple>
 
 #include "fit/placement_json.h"
 #include "viewer/catalogue.h"
@@ -21,6 +22,13 @@ fs::path tmp_dir(const std::string& name) {
   fs::remove_all(p);
   fs::create_directories(p);
   return p;
+}
+
+// An orbit spec round a sphere of `radius` (half extents along x only) at `center`.
+render::OrbitSpec sphere_spec(render::Vec3 center, float radius, render::Vec3 front, render::Vec3 up) {
+  render::OrbitSpec s;
+  s.center = center, s.half_extent = {radius, 0, 0}, s.front = front, s.up = up;
+  return s;
 }
 
 Camera camera_at(float yaw_deg, float pitch_deg, float dist) {
@@ -68,7 +76,7 @@ TEST(ViewerOrbit, ClampKeepsTheStateInsideTheLimits) {
 }
 
 TEST(ViewerOrbit, CameraLooksAtTheCentreFromTheYawedDirection) {
-  OrbitFrame f = make_orbit_frame({1, 2, 3}, {0, 0, 1}, {0, 1, 0}, 0.5f, 30.0f);
+  OrbitFrame f = make_orbit_frame(sphere_spec({1, 2, 3}, 0.5f, {0, 0, 1}, {0, 1, 0}));
   Camera c = orbit_camera(f, {90, 0, 1, 0, 0}, 64, 48);
   // yaw +90: the camera sits on +right (= +x for front +z, up +y) and looks back at the centre.
   EXPECT_GT(c.c2w[3], 1.5f);
@@ -78,8 +86,23 @@ TEST(ViewerOrbit, CameraLooksAtTheCentreFromTheYawedDirection) {
   EXPECT_NEAR(d.x, -1.0f, 1e-3);
 }
 
+// The viewer frames the head as `render --orbit` does (one orbit request, render::OrbitSettings): its
+// start state is the orbit's first camera, for any field of view, margin, image shape, and a front
+// and up that are not orthogonal. Tolerance: float rounding of two equal constructions (1e-5).
+TEST(ViewerOrbit, StartViewIsTheRenderOrbitsFirstCamera) {
+  render::OrbitSpec spec = sphere_spec({0.2f, -0.1f, 0.3f}, 0.7f, {0.3f, 0.2f, 1.0f}, {0.1f, 1.0f, 0.4f});
+  for (auto [fov, margin, w, h] : {std::tuple{30.0f, 1.05f, 64u, 48u}, std::tuple{50.0f, 1.3f, 40u, 90u}}) {
+    spec.fov_y_deg = fov, spec.margin = margin, spec.width = w, spec.height = h;
+    Camera viewer = orbit_camera(make_orbit_frame(spec), {0, 0, 1, 0, 0}, w, h);
+    Camera cli = render::orbit_cameras(spec).at(0);
+    for (int i = 0; i < 12; ++i) EXPECT_NEAR(viewer.c2w[i], cli.c2w[i], 1e-5) << "c2w[" << i << "]";
+    EXPECT_NEAR(viewer.fy, cli.fy, 1e-3);
+    EXPECT_NEAR(viewer.fx, cli.fx, 1e-3);
+  }
+}
+
 TEST(ViewerOrbit, RowCropsRenderTheSameRaysAsTheFullCamera) {
-  OrbitFrame f = make_orbit_frame({0, 0, 0}, {0, 0, 1}, {0, 1, 0}, 1.0f, 30.0f);
+  OrbitFrame f = make_orbit_frame(sphere_spec({0, 0, 0}, 1.0f, {0, 0, 1}, {0, 1, 0}));
   Camera full = orbit_camera(f, {10, 5, 1, 0, 0}, 80, 60);
   Camera band = crop_rows(full, 24, 12);
   EXPECT_EQ(band.height, 12u);

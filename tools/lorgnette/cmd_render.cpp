@@ -10,6 +10,7 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 
+#include "fit/head_framing.h"
 #include "fit/placement_json.h"
 #include "fit/placement_transform.h"
 #include "host/dataset/dataset.h"
@@ -26,7 +27,8 @@ namespace lorgnette::cli {
 namespace {
 
 struct RenderArgs {
-  std::string model, glasses, placement, transform, pose, size = "854x480", out;
+  std::string model, glasses, placement, transform, pose, out;
+  std::string size = fmt::format("{}x{}", render::OrbitSettings{}.width, render::OrbitSettings{}.height);
   std::vector<float> translate, rotate, background, front;
   float scale = 1.0f;
   render::RenderSettings render;  // checked by render::validate (host/util/bounds.h), as Python's are
@@ -100,6 +102,11 @@ void run(RenderArgs& a, GlobalOptions& global) {
   std::string range_source;
   std::optional<nerf::ViewRange> range = render::model_view_range(model, &range_source);
   if (range) spdlog::info("captured directions: {} from {}", range->summary(), range_source);
+  if (orbit && !a.placement.empty()) {
+    // A placement knows where the head is: the orbit frames the head, not the model's whole box.
+    a.orbit.subject = fit::head_framing(fit::read_placement(a.placement));
+    spdlog::info("orbit: framing the head the placement sits on");
+  }
   if (orbit) {
     render::OrbitPlan plan = render::plan_model_orbit(model, a.orbit, range);
     for (const auto& note : plan.notes) spdlog::info("orbit: {}", note);
@@ -152,9 +159,11 @@ void add_render(CLI::App& app, GlobalOptions& global) {
   cmd->add_option("--rotate", a->rotate, "glasses rotation about x, y, z (degrees, applied x then y then z)")
       ->expected(3);
   cmd->add_option("--scale", a->scale, "scene units per millimetre of the frame");
-  cmd->add_option("--orbit", a->orbit.views,
-                  "N views around the head (1..3600), starting at its front, within the directions the "
-                  "capture saw (plus a margin)");
+  cmd->add_option(
+      "--orbit", a->orbit.views,
+      "N views around the head (1..3600), starting at its front, within the directions the "
+      "capture saw (plus a margin); with --placement the orbit frames the head (fit/head_framing.h), "
+      "else the model's box");
   cmd->add_option("--pose", a->pose, "one camera: JSON with transform_matrix (+ fl_x, w, h or fov_y_deg)")
       ->check(CLI::ExistingFile);
   cmd->add_option("--size", a->size, "image size WIDTHxHEIGHT")->capture_default_str();

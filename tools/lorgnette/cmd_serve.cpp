@@ -96,6 +96,9 @@ void add_serve(CLI::App& app, GlobalOptions& global) {
       ->capture_default_str();
   cmd->add_option("--fit-views", o.api.job.fit_views, "views rendered per fit")->capture_default_str();
   cmd->add_option("--fit-resolution", o.api.job.fit_resolution, "fit view size (px)")->capture_default_str();
+  cmd->add_option("--tryon-views", o.api.job.tryon_views, "try-on views rendered per fitted frame")
+      ->capture_default_str();
+  cmd->add_option("--tryon-size", o.api.job.tryon_size, "try-on view side (px)")->capture_default_str();
   cmd->callback([a, &global] { run(*a, global); });
 }
 

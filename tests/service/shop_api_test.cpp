@@ -1,0 +1,134 @@
+// The shopper's side of the API in-process (no HTTP): the embedded pages are served at their paths
+// (the upload page records or picks a video), and a finished job's artifacts are served behind the
+// capture's own token only, byte for byte, while every path that is not one the job listed (".."
+// escapes, encoded dots, absolute paths, the model, the upload, another capture's file) gets the
+// same 404 and none of the file's bytes.
+#include <gtest/gtest.h>
+
+#include "service/api.h"
+#include "service/job_folder.h"
+#include "service/local_executor.h"
+#include "service/progress.h"
+#include "service/sqlite_store.h"
+#include "service_test_util.h"
+
+using namespace lorgnette::service;
+using namespace lorgnette::service::test;
+
+namespace {
+
+class StringBody final : public BodySource {
+ public:
+  explicit StringBody(std::string s = "") : s_(std::move(s)) {}
+  std::string read_all(uint64_t) override { return s_; }
+  uint64_t read_to_file(const fs::path& p, uint64_t) override {
+    write_file(p, s_);
+    return s_.size();
+  }
+
+ private:
+  std::string s_;
+};
+
+struct Shop {
+  fs::path data;
+  std::unique_ptr<JobStore> store;
+  std::unique_ptr<LocalExecutor> executor;
+  std::unique_ptr<Api> api;
+
+  explicit Shop(const fs::path& d) : data(d) {
+    store = open_sqlite_store((data / "jobs.sqlite").string());
+    LocalExecutorOptions eo;
+    eo.data_dir = data.string();
+    eo.worker_exe = "/bin/false";  // never started: nothing is queued
+    executor = std::make_unique<LocalExecutor>(*store, eo);
+    ApiOptions ao;
+    ao.data_dir = data.string();
+    api = std::make_unique<Api>(ao, *store, *executor);
+  }
+  ApiResponse get(const std::string& target, const std::string& token = "") {
+    StringBody body;
+    return api->handle({"GET", target, token.empty() ? "" : "Bearer " + token, std::nullopt}, body);
+  }
+  // A capture whose job finished with one frame's views, as the worker leaves it.
+  std::pair<std::string, std::string> finished_capture(const std::string& jpeg) {
+    StringBody none;
+    const auto c = nlohmann::json::parse(api->handle({"POST", "/api/v1/captures", "", 0}, none).body);
+    const std::string id = c["id"], token = c["token"];
+    auto rec = *store->get(id);
+    rec.state = JobState::Finished;
+    store->update(rec);
+    const JobFolder f{data / "captures" / id};
+    write_file(f.fit_dir("round.glb") / "view_00.jpg", jpeg);
+    write_file(f.fit_dir("round.glb") / "placement.json", "{\"version\": 1}\n");
+    write_file(f.model(), "private model bytes");
+    write_file(f.upload() / "video.mp4", "private video bytes");
+    Progress p;
+    p.state = "finished";
+    p.artifacts = {{"model", "model/head.lnerf"},
+                   {"fits", {{"round.glb", "fits/round.glb/placement.json"}}},
+                   {"views", {{"round.glb", {"fits/round.glb/view_00.jpg"}}}},
+                   {"preview", "fits/round.glb/view_00.jpg"}};
+    write_progress(f.progress(), p);
+    return {id, token};
+  }
+};
+
+}  // namespace
+
+TEST(ShopPages, ServesTheUploadStatusAndTryOnPages) {
+  Shop shop(test_dir("service_shop"));
+  const ApiResponse index = shop.get("/");
+  ASSERT_EQ(index.status, 200);
+  EXPECT_EQ(index.content_type, "text/html; charset=utf-8");
+  EXPECT_NE(index.body.find("accept=\"video/*\" capture"), std::string::npos);  // records on a phone
+  EXPECT_NE(index.body.find("<progress"), std::string::npos);
+  for (const char* page : {"/status.html", "/tryon.html", "/shop.js", "/upload.js", "/shop.css"})
+    EXPECT_EQ(shop.get(page).status, 200) << page;
+  EXPECT_EQ(shop.get("/?ignored=1").status, 200);
+  EXPECT_EQ(shop.get("/missing.html").status, 404);
+  EXPECT_EQ(shop.get("/../service/web/index.html").status, 404);
+  StringBody none;
+  EXPECT_EQ(shop.api->handle({"POST", "/", "", 0}, none).status, 404);
+}
+
+TEST(ShopArtifacts, ServesListedFilesBehindTheCapturesTokenOnly) {
+  Shop shop(test_dir("service_shop"));
+  const std::string jpeg = std::string("\xFF\xD8\xFF\xE0 a try-on view", 18);
+  const auto [id, token] = shop.finished_capture(jpeg);
+  const auto [other_id, other_token] = shop.finished_capture("another shopper's view");
+  const std::string base = "/api/v1/captures/" + id + "/artifacts/";
+
+  ApiResponse view = shop.get(base + "fits/round.glb/view_00.jpg", token);
+  ASSERT_EQ(view.status, 200) << view.body;
+  EXPECT_EQ(view.content_type, "image/jpeg");
+  EXPECT_EQ(view.body, jpeg);
+  ApiResponse placement = shop.get(base + "fits/round.glb/placement.json?download=1", token);
+  EXPECT_EQ(placement.status, 200);
+  EXPECT_EQ(placement.content_type, "application/json");
+
+  EXPECT_EQ(shop.get(base + "fits/round.glb/view_00.jpg").status, 401);               // no token
+  EXPECT_EQ(shop.get(base + "fits/round.glb/view_00.jpg", other_token).status, 404);  // another's token
+  for (const std::string& escape :
+       {std::string("model/head.lnerf"), std::string("upload/video.mp4"), std::string("job.json"),
+        std::string("../") + other_id + "/fits/round.glb/view_00.jpg",
+        std::string("fits/round.glb/../../job.json"), std::string("%2e%2e/%2e%2e/jobs.sqlite"),
+        std::string("/etc/passwd"), std::string("fits/round.glb"),
+        std::string("fits/round.glb/view_00.jpg/")}) {
+    ApiResponse r = shop.get(base + escape, token);
+    EXPECT_EQ(r.status, 404) << escape;
+    EXPECT_EQ(r.body.find("private"), std::string::npos) << escape;
+    EXPECT_EQ(r.body.find("another shopper"), std::string::npos) << escape;
+  }
+}
+
+TEST(ShopArtifacts, AJobNotFinishedHasNoFilesYet) {
+  Shop shop(test_dir("service_shop"));
+  const auto [id, token] = shop.finished_capture("view");
+  auto rec = *shop.store->get(id);
+  rec.state = JobState::Running;
+  shop.store->update(rec);
+  ApiResponse r = shop.get("/api/v1/captures/" + id + "/artifacts/fits/round.glb/view_00.jpg", token);
+  EXPECT_EQ(r.status, 409);
+  EXPECT_NE(r.body.find("not_finished"), std::string::npos);
+}
