@@ -35,10 +35,10 @@ void run_serve(ServeOptions o) {
     throw std::runtime_error("--executor '" + o.executor + "' is not available yet: use 'local'");
   if (o.data_dir.empty())
     throw std::runtime_error("serve needs --data DIR (uploads, models, fits and the job store)");
+  o.api.job.validate();  // before anything is created
   fs::create_directories(o.data_dir);
   if (o.db.empty()) o.db = (fs::path(o.data_dir) / "jobs.sqlite").string();
   o.local.data_dir = o.api.data_dir = o.data_dir;
-  o.api.job.validate();
   auto store = open_sqlite_store(o.db);
   LocalExecutor executor(*store, o.local);
   executor.reconcile();

@@ -1,0 +1,111 @@
+// The second careless-user sweep of issue #42, as tests of the `lorgnette` binary: an output named
+// the same as one of the command's inputs is refused before any work, with --force too (the input
+// would be lost), and nothing is written; SIGTERM stops a long evaluation promptly. The inputs are a frame
+// from `glasses make`, a tiny model written through the snapshot format and a one-view synthetic dataset.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+
+#include "tests/tools/cli_run.h"
+
+namespace fs = std::filesystem;
+using namespace lgn_cli_test;
+
+namespace {
+
+fs::path test_dir() { return lgn_cli_test::test_dir("cli_sweep"); }
+
+}  // namespace
+
+TEST(CliSweep, FitNeverWritesItsPlacementOverItsInputs) {
+  fs::path d = test_dir();
+  write_tiny_model(d / "head.lnerf");
+  ASSERT_EQ(run_cli(d, "glasses make -o frame.glb").status, 0);
+  const std::string model = read_file(d / "head.lnerf"), frame = read_file(d / "frame.glb");
+  for (const char* target : {"head.lnerf", "frame.glb", "frame.glb.refpoints.json", "./sub/../head.lnerf"}) {
+    CliResult r = run_cli(d, std::string("fit head.lnerf --glasses frame.glb --force -o ") + target);
+    EXPECT_REFUSED(r, "is the input");
+    EXPECT_LT(r.seconds, 20.0) << "refused before the fit";
+  }
+  EXPECT_EQ(read_file(d / "head.lnerf"), model);
+  EXPECT_EQ(read_file(d / "frame.glb"), frame);
+}
+
+TEST(CliSweep, GlassesPreviewsNeverReplaceTheFrame) {
+  fs::path d = test_dir();
+  ASSERT_EQ(run_cli(d, "glasses make -o frame.glb").status, 0);
+  const std::string frame = read_file(d / "frame.glb");
+  EXPECT_REFUSED(run_cli(d, "glasses inspect frame.glb -o frame.glb --force"), "is the input");
+  EXPECT_EQ(read_file(d / "frame.glb"), frame);
+  // `make` with its preview named as its own output: refused before the frame is written.
+  EXPECT_REFUSED(run_cli(d, "glasses make -o other.glb --preview other.glb"), "is the input");
+  EXPECT_FALSE(fs::exists(d / "other.glb"));
+  EXPECT_FALSE(fs::exists(d / "other.glb.refpoints.json"));
+}
+
+TEST(CliSweep, TrainNeverWritesItsModelOverTheDataset) {
+  fs::path d = test_dir();
+  ASSERT_EQ(run_cli(d, "synth --procedural --views 1 --size 16x16 --samples 1 -o data").status, 0);
+  const std::string transforms = read_file(d / "data" / "transforms.json");
+  for (const char* target : {"data/transforms.json", "data/ground_truth.json"}) {
+    CliResult r = run_cli(d, std::string("train data --steps 1 --force -o ") + target);
+    EXPECT_REFUSED(r, "is the input");
+  }
+  CliResult r = run_cli(d, "train data/transforms.json --steps 1 --force -o data/transforms.json");
+  EXPECT_REFUSED(r, "is the input");
+  EXPECT_EQ(read_file(d / "data" / "transforms.json"), transforms);
+}
+
+// SIGTERM (a service or a shell stopping the process) ends a long evaluation at the next view: exit
+// status 130, within seconds, and the comparison images written so far are whole files (no
+// temporary file is left). The 100 held-out views render a tiny model over 256 x 256 images, minutes
+// of work that used to run to the end whatever the signal said.
+TEST(CliSweep, EvalStopsPromptlyOnSigterm) {
+  fs::path d = test_dir();
+  write_tiny_model(d / "head.lnerf");
+  ASSERT_EQ(run_cli(d, "synth --procedural --views 1 --size 256x256 --samples 1 -o data").status, 0);
+  nlohmann::json t = nlohmann::json::parse(read_file(d / "data" / "transforms.json"));
+  nlohmann::json frames = nlohmann::json::array();
+  for (int i = 0; i < 800; ++i) {  // every 8th is held out: 100 views, from (slightly) apart cameras
+    nlohmann::json f = t["frames"][0];
+    f["transform_matrix"][0][3] = f["transform_matrix"][0][3].get<double>() + 1e-3 * i;
+    frames.push_back(f);
+  }
+  t["frames"] = frames;
+  write_file(d / "data" / "transforms.json", t.dump());
+  // The shell starts eval, signals it after 4 s and records its status and how long it took to stop.
+  const std::string script = "'" LGN_CLI_PATH
+                             "' -q eval head.lnerf data -o ev 2> stderr.txt & p=$!; sleep 4; "
+                             "t0=$(date +%s%N); kill -TERM $p; wait $p; s=$?; t1=$(date +%s%N); "
+                             "echo $s $(( (t1 - t0) / 1000000 )) > result.txt";
+  write_file(d / "stop.sh", script);
+  ASSERT_EQ(std::system(("cd '" + d.string() + "' && timeout -s KILL 120 sh stop.sh").c_str()), 0);
+  std::istringstream result(read_file(d / "result.txt"));
+  int status = -1, stop_ms = -1;
+  result >> status >> stop_ms;
+  EXPECT_EQ(status, 130) << read_file(d / "stderr.txt");
+  EXPECT_LT(stop_ms, 15000) << "it stopped " << stop_ms << " ms after SIGTERM";
+  EXPECT_NE(read_file(d / "stderr.txt").find("interrupted"), std::string::npos)
+      << read_file(d / "stderr.txt");
+  if (fs::is_directory(d / "ev")) {
+    for (const auto& e : fs::directory_iterator(d / "ev"))
+      EXPECT_NE(e.path().filename().string()[0], '.') << "a temporary file was left: " << e.path();
+  }
+}
+
+TEST(CliSweep, PathsWithSpacesAndNonAsciiLettersWork) {
+  fs::path d = test_dir();
+  fs::create_directories(d / "my frames");
+  ASSERT_EQ(run_cli(d, "glasses make -o \"my frames/fr\xC3\xA4me 1.glb\"").status, 0);
+  CliResult r =
+      run_cli(d, "glasses inspect \"my frames/fr\xC3\xA4me 1.glb\" -o \"my frames/pr\xC3\xA9view 1.png\"");
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_GT(fs::file_size(d / "my frames" / "pr\xC3\xA9view 1.png"), 1000u);
+  EXPECT_REFUSED(
+      run_cli(d,
+              "glasses inspect \"my frames/fr\xC3\xA4me 1.glb\" -o \"my frames/fr\xC3\xA4me 1.glb\" --force"),
+      "is the input");
+}
