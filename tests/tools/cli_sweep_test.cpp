@@ -18,6 +18,33 @@ namespace {
 
 fs::path test_dir() { return lgn_cli_test::test_dir("cli_sweep"); }
 
+struct Stopped {
+  int status = -1, stop_ms = -1;  // the exit status; milliseconds from SIGTERM to the exit
+  std::string err;
+};
+
+// Runs `lorgnette -q <args>` in `dir`, sends SIGTERM after `after_s` seconds and waits for the exit
+// (a shell script does the timing; the whole run is killed after 120 s).
+Stopped stop_after(const fs::path& dir, const std::string& args, int after_s) {
+  write_file(dir / "stop.sh", "'" LGN_CLI_PATH "' -q " + args + " 2> stderr.txt & p=$!; sleep " +
+                                  std::to_string(after_s) +
+                                  "; t0=$(date +%s%N); kill -TERM $p; wait $p; s=$?; t1=$(date +%s%N); "
+                                  "echo $s $(( (t1 - t0) / 1000000 )) > result.txt");
+  Stopped r;
+  if (std::system(("cd '" + dir.string() + "' && timeout -s KILL 120 sh stop.sh").c_str()) != 0) return r;
+  std::istringstream result(read_file(dir / "result.txt"));
+  result >> r.status >> r.stop_ms;
+  r.err = read_file(dir / "stderr.txt");
+  return r;
+}
+
+// No hidden temporary file is left in `dir` (the atomic writer's, or a staging folder's).
+void expect_no_temporary_files(const fs::path& dir) {
+  if (!fs::is_directory(dir)) return;
+  for (const auto& e : fs::directory_iterator(dir))
+    EXPECT_NE(e.path().filename().string()[0], '.') << "a temporary file was left: " << e.path();
+}
+
 }  // namespace
 
 TEST(CliSweep, FitNeverWritesItsPlacementOverItsInputs) {
@@ -76,24 +103,28 @@ TEST(CliSweep, EvalStopsPromptlyOnSigterm) {
   }
   t["frames"] = frames;
   write_file(d / "data" / "transforms.json", t.dump());
-  // The shell starts eval, signals it after 4 s and records its status and how long it took to stop.
-  const std::string script = "'" LGN_CLI_PATH
-                             "' -q eval head.lnerf data -o ev 2> stderr.txt & p=$!; sleep 4; "
-                             "t0=$(date +%s%N); kill -TERM $p; wait $p; s=$?; t1=$(date +%s%N); "
-                             "echo $s $(( (t1 - t0) / 1000000 )) > result.txt";
-  write_file(d / "stop.sh", script);
-  ASSERT_EQ(std::system(("cd '" + d.string() + "' && timeout -s KILL 120 sh stop.sh").c_str()), 0);
-  std::istringstream result(read_file(d / "result.txt"));
-  int status = -1, stop_ms = -1;
-  result >> status >> stop_ms;
-  EXPECT_EQ(status, 130) << read_file(d / "stderr.txt");
-  EXPECT_LT(stop_ms, 15000) << "it stopped " << stop_ms << " ms after SIGTERM";
-  EXPECT_NE(read_file(d / "stderr.txt").find("interrupted"), std::string::npos)
-      << read_file(d / "stderr.txt");
-  if (fs::is_directory(d / "ev")) {
-    for (const auto& e : fs::directory_iterator(d / "ev"))
-      EXPECT_NE(e.path().filename().string()[0], '.') << "a temporary file was left: " << e.path();
-  }
+  Stopped r = stop_after(d, "eval head.lnerf data -o ev", 4);
+  EXPECT_EQ(r.status, 130) << r.err;
+  EXPECT_LT(r.stop_ms, 15000) << "it stopped " << r.stop_ms << " ms after SIGTERM";
+  EXPECT_NE(r.err.find("interrupted"), std::string::npos) << r.err;
+  expect_no_temporary_files(d / "ev");
+}
+
+// The same for an orbit render: it stops at the next frame, and every frame written is whole.
+TEST(CliSweep, RenderOrbitStopsPromptlyOnSigtermWithWholeFrames) {
+  fs::path d = test_dir();
+  write_tiny_model(d / "head.lnerf");
+  Stopped r = stop_after(d, "render head.lnerf --orbit 500 --size 256x256 -o orbit", 4);
+  EXPECT_EQ(r.status, 130) << r.err;
+  EXPECT_LT(r.stop_ms, 15000) << "it stopped " << r.stop_ms << " ms after SIGTERM";
+  expect_no_temporary_files(d / "orbit");
+  int frames = 0;
+  for (const auto& e : fs::directory_iterator(d / "orbit"))
+    if (e.path().extension() == ".png" && e.path().filename().string().rfind("frame_", 0) == 0) {
+      ++frames;
+      EXPECT_GT(fs::file_size(e.path()), 100u) << e.path();
+    }
+  EXPECT_LT(frames, 500) << "the orbit ran to its end";
 }
 
 TEST(CliSweep, PathsWithSpacesAndNonAsciiLettersWork) {
