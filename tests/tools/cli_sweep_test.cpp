@@ -140,3 +140,37 @@ TEST(CliSweep, PathsWithSpacesAndNonAsciiLettersWork) {
               "glasses inspect \"my frames/fr\xC3\xA4me 1.glb\" -o \"my frames/fr\xC3\xA4me 1.glb\" --force"),
       "is the input");
 }
+
+// Empty and truncated inputs of every kind are refused with the file's name and the reason, exit
+// status 1, and nothing is written.
+TEST(CliSweep, EmptyAndTruncatedInputsAreRefusedAndNothingIsWritten) {
+  fs::path d = test_dir();
+  write_tiny_model(d / "head.lnerf");
+  ASSERT_EQ(run_cli(d, "glasses make -o frame.glb").status, 0);
+  write_file(d / "empty.lnerf", "");
+  write_file(d / "short.lnerf", read_file(d / "head.lnerf").substr(0, 200));
+  write_file(d / "short.glb", read_file(d / "frame.glb").substr(0, 1000));
+  write_file(d / "empty.json", "");
+  write_file(d / "short.json", R"({"version": 1, "transform": [[1, 0)");
+  write_file(d / "pose.json",
+             R"({"transform_matrix": [[1,0,0,0],[0,1,0,0],[0,0,1,4],[0,0,0,1]], "fov_y_deg": 30})");
+  fs::create_directories(d / "data");
+  write_file(d / "data" / "transforms.json", R"({"frames": [)");
+  write_file(d / "empty.mp4", "");
+  EXPECT_REFUSED(run_cli(d, "render empty.lnerf --pose pose.json -o out"), "'empty.lnerf' is corrupt");
+  EXPECT_REFUSED(run_cli(d, "render short.lnerf --pose pose.json -o out"), "'short.lnerf'");
+  EXPECT_REFUSED(run_cli(d, "fit empty.lnerf --glasses frame.glb -o p.json"), "'empty.lnerf' is corrupt");
+  EXPECT_REFUSED(run_cli(d, "glasses inspect short.glb -o prev.png"), "'short.glb'");
+  EXPECT_REFUSED(
+      run_cli(d, "render head.lnerf --glasses frame.glb --placement empty.json --pose pose.json -o out"),
+      "'empty.json' is not valid JSON");
+  EXPECT_REFUSED(
+      run_cli(d, "render head.lnerf --glasses frame.glb --placement short.json --pose pose.json -o out"),
+      "'short.json' is not valid JSON");
+  EXPECT_REFUSED(run_cli(d, "render head.lnerf --pose empty.json -o out"), "'empty.json' is not valid JSON");
+  EXPECT_REFUSED(run_cli(d, "train data --steps 1 -o m.lnerf"), "transforms.json' is not valid JSON");
+  EXPECT_REFUSED(run_cli(d, "eval head.lnerf data"), "transforms.json' is not valid JSON");
+  EXPECT_REFUSED(run_cli(d, "capture empty.mp4 -o cap"), "cannot open video 'empty.mp4'");
+  for (const char* made : {"out", "p.json", "prev.png", "m.lnerf", "cap"})
+    EXPECT_FALSE(fs::exists(d / made)) << made;
+}
