@@ -12,6 +12,7 @@
 
 #include "capture/subject_framing.h"
 #include "host/dataset/dataset.h"
+#include "host/util/bounds.h"
 #include "host/util/file_write.h"
 #include "host/util/image_io.h"
 #include "host/util/interrupt.h"
@@ -230,8 +231,20 @@ nlohmann::json CaptureReport::to_json() const {
           {"workspace", workspace}};
 }
 
+namespace {
+// The table's ranges (host/util/bounds.h), for `capture` and the service's captures alike, before
+// the input is read.
+void validate_numbers(const CaptureOptions& opt) {
+  check_bound(bounds::kCaptureFps, opt.frames.fps);
+  check_bound_or_zero(bounds::kCaptureMaxFrames, opt.frames.max_frames);
+  check_bound_or_zero(bounds::kCaptureSide, opt.frames.max_side);
+  check_bound(bounds::kMaxFeatures, opt.colmap.max_features);
+}
+}  // namespace
+
 CaptureReport run_capture(const CaptureOptions& opt) {
   if (opt.output.empty()) throw std::runtime_error("no output folder: give -o DATASET");
+  validate_numbers(opt);
   CaptureInput in = classify_input(opt.input);
   fs::path out = opt.output;
   check_output_folder(out, kCaptureOutput, opt.force, {in.path.string()});

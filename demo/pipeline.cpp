@@ -17,6 +17,7 @@
 #include "host/render/render_settings.h"
 #include "host/render/renderer.h"
 #include "host/render/view_plan.h"
+#include "host/util/bounds.h"
 #include "host/util/chart.h"
 #include "host/util/interrupt.h"
 #include "host/util/output_folder.h"
@@ -300,7 +301,12 @@ DemoReport run_demo(const DemoOptions& options, const cl::RuntimeOptions& runtim
                      {"orbit_size", c.opt.orbit_size},
                      {"fit_views", c.opt.fit_views},
                      {"seed", c.opt.seed}};
-  nerf::validate(train_settings(c.opt, c.dir));  // the flags' ranges before anything is written
+  // The flags' ranges (host/util/bounds.h) before anything is written.
+  check_bound(bounds::kDemoViews, c.opt.views);
+  check_bound(bounds::kDemoImageSize, c.opt.image_size);
+  check_bound(bounds::kDemoOrbitSize, c.opt.orbit_size);
+  check_bound(bounds::kDemoFitViews, c.opt.fit_views);
+  nerf::validate(train_settings(c.opt, c.dir));
   render::validate(orbit_settings(c.opt));
   // Inputs inside the output folder are refused before anything starts (the swap would delete them).
   StagedOutput staged(c.opt.out_dir, kDemoOutput, c.opt.force, {c.opt.glasses});

@@ -3,6 +3,8 @@
 
 #include <filesystem>
 
+#include "host/util/bounds.h"
+
 namespace lorgnette::fit {
 
 FitJobResult run_fit_job(nerf::NerfModel& model, const GlassesInput& glasses, const FitOptions& options,
@@ -26,7 +28,19 @@ FitJobResult run_fit_job(nerf::NerfModel& model, const std::string& glasses_path
   return run_fit_job(model, load_glasses_input(glasses_path), options, views);
 }
 
+// The table's ranges (host/util/bounds.h): `fit`, Python's fit() and the service's fits check the
+// same numbers before minutes of rendering.
+void validate(const FitSettings& s) {
+  check_bound(bounds::kFitViews, s.views);
+  check_bound(bounds::kFitYawRange, s.yaw_range_deg);
+  check_bound(bounds::kFitPitchRange, s.pitch_range_deg);
+  check_bound(bounds::kFitResolution, s.resolution);
+  check_bound_or_zero(bounds::kFitCapResolution, s.cap_resolution);
+  check_bound(bounds::kFitUpsample, s.upsample);
+}
+
 FitOptions fit_options(const FitSettings& s) {
+  validate(s);
   FitOptions opt;
   opt.cap.views = s.views;
   opt.cap.yaw_range_deg = s.yaw_range_deg;

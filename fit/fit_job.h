@@ -37,7 +37,10 @@ struct FitSettings {
   double yaw_range_deg = 20.0, pitch_range_deg = 15.0;
   std::string policy = "stretch", landmark_model, mean_face, debug_dir;
 };
-FitOptions fit_options(const FitSettings& settings);  // throws on an unknown policy
+// Throws OutOfRange for a number outside host/util/bounds.h's range.
+void validate(const FitSettings& settings);
+// Validates, then throws on an unknown policy.
+FitOptions fit_options(const FitSettings& settings);
 
 struct FitJobResult {
   FitResult fit;

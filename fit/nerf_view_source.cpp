@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "host/util/file_kind.h"
+#include "host/util/interrupt.h"
 #include "kernels/train/occupancy.h"
 
 namespace lorgnette::fit {
@@ -21,6 +22,9 @@ NerfViewSource::NerfViewSource(nerf::NerfModel& model, ViewPrior prior, render::
 }
 
 Image NerfViewSource::render(const Camera& cam) {
+  // A fit renders dozens of views and has nothing to save: a stop request (Ctrl-C, SIGTERM) ends it
+  // at the next view instead of after minutes.
+  if (interrupted()) throw std::runtime_error("interrupted: the fit stopped and wrote nothing");
   render::RenderResult r = renderer_.render(model_, cam, nullptr, options_);
   Image out(r.rgba.width, r.rgba.height, 3);
   for (size_t i = 0; i < size_t(out.width) * out.height; ++i)

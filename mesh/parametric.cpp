@@ -12,6 +12,7 @@
 #include <map>
 #include <stdexcept>
 
+#include "host/util/bounds.h"
 #include "host/util/image_io.h"
 #include "mesh/disney_brdf.h"
 
@@ -89,12 +90,6 @@ struct Builder {
     }
   }
 };
-
-void check_range(const char* what, float v, float lo, float hi) {
-  if (!(v >= lo && v <= hi))
-    throw std::runtime_error(
-        fmt::format("{} {} mm is outside the plausible range {}..{} mm", what, v, lo, hi));
-}
 
 Material frame_material(const FrameParams& p) {
   Material m;
@@ -230,11 +225,14 @@ FrameShape parse_frame_shape(const std::string& name) {
 }
 
 ParametricFrame make_parametric_frame(const FrameParams& p) {
-  check_range("lens width", p.lens_width, 30.0f, 80.0f);
-  check_range("bridge", p.bridge, 8.0f, 30.0f);
-  check_range("temple length", p.temple_length, 100.0f, 175.0f);
-  check_range("rim", p.rim, 0.8f, 8.0f);
-  if (p.lens_height != 0.0f) check_range("lens height", p.lens_height, 15.0f, 80.0f);
+  // The table's ranges (host/util/bounds.h), the same for `glasses make` and Glasses.make().
+  check_bound(bounds::kLensWidth, p.lens_width);
+  check_bound(bounds::kBridge, p.bridge);
+  check_bound(bounds::kTempleLength, p.temple_length);
+  check_bound(bounds::kRim, p.rim);
+  check_bound_or_zero(bounds::kLensHeight, p.lens_height);
+  check_bound(bounds::kMetallic, p.metallic);
+  check_bound(bounds::kRoughness, p.roughness);
   if (p.segments < 16 || p.segments > 1024)
     throw std::runtime_error(fmt::format("outline segments {} outside 16..1024", p.segments));
   const float h = p.lens_height > 0 ? p.lens_height : default_lens_height(p);

@@ -38,7 +38,8 @@ struct ParametricFrame {
   RefPoints ref;  // exact
 };
 
-// Throws std::runtime_error for implausible sizes (each with the accepted range).
+// Throws OutOfRange (host/util/bounds.h) for an implausible size or material number, naming its
+// range; std::runtime_error for a bad outline resolution.
 ParametricFrame make_parametric_frame(const FrameParams& params);
 
 // Parses "#rrggbb" (sRGB) or "r,g,b" (linear, 0..1) or a few names (black, tortoise, gold, silver,

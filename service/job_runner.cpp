@@ -175,6 +175,12 @@ JobOutcome run_job(const fs::path& folder, const cl::RuntimeOptions& runtime) {
     r.finish("running", e.what());  // not failed: the executor hands the job back to the queue
     return JobOutcome::Interrupted;
   } catch (const std::exception& e) {
+    // A stage stopped by the signal (capture, fit) ends with its own error: the job is still not
+    // failed, so a server stopping its workers never fails a shopper's capture.
+    if (interrupted()) {
+      r.finish("running", fmt::format("stopped ({}); the job can run again", e.what()));
+      return JobOutcome::Interrupted;
+    }
     spdlog::error("{}", e.what());
     r.finish("failed", e.what());
     return JobOutcome::Failed;

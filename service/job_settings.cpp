@@ -6,6 +6,7 @@
 #include <fstream>
 #include <stdexcept>
 
+#include "host/util/bounds.h"
 #include "host/util/image_io.h"
 
 namespace lorgnette::service {
@@ -47,20 +48,24 @@ JobSettings JobSettings::from_json(const nlohmann::json& j) {
   return s;
 }
 
+// The stages' own ranges (host/util/bounds.h), so a job the server accepts is one the stages run;
+// the message names the serve flag that sets the field.
 void JobSettings::validate() const {
-  auto check = [](bool ok, const char* what) {
-    if (!ok) throw std::runtime_error(fmt::format("job settings: {}", what));
-  };
-  check(capture_fps > 0.0 && capture_fps <= 60.0, "capture_fps must be within (0, 60]");
-  check(capture_max_frames >= 0, "capture_max_frames must be >= 0 (0: all)");
-  check(capture_max_side >= 0, "capture_max_side must be >= 0 (0: keep)");
-  check(train_batch_log2 == 0 || (train_batch_log2 >= 10 && train_batch_log2 <= 22),
-        "train_batch_log2 must be 0 (device default) or within 10..22");
-  check(train_max_side >= 0, "train_max_side must be >= 0 (0: keep)");
-  check(fit_views >= 2 && fit_views <= 200, "fit_views must be within 2..200");
-  check(fit_resolution >= 64 && fit_resolution <= 4096, "fit_resolution must be within 64..4096");
-  check(tryon_views >= 1 && tryon_views <= 72, "tryon_views must be within 1..72");
-  check(tryon_size >= 64 && tryon_size <= 2048, "tryon_size must be within 64..2048");
+  namespace b = bounds;
+  try {
+    check_bound(b::kJobCaptureFps, capture_fps);
+    check_bound_or_zero(b::kJobCaptureMaxFrames, capture_max_frames);
+    check_bound_or_zero(b::kJobCaptureSide, capture_max_side);
+    check_bound_or_zero(b::kJobTrainSteps, double(train_steps));
+    check_bound_or_zero(b::kJobBatchLog2, train_batch_log2);
+    check_bound_or_zero(b::kJobTrainSide, train_max_side);
+    check_bound(b::kJobFitViews, fit_views);
+    check_bound(b::kJobFitResolution, fit_resolution);
+    check_bound(b::kJobTryonViews, tryon_views);
+    check_bound(b::kJobTryonSize, tryon_size);
+  } catch (const OutOfRange& e) {
+    throw OutOfRange(fmt::format("job settings: {}", e.what()));
+  }
 }
 
 void write_job_settings(const std::filesystem::path& path, const JobSettings& s) {

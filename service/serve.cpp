@@ -46,10 +46,10 @@ std::unique_ptr<Executor> make_executor(const ServeOptions& o, JobStore& store) 
 void run_serve(ServeOptions o) {
   if (o.data_dir.empty())
     throw std::runtime_error("serve needs --data DIR (uploads, models, fits and the job store)");
+  o.api.job.validate();  // before anything is created
   fs::create_directories(o.data_dir);
   if (o.db.empty()) o.db = (fs::path(o.data_dir) / "jobs.sqlite").string();
   o.local.data_dir = o.api.data_dir = o.data_dir;
-  o.api.job.validate();
   auto store = open_job_store(o.db);
   const std::unique_ptr<Executor> owned = make_executor(o, *store);
   Executor& executor = *owned;

@@ -3,10 +3,12 @@
 
 #include <fmt/format.h>
 
+#include <filesystem>
 #include <sstream>
 #include <stdexcept>
 
 #include "host/util/bounds.h"
+#include "host/util/output_folder.h"
 
 namespace lorgnette::nerf {
 namespace b = bounds;
@@ -105,6 +107,15 @@ std::optional<Aabb> parse_aabb(const std::string& text) {
   }
   if (!box.valid()) throw OutOfRange("--aabb: max must exceed min on every axis");
   return box;
+}
+
+void refuse_output_onto_dataset(const std::string& output, const std::string& data) {
+  std::vector<std::string> inputs{data};
+  std::error_code ec;
+  if (std::filesystem::is_directory(data, ec))
+    for (const auto& e : std::filesystem::directory_iterator(data, ec))
+      if (e.path().extension() == ".json") inputs.push_back(e.path().string());
+  refuse_output_onto_input(output, inputs);
 }
 
 }  // namespace lorgnette::nerf

@@ -40,6 +40,10 @@ struct TrainSettings {
 // range, and std::invalid_argument for a bad name or steps given with seconds.
 void validate(const TrainSettings& settings);
 
+// Throws when the model file `output` would be written over a file of the dataset `data` (the
+// descriptor itself, or a JSON file in the dataset's folder), even with --force.
+void refuse_output_onto_dataset(const std::string& output, const std::string& data);
+
 // The training split's LoadOptions (downscale, max_side, the kTrainImageBytes cap). Validates.
 dataset::LoadOptions train_load_options(const TrainSettings& settings);
 

@@ -11,6 +11,7 @@
 
 #include "host/dataset/metrics.h"
 #include "host/render/renderer.h"
+#include "host/util/interrupt.h"
 
 namespace lorgnette::render {
 
@@ -52,6 +53,8 @@ EvalResult evaluate(nerf::NerfModel& model, const std::vector<nerf::View>& views
   for (size_t k = 0; k < n; ++k) {
     size_t i = k * views.size() / n;
     const nerf::View& v = views[i];
+    // A stop request ends the evaluation at the next view; the images written so far are whole files.
+    if (interrupted()) throw std::runtime_error("interrupted: the evaluation stopped before its scores");
     if (!v.image) throw std::runtime_error(fmt::format("evaluation view {} has no image", i));
     Image pred = rgb_of(renderer.render(model, v.camera, nullptr, ro).rgba);
     Image truth = dataset::composite_over(*v.image, options.background);

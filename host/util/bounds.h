@@ -120,6 +120,93 @@ inline constexpr Bound kMmPerUnit{"--mm-per-unit", "mm_per_unit", 1e-3, 1e5,
 // A reference point in a mesh file's own coordinates (any unit from micrometres to metres).
 inline constexpr double kMeshCoord = 1e7;
 
+// `fit` (Python: fit()), the viewer's and the service's fits.
+inline constexpr Bound kFitViews{"--views", "views", 2, 200, "views rendered for the fit"};
+inline constexpr Bound kFitYawRange{"--yaw-range", "yaw_range", 0, 60,
+                                    "views span +-this yaw in degrees (the detector works to about 45)"};
+inline constexpr Bound kFitPitchRange{"--pitch-range", "pitch_range", 0, 45,
+                                      "views span +-this pitch in degrees"};
+inline constexpr Bound kFitResolution{"--resolution", "resolution", 64, 4096, "fit view size in pixels"};
+inline constexpr Bound kFitCapResolution{"--cap-resolution", "", 64, 4096,
+                                         "face view size in pixels; 0: --resolution"};
+inline constexpr Bound kFitUpsample{"--upsample", "upsample", 0, 3, "detector up-sampling steps"};
+
+// `view`: the viewer's viewport, its port and its fits.
+inline constexpr Bound kViewWidth{"--size", "", 32, 1920, "viewport width in pixels"};
+inline constexpr Bound kViewHeight{"--size", "", 32, 1080, "viewport height in pixels"};
+inline constexpr Bound kPort{"--port", "", 0, 65535, "TCP port; 0: any free one"};
+inline constexpr Bound kCoarse{"--coarse", "", 1, 8, "coarse frames at 1/N resolution"};
+inline constexpr Bound kViewFitViews{"--fit-views", "", 4, 64, "views rendered when fitting a frame"};
+inline constexpr Bound kMaxPerAddress{"--max-per-address", "", 1, 1024, "connections per remote address"};
+
+// `capture` (and the service's captures): video sampling, frame count and size, features.
+inline constexpr Bound kCaptureFps{"--fps", "", 0.01, 60, "video frames sampled per second"};
+inline constexpr Bound kCaptureMaxFrames{"--max-frames", "", 1, 100000, "frames kept; 0: all"};
+inline constexpr Bound kCaptureSide{"--size", "", 64, 8192, "longer frame side in pixels; 0: keep"};
+inline constexpr Bound kMaxFeatures{"--max-features", "", 64, 65536, "SIFT features per frame"};
+
+// `synth`.
+inline constexpr Bound kSynthViews{"--views", "", 1, 100000, "views rendered"};
+inline constexpr Bound kSynthSide{"--size", "", 16, 8192, "image width or height in pixels"};
+inline constexpr Bound kSynthYaw{"--yaw-range", "", -180, 180, "camera yaw in degrees"};
+inline constexpr Bound kSynthPitch{"--pitch-range", "", -80, 80, "camera pitch in degrees"};
+inline constexpr Bound kSynthSamples{"--samples", "", 1, 16, "anti-aliasing samples per pixel axis"};
+inline constexpr Bound kLookAt{"--look-at", "", -kSceneCoord, kSceneCoord, "aim point, dataset units"};
+inline constexpr Bound kFrameRadius{"--frame-radius", "", 1e-4, kSceneCoord,
+                                    "dataset units each view must contain; 0: the subject's"};
+inline constexpr Bound kSynthFov{"--fov", "", 10, 120, "vertical field of view in degrees"};
+inline constexpr Bound kPhoneDistance{"--phone-distance", "", 150, 3000, "camera distance in mm"};
+inline constexpr Bound kSpecular{"--specular", "", 0, 2, "key-light highlight strength"};
+inline constexpr Bound kWallMm{"--wall-mm", "", 200, 5000, "wall distance behind the eyes in mm"};
+inline constexpr Bound kMeshMmPerUnit{"--mesh-mm-per-unit", "", kMmPerUnit.lo, kMmPerUnit.hi,
+                                      "millimetres per mesh unit; 0: unknown"};
+
+// `eval` (its --downscale and --max-side are training's).
+inline constexpr Bound kEvalMaxViews{"--max-views", "", 1, 100000, "views evaluated; 0: all"};
+
+// `bench frames` (its --surface-spp and --step-scale are render's).
+inline constexpr Bound kBenchRepeats{"--repeats", "", 1, 100, "timed frames per row"};
+inline constexpr Bound kWaves{"--waves", "", 1, 256, "segments per ray and wave"};
+
+// `demo` (0: the variant's default for each).
+inline constexpr Bound kDemoViews{"--views", "", 8, 1000, "dataset views; 0: the default"};
+inline constexpr Bound kDemoImageSize{"--image-size", "", 32, 2048, "dataset image size; 0: the default"};
+inline constexpr Bound kDemoOrbitSize{"--orbit-size", "", 16, 8192, "orbit image size; 0: the default"};
+inline constexpr Bound kDemoFitViews{"--fit-views", "", kFitViews.lo, kFitViews.hi,
+                                     "views rendered for the fit; 0: the default"};
+
+// `serve`: the service's own numbers; the job settings it passes on share the stages' ranges.
+inline constexpr Bound kWorkers{"--workers", "", 1, 256, "local worker slots"};
+inline constexpr Bound kRetentionDays{"--retention-days", "", 1, 3650, "days a capture is kept"};
+inline constexpr Bound kMaxUploadMb{"--max-upload-mb", "", 1, 65536, "largest upload in MiB"};
+inline constexpr Bound kMaxAttempts{"--max-attempts", "", 1, 20, "worker starts per job"};
+inline constexpr Bound kJobCaptureFps{"--capture-fps", "", kCaptureFps.lo, kCaptureFps.hi, kCaptureFps.what};
+inline constexpr Bound kJobCaptureMaxFrames{"capture_max_frames", "", kCaptureMaxFrames.lo,
+                                            kCaptureMaxFrames.hi, kCaptureMaxFrames.what};
+inline constexpr Bound kJobCaptureSide{"--capture-max-side", "", kCaptureSide.lo, kCaptureSide.hi,
+                                       kCaptureSide.what};
+inline constexpr Bound kJobTrainSteps{"--train-steps", "", kTrainSteps.lo, kTrainSteps.hi,
+                                      "training steps; 0: the default"};
+inline constexpr Bound kJobBatchLog2{"--train-batch-log2", "", kBatchLog2.lo, kBatchLog2.hi,
+                                     "log2 of the samples per step; 0: the device's"};
+inline constexpr Bound kJobTrainSide{"train_max_side", "", kMaxSide.lo, kMaxSide.hi, kMaxSide.what};
+inline constexpr Bound kJobFitViews{"--fit-views", "", kFitViews.lo, kFitViews.hi, kFitViews.what};
+inline constexpr Bound kJobFitResolution{"--fit-resolution", "", kFitResolution.lo, kFitResolution.hi,
+                                         kFitResolution.what};
+// The try-on pictures rendered per fitted frame: a turn of the head in steps a slider can show, at a
+// side a phone shows sharply.
+inline constexpr Bound kJobTryonViews{"--tryon-views", "", 1, 72, "try-on views per fitted frame"};
+inline constexpr Bound kJobTryonSize{"--tryon-size", "", 64, 2048, "try-on view side in px"};
+
+// `glasses make` (Python: Glasses.make()): a plausible adult frame, in millimetres.
+inline constexpr Bound kLensWidth{"--lens", "lens", 30, 80, "lens width in mm"};
+inline constexpr Bound kBridge{"--bridge", "bridge", 8, 30, "bridge in mm"};
+inline constexpr Bound kTempleLength{"--temple", "temple", 100, 175, "temple length in mm"};
+inline constexpr Bound kRim{"--rim", "", 0.8, 8, "rim width in mm"};
+inline constexpr Bound kLensHeight{"--lens-height", "", 15, 80, "lens height in mm; 0: from the shape"};
+inline constexpr Bound kMetallic{"--metallic", "", 0, 1, "frame metallic"};
+inline constexpr Bound kRoughness{"--roughness", "", 0, 1, "frame roughness"};
+
 // The .lnerf header.
 inline constexpr Bound kNormalisationScale{"normalisation.scale", "", 1e-6, 1e6, "dataset to model scale"};
 inline constexpr Bound kNormalisationOffset{"normalisation.offset", "", -1e7, 1e7, "dataset to model offset"};

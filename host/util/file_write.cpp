@@ -40,6 +40,18 @@ int write_all(int fd, std::string_view bytes) {
   return 0;
 }
 
+// Flushes the folder holding `path` to disk so a rename into it survives a power cut. A folder that
+// cannot be opened or synced (some network filesystems refuse fsync on folders) costs durability,
+// not correctness: the file itself is already whole and renamed, so this is best effort.
+void sync_parent_folder(const std::string& path) {
+  const fs::path parent = fs::path(path).parent_path();
+  int dir = ::open(parent.empty() ? "." : parent.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (dir < 0) return;
+  while (::fsync(dir) != 0 && errno == EINTR) {
+  }
+  ::close(dir);
+}
+
 }  // namespace
 
 std::string temporary_path_for(const std::string& path) {
@@ -52,9 +64,11 @@ void write_file_atomic(const std::string& path, std::string_view bytes) {
   const std::string tmp = temporary_path_for(path);
   int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
   if (fd < 0) fail(path, "creating a temporary file", errno);
-  // close() is checked too: on network filesystems a full disk may show only there. (No fsync: the
-  // rename keeps the old file until the new one is whole, and fsync per frame would slow renders.)
+  // fsync before the rename: without it a power cut after the rename can leave the new name on an
+  // empty or partial file (the rename reaches the disk before the data). fsync and close are
+  // checked too: on network filesystems and with delayed allocation a full disk may show only there.
   int err = write_all(fd, bytes);
+  if (err == 0 && ::fsync(fd) != 0 && errno != EINVAL) err = errno;  // EINVAL: a file that cannot sync
   if (::close(fd) != 0 && err == 0) err = errno;
   std::error_code ec;
   if (err != 0) {
@@ -67,6 +81,7 @@ void write_file_atomic(const std::string& path, std::string_view bytes) {
     fs::remove(tmp, ignored);
     fail(path, "renaming the finished file into place", ec.value());
   }
+  sync_parent_folder(path);  // the rename itself reaches the disk
 }
 
 void check_writable_folder(const std::string& dir, const std::string& what) {

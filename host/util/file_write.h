@@ -1,8 +1,9 @@
 // Checked file writes: every byte goes through write(2) and the file is closed with each call's
 // result checked, so a full disk (ENOSPC), a quota or an I/O error is an
 // exception naming the file, never a short file. Writes go to a temporary file beside the target
-// that is renamed into place only after all of it was written, so the target is either the old file
-// or the complete new one.
+// that is renamed into place only after all of it was written and synced to disk, and the folder is
+// synced after the rename, so the target is either the old file or the complete new one, even after
+// a power cut.
 #pragma once
 #include <string>
 #include <string_view>

@@ -139,4 +139,22 @@ void StagedOutput::commit() {
   if (ec) spdlog::warn("could not remove the replaced output '{}': {}", old, ec.message());
 }
 
+void refuse_output_onto_input(const std::string& output, const std::vector<std::string>& inputs,
+                              const std::string& option) {
+  if (output.empty()) return;
+  std::error_code ec;
+  const fs::path out = fs::weakly_canonical(fs::absolute(output, ec), ec);
+  for (const auto& in : inputs) {
+    if (in.empty()) continue;
+    std::error_code e1, e2;
+    const bool same = fs::equivalent(output, in, e1) ||
+                      (!ec && fs::weakly_canonical(fs::absolute(in, e2), e2) == out && !e2);
+    if (same)
+      throw std::runtime_error(fmt::format(
+          "{} '{}' is the input '{}': writing the output there would destroy it (--force does not "
+          "allow that); choose another {}",
+          option, output, in, option));
+  }
+}
+
 }  // namespace lorgnette

@@ -34,6 +34,13 @@ void mark_output(const std::filesystem::path& dir, const OutputOwner& owner);
 bool check_output_folder(const std::filesystem::path& dir, const OutputOwner& owner, bool force,
                          const std::vector<std::string>& inputs = {});
 
+// Throws when the output file `output` is one of `inputs` (the same path, or the same file through a
+// link): even with --force, a command never writes its result over a file it reads, which would
+// lose the input the user made (a placement over the model, a preview over the frame). `option`
+// names the output's flag for the message. Missing files compare by their absolute paths.
+void refuse_output_onto_input(const std::string& output, const std::vector<std::string>& inputs,
+                              const std::string& option = "-o");
+
 // An output folder built beside its destination and swapped in when complete.
 class StagedOutput {
  public:

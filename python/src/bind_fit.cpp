@@ -117,9 +117,6 @@ struct FitArgs {
 
 // `lorgnette fit` (tools/lorgnette/cmd_fit.cpp) with the same defaults, in the same order.
 std::shared_ptr<Placement> run_fit(Model& model, const std::string& glasses_path, const FitArgs& a) {
-  if (a.views < 2 || a.views > 200) throw pyb::value_error("views must be within 2..200 (fit --views)");
-  if (a.resolution < 64 || a.resolution > 4096) throw pyb::value_error("resolution must be within 64..4096");
-  if (a.upsample < 0 || a.upsample > 3) throw pyb::value_error("upsample must be within 0..3");
   fit::FitSettings settings;
   settings.views = a.views;
   settings.resolution = a.resolution;
@@ -130,7 +127,7 @@ std::shared_ptr<Placement> run_fit(Model& model, const std::string& glasses_path
   settings.landmark_model = a.landmark_model;
   settings.mean_face = a.mean_face;
   settings.debug_dir = a.debug_dir;
-  fit::FitOptions opt = fit::fit_options(settings);
+  fit::FitOptions opt = fit::fit_options(settings);  // the CLI's ranges and messages
   auto state = std::make_shared<CallbackState>();
   if (!a.landmarks.is_none()) {
     if (!PyCallable_Check(a.landmarks.ptr()))

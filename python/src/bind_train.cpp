@@ -56,6 +56,7 @@ struct StepHook {
 pyb::object run_train(const TrainArgs& a) {
   const nerf::TrainSettings& s = a.settings;
   nerf::validate(s);
+  nerf::refuse_output_onto_dataset(s.output, a.data);
   if (std::filesystem::exists(s.output) && !a.force)
     throw std::runtime_error("'" + s.output +
                              "' exists: pass force=True to overwrite it or choose another output");

@@ -94,3 +94,23 @@ def test_glasses_units_have_the_cli_message(frame_path):
     for bad in (-1, math.nan, 1e300):
         msg = range_error(lambda: lorgnette.Glasses.load(str(frame_path), mm_per_unit=bad))
         assert "--mm-per-unit (Python: mm_per_unit) must be within 0.001..100000" in msg
+
+
+def test_frame_numbers_have_the_cli_message(tmp_path):
+    out = tmp_path / "tiny.glb"
+    for kwargs, flags in [({"lens": 5}, ["--lens", 5]), ({"bridge": math.nan}, ["--bridge", "nan"]),
+                          ({"temple": 1e9}, ["--temple", 1e9])]:
+        args = {"lens": 52, "bridge": 18, "temple": 140, **kwargs}
+        msg = range_error(lambda: lorgnette.Glasses.make(args["lens"], args["bridge"], args["temple"],
+                                                         path=str(out)))
+        assert msg == cli_error("glasses", "make", "-o", out, *flags), kwargs
+    assert not out.exists()
+
+
+def test_fit_numbers_have_the_cli_message(tmp_path, model, model_path, frame_path):
+    placement = tmp_path / "p.json"
+    for kwargs, flags in [({"views": 1}, ["--views", 1]), ({"yaw_range": math.nan}, ["--yaw-range", "nan"]),
+                          ({"resolution": 10}, ["--resolution", 10]), ({"upsample": 9}, ["--upsample", 9])]:
+        msg = range_error(lambda: lorgnette.fit(model, str(frame_path), **kwargs))
+        assert msg == cli_error("fit", model_path, "--glasses", frame_path, "-o", placement, *flags), kwargs
+    assert not placement.exists()

@@ -76,3 +76,11 @@ def test_devices():
     devices = lorgnette.devices()
     assert devices and sum(d["selected"] for d in devices) == 1
     assert lorgnette.device()["index"] == next(d["index"] for d in devices if d["selected"])
+
+
+def test_train_never_writes_the_model_over_the_dataset(dataset):
+    target = dataset / "transforms.json"
+    before = target.read_bytes()
+    with pytest.raises(lorgnette.Error, match="is the input"):
+        lorgnette.train(str(dataset), str(target), steps=1, force=True)
+    assert target.read_bytes() == before

@@ -7,10 +7,12 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <map>
 
+#include "host/util/bounds.h"
 #include "mesh/frame_metrics.h"
 #include "mesh/glasses.h"
 #include "mesh/gltf_writer.h"
@@ -121,7 +123,13 @@ INSTANTIATE_TEST_SUITE_P(Shapes, ParametricShapes, ::testing::Values("round", "r
 TEST(Parametric, ImplausibleSizesAndBadInputsAreClearErrors) {
   FrameParams p;
   p.lens_width = 5;
-  EXPECT_THROW(make_parametric_frame(p), std::runtime_error);
+  EXPECT_THROW(make_parametric_frame(p), OutOfRange);
+  p.lens_width = 52;
+  p.metallic = std::nanf("");
+  EXPECT_THROW(make_parametric_frame(p), OutOfRange);  // NaN is outside every range
+  p.metallic = 0;
+  p.roughness = 5;
+  EXPECT_THROW(make_parametric_frame(p), OutOfRange);
   EXPECT_THROW(parse_frame_shape("oval"), std::runtime_error);
   EXPECT_THROW(parse_color("#zzzzzz"), std::runtime_error);
   EXPECT_THROW(parse_color("purple-ish"), std::runtime_error);

@@ -1,7 +1,8 @@
 // `lorgnette job run` as a worker process over a capture folder: a job trains and finishes, a second
 // run skips the stages already done (same bytes), a bad upload fails with the capture's own message
 // and leaves no stage output, a worker killed during training leaves no model and the rerun
-// finishes, and a fit that finds no face fails the job with the fit's message at the fit stage.
+// finishes, a fit that finds no face fails the job with the fit's message at the fit stage, and
+// SIGTERM during a fit hands the job back instead of failing it.
 #include <gtest/gtest.h>
 #include <signal.h>
 
@@ -18,7 +19,7 @@ namespace {
 
 // A capture folder whose capture stage already ran (the tiny dataset in dataset/), so the test
 // trains without COLMAP; `steps` of 2^12 samples.
-fs::path captured_job(uint64_t steps, const std::string& catalogue = "") {
+fs::path captured_job(uint64_t steps, const std::string& catalogue = "", int fit_resolution = 64) {
   fs::path job = test_dir("service_job");
   fs::copy(tiny_dataset(), job / "dataset", fs::copy_options::recursive);
   JobSettings s;
@@ -26,7 +27,7 @@ fs::path captured_job(uint64_t steps, const std::string& catalogue = "") {
   s.train_batch_log2 = 12;
   s.catalogue = catalogue;
   s.fit_views = 4;
-  s.fit_resolution = 64;
+  s.fit_resolution = fit_resolution;
   write_job_settings(job / "job.json", s);
   return job;
 }
@@ -110,6 +111,34 @@ TEST(JobRun, AFitThatFindsNoFaceFailsTheJobWithTheFitsMessage) {
   EXPECT_EQ(p["state"], "failed");
   EXPECT_EQ(p["stage"], "fit");
   EXPECT_NE(p["message"].get<std::string>().find("no face found"), std::string::npos) << p["message"];
+  EXPECT_TRUE(fs::exists(job / "model" / "head.lnerf"));  // the stages before stay done
+  EXPECT_FALSE(fs::exists(job / "fits" / "round.glb"));
+  EXPECT_FALSE(fs::exists(partial_path(job / "fits" / "round.glb")));
+}
+
+// A server stopping its workers (SIGTERM) during a fit: the fit ends at its next view with its own
+// error, and the job is handed back (75, state "running"), never failed. 512 px views keep the fit
+// busy for several seconds, so the signal arrives while it renders.
+TEST(JobRun, SigtermDuringAFitHandsTheJobBackInsteadOfFailingIt) {
+  fs::path catalogue = test_dir("service_catalogue");
+  ASSERT_EQ(run_cli({"glasses", "make", "-o", (catalogue / "round.glb").string()}, catalogue / "make.log"), 0)
+      << read_file(catalogue / "make.log");
+  fs::remove(catalogue / "make.log");
+  fs::path job = captured_job(30, catalogue.string(), 512);
+  ChildProcess worker({LGN_CLI_PATH, "job", "run", job.string()}, (job / "worker.log").string());
+  ASSERT_TRUE(wait_for(
+      [&] {
+        auto p = read_progress(job / "progress.json");
+        return p && p->stage == "fit";
+      },
+      120.0))
+      << read_file(job / "worker.log");
+  worker.signal(SIGTERM);
+  ChildEnd end = worker.wait();
+  EXPECT_TRUE(end.exited);
+  EXPECT_EQ(end.code, 75) << read_file(job / "worker.log");
+  nlohmann::json p = read_json(job / "progress.json");
+  EXPECT_EQ(p["state"], "running") << p.dump();
   EXPECT_TRUE(fs::exists(job / "model" / "head.lnerf"));  // the stages before stay done
   EXPECT_FALSE(fs::exists(job / "fits" / "round.glb"));
   EXPECT_FALSE(fs::exists(partial_path(job / "fits" / "round.glb")));

@@ -4,56 +4,18 @@
 // the glasses and render cases run on a frame from `glasses make` and a tiny model written through
 // the snapshot format.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
-#include <chrono>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 #include <string>
 
-#include "host/nerf/snapshot.h"
-#include "tests/common/cli_run.h"
+#include "tests/tools/cli_run.h"
 
 namespace fs = std::filesystem;
+using namespace lgn_cli_test;
 
 namespace {
 
-namespace lt = lorgnette::testing;
-using lt::CliResult;
-using lt::write_file;
-
-fs::path test_dir() { return lt::fresh_test_dir(LORGNETTE_TEST_TMP, "cli_bounds"); }
-
-// Runs `lorgnette -q <args>` in `dir` with a 60 s limit (a hang exits 124).
-CliResult run_cli(const fs::path& dir, const std::string& args) {
-  lt::CliCall call;
-  call.timeout_s = 60;
-  return lt::run_cli(LGN_CLI_PATH, dir, "-q " + args, call);
-}
-
-// Runs the command once and checks it was refused with `part` on stderr (and no raw bad_alloc).
-#define EXPECT_REFUSED(call, part)                                                      \
-  do {                                                                                  \
-    const CliResult res_ = (call);                                                      \
-    EXPECT_EQ(res_.status, 1) << res_.err;                                              \
-    EXPECT_NE(res_.err.find(part), std::string::npos) << "stderr: " << res_.err;        \
-    EXPECT_EQ(res_.err.find("bad_alloc"), std::string::npos) << "stderr: " << res_.err; \
-  } while (0)
-
-// A tiny untrained model: the snapshot format written directly (no device needed here).
-void write_tiny_model(const fs::path& path) {
-  using namespace lorgnette::nerf;
-  Snapshot s;
-  s.config.log2_table_size = 10;
-  s.config.finest_resolution = 32;
-  s.config.levels = 4;
-  s.aabb = {{-1, -1, -1}, {1, 1, 1}};
-  s.step = 0.02f;
-  s.params.assign(s.config.param_count(), 0.0f);
-  s.occ = full_occupancy(8);
-  std::ofstream(path, std::ios::binary) << encode_snapshot(s);
-}
+fs::path test_dir() { return lgn_cli_test::test_dir("cli_bounds"); }
 
 void write_pose(const fs::path& path) {
   write_file(path, R"({"transform_matrix": [[1,0,0,0],[0,1,0,0],[0,0,1,4],[0,0,0,1]], "fov_y_deg": 30})");
@@ -125,4 +87,47 @@ TEST(CliBounds, RenderRefusesABrokenSidecarAndGlassesWithoutAPlacement) {
                          "pose.json --size 16x16 -o out"),
                  "'g_l' must hold coordinates within");
   EXPECT_FALSE(fs::exists(d / "out" / "frame_0000.png"));
+}
+
+// Every numeric flag of every other command is checked against host/util/bounds.h before any input
+// is read or output made: NaN and numbers outside the table are refused, naming the flag and its
+// range (CLI11's own range checks let NaN through, and several flags had none).
+TEST(CliBounds, MakingCommandsRefuseOutOfRangeNumbersAndWriteNothing) {
+  fs::path d = test_dir();
+  EXPECT_REFUSED(run_cli(d, "synth --procedural -o ds --specular nan"), "--specular must be within 0..2");
+  EXPECT_REFUSED(run_cli(d, "synth --procedural -o ds --size 8x8"), "--size must be within 16..8192");
+  EXPECT_REFUSED(run_cli(d, "synth --procedural -o ds --yaw-range -500 0"), "--yaw-range must be within");
+  EXPECT_REFUSED(run_cli(d, "synth --procedural -o ds --views 0"), "--views must be within 1..100000");
+  EXPECT_REFUSED(run_cli(d, "glasses make -o g.glb --metallic nan"), "--metallic must be within 0..1");
+  EXPECT_REFUSED(run_cli(d, "glasses make -o g.glb --lens 5"), "--lens (Python: lens) must be within 30..80");
+  EXPECT_REFUSED(run_cli(d, "capture nowhere -o cap --fps nan"), "--fps must be within 0.01..60");
+  EXPECT_REFUSED(run_cli(d, "capture nowhere -o cap --max-features 0"), "--max-features must be within");
+  EXPECT_REFUSED(run_cli(d, "demo -o demo --views 1"), "--views must be within 8..1000");
+  EXPECT_REFUSED(run_cli(d, "demo -o demo --fit-views 1000"), "--fit-views must be within 2..200");
+  for (const char* made : {"ds", "g.glb", "cap", "demo"}) EXPECT_FALSE(fs::exists(d / made)) << made;
+}
+
+TEST(CliBounds, ReadingCommandsRefuseOutOfRangeNumbersAndWriteNothing) {
+  fs::path d = test_dir();
+  write_file(d / "model.lnerf", "not a model: the flags are checked first");
+  write_file(d / "frame.glb", "not a frame: the flags are checked first");
+  EXPECT_REFUSED(run_cli(d, "view model.lnerf --glasses frame.glb --port 70000"),
+                 "--port must be within 0..65535");
+  EXPECT_REFUSED(run_cli(d, "view model.lnerf --glasses frame.glb --size 10x10"),
+                 "--size must be within 32..1920");
+  EXPECT_REFUSED(run_cli(d, "fit model.lnerf --glasses frame.glb -o p.json --yaw-range nan"),
+                 "--yaw-range (Python: yaw_range) must be within 0..60");
+  EXPECT_REFUSED(run_cli(d, "fit model.lnerf --glasses frame.glb -o p.json --views 1"),
+                 "--views (Python: views) must be within 2..200");
+  EXPECT_REFUSED(run_cli(d, "eval model.lnerf data -o ev --downscale 0"),
+                 "--downscale (Python: downscale) must be within 1..16");
+  EXPECT_REFUSED(run_cli(d, "eval model.lnerf data -o ev --max-views -1"), "--max-views must be within");
+  EXPECT_REFUSED(run_cli(d, "bench frames --step-scale 1e-9 --out bench"),
+                 "--step-scale (Python: step_scale) must be within 0.25..8");
+  EXPECT_REFUSED(run_cli(d, "bench frames --repeats 0 --out bench"), "--repeats must be within 1..100");
+  EXPECT_REFUSED(run_cli(d, "serve --data served --capture-fps nan"),
+                 "--capture-fps must be within 0.01..60");
+  EXPECT_REFUSED(run_cli(d, "serve --data served --port 70000"), "--port must be within 0..65535");
+  EXPECT_REFUSED(run_cli(d, "serve --data served --fit-resolution 1"), "--fit-resolution must be within");
+  for (const char* made : {"p.json", "ev", "bench", "served"}) EXPECT_FALSE(fs::exists(d / made)) << made;
 }

@@ -26,6 +26,7 @@
 #include "host/render/render_job.h"
 #include "host/render/renderer.h"
 #include "host/render/view_plan.h"
+#include "host/util/bounds.h"
 #include "mesh/frame_surfaces.h"
 #include "mesh/placed_glasses.h"
 #include "tools/lorgnette/command.h"
@@ -35,11 +36,23 @@ namespace {
 
 struct BenchArgs {
   std::string model, glasses, placement, sizes, marcher = "auto", out;
-  uint32_t repeats = 3, surface_spp = 4;
-  std::vector<uint32_t> waves;  // --waves MIN,MAX for the default variant
+  int repeats = 3, surface_spp = 4;  // signed, so -1 is refused with the range
+  std::vector<int> waves;            // --waves MIN,MAX for the default variant
   float step_scale = 1.0f;
   bool json = false, compare = false, force = false;
 };
+
+// Every number against host/util/bounds.h (and the sizes parsed) before any device is opened.
+void validate(const BenchArgs& a) {
+  check_bound(bounds::kBenchRepeats, a.repeats);
+  check_bound(bounds::kSurfaceSpp, a.surface_spp);
+  check_bound(bounds::kStepScale, a.step_scale);
+  for (int w : a.waves) check_bound(bounds::kWaves, w);
+  if (a.waves.size() == 2 && a.waves[0] > a.waves[1])
+    throw std::runtime_error(fmt::format("--waves MIN,MAX: MIN {} is above MAX {}", a.waves[0], a.waves[1]));
+  for (const auto& s : CLI::detail::split(a.sizes, ','))
+    if (!s.empty()) render::parse_size(s);
+}
 
 // The frame settings timed, per marcher named in --marcher (a comma list: "auto,wavefront" times
 // both, frame by frame in turn): the defaults, and with --compare the same frame sequential (surface
@@ -50,8 +63,8 @@ std::vector<render::FrameVariant> frame_variants(const BenchArgs& a) {
     render::FrameOptions o;
     o.march.step_scale = a.step_scale;
     o.march.marcher = render::parse_marcher_kind(word);
-    o.surface_spp = a.surface_spp;
-    if (a.waves.size() == 2) o.march.wave_min = a.waves[0], o.march.wave_max = a.waves[1];
+    o.surface_spp = uint32_t(a.surface_spp);
+    if (a.waves.size() == 2) o.march.wave_min = uint32_t(a.waves[0]), o.march.wave_max = uint32_t(a.waves[1]);
     v.push_back({"default", o});
     if (a.compare) {
       o.concurrent = false;
@@ -95,7 +108,7 @@ nlohmann::json bench_device(const BenchArgs& a, const cl::DeviceInfo& dev, Globa
     scene = analytic->scene();
   }
   render::FrameBenchSpec spec;
-  spec.repeats = a.repeats;
+  spec.repeats = uint32_t(a.repeats);
   spec.device = dev.name;
   spec.scene = a.model.empty() ? "analytic head" : a.model;
   if (!a.sizes.empty()) {
@@ -157,9 +170,7 @@ void add_frames(CLI::App& bench, GlobalOptions& global) {
       ->check(CLI::ExistingFile);
   cmd->add_option("--placement", a->placement, "placement.json (default: a rough automatic placement)")
       ->check(CLI::ExistingFile);
-  cmd->add_option("--repeats", a->repeats, "timed frames per row, after one warm-up")
-      ->capture_default_str()
-      ->check(CLI::Range(1, 100));
+  cmd->add_option("--repeats", a->repeats, "timed frames per row, after one warm-up")->capture_default_str();
   cmd->add_option("--sizes", a->sizes, "comma-separated WxH list (default 854x480,1280x720,1920x1080)");
   cmd->add_option("--surface-spp", a->surface_spp, "glasses samples per pixel")->capture_default_str();
   cmd->add_option("--step-scale", a->step_scale, "marching step multiplier")->capture_default_str();
@@ -182,9 +193,9 @@ void add_frames(CLI::App& bench, GlobalOptions& global) {
   cmd->add_option("--waves", a->waves,
                   "MIN,MAX segments per ray and wave of the wavefront march (default 2,8; tuning)")
       ->delimiter(',')
-      ->expected(2)
-      ->check(CLI::Range(1, 256));
+      ->expected(2);
   cmd->callback([a, &global] {
+    validate(*a);
     std::vector<cl::DeviceInfo> devices;
     for (const auto& dev : cl::list_devices())
       if (global.device.empty() || cl::select_device(global.device).index == dev.index)

@@ -37,22 +37,17 @@ void add_capture(CLI::App& app, GlobalOptions& global) {
   cmd->add_option("-o,--output", opt->output,
                   "dataset folder to write (new, empty, or an earlier capture with --force)")
       ->required();
-  cmd->add_option("--fps", opt->frames.fps, "frames per second of video to sample")
-      ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+  cmd->add_option("--fps", opt->frames.fps, "frames per second of video to sample")->capture_default_str();
   cmd->add_option("--max-frames", opt->frames.max_frames, "at most this many frames, evenly spread (0: all)")
-      ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->capture_default_str();
   cmd->add_option("--matcher", opt->colmap.matcher,
                   "COLMAP matching: sequential (ordered frames) or exhaustive")
       ->capture_default_str()
       ->check(CLI::IsMember({"sequential", "exhaustive"}));
   cmd->add_option("--size", opt->frames.max_side, "longer side of the frames in pixels (0: keep)")
-      ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->capture_default_str();
   cmd->add_option("--max-features", opt->colmap.max_features, "SIFT features per frame")
-      ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->capture_default_str();
   cmd->add_option("--colmap", opt->colmap.executable, "COLMAP executable (default: colmap on PATH)");
   cmd->add_flag("--no-blur-filter", *no_blur, "keep blurred frames");
   cmd->add_flag("--no-blink-filter", *no_blink, "keep frames with closed eyes (and skip face detection)");

@@ -14,6 +14,8 @@
 #include "host/render/evaluate.h"
 #include "host/render/matte_eval.h"
 #include "host/render/renderer.h"
+#include "host/util/bounds.h"
+#include "host/util/interrupt.h"
 #include "synth/matte.h"
 #include "tools/lorgnette/command.h"
 
@@ -22,7 +24,7 @@ namespace {
 
 struct EvalArgs {
   std::string model, data, split, output;
-  uint32_t max_views = 0, downscale = 1, max_side = 0;
+  int max_views = 0, downscale = 1, max_side = 0;  // signed, so -1 is refused with the range
   bool json = false, black = false, force = false;
 };
 
@@ -63,6 +65,7 @@ nlohmann::json matte_scores(nerf::NerfModel& model, const dataset::Dataset& ds,
   render::RenderOptions ro;
   std::vector<render::MatteScore> scores;
   for (const dataset::Frame* f : frames) {
+    if (interrupted()) throw std::runtime_error("interrupted: the evaluation stopped before its scores");
     auto it = by_stem.find(fs::path(f->image_path).stem().string());
     if (it == by_stem.end()) continue;
     Image matte = synth::read_matte((root / it->second.matte).string());
@@ -99,6 +102,9 @@ nlohmann::json matte_scores(nerf::NerfModel& model, const dataset::Dataset& ds,
 }
 
 void run_eval(const EvalArgs& a, GlobalOptions& global) {
+  check_bound_or_zero(bounds::kEvalMaxViews, a.max_views);  // host/util/bounds.h, before any loading
+  check_bound(bounds::kDownscale, a.downscale);
+  check_bound_or_zero(bounds::kMaxSide, a.max_side);
   check_output_dir(a);
   cl::Runtime rt(global.runtime());
   nerf::NerfModel model = nerf::NerfModel::load(rt, a.model);
@@ -118,7 +124,7 @@ void run_eval(const EvalArgs& a, GlobalOptions& global) {
   std::vector<nerf::View> views;
   for (const dataset::Frame* f : ds.require_split(split)) views.push_back({f->camera, &f->image});
   render::EvalOptions eo;
-  eo.max_views = a.max_views;
+  eo.max_views = uint32_t(a.max_views);
   eo.output_dir = a.output;
   if (a.black) eo.background = {0.0f, 0.0f, 0.0f};
   render::EvalResult r = render::evaluate(model, views, eo);

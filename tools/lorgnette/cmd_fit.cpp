@@ -10,6 +10,8 @@
 #include <string>
 
 #include "fit/fit_job.h"
+#include "host/util/output_folder.h"
+#include "mesh/refpoints.h"
 #include "tools/lorgnette/command.h"
 
 namespace lorgnette::cli {
@@ -34,9 +36,10 @@ void refuse_existing_debug_views(const std::string& dir, bool force) {
 }
 
 void run_fit(const FitArgs& a, GlobalOptions& global) {
+  fit::FitOptions opt = fit::fit_options(a.settings);  // the numbers' ranges first
+  refuse_output_onto_input(a.output, {a.model, a.glasses, mesh::sidecar_path(a.glasses), a.dataset});
   refuse_existing_output(a.output, a.force);  // before minutes of fitting
   refuse_existing_debug_views(a.settings.debug_dir, a.force);
-  fit::FitOptions opt = fit::fit_options(a.settings);
   fit::GlassesInput glasses = fit::load_glasses_input(a.glasses);
   cl::Runtime rt(global.runtime());
   nerf::NerfModel model = nerf::NerfModel::load(rt, a.model);
@@ -66,25 +69,18 @@ void add_fit(CLI::App& app, GlobalOptions& global) {
       ->required()
       ->check(CLI::ExistingFile);
   cmd->add_option("-o,--output", a->output, "placement.json to write")->capture_default_str();
-  cmd->add_option("--views", a->settings.views, "number of rendered views K")
-      ->capture_default_str()
-      ->check(CLI::Range(2, 200));
+  cmd->add_option("--views", a->settings.views, "number of rendered views K")->capture_default_str();
   cmd->add_option("--yaw-range", a->settings.yaw_range_deg, "views span +-this yaw (deg; dlib works to ~45)")
       ->capture_default_str();
   cmd->add_option("--pitch-range", a->settings.pitch_range_deg, "views span +-this pitch (deg)")
       ->capture_default_str();
   cmd->add_option("--resolution", a->settings.resolution, "front-search view size in pixels (whole head)")
-      ->capture_default_str()
-      ->check(CLI::Range(64, 4096));
+      ->capture_default_str();
   cmd->add_option("--cap-resolution", a->settings.cap_resolution,
                   "size in pixels of the K views framed on the face (0: --resolution)")
       ->capture_default_str()
-      ->check([](const std::string& text) -> std::string {
-        const int v = std::atoi(text.c_str());
-        return v == 0 || (v >= 64 && v <= 4096) ? "" : "must be 0 (the --resolution) or within 64..4096";
-      });
-  cmd->add_option("--upsample", a->settings.upsample, "detector up-sampling steps for small faces")
-      ->check(CLI::Range(0, 3));
+      ->capture_default_str();
+  cmd->add_option("--upsample", a->settings.upsample, "detector up-sampling steps for small faces");
   cmd->add_option("--scale-policy", a->settings.policy, "stretch (paper) or true-size")
       ->capture_default_str();
   cmd->add_option("--dataset", a->dataset,

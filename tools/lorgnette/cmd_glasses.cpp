@@ -9,6 +9,7 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 
+#include "host/util/output_folder.h"
 #include "mesh/glasses.h"
 #include "mesh/gltf_writer.h"
 #include "mesh/parametric.h"
@@ -83,6 +84,7 @@ void add_inspect(CLI::App& parent) {
   cmd->add_option("--mm-per-unit", o->mm_per_unit, "file units in millimetres (skips unit detection)");
   cmd->add_flag("--force", o->force, "overwrite an existing preview file");
   cmd->callback([o] {
+    refuse_output_onto_input(o->preview, {o->file, mesh::sidecar_path(o->file)});
     refuse_existing_output(o->preview, o->force);
     mesh::GlassesOptions opts;
     opts.mm_per_unit = o->mm_per_unit;
@@ -125,6 +127,7 @@ void add_make(CLI::App& parent) {
   cmd->add_flag("--json", o->json, "print one JSON object on stdout");
   cmd->add_flag("--force", o->force, "overwrite existing output files (.glb, its sidecar, the preview)");
   cmd->callback([o] {
+    refuse_output_onto_input(o->preview, {o->output, mesh::sidecar_path(o->output)}, "--preview");
     refuse_existing_output(o->output, o->force);
     refuse_existing_output(mesh::sidecar_path(o->output), o->force);
     refuse_existing_output(o->preview, o->force, "--preview");

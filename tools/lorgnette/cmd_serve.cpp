@@ -3,6 +3,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "host/util/bounds.h"
 #include "service/serve.h"
 #include "service/tokens.h"
 #include "tools/lorgnette/command.h"
@@ -14,8 +15,20 @@ struct ServeArgs {
   service::ServeOptions o;
   std::string admin_token_file;
   int retention_days = 30;
+  int port = 8080;  // wider than the port's type, so 70000 is refused with the range, not wrapped
   uint64_t max_upload_mb = 500;
 };
+
+// Every number against host/util/bounds.h before anything is created under --data.
+void validate(const ServeArgs& a) {
+  namespace b = bounds;
+  check_bound(b::kWorkers, a.o.local.slots);
+  check_bound(b::kPort, a.port);
+  check_bound(b::kRetentionDays, a.retention_days);
+  check_bound(b::kMaxUploadMb, double(a.max_upload_mb));
+  check_bound(b::kMaxAttempts, a.o.local.max_attempts);
+  a.o.api.job.validate();
+}
 
 std::string read_admin_token(const std::string& path) {
   std::ifstream in(path);
@@ -29,6 +42,8 @@ std::string read_admin_token(const std::string& path) {
 }
 
 void run(ServeArgs& a, GlobalOptions& global) {
+  validate(a);
+  a.o.http.port = uint16_t(a.port);
   if (!a.admin_token_file.empty())
     a.o.api.admin_token_hash = service::sha256_hex(read_admin_token(a.admin_token_file));
   a.o.api.retention_seconds = int64_t(a.retention_days) * 86400;
@@ -69,22 +84,18 @@ void add_serve(CLI::App& app, GlobalOptions& global) {
       ->check(CLI::Range(0.1, 600.0))
       ->capture_default_str();
   cmd->add_option("--workers", o.local.slots, "local worker slots (one per GPU, or one on a CPU)")
-      ->check(CLI::Range(1, 256))
       ->capture_default_str();
   cmd->add_option("--host", o.http.host, "address to bind (anything but loopback: behind a TLS proxy)")
       ->capture_default_str();
-  cmd->add_option("--port", o.http.port, "port (0: any free one)")->capture_default_str();
+  cmd->add_option("--port", a->port, "port (0: any free one)")->capture_default_str();
   cmd->add_option("--port-file", o.port_file, "write the bound port to this file");
   cmd->add_option("--admin-token-file", a->admin_token_file,
                   "file whose first line is the admin token (queue, metrics)");
   cmd->add_option("--retention-days", a->retention_days, "delete captures and all made from them after this")
-      ->check(CLI::Range(1, 3650))
       ->capture_default_str();
   cmd->add_option("--max-upload-mb", a->max_upload_mb, "largest upload (one video or photo)")
-      ->check(CLI::Range(1, 1 << 16))
       ->capture_default_str();
   cmd->add_option("--max-attempts", o.local.max_attempts, "worker starts per job before a killed job fails")
-      ->check(CLI::Range(1, 20))
       ->capture_default_str();
   cmd->add_option("--train-steps", o.api.job.train_steps,
                   "training budget in steps (0: the product's default)");

@@ -8,6 +8,7 @@
 #include <optional>
 #include <sstream>
 
+#include "host/util/bounds.h"
 #include "host/util/image_io.h"
 #include "host/util/progress.h"
 #include "synth/room.h"
@@ -34,9 +35,29 @@ std::pair<int, int> parse_size(const std::string& s) {
   int w = 0, h = 0;
   char x = 0;
   std::istringstream in(s);
-  if (!(in >> w >> x >> h) || (x != 'x' && x != 'X') || !in.eof() || w < 16 || h < 16 || w > 8192 || h > 8192)
-    throw std::runtime_error(fmt::format("--size '{}' is not WxH with sides in 16..8192 (e.g. 256x256)", s));
+  if (!(in >> w >> x >> h) || (x != 'x' && x != 'X') || !in.eof())
+    throw std::runtime_error(fmt::format("--size '{}' is not WxH (e.g. 256x256)", s));
+  check_bound(bounds::kSynthSide, w);
+  check_bound(bounds::kSynthSide, h);
   return {w, h};
+}
+
+// Every number against host/util/bounds.h before anything is rendered or written.
+void validate(const SynthArgs& a) {
+  namespace b = bounds;
+  check_bound(b::kSynthViews, a.views);
+  for (float y : a.yaw) check_bound(b::kSynthYaw, y);
+  for (float p : a.pitch) check_bound(b::kSynthPitch, p);
+  check_bound(b::kSynthSamples, a.samples);
+  check_bound_or_zero(b::kMeshMmPerUnit, a.mesh_mm);
+  for (float c : a.look_at) check_bound(b::kLookAt, c);
+  check_bound_or_zero(b::kFrameRadius, a.frame_radius);
+  check_bound(b::kSynthFov, a.fov);
+  check_bound(b::kPhoneDistance, a.phone_mm);
+  check_bound(b::kSpecular, a.specular);
+  check_bound(b::kWallMm, a.wall_mm);
+  const Bound room{"--room", "", 0, double(synth::kRoomLayouts), "room layout; 0: none"};
+  check_bound(room, a.room);
 }
 
 // r,g,b in 0-255 sRGB as linear RGB; `flag` names the option in errors.
@@ -67,6 +88,7 @@ std::optional<Eigen::Vector3f> parse_background(const std::string& s) {
 void run_synth(const SynthArgs& a) {
   if (a.procedural == !a.mesh.empty())
     throw std::runtime_error("synth: give exactly one of --mesh FILE or --procedural");
+  validate(a);
   synth::SynthOptions o;
   std::tie(o.width, o.height) = parse_size(a.size);
   o.views = a.views;
@@ -124,44 +146,38 @@ void add_synth(CLI::App& app, GlobalOptions&) {
   cmd->add_option("-o,--output", a->out,
                   "output dataset directory (new, empty, or an earlier synth output with --force)")
       ->required();
-  cmd->add_option("--views", a->views, "number of views")->check(CLI::Range(1, 100000));
+  cmd->add_option("--views", a->views, "number of views");
   cmd->add_option("--size", a->size, "image size WxH");
   cmd->add_option("--yaw-range", a->yaw, "yaw range in degrees (a b)")->expected(2);
   cmd->add_option("--pitch-range", a->pitch, "pitch range in degrees (a b)")->expected(2);
   cmd->add_option("--seed", a->seed, "seed for the cameras and the procedural head (0 = the default head)");
   cmd->add_option("--background", a->background, "transparent, or r,g,b in 0-255 sRGB");
-  cmd->add_option("--samples", a->samples, "anti-aliasing samples per pixel axis")->check(CLI::Range(1, 16));
+  cmd->add_option("--samples", a->samples, "anti-aliasing samples per pixel axis");
   cmd->add_option("--mesh-mm-per-unit", a->mesh_mm,
                   "millimetres per mesh unit, when known (ground truth scale)");
   cmd->add_option("--look-at", a->look_at,
                   "point the cameras aim at, dataset units (x y z; default: the subject's)")
       ->expected(3);
-  cmd->add_option("--frame-radius", a->frame_radius, "dataset units around --look-at each view must contain")
-      ->check(CLI::PositiveNumber);
+  cmd->add_option("--frame-radius", a->frame_radius, "dataset units around --look-at each view must contain");
   cmd->add_option(
-         "--room", a->room,
-         fmt::format("place the subject in room layout 1..{} ({}: a plain wall, see --wall; RGB images "
-                     "without alpha, true mattes in "
-                     "mattes/, hand-held phone cameras sweeping --yaw-range; the procedural head gets "
-                     "a neck and shoulders)",
-                     synth::kRoomLayouts, synth::kPlainRoomLayout))
-      ->check(CLI::Range(0, synth::kRoomLayouts));
-  cmd->add_option("--fov", a->fov, "with --room: the phone's vertical field of view in degrees (default 60)")
-      ->check(CLI::Range(10.0, 120.0));
+      "--room", a->room,
+      fmt::format("place the subject in room layout 1..{} ({}: a plain wall, see --wall; RGB images "
+                  "without alpha, true mattes in "
+                  "mattes/, hand-held phone cameras sweeping --yaw-range; the procedural head gets "
+                  "a neck and shoulders)",
+                  synth::kRoomLayouts, synth::kPlainRoomLayout));
+  cmd->add_option("--fov", a->fov, "with --room: the phone's vertical field of view in degrees (default 60)");
   cmd->add_option("--phone-distance", a->phone_mm,
-                  "with --room: camera distance in millimetres (default 480)")
-      ->check(CLI::Range(150.0, 3000.0));
+                  "with --room: camera distance in millimetres (default 480)");
   cmd->add_option("--skin", a->skin,
                   "the procedural head's skin albedo, r,g,b in 0-255 sRGB (e.g. 250,222,205 very pale, "
                   "70,45,35 very dark)");
   cmd->add_option("--specular", a->specular,
-                  "a white highlight of the key light on the subject (oily skin's sheen), 0 = none")
-      ->check(CLI::Range(0.0, 2.0));
+                  "a white highlight of the key light on the subject (oily skin's sheen), 0 = none");
   cmd->add_option(
-         "--wall-mm", a->wall_mm,
-         fmt::format("with --room {}: the plain wall's distance behind the eyes in mm (default 1000)",
-                     synth::kPlainRoomLayout))
-      ->check(CLI::Range(200.0, 5000.0));
+      "--wall-mm", a->wall_mm,
+      fmt::format("with --room {}: the plain wall's distance behind the eyes in mm (default 1000)",
+                  synth::kPlainRoomLayout));
   cmd->add_option(
       "--wall", a->wall,
       fmt::format("with --room {}: the plain wall's colour, r,g,b in 0-255 sRGB (default off-white)",

@@ -48,6 +48,7 @@ void run_train(TrainArgs& a, GlobalOptions& global) {
   s.masks = !a.no_masks;
   s.progress = !global.quiet;
   nerf::validate(s);
+  nerf::refuse_output_onto_dataset(s.output, a.data);
   if (std::filesystem::exists(s.output) && !a.force)
     throw std::runtime_error("'" + s.output + "' exists: pass --force to overwrite it or choose another -o");
   check_model_output(s.output);

@@ -4,8 +4,10 @@
 #include "host/util/file_write.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <fstream>
 #include <sstream>
 
@@ -116,6 +118,41 @@ TEST(FileWrite, WritableFolderCheckFindsReadOnlyAndFullDisks) {
   std::string e = error_of([&] { check_writable_folder(full.path().string(), "the model"); });
   EXPECT_NE(e.find("No space left on device"), std::string::npos) << e;
   EXPECT_EQ(others(full.path()), std::vector<std::string>{});
+}
+
+// The order of the system calls is the rule (file data on disk before its new name, the name on disk
+// after the rename), so the test traces them: this test binary runs itself under strace, in a mode
+// where it only writes one file, and reads the trace. Skipped where strace is missing or ptrace is not
+// allowed (some containers).
+TEST(FileWrite, SyncsTheFileBeforeTheRenameAndTheFolderAfter) {
+  if (const char* target = std::getenv("LGN_FILE_WRITE_ONCE")) {  // the traced child
+    write_file_atomic(target, "durable");
+    return;
+  }
+  fs::path dir = fresh("fsync");
+  const fs::path target = dir / "out.txt", trace = dir / "trace.txt";
+  const std::string cmd =
+      "LGN_FILE_WRITE_ONCE='" + target.string() +
+      "' strace -f -qq -e trace=fsync,rename,renameat,renameat2 -o '" + trace.string() + "' /proc/" +
+      std::to_string(getpid()) +
+      "/exe --gtest_filter=FileWrite.SyncsTheFileBeforeTheRenameAndTheFolderAfter > /dev/null 2>&1";
+  if (std::system(cmd.c_str()) != 0 || !fs::exists(trace))
+    GTEST_SKIP() << "strace is missing or may not trace here; the fsync order is not checked";
+  ASSERT_EQ(read(target), "durable");
+  // One line per call: "PID fsync(3) = 0", "PID rename(\".../.out.PID.tmp.txt\", \".../out.txt\") = 0".
+  std::istringstream lines(read(trace));
+  std::string line;
+  int fsyncs_before = 0, fsyncs_after = 0;
+  bool renamed = false;
+  while (std::getline(lines, line)) {
+    if (line.find("rename") != std::string::npos && line.find(target.string() + "\"") != std::string::npos)
+      renamed = true;
+    else if (line.find("fsync(") != std::string::npos && line.find("= 0") != std::string::npos)
+      ++(renamed ? fsyncs_after : fsyncs_before);
+  }
+  EXPECT_TRUE(renamed) << read(trace);
+  EXPECT_EQ(fsyncs_before, 1) << "the file is synced before its rename:\n" << read(trace);
+  EXPECT_EQ(fsyncs_after, 1) << "the folder is synced after the rename:\n" << read(trace);
 }
 
 }  // namespace
