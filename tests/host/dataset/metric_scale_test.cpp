@@ -3,11 +3,11 @@
 #include "host/dataset/metric_scale.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
 #include <string>
-#include <unistd.h>
 
 namespace lorgnette::dataset {
 namespace {
@@ -15,7 +15,8 @@ namespace {
 namespace fs = std::filesystem;
 
 std::string fresh_dir(const char* name) {
-  fs::path d = fs::temp_directory_path() / (std::string("lgn_metric_scale_") + name + "_" + std::to_string(::getpid()));
+  fs::path d = fs::temp_directory_path() /
+               (std::string("lgn_metric_scale_") + name + "_" + std::to_string(::getpid()));
   fs::remove_all(d);
   fs::create_directories(d);
   return d.string();
