@@ -199,7 +199,8 @@ FrameSet read_frames(const CaptureInput& in, const CaptureOptions& opt, CaptureR
 void measure_card_in_capture(const std::string& dataset_dir, CaptureReport& report) {
   StageTimer t(report, "card");
   DatasetCardResult r = measure_dataset_card(dataset_dir);
-  report.card = {{"searched", true}, {"found", r.scale.found}, {"message", r.scale.message}};
+  report.card = {
+      {"searched", true}, {"found", r.scale.found}, {"message", r.scale.message}, {"seconds", r.seconds}};
   if (r.scale.found) {
     report.card["mm_per_unit"] = r.scale.mm_per_unit;
     report.card["mm_per_unit_uncertainty"] = r.scale.uncertainty;

@@ -61,7 +61,7 @@ struct CaptureReport {
   std::string coverage_advice;
   std::vector<DroppedFrame> dropped;
   std::vector<std::string> warnings;
-  // The card step: {"searched": false} when disabled, else found, message, and with a card
+  // The card step: {"searched": false} when disabled, else found, message, seconds, and with a card
   // mm_per_unit, mm_per_unit_uncertainty, frames and scale_file.
   nlohmann::json card = {{"searched", false}};
   std::vector<StageSeconds> seconds;  // per stage, in order
