@@ -292,7 +292,15 @@ CaptureReport run_capture(const CaptureOptions& opt) {
     report.models = cr.models;
     convert_and_write(read_colmap_model(cr.model_dir), opt, report);
   }
-  if (opt.card) measure_card_in_capture(out.string(), report);
+  if (opt.card) {
+    // The card only adds millimetres: a frame it cannot read costs the scale, never the capture.
+    try {
+      measure_card_in_capture(out.string(), report);
+    } catch (const std::exception& e) {
+      report.card = {{"searched", true}, {"found", false}, {"message", e.what()}};
+      report.warnings.push_back(fmt::format("no card scale: {}", e.what()));
+    }
+  }
   for (const auto& w : report.warnings) spdlog::warn("{}", w);
   mark_output(out, kCaptureOutput);
   write_text_file_atomic((out / "capture_report.json").string(), report.to_json().dump(2) + "\n");
