@@ -103,10 +103,6 @@ TrainPlan plan_training(cl::Runtime& rt, const dataset::Dataset& ds, const std::
   return plan;
 }
 
-namespace {
-
-// The dataset's scale.json in the model's units: model = dataset * normalisation.scale, so millimetres
-// per model unit are millimetres per dataset unit over that scale (the uncertainty alike).
 std::optional<MetricScale> model_metric_scale(const dataset::Dataset& ds, const SceneNormalisation& n) {
   std::optional<dataset::MetricScale> s = dataset::read_scale_json(ds.root);
   if (!s) return std::nullopt;
@@ -114,8 +110,6 @@ std::optional<MetricScale> model_metric_scale(const dataset::Dataset& ds, const 
                s->mm_per_unit, s->uncertainty, s->frames);
   return MetricScale{s->source, s->mm_per_unit / n.scale, s->uncertainty / n.scale};
 }
-
-}  // namespace
 
 NerfModel planned_model(cl::Runtime& rt, const dataset::Dataset& ds, const std::vector<View>& views,
                         const TrainPlan& plan, const TrainJob& job) {

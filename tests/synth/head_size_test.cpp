@@ -41,7 +41,8 @@ TEST(HeadSize, IrisesArePaintedAtTheirRecordedDiameterWhateverTheHeadSize) {
       EXPECT_EQ(p.iris_diameter, random_head_params(seed).iris_diameter);
       // The rim fades from 0.4 mm inside the radius to 0.2 mm outside it (head_paint.cpp), so its
       // halfway lies 0.1 mm inside: the measured diameter is 0.2 mm short, +-0.05 mm of sampling.
-      EXPECT_NEAR(painted_iris_diameter(p), p.iris_diameter - 0.2f, 0.05f) << "seed " << seed << " scale " << scale;
+      EXPECT_NEAR(painted_iris_diameter(p), p.iris_diameter - 0.2f, 0.05f)
+          << "seed " << seed << " scale " << scale;
     }
 }
 
