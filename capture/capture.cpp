@@ -10,8 +10,10 @@
 #include <opencv2/imgcodecs.hpp>
 #include <stdexcept>
 
+#include "capture/dataset_card.h"
 #include "capture/subject_framing.h"
 #include "host/dataset/dataset.h"
+#include "host/dataset/metric_scale.h"
 #include "host/util/bounds.h"
 #include "host/util/file_write.h"
 #include "host/util/image_io.h"
@@ -195,6 +197,20 @@ FrameSet read_frames(const CaptureInput& in, const CaptureOptions& opt, CaptureR
 
 }  // namespace
 
+void measure_card_in_capture(const std::string& dataset_dir, CaptureReport& report) {
+  StageTimer t(report, "card");
+  DatasetCardResult r = measure_dataset_card(dataset_dir);
+  report.card = {
+      {"searched", true}, {"found", r.scale.found}, {"message", r.scale.message}, {"seconds", r.seconds}};
+  if (r.scale.found) {
+    report.card["mm_per_unit"] = r.scale.mm_per_unit;
+    report.card["mm_per_unit_uncertainty"] = r.scale.uncertainty;
+    report.card["frames"] = r.scale.frames;
+    report.card["scale_file"] = (fs::path(dataset_dir) / dataset::kScaleFile).string();
+  }
+  spdlog::info("capture: {}", r.scale.message);
+}
+
 nlohmann::json CaptureReport::coverage_json() const {
   if (!coverage) return nullptr;
   return {{"yaw_deg", {coverage->yaw_min, coverage->yaw_max}},
@@ -224,6 +240,7 @@ nlohmann::json CaptureReport::to_json() const {
           {"aabb_from", aabb_from},
           {"aabb_note", aabb_note},
           {"coverage", coverage_json()},
+          {"card", card},
           {"dropped", dropped_j},
           {"warnings", warnings},
           {"seconds", seconds_j},
@@ -287,6 +304,15 @@ CaptureReport run_capture(const CaptureOptions& opt) {
     report.warnings.insert(report.warnings.end(), cr.warnings.begin(), cr.warnings.end());
     report.models = cr.models;
     convert_and_write(read_colmap_model(cr.model_dir), opt, report);
+  }
+  if (opt.card) {
+    // The card only adds millimetres: a frame it cannot read costs the scale, never the capture.
+    try {
+      measure_card_in_capture(out.string(), report);
+    } catch (const std::exception& e) {
+      report.card = {{"searched", true}, {"found", false}, {"message", e.what()}};
+      report.warnings.push_back(fmt::format("no card scale: {}", e.what()));
+    }
   }
   for (const auto& w : report.warnings) spdlog::warn("{}", w);
   mark_output(out, kCaptureOutput);

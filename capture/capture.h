@@ -33,6 +33,9 @@ struct CaptureOptions {
   // faces are found, else the sparse-point box of the conversion.
   bool head_box = true;
   fit::HeadBoxOptions head;  // its detector model path is taken from landmark_model
+  // The card step (capture/dataset_card.h): a held ID-1 card measured in the posed frames gives the
+  // dataset's millimetres (scale.json).
+  bool card = true;
 };
 
 struct DroppedFrame {
@@ -58,6 +61,9 @@ struct CaptureReport {
   std::string coverage_advice;
   std::vector<DroppedFrame> dropped;
   std::vector<std::string> warnings;
+  // The card step: {"searched": false} when disabled, else found, message, seconds, and with a card
+  // mm_per_unit, mm_per_unit_uncertainty, frames and scale_file.
+  nlohmann::json card = {{"searched", false}};
   std::vector<StageSeconds> seconds;  // per stage, in order
   std::string transforms_path, workspace;
 
@@ -67,6 +73,9 @@ struct CaptureReport {
 
 // Runs the whole capture. Throws std::runtime_error with what is wrong and what to do.
 CaptureReport run_capture(const CaptureOptions& options);
+
+// The card step alone on a posed dataset (a capture, a synth output): fills report.card and its stage.
+void measure_card_in_capture(const std::string& dataset_dir, CaptureReport& report);
 
 // The frame filters on frames already in memory (exposed for tests): fills report.dropped/warnings
 // and returns the indices of the frames kept.

@@ -125,7 +125,7 @@ FaceLayout make_face_layout(const HeadParams& p) {
   L[42] = f.eye_l.inner, L[43] = f.eye_l.upper(2.0f / 3), L[44] = f.eye_l.upper(1.0f / 3),
   L[45] = f.eye_l.outer;
   L[46] = f.eye_l.lower(1.0f / 3), L[47] = f.eye_l.lower(2.0f / 3);
-  f.iris_radius = 0.21f * ew;
+  f.iris_radius = 0.5f * p.iris_diameter;
   f.pupil_radius = 0.085f * ew;
   // Mouth.
   f.mouth_half_width = 0.5f * p.mouth_width;

@@ -49,6 +49,7 @@ HeadParams random_head_params(uint64_t seed) {
   p.lip_thickness = uni(0.85f, 1.15f);
   p.brow_height = uni(19.0f, 23.0f);
   p.ear_length = uni(55.0f, 66.0f);
+  p.iris_diameter = 0.42f * p.eye_width;  // no draw: the seeds' other parameters stay as they were
   const Eigen::Vector3f skins[] = {srgb(236, 188, 160), srgb(224, 172, 140), srgb(198, 144, 110),
                                    srgb(170, 120, 90), srgb(130, 90, 66)};
   const Eigen::Vector3f hairs[] = {srgb(40, 30, 25), srgb(70, 48, 32), srgb(25, 22, 20), srgb(110, 80, 50)};
@@ -60,13 +61,24 @@ HeadParams random_head_params(uint64_t seed) {
   return p;
 }
 
+HeadParams scale_head(const HeadParams& p, float factor) {
+  if (!(factor >= 0.85f && factor <= 1.15f))
+    throw std::runtime_error(fmt::format("head scale {} is outside 0.85..1.15", factor));
+  HeadParams s = p;
+  for (float* v : {&s.head_width, &s.head_depth, &s.crown_height, &s.face_length, &s.eye_distance,
+                   &s.eye_width, &s.eye_opening, &s.nose_length, &s.nose_protrusion, &s.nose_width,
+                   &s.mouth_width, &s.brow_height, &s.ear_length})
+    *v *= factor;
+  return s;
+}
+
 void validate(const HeadParams& p) {
-  check("head_width", p.head_width, 120, 180);
-  check("head_depth", p.head_depth, 160, 230);
-  check("crown_height", p.crown_height, 100, 140);
-  check("face_length", p.face_length, 95, 135);
-  check("eye_distance", p.eye_distance, 50, 76);
-  check("eye_width", p.eye_width, 22, 34);
+  check("head_width", p.head_width, 115, 190);
+  check("head_depth", p.head_depth, 150, 240);
+  check("crown_height", p.crown_height, 95, 150);
+  check("face_length", p.face_length, 88, 140);
+  check("eye_distance", p.eye_distance, 48, 80);
+  check("eye_width", p.eye_width, 22, 35);
   check("eye_opening", p.eye_opening, 6, 12);
   check("nose_length", p.nose_length, 25, 45);
   check("nose_protrusion", p.nose_protrusion, 18, 40);
@@ -74,7 +86,8 @@ void validate(const HeadParams& p) {
   check("mouth_width", p.mouth_width, 40, 70);
   check("lip_thickness", p.lip_thickness, 0.6f, 1.5f);
   check("brow_height", p.brow_height, 15, 28);
-  check("ear_length", p.ear_length, 45, 75);
+  check("ear_length", p.ear_length, 45, 77);
+  check("iris_diameter", p.iris_diameter, 9, 14);
 }
 
 void to_json(nlohmann::json& j, const HeadParams& p) {
@@ -94,6 +107,7 @@ void to_json(nlohmann::json& j, const HeadParams& p) {
        {"lip_thickness", p.lip_thickness},
        {"brow_height", p.brow_height},
        {"ear_length", p.ear_length},
+       {"iris_diameter", p.iris_diameter},
        {"skin_linear", v3(p.skin)},
        {"hair_linear", v3(p.hair)},
        {"iris_linear", v3(p.iris)},

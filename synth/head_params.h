@@ -25,6 +25,9 @@ struct HeadParams {
   float lip_thickness = 1.0f;     // scale of the lip heights
   float brow_height = 21.0f;      // brow arch peak above eye level
   float ear_length = 60.0f;
+  // Horizontal visible iris diameter (adults: about 11.7 mm, spread about 0.5 mm). It is painted at
+  // exactly this size, so it is the ground truth of an iris-based scale.
+  float iris_diameter = 11.76f;
   Eigen::Vector3f skin{0.62f, 0.38f, 0.27f};  // linear RGB albedo
   Eigen::Vector3f hair{0.035f, 0.022f, 0.015f};
   Eigen::Vector3f iris{0.10f, 0.06f, 0.03f};
@@ -33,6 +36,11 @@ struct HeadParams {
 
 // Deterministic plausible head for a seed (seed 0 = the defaults above).
 HeadParams random_head_params(uint64_t seed);
+
+// `p` with every length scaled by `factor` (0.85..1.15, else std::runtime_error) except the iris
+// diameter, which varies little between adults whatever their head size: the ground truth of head
+// sizes around the seeded ones (a metric scale must tell a small head from a far one).
+HeadParams scale_head(const HeadParams& p, float factor);
 
 // Throws std::runtime_error naming the parameter when a value is outside its plausible range.
 void validate(const HeadParams& p);

@@ -146,6 +146,10 @@ void find_landmarks(ProceduralHead& head, const HeadShape& shape) {
       if (h.hit && h.position.y() < rest.y()) rest = h.position;
     }
     L[fmt::format("ear_rest_{}", side)] = rest;
+    const V3& corner = L[s < 0 ? "eye_r_outer" : "eye_l_outer"];
+    const float temple_z = corner.z() - kTempleDepthShare * (corner.z() - rest.z());
+    (s < 0 ? head.temple_r : head.temple_l) =
+        cast(scene, V3(s * 400.0f, corner.y(), temple_z), V3(-s, 0, 0), "temple");
   }
 }
 

@@ -33,7 +33,15 @@ struct ProceduralHead {
   // eye_l_outer, pupil_r, pupil_l, ear_top_r, ear_top_l (highest point of each ear),
   // ear_rest_r, ear_rest_l (where a temple arm rests: the crease above the ear root).
   std::map<std::string, Eigen::Vector3f> landmarks;
+  // The face's width at the temples, where a frame's temples pass: the head's sides at the height of
+  // the outer eye corners, kTempleDepthShare of the way back from them to the ear rests (a share, so
+  // it lies at the same place on heads of every size; kept out of `landmarks`, whose points all lie
+  // on painted features or the ears).
+  Eigen::Vector3f temple_r = Eigen::Vector3f::Zero(), temple_l = Eigen::Vector3f::Zero();
+  float temple_width() const { return (temple_l - temple_r).norm(); }
 };
+
+constexpr float kTempleDepthShare = 0.25f;
 
 // Throws std::runtime_error when the parameters are implausible (see validate()).
 ProceduralHead make_procedural_head(const HeadParams& params, const HeadMeshOptions& options = {});

@@ -30,6 +30,16 @@ Subject procedural_subject(const HeadParams& params, const HeadMeshOptions& opti
   s.params = pj;
   for (const auto& [name, p] : head.landmarks) s.landmarks[name] = transform_point(s.mesh_to_dataset, p);
   for (const auto& p : head.ibug) s.ibug68.push_back(transform_point(s.mesh_to_dataset, p));
+  auto dataset_point = [&](const Eigen::Vector3f& p) {
+    Eigen::Vector3f q = transform_point(s.mesh_to_dataset, p);
+    return std::vector<float>{q.x(), q.y(), q.z()};
+  };
+  // Pupils are painted at the eye centres, which lie eye_distance apart in the frontal plane.
+  s.metric = {{"iris_diameter_mm", params.iris_diameter},
+              {"pd_mm", params.eye_distance},
+              {"face_width_temples_mm", head.temple_width()},
+              {"temple_r", dataset_point(head.temple_r)},
+              {"temple_l", dataset_point(head.temple_l)}};
   // Frame the head from the crown to just below the chin (the neck may leave the picture).
   const float top = params.crown_height, bottom = -params.face_length - 20.0f;
   s.look_at = Eigen::Vector3f(0, 0.5f * (top + bottom), 0) / float(kProceduralMmPerUnit);

@@ -34,6 +34,9 @@ struct Subject {
   // and the room's scale (mm_per_unit when known, else assumed from the mesh's size).
   Eigen::Vector3f eye_point{0, 0, 0};
   double room_mm_per_unit = kProceduralMmPerUnit;
+  // Sizes known exactly (procedural heads; null for mesh files), written into ground_truth.json:
+  // iris_diameter_mm, pd_mm (pupil centres), face_width_temples_mm and temple_r/temple_l (dataset frame).
+  nlohmann::json metric;
 };
 
 // with_body: the head also gets a neck and shoulders (synth/body.h), as a subject in a room needs.

@@ -16,6 +16,7 @@
 #include "host/util/interrupt.h"
 #include "host/util/output_folder.h"
 #include "mesh/embree_scene.h"
+#include "synth/card.h"
 #include "synth/matte.h"
 #include "synth/room.h"
 
@@ -45,6 +46,8 @@ void check_options(const SynthOptions& o) {
   if (o.room > 0 && !(o.fov_y_deg > 10.0f && o.fov_y_deg < 120.0f))
     throw std::runtime_error(
         fmt::format("synth: field of view {} deg is out of range (10..120)", o.fov_y_deg));
+  if (o.card && o.room == 0)
+    throw std::runtime_error("synth: the card is held in a room capture: give --room 1..3 with --card");
   if (o.background && (o.background->minCoeff() < 0.0f || o.background->maxCoeff() > 1.0f))
     throw std::runtime_error("synth: background colour components must lie in [0, 1]");
 }
@@ -60,6 +63,8 @@ json ground_truth_json(const Subject& s, const SynthOptions& o, const std::vecto
   }
   gt["mesh_to_dataset"] = matrix_json(s.mesh_to_dataset);
   gt["mm_per_unit"] = s.mm_per_unit ? json(*s.mm_per_unit) : json(nullptr);
+  if (s.metric.is_object())
+    for (const auto& [key, value] : s.metric.items()) gt[key] = value;
   json lm = json::object();
   for (const auto& [name, p] : s.landmarks) lm[name] = vec_json(p);
   gt["landmarks"] = lm;
@@ -125,6 +130,88 @@ void add_depth_paths(const std::string& dir, size_t count, bool mattes) {
   write_text_file_atomic(p.string(), tj.dump(2) + "\n");
 }
 
+// The scenes a capture's views are rendered from: the subject alone (in its room), and with a card,
+// also the card held and the card under either finger; view_scene[i] picks view i's.
+struct SceneSet {
+  std::vector<std::unique_ptr<mesh::EmbreeScene>> scenes;
+  std::vector<int> view_scene;
+  std::optional<HeldCard> card;  // dataset frame (millimetres scaled to dataset units)
+  int subject_triangles = -1;
+};
+
+const char* const kSceneNames[] = {"none", "none", "lower_edge", "lower_right_corner"};
+
+// Scene index of view i with a card: 1 card, 2 finger over the lower edge, 3 over the corner.
+int card_scene_of_view(int i, int views) {
+  if (i >= (views + 1) / 2) return 0;
+  return i % 4 == 1 ? 2 : (i % 4 == 3 ? 3 : 1);
+}
+
+HeldCard card_in_dataset(const HeldCard& mm, const Eigen::Matrix4f& to_dataset) {
+  HeldCard d;
+  for (int k = 0; k < 4; ++k) d.corners[k] = transform_point(to_dataset, mm.corners[k]);
+  d.normal = (to_dataset.topLeftCorner<3, 3>() * mm.normal).normalized();
+  return d;
+}
+
+SceneSet make_scenes(const Subject& subject, const SynthOptions& o, const std::vector<RigView>& views) {
+  SceneSet set;
+  set.view_scene.assign(views.size(), 0);
+  if (o.room == 0) {
+    set.scenes.push_back(std::make_unique<mesh::EmbreeScene>(subject.mesh, subject.mesh_to_dataset));
+    return set;
+  }
+  RoomPlacement plain;
+  plain.wall_mm = o.wall_mm, plain.wall_rgb = o.wall_rgb;
+  RoomScene room = subject_in_room(subject, o.room, plain);
+  set.subject_triangles = room.subject_triangles;
+  if (o.card) {
+    if (subject.source != "procedural")
+      throw std::runtime_error(
+          "synth: --card needs the procedural head (its forehead is known): give --procedural");
+    // The card's lower edge 6 mm above the brows' peak, clear of the brows and the eyes.
+    HeldCard card = card_on_forehead(subject.mesh, subject.params.at("brow_height").get<float>() + 6.0f);
+    set.card = card_in_dataset(card, subject.mesh_to_dataset);
+    mesh::TriMesh with_card = room.mesh;
+    append_mesh(with_card, card_mesh(card), subject.mesh_to_dataset);
+    for (FingerPlacement f : {FingerPlacement::LowerEdge, FingerPlacement::LowerRightCorner}) {
+      mesh::TriMesh m = with_card;
+      append_mesh(m, finger_mesh(card, f), subject.mesh_to_dataset);
+      set.scenes.push_back(std::make_unique<mesh::EmbreeScene>(std::move(m)));
+    }
+    set.scenes.insert(set.scenes.begin(), std::make_unique<mesh::EmbreeScene>(std::move(with_card)));
+    for (size_t i = 0; i < views.size(); ++i)
+      set.view_scene[i] = card_scene_of_view(int(i), int(views.size()));
+  }
+  set.scenes.insert(set.scenes.begin(), std::make_unique<mesh::EmbreeScene>(std::move(room.mesh)));
+  return set;
+}
+
+// ground_truth.json "card": the corners in the dataset frame and, per view that shows the card,
+// their pixel positions (continuous coordinates, pixel centres at i + 0.5) and the finger's place.
+json card_json(const HeldCard& card, const std::vector<RigView>& views, const std::vector<int>& view_scene) {
+  json corners = json::array(), frames = json::array();
+  for (const auto& c : card.corners) corners.push_back(vec_json(c));
+  for (size_t i = 0; i < views.size(); ++i) {
+    if (view_scene[i] == 0) continue;
+    json px = json::array();
+    for (const auto& c : card.corners) {
+      float u = 0, v = 0;
+      camera_project(&views[i].camera, lgn_vec3(c.x(), c.y(), c.z()), &u, &v);
+      px.push_back({u, v});
+    }
+    frames.push_back({{"file", fmt::format("images/{:04d}.png", i)},
+                      {"index", i},
+                      {"finger", kSceneNames[view_scene[i]]},
+                      {"corners_px", px}});
+  }
+  return {{"size_mm", {kCardWidthMm, kCardHeightMm}},
+          {"corners", corners},
+          {"corner_order", "top-left, top-right, bottom-right, bottom-left seen from the front"},
+          {"normal", vec_json(card.normal)},
+          {"frames", frames}};
+}
+
 }  // namespace
 
 RoomScene subject_in_room(const Subject& subject, int layout, const RoomPlacement& plain) {
@@ -169,18 +256,11 @@ SynthReport synthesize_dataset(const Subject& subject, const std::string& out_di
   fs::create_directories(fs::path(staged.path()) / "depth");
   if (o.room > 0) fs::create_directories(fs::path(staged.path()) / "mattes");
   RenderSettings settings{o.samples_per_axis, o.background, 0};
-  std::unique_ptr<mesh::EmbreeScene> scene_ptr;
+  SceneSet scenes = make_scenes(subject, o, views);
   if (o.room > 0) {
-    RoomPlacement plain;
-    plain.wall_mm = o.wall_mm, plain.wall_rgb = o.wall_rgb;
-    RoomScene room = subject_in_room(subject, o.room, plain);
-    settings.subject_triangles = room.subject_triangles;
+    settings.subject_triangles = scenes.subject_triangles;
     if (!settings.background) settings.background = room_sky();
-    scene_ptr = std::make_unique<mesh::EmbreeScene>(std::move(room.mesh));
-  } else {
-    scene_ptr = std::make_unique<mesh::EmbreeScene>(subject.mesh, subject.mesh_to_dataset);
   }
-  const mesh::EmbreeScene& scene = *scene_ptr;
   SynthReport report;
   std::vector<Camera> cameras;
   std::vector<std::string> files;
@@ -188,6 +268,7 @@ SynthReport synthesize_dataset(const Subject& subject, const std::string& out_di
     if (interrupted())
       throw std::runtime_error("synth: interrupted; nothing was written to the output directory");
     auto r0 = std::chrono::steady_clock::now();
+    const mesh::EmbreeScene& scene = *scenes.scenes[size_t(scenes.view_scene[i])];
     RenderedView v = render_view(scene, views[i].camera, o.lighting, settings);
     report.render_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - r0).count();
     std::string name = fmt::format("{:04d}", i);
@@ -209,8 +290,9 @@ SynthReport synthesize_dataset(const Subject& subject, const std::string& out_di
       {"aabb_scale", 1}, {"scale", 0.33}, {"offset", {0.5, 0.5, 0.5}}, {"synthetic", "lorgnette synth"}};
   dataset::write_transforms_json(staged.path(), cameras, files, extra);
   add_depth_paths(staged.path(), files.size(), o.room > 0);
-  write_text_file_atomic(staged.path() + "/ground_truth.json",
-                         ground_truth_json(subject, o, views).dump(2) + "\n");
+  json gt = ground_truth_json(subject, o, views);
+  if (scenes.card) gt["card"] = card_json(*scenes.card, views, scenes.view_scene);
+  write_text_file_atomic(staged.path() + "/ground_truth.json", gt.dump(2) + "\n");
   if (interrupted())
     throw std::runtime_error("synth: interrupted; nothing was written to the output directory");
   staged.commit();

@@ -8,7 +8,9 @@
 //                       +inf where the ray misses the subject
 //   ground_truth.json   source (mesh path or "procedural" + seed + params), mesh_to_dataset (4x4),
 //                       mm_per_unit (null when unknown), landmarks and the 68 iBUG points in the
-//                       dataset frame, per-view yaw/pitch, lighting and render settings
+//                       dataset frame, per-view yaw/pitch, lighting and render settings; for the
+//                       procedural head also iris_diameter_mm, pd_mm, face_width_temples_mm and
+//                       temple_r/temple_l; with a card its corners (SynthOptions::card)
 // The whole directory appears atomically, and --force replaces only an earlier synth output
 // (host/util/output_folder.h).
 #pragma once
@@ -46,6 +48,11 @@ struct SynthOptions {
   // and linear RGB albedo.
   float wall_mm = 1000.0f;
   Eigen::Vector3f wall_rgb{0.80f, 0.80f, 0.78f};
+  // With a room and the procedural head: the subject holds an ID-1 card (synth/card.h) flat against
+  // the forehead for the first half of the sweep (the views 0 .. ceil(views / 2) - 1), a finger over
+  // its lower edge in every 4th of those views from the 2nd, over its lower right corner in every
+  // 4th from the 4th. ground_truth.json "card" gives its corners (dataset frame and per view pixels).
+  bool card = false;
   std::function<void(int done, int total)> progress;  // called after each view
 };
 

@@ -91,18 +91,45 @@ const json* optional(const json& j, const char* key) {
 }
 
 json metadata_json(const ModelMetadata& m) {
-  return {{"steps", m.steps},
-          {"train_seconds", m.train_seconds},
-          {"samples_trained", m.samples_trained},
-          {"seed", m.seed},
-          {"final_loss", m.final_loss},
-          {"dataset_path", m.dataset_path},
-          {"dataset_hash", m.dataset_hash},
-          {"device", m.device},
-          {"created", m.created},
-          {"subject_problem", m.subject_problem},
-          {"holes", m.holes},
-          {"holes_worst_view", m.holes_worst_view}};
+  json j = {{"steps", m.steps},
+            {"train_seconds", m.train_seconds},
+            {"samples_trained", m.samples_trained},
+            {"seed", m.seed},
+            {"final_loss", m.final_loss},
+            {"dataset_path", m.dataset_path},
+            {"dataset_hash", m.dataset_hash},
+            {"device", m.device},
+            {"created", m.created},
+            {"subject_problem", m.subject_problem},
+            {"holes", m.holes},
+            {"holes_worst_view", m.holes_worst_view}};
+  if (m.metric_scale)
+    j["metric_scale"] = {{"source", m.metric_scale->source},
+                         {"mm_per_unit", m.metric_scale->mm_per_unit},
+                         {"mm_per_unit_uncertainty", m.metric_scale->uncertainty}};
+  return j;
+}
+
+// Absent (files written before it, or no scale measured): unknown.
+MetricScale metric_scale_from_json(const json& j) {
+  if (!j.is_object()) throw BadValue("'metadata.metric_scale' must be an object, found " + j.dump());
+  MetricScale s;
+  auto* src = optional(j, "source");
+  if (!src || !src->is_string() || src->get<std::string>().empty())
+    throw BadValue("'metadata.metric_scale.source' must name where the scale came from, found " +
+                   (src ? src->dump() : std::string("nothing")));
+  s.source = src->get<std::string>();
+  auto* mm = optional(j, "mm_per_unit");
+  s.mm_per_unit = mm ? to_double(*mm, "metadata.metric_scale.mm_per_unit") : 0.0;
+  if (!(s.mm_per_unit > 0))
+    throw BadValue(
+        fmt::format("'metadata.metric_scale.mm_per_unit' must be positive, found {}", s.mm_per_unit));
+  if (auto* u = optional(j, "mm_per_unit_uncertainty"))
+    s.uncertainty = to_double(*u, "metadata.metric_scale.mm_per_unit_uncertainty");
+  if (s.uncertainty < 0)
+    throw BadValue(
+        fmt::format("'metadata.metric_scale.mm_per_unit_uncertainty' must be >= 0, found {}", s.uncertainty));
+  return s;
 }
 
 ModelMetadata metadata_from_json(const json& j) {
@@ -127,6 +154,7 @@ ModelMetadata metadata_from_json(const json& j) {
   if (auto* v = optional(j, "holes")) m.holes = to_double(*v, "metadata.holes", 1.0);
   if (auto* v = optional(j, "holes_worst_view"))
     m.holes_worst_view = to_double(*v, "metadata.holes_worst_view", 1.0);
+  if (auto* v = optional(j, "metric_scale")) m.metric_scale = metric_scale_from_json(*v);
   return m;
 }
 

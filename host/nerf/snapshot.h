@@ -41,6 +41,16 @@ struct SceneNormalisation {
   std::array<float, 3> offset{0.0f, 0.0f, 0.0f};
 };
 
+// Millimetres per scene unit (the model frame) and where they came from, e.g. a held card measured by
+// `capture` (host/dataset/metric_scale.h: its per-dataset-unit figure divided by the normalisation's
+// scale). Header key "metadata.metric_scale" {"source", "mm_per_unit", "mm_per_unit_uncertainty"};
+// absent = unknown.
+struct MetricScale {
+  std::string source;
+  double mm_per_unit = 0.0;  // > 0
+  double uncertainty = 0.0;  // >= 0, one standard error
+};
+
 struct ModelMetadata {
   uint64_t steps = 0;
   double train_seconds = 0.0;
@@ -55,6 +65,7 @@ struct ModelMetadata {
   // from the training views that are transparent, over all views and in the worst one; -1 when not
   // checked (no face region known, or no room model).
   double holes = -1.0, holes_worst_view = -1.0;
+  std::optional<MetricScale> metric_scale;
 };
 
 // Occupancy grid state: per-cell density estimate (EMA; empty until training updates it) and the

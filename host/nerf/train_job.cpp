@@ -6,6 +6,7 @@
 
 #include <filesystem>
 
+#include "host/dataset/metric_scale.h"
 #include "host/nerf/subject_cut.h"
 #include "host/nerf/subject_holes.h"
 #include "host/nerf/subject_region.h"
@@ -102,6 +103,14 @@ TrainPlan plan_training(cl::Runtime& rt, const dataset::Dataset& ds, const std::
   return plan;
 }
 
+std::optional<MetricScale> model_metric_scale(const dataset::Dataset& ds, const SceneNormalisation& n) {
+  std::optional<dataset::MetricScale> s = dataset::read_scale_json(ds.root);
+  if (!s) return std::nullopt;
+  spdlog::info("metric scale from {}: {:.3f} +- {:.3f} mm per dataset unit ({} frames)", s->source,
+               s->mm_per_unit, s->uncertainty, s->frames);
+  return MetricScale{s->source, s->mm_per_unit / n.scale, s->uncertainty / n.scale};
+}
+
 NerfModel planned_model(cl::Runtime& rt, const dataset::Dataset& ds, const std::vector<View>& views,
                         const TrainPlan& plan, const TrainJob& job) {
   const ModelSizing& sizing = plan.sizing;
@@ -111,6 +120,7 @@ NerfModel planned_model(cl::Runtime& rt, const dataset::Dataset& ds, const std::
   model.metadata.dataset_hash = dataset_fingerprint(ds);
   model.metadata.device = rt.device().name;
   model.metadata.subject_problem = job.subject_problem;
+  model.metadata.metric_scale = model_metric_scale(ds, model.normalisation);
   model.view_range = training_view_range(views, sizing.aabb, model.normalisation);
   spdlog::info("captured directions: {}", model.view_range->summary());
   if (std::string advice = coverage_advice(*model.view_range); !advice.empty()) spdlog::warn("{}", advice);

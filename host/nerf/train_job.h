@@ -81,6 +81,11 @@ struct TrainPlan {
 TrainPlan plan_training(cl::Runtime& rt, const dataset::Dataset& ds, const std::vector<View>& views,
                         TrainJob job);
 
+// The dataset's scale.json (host/dataset/metric_scale.h) in the model's units: model = dataset *
+// normalisation.scale, so millimetres per model unit are those per dataset unit over that scale (the
+// uncertainty alike). nullopt without a scale.json; a malformed one throws (its message says so).
+std::optional<MetricScale> model_metric_scale(const dataset::Dataset& ds, const SceneNormalisation& n);
+
 // A fresh model of `plan`'s size with the dataset's metadata (path, fingerprint, device, captured
 // directions; the job's subject problem) and its coverage advice logged.
 NerfModel planned_model(cl::Runtime& rt, const dataset::Dataset& ds, const std::vector<View>& views,

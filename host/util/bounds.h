@@ -158,6 +158,8 @@ inline constexpr Bound kSynthFov{"--fov", "", 10, 120, "vertical field of view i
 inline constexpr Bound kPhoneDistance{"--phone-distance", "", 150, 3000, "camera distance in mm"};
 inline constexpr Bound kSpecular{"--specular", "", 0, 2, "key-light highlight strength"};
 inline constexpr Bound kWallMm{"--wall-mm", "", 200, 5000, "wall distance behind the eyes in mm"};
+// Head sizes of adults around the procedural mean (about +-15 % spans the population's face widths).
+inline constexpr Bound kHeadScale{"--head-scale", "", 0.85, 1.15, "the procedural head's size factor"};
 inline constexpr Bound kMeshMmPerUnit{"--mesh-mm-per-unit", "", kMmPerUnit.lo, kMmPerUnit.hi,
                                       "millimetres per mesh unit; 0: unknown"};
 

@@ -21,6 +21,7 @@ void print_summary(const capture::CaptureReport& r) {
   if (r.coverage)
     std::cerr << fmt::format("covered {}{}\n", r.coverage->summary(),
                              r.coverage_advice.empty() ? " (ear to ear)" : "\n  " + r.coverage_advice);
+  if (r.card.value("searched", false)) std::cerr << r.card.value("message", "") << "\n";
   std::cerr << fmt::format("wrote {}\n", r.transforms_path);
 }
 
@@ -30,13 +31,13 @@ void add_capture(CLI::App& app, GlobalOptions& global) {
   auto opt = std::make_shared<capture::CaptureOptions>();
   auto json = std::make_shared<bool>(false);
   auto no_blur = std::make_shared<bool>(false), no_blink = std::make_shared<bool>(false);
-  auto no_head_box = std::make_shared<bool>(false);
+  auto no_head_box = std::make_shared<bool>(false), no_card = std::make_shared<bool>(false);
+  auto card_only = std::make_shared<bool>(false);
   cmd->add_option("INPUT", opt->input,
                   "video file, folder of images, or folder with a COLMAP model (sparse/0)")
       ->required();
   cmd->add_option("-o,--output", opt->output,
-                  "dataset folder to write (new, empty, or an earlier capture with --force)")
-      ->required();
+                  "dataset folder to write (new, empty, or an earlier capture with --force)");
   cmd->add_option("--fps", opt->frames.fps, "frames per second of video to sample")->capture_default_str();
   cmd->add_option("--max-frames", opt->frames.max_frames, "at most this many frames, evenly spread (0: all)")
       ->capture_default_str();
@@ -53,9 +54,25 @@ void add_capture(CLI::App& app, GlobalOptions& global) {
   cmd->add_flag("--no-blink-filter", *no_blink, "keep frames with closed eyes (and skip face detection)");
   cmd->add_flag("--no-head-box", *no_head_box,
                 "box the sparse points instead of the head found by its landmarks");
+  cmd->add_flag("--no-card", *no_card, "do not look for a held ID-1 card (the dataset's millimetres)");
+  cmd->add_flag("--card-only", *card_only,
+                "INPUT is a posed dataset (transforms.json and images, e.g. a synth output): only "
+                "measure the held card and write INPUT/scale.json (no -o)");
   cmd->add_flag("--force", opt->force, "replace an earlier capture in the output folder");
   cmd->add_flag("--json", *json, "print the capture report as one JSON object on stdout");
-  cmd->callback([opt, json, no_blur, no_blink, no_head_box] {
+  cmd->callback([opt, json, no_blur, no_blink, no_head_box, no_card, card_only] {
+    if (*card_only) {
+      if (!opt->output.empty() || *no_card)
+        throw std::runtime_error("--card-only writes INPUT/scale.json: give no -o and no --no-card");
+      capture::CaptureReport report;
+      capture::measure_card_in_capture(opt->input, report);
+      if (*json)
+        std::cout << report.card.dump(2) << "\n";
+      else
+        std::cerr << report.card.value("message", "") << "\n";
+      return;
+    }
+    opt->card = !*no_card;
     opt->blur_filter = !*no_blur;
     opt->head_box = !*no_head_box;
     opt->blink_filter = !*no_blink;

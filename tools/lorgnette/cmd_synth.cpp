@@ -20,8 +20,8 @@ namespace {
 
 struct SynthArgs {
   std::string mesh, out, size = "256x256", background = "transparent", skin, wall;
-  float specular = 0.0f, wall_mm = 1000.0f;
-  bool procedural = false, force = false, json = false;
+  float specular = 0.0f, wall_mm = 1000.0f, head_scale = 1.0f;
+  bool procedural = false, force = false, json = false, card = false;
   int views = 24, samples = 3, room = 0;
   float fov = 60.0f, phone_mm = 480.0f;
   std::vector<float> yaw{-35.0f, 35.0f}, pitch{-12.0f, 18.0f};
@@ -56,6 +56,7 @@ void validate(const SynthArgs& a) {
   check_bound(b::kPhoneDistance, a.phone_mm);
   check_bound(b::kSpecular, a.specular);
   check_bound(b::kWallMm, a.wall_mm);
+  check_bound(b::kHeadScale, a.head_scale);
   const Bound room{"--room", "", 0, double(synth::kRoomLayouts), "room layout; 0: none"};
   check_bound(room, a.room);
 }
@@ -110,7 +111,10 @@ void run_synth(const SynthArgs& a) {
   if (!a.skin.empty() && !a.procedural)
     throw std::runtime_error(
         "--skin colours the procedural head: give --procedural (a mesh has its texture)");
-  synth::HeadParams params = synth::random_head_params(a.seed);
+  if ((a.head_scale != 1.0f || a.card) && !a.procedural)
+    throw std::runtime_error("--head-scale and --card need the procedural head: give --procedural");
+  o.card = a.card;
+  synth::HeadParams params = synth::scale_head(synth::random_head_params(a.seed), a.head_scale);
   if (!a.skin.empty()) params.skin = parse_srgb(a.skin, "--skin");
   synth::Subject subject =
       a.procedural
@@ -182,6 +186,12 @@ void add_synth(CLI::App& app, GlobalOptions&) {
       "--wall", a->wall,
       fmt::format("with --room {}: the plain wall's colour, r,g,b in 0-255 sRGB (default off-white)",
                   synth::kPlainRoomLayout));
+  cmd->add_option("--head-scale", a->head_scale,
+                  "the procedural head's lengths times this (0.85..1.15; irises keep their size)");
+  cmd->add_flag("--card", a->card,
+                "with --room and --procedural: the subject holds an ID-1 card against the forehead in "
+                "the first half of the sweep, partly under a finger in some views (ground truth: "
+                "ground_truth.json \"card\")");
   cmd->add_flag("--force", a->force, "replace an earlier synth output in the output directory");
   cmd->add_flag("--json", a->json, "print one JSON object on stdout");
   cmd->callback([a] { run_synth(*a); });

@@ -147,6 +147,37 @@ TEST(SnapshotHeader, BoxAndNormalisationOutOfRangeAreRefused) {
              "normalisation.offset");
 }
 
+// The metric scale `train` carries from scale.json: written under metadata.metric_scale and read back
+// exactly; absent (unknown) in models without one and in files written before it existed; a
+// non-positive scale, a negative uncertainty or a missing source is refused with the key's name.
+TEST(SnapshotHeader, MetricScaleRoundTripsAndAbsentMeansUnknown) {
+  Snapshot s = small_snapshot();
+  const std::string without = encode_snapshot(s);
+  EXPECT_FALSE(nlohmann::json::parse(split(without).header)["metadata"].contains("metric_scale"));
+  EXPECT_FALSE(parse_snapshot(without, "m.lnerf").metadata.metric_scale.has_value());
+  EXPECT_FALSE(parse_snapshot(version1(without), "old.lnerf").metadata.metric_scale.has_value());
+  s.metadata.metric_scale = MetricScale{"card", 412.75, 1.25};
+  const std::string file = encode_snapshot(s);
+  nlohmann::json m = nlohmann::json::parse(split(file).header)["metadata"]["metric_scale"];
+  EXPECT_EQ(m["source"], "card");
+  EXPECT_EQ(m["mm_per_unit"].get<double>(), 412.75);
+  EXPECT_EQ(m["mm_per_unit_uncertainty"].get<double>(), 1.25);
+  Snapshot back = parse_snapshot(file, "m.lnerf");
+  ASSERT_TRUE(back.metadata.metric_scale.has_value());
+  EXPECT_EQ(back.metadata.metric_scale->source, "card");
+  EXPECT_EQ(back.metadata.metric_scale->mm_per_unit, 412.75);
+  EXPECT_EQ(back.metadata.metric_scale->uncertainty, 1.25);
+  auto edited = [&](const char* key, nlohmann::json v) {
+    return load_error(resealed(file, [&](nlohmann::json& h) { h["metadata"]["metric_scale"][key] = v; }));
+  };
+  EXPECT_HAS(edited("mm_per_unit", -3.0), "metadata.metric_scale.mm_per_unit");
+  EXPECT_HAS(edited("mm_per_unit", 0.0), "must be positive");
+  EXPECT_HAS(edited("mm_per_unit_uncertainty", -0.5), "metadata.metric_scale.mm_per_unit_uncertainty");
+  EXPECT_HAS(edited("source", ""), "metadata.metric_scale.source");
+  EXPECT_HAS(load_error(resealed(file, [](nlohmann::json& h) { h["metadata"]["metric_scale"] = 5; })),
+             "must be an object");
+}
+
 TEST(SnapshotHeader, AFifoInTheModelsPlaceIsRefusedNotOpened) {
   std::string path = std::string(LORGNETTE_TEST_TMP) + "/snapshot_fifo.lnerf";
   std::filesystem::remove(path);
