@@ -75,9 +75,14 @@ void OccupancyUpdater::update(uint32_t step) {
   OccupancyGrid grid = model_.occupancy();
   fold_occupancy(grid, cells, sigma, options_.decay);
   rebuild_occupancy_bits(grid, options_.threshold_alpha / model_.step(), mask_);
+  if (forced_.size() == grid.bits.size())
+    for (size_t w = 0; w < grid.bits.size(); ++w)
+      grid.bits[w] |= forced_[w] & (mask_.empty() ? ~0u : mask_[w]);
   model_.set_occupancy(std::move(grid));
   ++updates_;
 }
+
+void OccupancyUpdater::set_forced(std::vector<uint32_t> forced) { forced_ = std::move(forced); }
 
 void OccupancyUpdater::maybe_update(uint32_t step) {
   if (step % options_.update_every == 0) update(step);

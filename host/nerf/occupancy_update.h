@@ -33,6 +33,9 @@ class OccupancyUpdater {
   // Call after every training step; updates when step % update_every == 0.
   void maybe_update(uint32_t step);
   void update(uint32_t step);
+  // Cells that stay occupied whatever their density (a subject's certain interior, background_field.h
+  // solid_pull: the prior can only pull on samples it is given); empty = none.
+  void set_forced(std::vector<uint32_t> forced);
   uint32_t updates() const { return updates_; }
 
  private:
@@ -41,7 +44,7 @@ class OccupancyUpdater {
   NerfModel& model_;
   OccupancyOptions options_;
   uint32_t seed_;
-  std::vector<uint32_t> mask_;
+  std::vector<uint32_t> mask_, forced_;
   cl::Kernel points_k_;
   cl::Buffer<float> pos_, sigma_;
   cl::Buffer<uint32_t> cells_dev_;

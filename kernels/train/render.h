@@ -156,29 +156,35 @@ LGN_INLINE float render_ray_opacity_prior(lgn_uint first, lgn_uint used, float s
   return weight * ((1.0f - gate) * a * (1.0f - a) + clear * gate * a);
 }
 
-// The same with prior zones: two bitfields of `res`^3 cells over the model's box, one after the other
+// The same with prior zones: three bitfields of `res`^3 cells over the model's box, one after the other
 // (occ_word_count(res) words each; positions `pos` SoA with `stride`, normalised to the box). Samples
 // in the first field's cells ("keep") get the binary prior's gradient (gate 0): where the room
 // model's own subject-coloured surface lies right behind the subject (the body below a head box,
 // behind the neck) the gate would clear the subject there too. Samples in the second field's cells
 // ("lean", the head volume's margin beyond the bare head) get the gate raised to at least
 // `lean_gate`: there the binary prior no longer makes a haze that the room does not yet explain
-// solid, so matter beyond the head must earn its place through the colour loss. The rest get the
-// ray's gate.
+// solid, so matter beyond the head must earn its place through the colour loss. Samples in the third
+// field's cells ("solid", the subject's certain interior) get a pull of `solid_pull` x the weight
+// towards an opaque ray, whatever the gate: a ray through flesh is opaque, so the room's colour
+// matching the pixel (a pale face before a pale wall) cannot clear it there. The rest get the ray's
+// gate.
 LGN_INLINE void render_ray_opacity_prior_zones(lgn_uint first, lgn_uint used, float step, const float* color,
                                                float weight, float clear, float gate, float lean_gate,
-                                               float ray_scale, LGN_GLOBAL const float* pos, lgn_uint stride,
-                                               LGN_GLOBAL const lgn_uint* zone_bits, lgn_uint res,
-                                               LGN_GLOBAL float* dsigma) {
+                                               float solid_pull, float ray_scale, LGN_GLOBAL const float* pos,
+                                               lgn_uint stride, LGN_GLOBAL const lgn_uint* zone_bits,
+                                               lgn_uint res, LGN_GLOBAL float* dsigma) {
   const float a = color[3], T = 1.0f - a;
   const float gated = render_ray_opacity_prior_dlda(a, weight, clear, gate, ray_scale);
   const float binary = render_ray_opacity_prior_dlda(a, weight, clear, 0.0f, ray_scale);
   const float lean = render_ray_opacity_prior_dlda(a, weight, clear, fmax(gate, lean_gate), ray_scale);
+  const float solid = -solid_pull * weight * ray_scale;
   LGN_GLOBAL const lgn_uint* lean_bits = zone_bits + occ_word_count(res);
+  LGN_GLOBAL const lgn_uint* solid_bits = zone_bits + 2u * occ_word_count(res);
   for (lgn_uint k = 0; k < used; ++k) {
     const lgn_uint i = first + k;
     const float x = pos[i], y = pos[stride + i], z = pos[2u * stride + i];
-    const float d = occ_test(zone_bits, res, x, y, z)   ? binary
+    const float d = occ_test(solid_bits, res, x, y, z)  ? solid
+                    : occ_test(zone_bits, res, x, y, z) ? binary
                     : occ_test(lean_bits, res, x, y, z) ? lean
                                                         : gated;
     dsigma[i] += step * T * d;
