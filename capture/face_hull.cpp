@@ -60,7 +60,13 @@ nerf::SubjectVolume head_solid_core_mm(const NeckCoreMm& neck) {
   core.half = {float(neck.radius), float(0.5 * (neck.bottom_below_eyes - neck.top_below_eyes)) + 10.0f,
                float(neck.radius)};
   v.parts.push_back(core);
-  v.what = "the head's certain interior (behind the face, the neck's core; capture/face_hull.h)";
+  nerf::OrientedShape skull;
+  skull.kind = nerf::OrientedShape::Kind::Ellipsoid;
+  skull.center = {0.0f, 30.0f, -75.0f};
+  skull.half = {50.0f, 50.0f, 60.0f};
+  v.parts.push_back(skull);
+  v.what =
+      "the head's certain interior (behind the face, in the skull, the neck's core; capture/face_hull.h)";
   return v;
 }
 
