@@ -93,10 +93,9 @@ struct SubjectZones {
   // Not a clearing zone: the regions the trained subject must fill solidly, seen from the training
   // views (subject_holes.h: holes in the face or the neck).
   std::vector<SolidHull> whole;
-  // The subject's certain interior (a face behind its skin, a neck's core): every ray through it
-  // passes through the subject, so there the opacity prior pulls the ray to opaque whatever the room
-  // model's colour explains (BackgroundOptions::solid_pull), and its cells stay occupied. Where a
-  // pale face before a pale wall lost its skin to the room, the subject is kept (#41).
+  // The subject's certain interior (a face behind its skin, the skull, a neck's core): every ray
+  // through it ends in the subject, so the room-explained clearing never applies to such a ray and
+  // the prior pulls it to opaque there (BackgroundOptions::solid_pull); its cells stay occupied.
   SubjectVolume solid;
 };
 
