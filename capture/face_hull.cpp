@@ -3,6 +3,8 @@
 
 #include <cmath>
 
+#include "capture/head_volume.h"
+
 namespace lorgnette::capture {
 namespace {
 
@@ -42,6 +44,34 @@ std::vector<nerf::SolidHull> head_solid_hulls(const fit::HeadBox& box, const Nec
     }
   hulls.push_back(core);
   return hulls;
+}
+
+nerf::SubjectVolume head_solid_core_mm(const NeckCoreMm& neck) {
+  nerf::SubjectVolume v;
+  nerf::OrientedShape face;
+  face.kind = nerf::OrientedShape::Kind::Ellipsoid;
+  face.center = {0.0f, -40.0f, -70.0f};
+  face.half = {45.0f, 60.0f, 40.0f};
+  v.parts.push_back(face);
+  nerf::OrientedShape core;
+  core.kind = nerf::OrientedShape::Kind::Ellipsoid;
+  core.center = {0.0f, -float(0.5 * (neck.top_below_eyes + neck.bottom_below_eyes)),
+                 -float(neck.behind_eyes)};
+  core.half = {float(neck.radius), float(0.5 * (neck.bottom_below_eyes - neck.top_below_eyes)) + 10.0f,
+               float(neck.radius)};
+  v.parts.push_back(core);
+  nerf::OrientedShape skull;
+  skull.kind = nerf::OrientedShape::Kind::Ellipsoid;
+  skull.center = {0.0f, 30.0f, -75.0f};
+  skull.half = {50.0f, 50.0f, 60.0f};
+  v.parts.push_back(skull);
+  v.what =
+      "the head's certain interior (behind the face, in the skull, the neck's core; capture/face_hull.h)";
+  return v;
+}
+
+nerf::SubjectVolume head_solid_core(const fit::HeadBox& box, const NeckCoreMm& neck) {
+  return to_scene(head_solid_core_mm(neck), box);
 }
 
 }  // namespace lorgnette::capture

@@ -27,4 +27,19 @@ struct NeckCoreMm {
 // the neck's core (seen from any side); empty when the box holds no landmarks.
 std::vector<nerf::SolidHull> head_solid_hulls(const fit::HeadBox& box, const NeckCoreMm& neck = {});
 
+// The head's certain interior (nerf::SubjectZones::solid), in the head frame (mm, as NeckCoreMm) and
+// in the scene: an ellipsoid behind the face, centred 70 mm behind the inner eye corners and 40 mm
+// below the eyes, 45 mm to each side, 60 mm up and down and 40 mm deep, so its front lies 30 mm
+// behind the eye corners' plane at the nose's height and ~50 mm at the cheeks 40 mm out (the mean
+// face's cheeks lie 10-20 mm behind that plane, its eyeballs reach 25 mm); the skull's interior, an
+// ellipsoid centred 75 mm behind the inner eye corners and 30 mm above the eyes, 50 mm to each side,
+// 50 mm up and down and 60 mm deep (a small adult head, p1 of women: ~135 mm broad, ~173 mm from
+// glabella, 15 mm ahead of the eye corners, to the back, ~100 mm from the eyes to the vertex, so it
+// stays ~15 mm inside the forehead, the sides and the back and ~20 mm below the top); and the neck's
+// core (NeckCoreMm, as an ellipsoid of its radius). On six procedural heads every point of it lies 4 mm
+// or more inside the skin (tests/capture/face_hull_test.cpp), so a ray from any training view
+// through it passes through the subject.
+nerf::SubjectVolume head_solid_core_mm(const NeckCoreMm& neck = {});
+nerf::SubjectVolume head_solid_core(const fit::HeadBox& box, const NeckCoreMm& neck = {});
+
 }  // namespace lorgnette::capture

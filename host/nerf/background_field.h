@@ -83,6 +83,14 @@ struct BackgroundOptions {
   // the room model, trained there only through the haze, never learns it, and the binary prior
   // would make the haze solid. Hair there stays where its colour differs from the room's. 0 = off.
   float lean_gate = 1.0f;
+  // The subject's certain interior (subject->solid: behind a face's skin, in the skull, a neck's
+  // core). The room model holds only what lies beyond the subject's volume, so a ray that crosses the
+  // interior ends in the subject before the wall and the room cannot explain it, whatever its colour
+  // matches: no sample of that ray gets the room-explained clearing, and its samples in the interior
+  // are pulled towards an opaque ray at this times the prior's weight; the interior's cells stay
+  // occupied. Colour cannot tell a pale face from a pale wall behind it; the geometry can
+  // (docs/room-training.md, "A whole subject"). 0 = off (the clearing as everywhere else).
+  float solid_pull = 1.0f;
 };
 
 class BackgroundField {

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "host/nerf/subject_volume.h"
 #include "kernels/train/occupancy.h"
 #include "kernels/train/train_types.h"
 
@@ -75,8 +76,22 @@ void OccupancyUpdater::update(uint32_t step) {
   OccupancyGrid grid = model_.occupancy();
   fold_occupancy(grid, cells, sigma, options_.decay);
   rebuild_occupancy_bits(grid, options_.threshold_alpha / model_.step(), mask_);
+  if (interior_.size() == grid.bits.size()) {
+    interior_empty_ = 0;
+    for (size_t w = 0; w < grid.bits.size(); ++w) {
+      const uint32_t in = interior_[w] & (mask_.empty() ? ~0u : mask_[w]);
+      interior_empty_ += uint64_t(__builtin_popcount(in & ~grid.bits[w]));
+      if (keep_interior_) grid.bits[w] |= in;
+    }
+  }
   model_.set_occupancy(std::move(grid));
   ++updates_;
+}
+
+void OccupancyUpdater::set_interior(std::vector<uint32_t> cells, bool keep_occupied) {
+  interior_ = std::move(cells);
+  keep_interior_ = keep_occupied;
+  interior_count_ = mask_count(interior_);
 }
 
 void OccupancyUpdater::maybe_update(uint32_t step) {

@@ -22,7 +22,7 @@ SampleParams sample_params_for(const NerfModel& model, const DeviceViews& views)
 
 // The opacity prior of a training render (kernels/train/render.h): its weight (0 = off), and the
 // room-explained clearing relative to it with the RMS sRGB difference at which that gate closes, and
-// its zones (render_ray_opacity_prior_zones: the keep cells' and the lean cells' bitfields, one after
+// its zones (render_ray_opacity_prior_zones: the keep, lean and solid cells' bitfields, one after
 // the other, at zone_res^3 over the model's box; null = none) with the lean cells' least gate.
 struct RayPriors {
   float weight = 0.0f;
@@ -31,6 +31,7 @@ struct RayPriors {
   const cl::Buffer<uint32_t>* zones = nullptr;
   uint32_t zone_res = 0;
   float lean_gate = 0.0f;
+  float solid_pull = 0.0f;  // the solid cells' pull towards an opaque ray (the zones' third bitfield)
 };
 
 class RayBatch {

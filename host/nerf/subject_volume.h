@@ -93,6 +93,10 @@ struct SubjectZones {
   // Not a clearing zone: the regions the trained subject must fill solidly, seen from the training
   // views (subject_holes.h: holes in the face or the neck).
   std::vector<SolidHull> whole;
+  // The subject's certain interior (a face behind its skin, the skull, a neck's core): every ray
+  // through it ends in the subject, so the room-explained clearing never applies to such a ray and
+  // the prior pulls it to opaque there (BackgroundOptions::solid_pull); its cells stay occupied.
+  SubjectVolume solid;
 };
 
 // The occupancy mask of `volume` over `box` at res^3 cells (occ_word_count(res) words, the grid's

@@ -16,6 +16,22 @@
 namespace lorgnette::nerf {
 namespace {
 
+// The cells of `solid` over `box` at res^3 whose centre lies in it (not the occupancy mask's
+// outward rule: a cell the pull acts on must lie inside the subject).
+std::vector<uint32_t> solid_cells(const SubjectVolume& solid, const Aabb& box, uint32_t res) {
+  std::vector<uint32_t> bits(occ_word_count(res), 0u);
+  for (uint32_t z = 0; z < res; ++z)
+    for (uint32_t y = 0; y < res; ++y)
+      for (uint32_t x = 0; x < res; ++x) {
+        const uint32_t idx[3] = {x, y, z};
+        Vec3f p;
+        for (int a = 0; a < 3; ++a) p[a] = box.min[a] + (float(idx[a]) + 0.5f) / float(res) * box.extent(a);
+        const uint32_t cell = x + res * (y + res * z);
+        if (solid.contains(p)) bits[cell >> 5] |= 1u << (cell & 31u);
+      }
+  return bits;
+}
+
 // The opacity prior's zones (RayPriors): the subject's keep cells, then the lean cells (outside its
 // core, not kept, and allowed by the subject's permanent occupancy mask when it has one, which holds
 // its volume); empty when neither applies.
@@ -23,9 +39,14 @@ std::vector<uint32_t> prior_zones(const BackgroundOptions& b, const NerfModel& m
                                   const std::vector<uint32_t>& allowed) {
   const bool keep = b.room_clear > 0.0f && b.subject && !b.subject->keep.empty();
   const bool lean = b.room_clear > 0.0f && b.lean_gate > 0.0f && b.subject && !b.subject->core.empty();
-  if (!keep && !lean) return {};
+  const bool solid = b.solid_pull > 0.0f && b.subject && !b.subject->solid.empty();
+  if (!keep && !lean && !solid) return {};
   const uint32_t res = model.occupancy_resolution(), words = occ_word_count(res);
-  std::vector<uint32_t> zones(2 * size_t(words), 0u);
+  std::vector<uint32_t> zones(3 * size_t(words), 0u);
+  if (solid) {
+    const std::vector<uint32_t> s = solid_cells(b.subject->solid, model.aabb(), res);
+    std::copy(s.begin(), s.end(), zones.begin() + 2 * words);
+  }
   if (keep) {
     const std::vector<uint32_t> k = volume_occupancy_mask(b.subject->keep, model.aabb(), res);
     std::copy(k.begin(), k.end(), zones.begin());
@@ -37,10 +58,23 @@ std::vector<uint32_t> prior_zones(const BackgroundOptions& b, const NerfModel& m
   }
   spdlog::info(
       "clearing zones: {} cells keep the binary prior (the neck), {} lean towards the room "
-      "(gate >= {:.2f}: the volume beyond the bare head)",
-      mask_count({zones.begin(), zones.begin() + words}), mask_count({zones.begin() + words, zones.end()}),
-      b.lean_gate);
+      "(gate >= {:.2f}: the volume beyond the bare head), {} are the subject's certain interior",
+      mask_count({zones.begin(), zones.begin() + words}),
+      mask_count({zones.begin() + words, zones.begin() + 2 * words}), b.lean_gate,
+      mask_count({zones.begin() + 2 * words, zones.end()}));
   return zones;
+}
+
+// How much of the subject's certain interior the density alone left unoccupied: where that is more than
+// a few cells, the separation emptied the inside of the head (the room took it).
+void log_interior(const OccupancyUpdater& occ, float solid_pull) {
+  if (!occ.interior_cells()) return;
+  spdlog::info(
+      "the subject's certain interior: the density left {} of its {} cells ({:.1f} %) unoccupied at the last "
+      "occupancy update ({})",
+      occ.interior_empty(), occ.interior_cells(),
+      100.0 * double(occ.interior_empty()) / double(occ.interior_cells()),
+      solid_pull > 0.0f ? "kept occupied: rays through them are the subject's" : "emptied: --solid-pull 0");
 }
 
 }  // namespace
@@ -66,6 +100,10 @@ Trainer::Trainer(NerfModel& model, const std::vector<View>& views, const TrainOp
                                           : std::vector<uint32_t>{};
   occupancy_ =
       std::make_unique<OccupancyUpdater>(model, options.occupancy, options.seed, std::move(occupancy_mask));
+  const BackgroundOptions& b = options.background;
+  if (b.enabled && b.subject && !b.subject->solid.empty())
+    occupancy_->set_interior(solid_cells(b.subject->solid, model.aabb(), model.occupancy_resolution()),
+                             b.solid_pull > 0.0f);
   n_rays_ = std::max<uint32_t>(64, batch / 32);
   if (options.background.enabled) {
     background_ =
@@ -95,7 +133,8 @@ RayPriors Trainer::opacity_prior() const {
   p.weight = float(b.opacity_prior * std::clamp((double(step_) - b.opacity_prior_start) / ramp, 0.0, 1.0));
   p.room_clear = b.room_clear;
   p.room_clear_tolerance = b.room_clear_tolerance;
-  if (zone_res_) p.zones = &zones_, p.zone_res = zone_res_, p.lean_gate = b.lean_gate;
+  if (zone_res_)
+    p.zones = &zones_, p.zone_res = zone_res_, p.lean_gate = b.lean_gate, p.solid_pull = b.solid_pull;
   return p;
 }
 
@@ -271,6 +310,7 @@ TrainResult Trainer::run() {
     }
   }
   if (std::optional<double> loss = last_loss()) take_loss(*loss, step_);
+  log_interior(*occupancy_, options_.background.solid_pull);
   result.seconds = std::chrono::duration<double>(clock::now() - start).count();
   if (options_.progress) bar.finish(fmt::format("{} steps in {:.1f} s", step_, result.seconds));
   result.steps = step_;

@@ -156,7 +156,7 @@ LGN_INLINE float render_ray_opacity_prior(lgn_uint first, lgn_uint used, float s
   return weight * ((1.0f - gate) * a * (1.0f - a) + clear * gate * a);
 }
 
-// The same with prior zones: two bitfields of `res`^3 cells over the model's box, one after the other
+// The same with prior zones: three bitfields of `res`^3 cells over the model's box, one after the other
 // (occ_word_count(res) words each; positions `pos` SoA with `stride`, normalised to the box). Samples
 // in the first field's cells ("keep") get the binary prior's gradient (gate 0): where the room
 // model's own subject-coloured surface lies right behind the subject (the body below a head box,
@@ -165,20 +165,38 @@ LGN_INLINE float render_ray_opacity_prior(lgn_uint first, lgn_uint used, float s
 // `lean_gate`: there the binary prior no longer makes a haze that the room does not yet explain
 // solid, so matter beyond the head must earn its place through the colour loss. The rest get the
 // ray's gate.
-LGN_INLINE void render_ray_opacity_prior_zones(lgn_uint first, lgn_uint used, float step, const float* color,
-                                               float weight, float clear, float gate, float lean_gate,
-                                               float ray_scale, LGN_GLOBAL const float* pos, lgn_uint stride,
+// The third field ("solid") is the subject's certain interior (behind a face's skin, a neck's core).
+// A ray that crosses it ends in the subject before it reaches the wall, and the room model holds
+// only what lies beyond the subject's volume: whatever its colour matches, the room cannot explain
+// that ray (a pale face before a pale wall). So no sample of such a ray gets the room's gate (the
+// binary prior, as in "keep"), and its samples in the solid cells get a pull of `solid_pull` x the
+// weight towards an opaque ray, which fills a hole there that the colour loss cannot tell from the
+// wall. The crossing is judged over all `count` samples of the ray, not only the `used` ones in
+// front of its opaque surface: a ray that the skin makes opaque before the interior still crosses it.
+LGN_INLINE void render_ray_opacity_prior_zones(lgn_uint first, lgn_uint count, lgn_uint used, float step,
+                                               const float* color, float weight, float clear, float gate,
+                                               float lean_gate, float solid_pull, float ray_scale,
+                                               LGN_GLOBAL const float* pos, lgn_uint stride,
                                                LGN_GLOBAL const lgn_uint* zone_bits, lgn_uint res,
                                                LGN_GLOBAL float* dsigma) {
-  const float a = color[3], T = 1.0f - a;
-  const float gated = render_ray_opacity_prior_dlda(a, weight, clear, gate, ray_scale);
-  const float binary = render_ray_opacity_prior_dlda(a, weight, clear, 0.0f, ray_scale);
-  const float lean = render_ray_opacity_prior_dlda(a, weight, clear, fmax(gate, lean_gate), ray_scale);
   LGN_GLOBAL const lgn_uint* lean_bits = zone_bits + occ_word_count(res);
+  LGN_GLOBAL const lgn_uint* solid_bits = zone_bits + 2u * occ_word_count(res);
+  int crosses = 0;
+  for (lgn_uint k = 0; k < count && !crosses; ++k) {
+    const lgn_uint i = first + k;
+    crosses = occ_test(solid_bits, res, pos[i], pos[stride + i], pos[2u * stride + i]);
+  }
+  const float a = color[3], T = 1.0f - a;
+  const float binary = render_ray_opacity_prior_dlda(a, weight, clear, 0.0f, ray_scale);
+  const float gated = crosses ? binary : render_ray_opacity_prior_dlda(a, weight, clear, gate, ray_scale);
+  const float lean =
+      crosses ? binary : render_ray_opacity_prior_dlda(a, weight, clear, fmax(gate, lean_gate), ray_scale);
+  const float solid = -solid_pull * weight * ray_scale;
   for (lgn_uint k = 0; k < used; ++k) {
     const lgn_uint i = first + k;
     const float x = pos[i], y = pos[stride + i], z = pos[2u * stride + i];
-    const float d = occ_test(zone_bits, res, x, y, z)   ? binary
+    const float d = occ_test(solid_bits, res, x, y, z)  ? solid
+                    : occ_test(zone_bits, res, x, y, z) ? binary
                     : occ_test(lean_bits, res, x, y, z) ? lean
                                                         : gated;
     dsigma[i] += step * T * d;

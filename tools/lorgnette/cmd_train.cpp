@@ -121,6 +121,11 @@ void add_train(CLI::App& app, GlobalOptions& global) {
                   "with the room model and a head box: in the head volume beyond the bare head, the "
                   "clearing's gate is at least this (1: always clear there; 0 = off)")
       ->capture_default_str();
+  cmd->add_option("--solid-pull", a->settings.room.solid_pull,
+                  "with the room model and a head box: rays through the head's certain interior are the "
+                  "subject's (no clearing), and that interior is pulled opaque with this many times the "
+                  "opacity prior's weight (0 = off)")
+      ->capture_default_str();
   cmd->add_option("--aabb-scale", a->settings.aabb_scale,
                   "box size factor for datasets without alpha, 0.01..128 (default: dataset)");
   // Every number's range is checked by nerf::validate (host/util/bounds.h), with the same message
