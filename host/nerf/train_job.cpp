@@ -197,16 +197,23 @@ TrainJobResult train_on_dataset(cl::Runtime& rt, const dataset::Dataset& ds, Tra
     TrainPlan safer = plan;
     safer.train.background.room_clear = 0.0f;
     safer.train.background.lean_gate = 0.0f;
+    // The second training snapshots beside the first model, which stays in place until the second
+    // is chosen: an interrupt or a kill during it never leaves a less trained model at the output.
+    const std::string first_path = plan.train.snapshot_path;
+    if (!first_path.empty()) safer.train.snapshot_path = first_path + ".second";
     TrainJobResult again = train_planned(rt, ds, views, safer, job);
     // Without the clearing the room is rebuilt as haze in the subject's volume (the synthetic pale
     // selfie: leak 46 -> 98 % of the subject's area for holes 3.2 -> 1.7 %), so the second model is
-    // kept only when it is whole; else the first, with the problem recorded below.
-    if (again.model.metadata.holes < kSubjectHoleShare || again.result.interrupted) {
+    // kept only when it is whole and complete; else the first, with the problem recorded below.
+    const bool keep_second = !again.result.interrupted && again.model.metadata.holes < kSubjectHoleShare;
+    if (keep_second) {
       again.result.seconds += out.result.seconds;
       out = std::move(again);
-    } else if (!plan.train.snapshot_path.empty()) {
-      out.model.save(plan.train.snapshot_path);  // the second has holes too: keep the first
+      if (!first_path.empty()) out.model.save(first_path);
+    } else if (again.result.interrupted) {
+      out.result.interrupted = true;  // the command still reports the interrupt
     }
+    if (!first_path.empty()) std::filesystem::remove(safer.train.snapshot_path);
   }
   if (has_holes(out.model) && out.model.metadata.subject_problem.empty()) {
     HoleReport rep;
