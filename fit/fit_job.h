@@ -34,7 +34,7 @@ struct FitSettings {
   int views = 12, resolution = 384, upsample = 0;
   int cap_resolution = 256;  // the K views' size (CapOptions::size); `resolution` is the front search's
   double yaw_range_deg = 20.0, pitch_range_deg = 15.0;
-  std::string policy = "stretch", landmark_model, mean_face, debug_dir;
+  std::string policy = "auto", landmark_model, mean_face, debug_dir;
 };
 FitOptions fit_options(const FitSettings& settings);  // throws on an unknown policy
 

@@ -90,19 +90,45 @@ const json* optional(const json& j, const char* key) {
   return it == j.end() || it->is_null() ? nullptr : &*it;
 }
 
+// "metric_scale": {"source", "mm_per_unit" > 0, "mm_per_unit_uncertainty" >= 0}; a scale that is
+// there but broken is an error (a silent fallback would show the frame at the wrong size).
+CaptureMetricScale metric_scale_from_json(const json& j) {
+  if (!j.is_object()) throw BadValue("'metadata.metric_scale' must be an object, found " + j.dump());
+  CaptureMetricScale s;
+  if (auto* v = optional(j, "source")) {
+    if (!v->is_string())
+      throw BadValue("'metadata.metric_scale.source' must be a string, found " + v->dump());
+    s.source = v->get<std::string>();
+  }
+  const json* mpu = optional(j, "mm_per_unit");
+  if (!mpu) throw BadValue("'metadata.metric_scale' has no 'mm_per_unit'");
+  s.mm_per_unit = to_double(*mpu, "metadata.metric_scale.mm_per_unit");
+  if (auto* v = optional(j, "mm_per_unit_uncertainty"))
+    s.mm_per_unit_uncertainty = to_double(*v, "metadata.metric_scale.mm_per_unit_uncertainty");
+  if (!(s.mm_per_unit > 0.0) || s.mm_per_unit_uncertainty < 0.0)
+    throw BadValue(fmt::format(
+        "'metadata.metric_scale' needs mm_per_unit > 0 and an uncertainty >= 0, found {}", j.dump()));
+  return s;
+}
+
 json metadata_json(const ModelMetadata& m) {
-  return {{"steps", m.steps},
-          {"train_seconds", m.train_seconds},
-          {"samples_trained", m.samples_trained},
-          {"seed", m.seed},
-          {"final_loss", m.final_loss},
-          {"dataset_path", m.dataset_path},
-          {"dataset_hash", m.dataset_hash},
-          {"device", m.device},
-          {"created", m.created},
-          {"subject_problem", m.subject_problem},
-          {"holes", m.holes},
-          {"holes_worst_view", m.holes_worst_view}};
+  json out = {{"steps", m.steps},
+              {"train_seconds", m.train_seconds},
+              {"samples_trained", m.samples_trained},
+              {"seed", m.seed},
+              {"final_loss", m.final_loss},
+              {"dataset_path", m.dataset_path},
+              {"dataset_hash", m.dataset_hash},
+              {"device", m.device},
+              {"created", m.created},
+              {"subject_problem", m.subject_problem},
+              {"holes", m.holes},
+              {"holes_worst_view", m.holes_worst_view}};
+  if (m.metric_scale)
+    out["metric_scale"] = {{"source", m.metric_scale->source},
+                           {"mm_per_unit", m.metric_scale->mm_per_unit},
+                           {"mm_per_unit_uncertainty", m.metric_scale->mm_per_unit_uncertainty}};
+  return out;
 }
 
 ModelMetadata metadata_from_json(const json& j) {
@@ -127,6 +153,7 @@ ModelMetadata metadata_from_json(const json& j) {
   if (auto* v = optional(j, "holes")) m.holes = to_double(*v, "metadata.holes", 1.0);
   if (auto* v = optional(j, "holes_worst_view"))
     m.holes_worst_view = to_double(*v, "metadata.holes_worst_view", 1.0);
+  if (auto* v = optional(j, "metric_scale")) m.metric_scale = metric_scale_from_json(*v);
   return m;
 }
 

@@ -41,6 +41,13 @@ struct SceneNormalisation {
   std::array<float, 3> offset{0.0f, 0.0f, 0.0f};
 };
 
+// A metric scale the capture measured (a card held to the face, triangulated): millimetres per scene
+// unit of this model with its 1-sigma uncertainty.
+struct CaptureMetricScale {
+  std::string source = "card";
+  double mm_per_unit = 0.0, mm_per_unit_uncertainty = 0.0;
+};
+
 struct ModelMetadata {
   uint64_t steps = 0;
   double train_seconds = 0.0;
@@ -55,6 +62,9 @@ struct ModelMetadata {
   // from the training views that are transparent, over all views and in the worst one; -1 when not
   // checked (no face region known, or no room model).
   double holes = -1.0, holes_worst_view = -1.0;
+  // "metric_scale" (optional): absent when the capture measured none; the fit then estimates the
+  // scale from the irises or the mean face (fit/scale_chain.h).
+  std::optional<CaptureMetricScale> metric_scale;
 };
 
 // Occupancy grid state: per-cell density estimate (EMA; empty until training updates it) and the
