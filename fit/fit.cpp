@@ -353,11 +353,10 @@ void measure_scale(FitRun& run) {
       r.head.pd_mm, r.pd_uncertainty_mm, r.scale.why);
   if (r.scale_policy == ScalePolicy::kStretch)
     r.warnings.push_back(fmt::format(
-        "the frame is stretched to the face's temples: the size shown is not its real size (scale from {})",
-        scale_source_name(r.scale.source)));
+        "the frame is stretched to the face's width: the size shown is not its real size (scale: {})",
+        r.scale.why));
   else if (r.scale.source == ScaleSource::kMeanFace)
-    r.warnings.push_back(fmt::format("true size from the mean face's approximate scale (+-{:.0f} %)",
-                                     100 * r.scale.relative_uncertainty()));
+    r.warnings.push_back("true size with an approximate scale: " + r.scale.why);
 }
 
 // The fit advice (fit_advice.h) for the frame as it rests on the head.

@@ -63,4 +63,18 @@ double pd_uncertainty_mm(double pd_mm, double rel, double sigma_l, double sigma_
   return std::sqrt(std::pow(pd_mm * rel, 2) + sigma_l * sigma_l + sigma_r * sigma_r);
 }
 
+std::string scale_summary(const std::string& source, double mpu, double mpu_sigma, double pd, double pd_sigma,
+                          const std::string& policy) {
+  const std::string from = source == "card"        ? "a card"
+                           : source == "iris"      ? "the irises"
+                           : source == "mean-face" ? "the mean face (approximate)"
+                                                   : "an unknown source";
+  const std::string shown = policy == "true-size"
+                                ? "the frame is shown at its real size"
+                                : "the frame is stretched to the face's width: the size shown is "
+                                  "not its real size";
+  return fmt::format("scale from {}: {:.4g} +- {:.2g} mm per unit; PD {:.1f} +- {:.1f} mm; {}", from, mpu,
+                     mpu_sigma, pd, pd_sigma, shown);
+}
+
 }  // namespace lorgnette::fit

@@ -49,4 +49,10 @@ ScalePolicy resolve_scale_policy(ScalePolicy requested, ScaleSource source);
 double pd_uncertainty_mm(double pd_mm, double relative_scale_uncertainty, double eye_sigma_l_mm,
                          double eye_sigma_r_mm);
 
+// One line for a person: where the scale came from, with its and PD's +-, and whether the frame is
+// shown at its real size (`policy` as placed: "true-size" or "stretch"). `source` "" (an older
+// placement): unknown.
+std::string scale_summary(const std::string& source, double mm_per_unit, double mm_per_unit_uncertainty,
+                          double pd_mm, double pd_uncertainty_mm, const std::string& policy);
+
 }  // namespace lorgnette::fit

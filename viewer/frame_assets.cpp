@@ -150,6 +150,18 @@ nlohmann::json FrameAssets::describe(uint32_t i) {
                         {"bridge", m.bridge_mm},
                         {"temple", m.temple_length_mm}}}};
   if (s.placement && s.placement->pd_mm > 0) j["pd_mm"] = s.placement->pd_mm;
+  if (s.placement) {  // the scale's source and the fit advice (#44), for the panel
+    const fit::PlacementFile& p = *s.placement;
+    j["pd_uncertainty_mm"] = p.pd_uncertainty_mm;
+    j["scale_source"] = p.scale_source;
+    j["scale_policy"] = p.scale_policy;
+    nlohmann::json advice = nlohmann::json::array();
+    for (const fit::AdviceRule& r : p.advice.rules)
+      advice.push_back(
+          {{"name", r.name}, {"verdict", r.verdict}, {"off_by_mm", r.off_by_mm}, {"text", r.text}});
+    j["advice"] = advice;
+    j["advice_approximate"] = p.advice.approximate;
+  }
   if (!s.message.empty()) j["message"] = s.message;
   return j;
 }

@@ -60,6 +60,15 @@ TEST(ScaleChain, AutoPolicyAndNames) {
                std::runtime_error);
 }
 
+TEST(ScaleChain, SummarySaysWhetherTheSizeIsReal) {
+  std::string s = scale_summary("iris", 201.25, 8.6, 63.2, 2.8, "true-size");
+  EXPECT_NE(s.find("the irises: 201.2 +- 8.6 mm per unit; PD 63.2 +- 2.8 mm"), std::string::npos) << s;
+  EXPECT_NE(s.find("real size"), std::string::npos) << s;
+  s = scale_summary("mean-face", 214.3, 21.4, 64.8, 6.5, "stretch");
+  EXPECT_NE(s.find("approximate"), std::string::npos) << s;
+  EXPECT_NE(s.find("not its real size"), std::string::npos) << s;
+}
+
 // 64 mm at 4.3 %: 2.75 mm; with 0.5 mm per eye centre: sqrt(2.75^2 + 0.5) = 2.84 mm.
 TEST(ScaleChain, PdUncertainty) {
   EXPECT_NEAR(pd_uncertainty_mm(64.0, 0.5 / 11.7, 0.0, 0.0), 64.0 * 0.5 / 11.7, 1e-12);
