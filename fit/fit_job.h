@@ -40,7 +40,7 @@ FitOptions fit_options(const FitSettings& settings);  // throws on an unknown po
 
 struct FitJobResult {
   FitResult fit;
-  PlacementFile placement;  // make_placement_file: the glasses' path and the options' scale policy
+  PlacementFile placement;  // make_placement_file: the glasses' path and the scale policy the fit used
 };
 
 // Throws what fit_glasses throws. Writes nothing (write_placement is the caller's).

@@ -225,11 +225,13 @@ std::string fit_stage_label(const std::string& stage) {
       {"render_detect_recentred", "rendering re-centred views and finding landmarks"},
       {"triangulate", "triangulating the landmarks"},
       {"triangulate_recentred", "triangulating the re-centred landmarks"},
+      {"scale", "measuring the irises for the scale"},
       {"place", "placing the frame"},
       {"contact", "seating the frame on the skin"},
       {"temples", "fitting the temples"},
       {"contact_eq23_ears", "seating the frame again, ears at the eye height"},
       {"temples_eq23_ears", "fitting the temples again"},
+      {"advice", "comparing the frame's sizes with the head's"},
       {"checks", "checking the head for holes"}};
   auto it = labels.find(stage);
   return it != labels.end() ? it->second : stage;
