@@ -309,15 +309,14 @@ Eigen::Vector3d eye_centre(const std::vector<TriangulatedPoint>& P, int first, d
   return n ? Eigen::Vector3d(c / n) : P[first].position;
 }
 
-// Camera positions of the views with a face, nearest the cap's centre first: the irises face them.
-std::vector<Eigen::Vector3d> iris_view_centres(const FitResult& r, int count) {
-  std::vector<std::pair<double, Eigen::Vector3d>> c;
+// The distance from the eyes to the camera of the view with a face nearest the cap's centre: the
+// iris views look from as far as the capture did.
+double iris_view_distance(const FitResult& r, const Eigen::Vector3d& eyes) {
+  double best = 1e30, dist = 0.0;
   for (const ViewRecord& v : r.views)
-    if (v.detection.found) c.emplace_back(std::hypot(v.yaw_deg, v.pitch_deg), camera_center(v.camera));
-  std::stable_sort(c.begin(), c.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-  std::vector<Eigen::Vector3d> out;
-  for (size_t i = 0; i < c.size() && int(i) < count; ++i) out.push_back(c[i].second);
-  return out;
+    if (const double off = std::hypot(v.yaw_deg, v.pitch_deg); v.detection.found && off < best)
+      best = off, dist = (camera_center(v.camera) - eyes).norm();
+  return dist;
 }
 
 // The irises (when there is no card), the scale's source (scale_chain.h) and the policy it implies;
@@ -331,8 +330,10 @@ void measure_scale(FitRun& run) {
   if (!o.card && o.irises) {
     EyeContour left, right;
     if (eye_contour(r.points, lm::kEyeLFirst, &left) && eye_contour(r.points, lm::kEyeRFirst, &right)) {
-      r.iris_measurements = measure_irises(run.source, iris_view_centres(r, o.iris_views), left, right,
-                                           r.head.d_up, r.head.d_fwd, o.iris);
+      const Eigen::Vector3d eyes =
+          0.5 * (eye_centre(r.points, lm::kEyeLFirst) + eye_centre(r.points, lm::kEyeRFirst));
+      r.iris_measurements = measure_irises(run.source, left, right, r.head.d_up, r.head.d_fwd,
+                                           iris_view_distance(r, eyes), o.iris);
       r.iris = iris_scale(r.iris_measurements, mean_face, o.iris_scale);
     } else {
       r.iris.why = "the eyes' landmarks were not all triangulated";
@@ -344,8 +345,11 @@ void measure_scale(FitRun& run) {
   r.head.mm_per_unit = r.scale.mm_per_unit;
   double sigma_l = 0, sigma_r = 0;
   eye_centre(r.points, lm::kEyeLFirst, &sigma_l), eye_centre(r.points, lm::kEyeRFirst, &sigma_r);
+  // An eye centre is the mean of six landmarks whose sigma is along their worst axis (mostly depth,
+  // which PD does not see): sigma / sqrt(6) each.
   r.pd_uncertainty_mm = pd_uncertainty_mm(r.head.pd_mm, r.scale.relative_uncertainty(),
-                                          sigma_l * r.scale.mm_per_unit, sigma_r * r.scale.mm_per_unit);
+                                          sigma_l * r.scale.mm_per_unit / std::sqrt(6.0),
+                                          sigma_r * r.scale.mm_per_unit / std::sqrt(6.0));
   r.scale_policy = resolve_scale_policy(run.opt.place.scale_policy, r.scale.source);
   spdlog::info(
       "fit: scale from {}: {:.4g} +- {:.2g} mm per unit (mean face {:.4g}); PD {:.1f} +- {:.1f} mm; {}",

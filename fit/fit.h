@@ -70,7 +70,6 @@ struct HeadOptions {           // the head frame ("triangulate") and the ears ("
 struct ScaleOptions {                // "scale": the metric scale's source (scale_chain.h)
   std::optional<CaptureScale> card;  // the capture's measured scale (the model's metadata.metric_scale)
   bool irises = true;                // measure the irises when there is no card
-  int iris_views = 3;                // from the cap's camera positions nearest the front
   IrisViewOptions iris;
   IrisScaleOptions iris_scale;
 };

@@ -73,20 +73,69 @@ RowEdges row_edges(const std::vector<double>& p, double centre, double r0, const
   return e;
 }
 
-// Least-squares circle (Kasa: x^2 + y^2 + D x + E y + F = 0) through `pts`; false when degenerate.
-bool fit_circle(const std::vector<Eigen::Vector2d>& pts, Eigen::Vector2d* centre, double* radius) {
-  if (pts.size() < 3) return false;
-  Eigen::MatrixXd a(pts.size(), 3);
-  Eigen::VectorXd b(pts.size());
-  for (size_t i = 0; i < pts.size(); ++i) {
-    a.row(i) << pts[i].x(), pts[i].y(), 1.0;
-    b(i) = -pts[i].squaredNorm();
+// One row's edges: its height (pixel centre) and the left and right limbus (continuous x).
+struct RowChord {
+  double y, left, right;
+  double centre() const { return 0.5 * (left + right); }
+  double half() const { return 0.5 * (right - left); }
+};
+
+// The circle through the rows' chords: half^2 + (y - yc)^2 = R^2 is linear in (2 yc, R^2 - yc^2)
+// given half^2 + y^2, solved by least squares. False when degenerate.
+bool fit_chords(const std::vector<RowChord>& rows, double* yc, double* radius) {
+  if (rows.size() < 3) return false;
+  Eigen::MatrixXd a(rows.size(), 2);
+  Eigen::VectorXd b(rows.size());
+  for (size_t i = 0; i < rows.size(); ++i) {
+    a.row(i) << rows[i].y, 1.0;
+    b(i) = rows[i].half() * rows[i].half() + rows[i].y * rows[i].y;
   }
-  const Eigen::Vector3d s = a.colPivHouseholderQr().solve(b);
-  *centre = Eigen::Vector2d(-0.5 * s(0), -0.5 * s(1));
-  const double r2 = centre->squaredNorm() - s(2);
+  const Eigen::Vector2d s = a.colPivHouseholderQr().solve(b);
+  *yc = 0.5 * s(0);
+  const double r2 = s(1) + *yc * *yc;
   if (!(r2 > 0.0) || !std::isfinite(r2)) return false;
   *radius = std::sqrt(r2);
+  return true;
+}
+
+// How far a row's half chord is from the circle (yc, radius).
+double chord_off(const RowChord& r, double yc, double radius) {
+  const double dy = r.y - yc;
+  return std::abs(r.half() - std::sqrt(std::max(0.0, radius * radius - dy * dy)));
+}
+
+// Rows off the iris (an eyelid's lash line, a lid crease) break the pattern: their chords' centres
+// stray from the others', or their chords do not lie on the circle. The first go by the median
+// centre; for the second, every pair of rows proposes a circle (radius within 2x of `r0`), the one
+// most rows agree with (within `max_residual_px`) wins and is refitted on those rows (RANSAC made
+// exhaustive: a few dozen rows, so every pair is cheap and the result deterministic).
+bool robust_circle(std::vector<RowChord> rows, double r0, const IrisEdgeOptions& o, Eigen::Vector2d* centre,
+                   double* radius, int* used) {
+  if (rows.empty()) return false;
+  std::vector<double> cs;
+  for (const auto& r : rows) cs.push_back(r.centre());
+  std::nth_element(cs.begin(), cs.begin() + cs.size() / 2, cs.end());
+  const double cx = cs[cs.size() / 2];
+  rows.erase(
+      std::remove_if(rows.begin(), rows.end(),
+                     [&](const RowChord& r) { return std::abs(r.centre() - cx) > 2.0 * o.max_residual_px; }),
+      rows.end());
+  std::vector<RowChord> best;
+  for (size_t i = 0; i < rows.size(); ++i)
+    for (size_t j = i + 1; j < rows.size(); ++j) {
+      double yc = 0, rad = 0;
+      if (!fit_chords({rows[i], rows[j], rows[i]}, &yc, &rad) || rad < 0.5 * r0 || rad > 2.0 * r0) continue;
+      std::vector<RowChord> agree;
+      for (const auto& r : rows)
+        if (chord_off(r, yc, rad) <= o.max_residual_px) agree.push_back(r);
+      if (agree.size() > best.size()) best.swap(agree);
+    }
+  double yc = 0;
+  if (int(best.size()) < o.min_rows || !fit_chords(best, &yc, radius)) return false;
+  double sum = 0;
+  for (const auto& r : best) sum += r.centre();
+  *centre = Eigen::Vector2d(sum / best.size(), yc);
+  *used = int(best.size());
   return true;
 }
 
@@ -100,34 +149,27 @@ IrisEdges find_iris_edges(const Image& im, const Eigen::Vector2d& c, double r0, 
   const int x1 = std::min(im.width - 1, int(std::ceil(c.x() + o.search_radii * r0)));
   const int y0 = std::max(0, int(std::floor(c.y() - o.row_radii * r0)));
   const int y1 = std::min(im.height - 1, int(std::ceil(c.y() + o.row_radii * r0)));
-  std::vector<Eigen::Vector2d> pts;
+  std::vector<RowChord> rows;
   std::vector<double> steps;
   for (int y = y0; y <= y1; ++y) {
     const RowEdges r = row_edges(row_profile(im, y, x0, x1), c.x() - x0, r0, o);
     if (!r.ok) continue;
-    pts.emplace_back(x0 + r.left + 0.5, y + 0.5);  // profile index i is the pixel centred at x0 + i + 0.5
-    pts.emplace_back(x0 + r.right + 0.5, y + 0.5);
+    rows.push_back(
+        {y + 0.5, x0 + r.left + 0.5, x0 + r.right + 0.5});  // index i: the pixel centred at x0 + i + 0.5
     steps.push_back(r.step);
   }
   if (int(steps.size()) < o.min_rows)
     return e.why = fmt::format("weak edges: a clear limbus in {} rows (need {})", steps.size(), o.min_rows),
            e;
   double radius = 0;
-  for (int pass = 0; pass < 2; ++pass) {
-    if (!fit_circle(pts, &e.centre_px, &radius)) return e.why = "the edges do not lie on a circle", e;
-    std::vector<Eigen::Vector2d> kept;
-    for (const auto& p : pts)
-      if (std::abs((p - e.centre_px).norm() - radius) <= o.max_residual_px) kept.push_back(p);
-    if (int(kept.size()) < 2 * o.min_rows) return e.why = "the edges do not lie on a circle", e;
-    pts.swap(kept);
-  }
+  if (!robust_circle(rows, r0, o, &e.centre_px, &radius, &e.rows))
+    return e.why = "the edges found do not lie on a circle", e;
   if (radius < 0.5 * r0 || radius > 2.0 * r0)
     return e.why =
                fmt::format("an iris {:.1f} px across where about {:.1f} was expected", 2 * radius, 2 * r0),
            e;
   std::nth_element(steps.begin(), steps.begin() + steps.size() / 2, steps.end());
   e.relative_step = steps[steps.size() / 2];
-  e.rows = int(pts.size() / 2);
   e.diameter_px = 2.0 * radius;
   e.found = true;
   return e;
@@ -144,10 +186,10 @@ IrisScale iris_scale(const std::vector<IrisMeasurement>& ms, double mean_face_mp
   IrisScale s;
   std::vector<double> left, right, all;
   int closed = 0, weak = 0;
-  std::string weak_why;
+  std::string weak_why, closed_why;
   for (const IrisMeasurement& m : ms) {
     if (m.closed) {
-      ++closed;
+      ++closed, closed_why = m.edges.why;
     } else if (!m.edges.found || !(m.diameter_units > 0.0)) {
       ++weak, weak_why = m.edges.why;
     } else {
@@ -157,9 +199,11 @@ IrisScale iris_scale(const std::vector<IrisMeasurement>& ms, double mean_face_mp
   }
   if (int(left.size()) < o.min_per_eye || int(right.size()) < o.min_per_eye)
     return s.why = fmt::format(
-               "irises measured in {} view(s) of the left eye and {} of the right ({} closed, {} without a "
+               "irises measured in {} view(s) of the left eye and {} of the right ({} closed{}{}, {} without "
+               "a "
                "clear limbus{}{})",
-               left.size(), right.size(), closed, weak, weak_why.empty() ? "" : ": ", weak_why),
+               left.size(), right.size(), closed, closed_why.empty() ? "" : ": ", closed_why, weak,
+               weak_why.empty() ? "" : ": ", weak_why),
            s;
   auto mean = [](const std::vector<double>& v) {
     double t = 0;

@@ -31,7 +31,7 @@ struct IrisEdgeOptions {
   // lashes and a blurred render are not.
   double min_relative_step = 0.25;
   int min_rows = 4;              // rows with both edges found, for the circle fit
-  double max_residual_px = 1.5;  // edge points further than this from the fitted circle are dropped
+  double max_residual_px = 1.5;  // rows whose chord is further than this off the fitted circle are dropped
 };
 
 // The limbus in one image: a circle fitted to the left and right edges of the dark iris along the

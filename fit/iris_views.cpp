@@ -1,6 +1,9 @@
 // Narrow views of the eyes and the limbus measured in them (see iris_views.h).
 #include "fit/iris_views.h"
 
+#include <fmt/format.h>
+
+#include <Eigen/Geometry>
 #include <cmath>
 
 #include "fit/camera_math.h"
@@ -26,9 +29,9 @@ IrisMeasurement measure_eye(ViewSource& source, const Eigen::Vector3d& from, con
                             const IrisViewOptions& o) {
   IrisMeasurement m;
   m.eye = side;
-  if (eye_opening_ratio(eye) < o.closed_ratio) {
+  if (const double ratio = eye_opening_ratio(eye); ratio < o.closed_ratio) {
     m.closed = true;
-    m.edges.why = "the eye is closed";
+    m.edges.why = fmt::format("lid opening {:.2f} of the eye's width < {:.2f}", ratio, o.closed_ratio);
     return m;
   }
   const Eigen::Vector3d target = centre_of(eye);
@@ -52,14 +55,17 @@ IrisMeasurement measure_eye(ViewSource& source, const Eigen::Vector3d& from, con
 
 }  // namespace
 
-std::vector<IrisMeasurement> measure_irises(ViewSource& source, const std::vector<Eigen::Vector3d>& centres,
-                                            const EyeContour& left, const EyeContour& right,
-                                            const Eigen::Vector3d& d_up, const Eigen::Vector3d& d_fwd,
+std::vector<IrisMeasurement> measure_irises(ViewSource& source, const EyeContour& left,
+                                            const EyeContour& right, const Eigen::Vector3d& d_up,
+                                            const Eigen::Vector3d& d_fwd, double distance,
                                             const IrisViewOptions& o) {
   std::vector<IrisMeasurement> out;
-  for (const Eigen::Vector3d& c : centres) {
-    out.push_back(measure_eye(source, c, left, +1, d_up, d_fwd, o));
-    out.push_back(measure_eye(source, c, right, -1, d_up, d_fwd, o));
+  const Eigen::Vector3d side = d_up.cross(d_fwd).normalized();
+  for (double yaw : o.yaw_deg) {
+    const double a = yaw * M_PI / 180.0;
+    const Eigen::Vector3d dir = std::cos(a) * d_fwd + std::sin(a) * side;
+    out.push_back(measure_eye(source, centre_of(left) + distance * dir, left, +1, d_up, d_fwd, o));
+    out.push_back(measure_eye(source, centre_of(right) + distance * dir, right, -1, d_up, d_fwd, o));
   }
   return out;
 }

@@ -188,16 +188,13 @@ class PaintedEyes : public ViewSource {
   }
 };
 
-// From straight on and from 12 degrees either side at 2 units (400 mm, a phone at arm's length): the
-// scale within 1 % (the edge's 0.5 px over ~50 px) and the two eyes agreeing.
+// From 2 units (400 mm, a phone at arm's length) in front of each eye, straight on and 12 degrees to
+// either side: each diameter within 1 % (the edge's 0.5 px over ~50 px) and the scale within 1 %.
 TEST(IrisViews, PaintedIrisesGiveTheirScale) {
   PaintedEyes src;
-  std::vector<Eigen::Vector3d> centres;
-  for (double yaw_deg : {-12.0, 0.0, 12.0}) {
-    const double a = yaw_deg * M_PI / 180.0;
-    centres.push_back(2.0 * Eigen::Vector3d(std::sin(a), 0.05, std::cos(a)));
-  }
-  const auto ms = measure_irises(src, centres, src.contour(+1), src.contour(-1), {0, 1, 0}, {0, 0, 1});
+  IrisViewOptions o;
+  o.yaw_deg = {-12.0, 0.0, 12.0};
+  const auto ms = measure_irises(src, src.contour(+1), src.contour(-1), {0, 1, 0}, {0, 0, 1}, 2.0, o);
   ASSERT_EQ(ms.size(), 6u);
   for (const auto& m : ms) {
     ASSERT_TRUE(m.edges.found) << m.edges.why;
@@ -214,7 +211,9 @@ TEST(IrisViews, ClosedEyesAreNotMeasured) {
   for (int k : {1, 2, 4, 5}) shut[k].y() = 0.1 * shut[k].y();
   EXPECT_LT(eye_opening_ratio(shut), 0.18);
   EXPECT_GT(eye_opening_ratio(src.contour(+1)), 0.3);
-  const auto ms = measure_irises(src, {{0, 0, 2}}, shut, src.contour(-1), {0, 1, 0}, {0, 0, 1});
+  IrisViewOptions o;
+  o.yaw_deg = {0.0};
+  const auto ms = measure_irises(src, shut, src.contour(-1), {0, 1, 0}, {0, 0, 1}, 2.0, o);
   ASSERT_EQ(ms.size(), 2u);
   EXPECT_TRUE(ms[0].closed);
   EXPECT_FALSE(ms[1].closed);
