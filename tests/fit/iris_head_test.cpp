@@ -26,8 +26,8 @@ EyeContour contour(const synth::ProceduralHead& h, int first) {
 // Two seeds (two head sizes and iris colours), each eye seen from 320 mm in front of it, straight on
 // and 6 degrees to either side (measure_irises' default): each measurement within 3 % of the painted
 // diameter (the middle of the paint's edge blend; the blend is 0.6 mm wide, 5 % of the iris, and the
-// strongest step lies somewhere inside it), and the scale from all six within 2 % of 11.7 / the painted diameter times the
-// true scale.
+// strongest step lies somewhere inside it), and the scale from all six within 2 % of 11.7 / the painted
+// diameter times the true scale.
 TEST(IrisHead, PaintedIrisesOfTheProceduralHead) {
   for (uint64_t seed : {3u, 11u}) {
     const synth::ProceduralHead head = synth::make_procedural_head(synth::random_head_params(seed));
