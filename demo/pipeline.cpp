@@ -215,6 +215,14 @@ fit::FitResult stage_fit(Context& c, nerf::NerfModel& model, const std::string& 
   compare("ear_l_vs_anatomical_mm", "ear_l", truth("ear_rest_l"));
   compare("ear_r_vs_anatomical_mm", "ear_r", truth("ear_rest_r"));
   gt["mm_per_unit_true"] = mm;
+  // The fit's scale (per model unit) and PD against the head's exact ones (#44).
+  if (mm > 0 && model.normalisation.scale > 0)
+    gt["mm_per_unit_error_percent"] = 100.0 * (pf.mm_per_unit * model.normalisation.scale / mm - 1.0);
+  if (mm > 0 && subject.landmarks.count("pupil_l") && subject.landmarks.count("pupil_r")) {
+    const double pd = (subject.landmarks.at("pupil_l") - subject.landmarks.at("pupil_r")).norm() * mm;
+    gt["pd_true_mm"] = pd;
+    gt["pd_error_mm"] = pf.pd_mm - pd;
+  }
   c.report.ground_truth = gt;
   c.report.stages.push_back({"fit", sw.seconds()});
   return std::move(job.fit);

@@ -45,6 +45,29 @@ std::string image_row(const std::vector<std::string>& files, int width) {
   return out;
 }
 
+// The scale's source and the fit advice from the placement (#44): one line for the scale, one table
+// row per rule; "" when the placement has neither.
+std::string scale_and_advice(const nlohmann::json& fit) {
+  if (!fit.is_object() || !fit.contains("scale_source")) return "";
+  const std::string policy = fit.value("scale_policy", "");
+  std::string out = fmt::format(
+      "<h2>Size and fit</h2>\n<p>Scale from <b>{}</b>: {} &plusmn; {} mm per unit; PD {} &plusmn; {} mm. "
+      "{}</p>\n",
+      escape(fit["scale_source"].is_string() ? fit["scale_source"].get<std::string>() : "?"),
+      number(fit, "mm_per_unit", "{:.4g}"), number(fit, "mm_per_unit_uncertainty", "{:.2g}"),
+      number(fit, "pd_mm", "{:.1f}"), number(fit, "pd_uncertainty_mm", "{:.1f}"),
+      policy == "true-size"
+          ? "The frame is shown at its real size."
+          : "The frame is stretched to the face's width: the size shown is not its real size.");
+  if (!fit.contains("advice") || !fit["advice"].is_object()) return out;
+  out += "<table>\n";
+  for (const auto& r : fit["advice"].value("rules", nlohmann::json::array()))
+    if (r.is_object())
+      out += fmt::format("<tr><td>{}</td><td>{}</td></tr>\n", escape(r.value("verdict", "")),
+                         escape(r.value("text", "")));
+  return out + "</table>\n";
+}
+
 }  // namespace
 
 nlohmann::json DemoReport::to_json() const {
@@ -118,6 +141,7 @@ pre{{background:#f6f6f6;padding:8px;overflow:auto;font-size:12px}}</style></head
 <tr><td>remaining penetration</td><td>{pen} mm</td></tr>
 <tr><td>views used by the fit</td><td>{used}</td></tr>
 </table>
+{size_fit}
 <h2>Stage times</h2>
 <table>{stages}</table>
 <h2>Training</h2>
@@ -140,7 +164,7 @@ pre{{background:#f6f6f6;padding:8px;overflow:auto;font-size:12px}}</style></head
       fmt::arg("budget", escape(r.train_budget)), fmt::arg("mb", r.model_mb),
       fmt::arg("pd", number(r.fit, "pd_mm", "{:.1f}")), fmt::arg("pen", number(r.fit, "penetration_mm")),
       fmt::arg("used", r.fit.is_object() && r.fit.contains("views_used") ? r.fit["views_used"].dump() : "–"),
-      fmt::arg("stages", stages),
+      fmt::arg("stages", stages), fmt::arg("size_fit", scale_and_advice(r.fit)),
       fmt::arg("loss", r.loss_chart.empty() ? "" : image_row({r.loss_chart}, 640)),
       fmt::arg("heldout", image_row(r.heldout_images, 480)), fmt::arg("debug", image_row(r.debug_views, 240)),
       fmt::arg("preview", r.glasses_preview.empty() ? "" : image_row({r.glasses_preview}, 480)),

@@ -62,7 +62,8 @@ GroundTruth mesh_ground_truth(MeshViewSource& source, const std::vector<Camera>&
   }
   gt.placement =
       place_glasses(glasses, {gt.f_c, gt.ears.f_l, gt.ears.f_r, ei.t_l, ei.t_r, gt.head.mm_per_unit},
-                    options.place.scale_policy);
+                    // The ground truth's scale is the mean face's: "auto" is stretch with it.
+                    resolve_scale_policy(options.place.scale_policy, ScaleSource::kMeanFace));
   return gt;
 }
 

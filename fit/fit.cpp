@@ -12,6 +12,8 @@
 #include <memory>
 #include <stdexcept>
 
+#include "fit/advice_geometry.h"
+#include "fit/camera_math.h"
 #include "fit/debug_draw.h"
 #include "fit/front_search.h"
 #include "fit/landmark_ids.h"
@@ -284,7 +286,100 @@ void place_from_points(FitRun& run) {
                  r.points[lm::kTempleL].position,
                  r.points[lm::kTempleR].position,
                  r.head.mm_per_unit};
-  r.placement = place_glasses(run.glasses.ref, pi, run.opt.place.scale_policy);
+  r.placement = place_glasses(run.glasses.ref, pi, r.scale_policy);
+}
+
+// The six landmarks of the eye whose first dlib index is `first`; false when one is not triangulated.
+bool eye_contour(const std::vector<TriangulatedPoint>& P, int first, EyeContour* eye) {
+  for (int k = 0; k < 6; ++k) {
+    if (!P[first + k].ok) return false;
+    (*eye)[k] = P[first + k].position;
+  }
+  return true;
+}
+
+// The mean of an eye's triangulated landmarks (its centre, the pupil's stand-in) and their mean sigma.
+Eigen::Vector3d eye_centre(const std::vector<TriangulatedPoint>& P, int first, double* sigma = nullptr) {
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();
+  double s = 0;
+  int n = 0;
+  for (int k = first; k < first + 6; ++k)
+    if (P[k].ok) c += P[k].position, s += P[k].sigma, ++n;
+  if (sigma) *sigma = n ? s / n : 0.0;
+  return n ? Eigen::Vector3d(c / n) : P[first].position;
+}
+
+// The distance from the eyes to the camera of the view with a face nearest the cap's centre: the
+// iris views look from as far as the capture did.
+double iris_view_distance(const FitResult& r, const Eigen::Vector3d& eyes) {
+  double best = 1e30, dist = 0.0;
+  for (const ViewRecord& v : r.views)
+    if (const double off = std::hypot(v.yaw_deg, v.pitch_deg); v.detection.found && off < best)
+      best = off, dist = (camera_center(v.camera) - eyes).norm();
+  return dist;
+}
+
+// The irises (when there is no card), the scale's source (scale_chain.h) and the policy it implies;
+// the head's mm per unit and PD then follow the chosen scale.
+void measure_scale(FitRun& run) {
+  StageTimer t{run.r, "scale", run.opt};
+  FitResult& r = run.r;
+  const ScaleOptions& o = run.opt.scale;
+  const double mean_face = r.head.mm_per_unit;
+  const IrisScale* iris = nullptr;
+  if (!o.card && o.irises) {
+    EyeContour left, right;
+    if (eye_contour(r.points, lm::kEyeLFirst, &left) && eye_contour(r.points, lm::kEyeRFirst, &right)) {
+      const Eigen::Vector3d eyes =
+          0.5 * (eye_centre(r.points, lm::kEyeLFirst) + eye_centre(r.points, lm::kEyeRFirst));
+      r.iris_measurements = measure_irises(run.source, left, right, r.head.d_up, r.head.d_fwd,
+                                           iris_view_distance(r, eyes), o.iris);
+      r.iris = iris_scale(r.iris_measurements, mean_face, o.iris_scale);
+    } else {
+      r.iris.why = "the eyes' landmarks were not all triangulated";
+    }
+    iris = &r.iris;
+  }
+  r.scale = choose_scale(o.card, iris, mean_face);
+  r.head.pd_mm *= r.scale.mm_per_unit / mean_face;
+  r.head.mm_per_unit = r.scale.mm_per_unit;
+  double sigma_l = 0, sigma_r = 0;
+  eye_centre(r.points, lm::kEyeLFirst, &sigma_l), eye_centre(r.points, lm::kEyeRFirst, &sigma_r);
+  // An eye centre is the mean of six landmarks whose sigma is along their worst axis (mostly depth,
+  // which PD does not see): sigma / sqrt(6) each.
+  r.pd_uncertainty_mm = pd_uncertainty_mm(r.head.pd_mm, r.scale.relative_uncertainty(),
+                                          sigma_l * r.scale.mm_per_unit / std::sqrt(6.0),
+                                          sigma_r * r.scale.mm_per_unit / std::sqrt(6.0));
+  r.scale_policy = resolve_scale_policy(run.opt.place.scale_policy, r.scale.source);
+  spdlog::info(
+      "fit: scale from {}: {:.4g} +- {:.2g} mm per unit (mean face {:.4g}); PD {:.1f} +- {:.1f} mm; {}",
+      scale_source_name(r.scale.source), r.scale.mm_per_unit, r.scale.mm_per_unit_uncertainty, mean_face,
+      r.head.pd_mm, r.pd_uncertainty_mm, r.scale.why);
+  if (r.scale_policy == ScalePolicy::kStretch)
+    r.warnings.push_back(fmt::format(
+        "the frame is stretched to the face's width: the size shown is not its real size (scale: {})",
+        r.scale.why));
+  else if (r.scale.source == ScaleSource::kMeanFace)
+    r.warnings.push_back("true size with an approximate scale: " + r.scale.why);
+}
+
+// The fit advice (fit_advice.h) for the frame as it rests on the head.
+void advise(FitRun& run) {
+  StageTimer t{run.r, "advice", run.opt};
+  FitResult& r = run.r;
+  const auto& P = r.points;
+  AdviceHead h{P[lm::kTempleL].position,
+               P[lm::kTempleR].position,
+               eye_centre(P, lm::kEyeLFirst),
+               eye_centre(P, lm::kEyeRFirst),
+               r.ears.f_l,
+               r.ears.f_r,
+               r.head.mm_per_unit,
+               r.scale.source == ScaleSource::kMeanFace};
+  ViewSource& source = run.source;
+  DensityFn density = [&source](const std::vector<Eigen::Vector3f>& p) { return source.density(p); };
+  r.advice = fit_advice(advice_inputs(run.glasses, r.placement, h, density, run.surface));
+  for (const AdviceRule& a : r.advice.rules) spdlog::info("fit advice: {}", a.text);
 }
 
 // The nose point, the ears (Eq. 2-3, or the density's, above) and the placement (Eq. 4-5).
@@ -411,6 +506,7 @@ FitResult fit_glasses(ViewSource& source, const GlassesInput& glasses, const Fit
   load_detector(run);
   find_front(run);
   plan_detect_and_frame_head(run);
+  measure_scale(run);
   place_on_face(run);
   if (opt.place.refine_contact && !glasses.frame_points.empty()) {
     auto rest_and_spread = [&](const char* contact_stage, const char* temples_stage) {
@@ -424,6 +520,7 @@ FitResult fit_glasses(ViewSource& source, const GlassesInput& glasses, const Fit
       rest_and_spread("contact_eq23_ears", "temples_eq23_ears");
     }
   }
+  advise(run);
   check_inputs(run);
   summarise(r, opt);
   if (!opt.debug_dir.empty()) write_debug_views(opt.debug_dir, r.views, r.points);

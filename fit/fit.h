@@ -16,13 +16,16 @@
 #include "fit/detect_views.h"
 #include "fit/ear_root.h"
 #include "fit/ears.h"
+#include "fit/fit_advice.h"
 #include "fit/front_search.h"
 #include "fit/glasses_input.h"
 #include "fit/hair.h"
 #include "fit/head_frame.h"
 #include "fit/input_checks.h"
+#include "fit/iris_views.h"
 #include "fit/landmarks_dlib.h"
 #include "fit/place.h"
+#include "fit/scale_chain.h"
 #include "fit/surface_landmarks.h"
 #include "fit/temple_depth.h"
 #include "fit/temple_fit.h"
@@ -64,8 +67,16 @@ struct HeadOptions {           // the head frame ("triangulate") and the ears ("
   EarRootOptions ear_root;
 };
 
+struct ScaleOptions {                // "scale": the metric scale's source (scale_chain.h)
+  std::optional<CaptureScale> card;  // the capture's measured scale (the model's metadata.metric_scale)
+  bool irises = true;                // measure the irises when there is no card
+  IrisViewOptions iris;
+  IrisScaleOptions iris_scale;
+};
+
 struct PlaceOptions {  // "place", "contact"
-  ScalePolicy scale_policy = ScalePolicy::kStretch;
+  // auto: true size with a card's or the irises' scale, stretch with the mean face's (scale_chain.h).
+  ScalePolicy scale_policy = ScalePolicy::kAuto;
   bool refine_contact = true;
   ContactSearchOptions contact;
   // Contact and penetration count as solid only `solid_factor` x the skin (0.2 optical depth per NeRF
@@ -85,6 +96,7 @@ struct FitOptions {
   DetectionOptions detection;
   LandmarkOptions landmarks;
   HeadOptions head;
+  ScaleOptions scale;
   PlaceOptions place;
   TempleFitOptions temples;      // "temples": spread them where they clip (needs the glasses' hinges)
   HairOptions hair;              // ... against the head without its hair (hair.h)
@@ -120,6 +132,14 @@ struct FitResult {
   std::optional<SkinTone> skin;    // the skin's tone the hair test used (none: hair counted as solid)
   TempleDepthResult temple_depth;  // whether a temple was moved to the other's depth, and how far
   std::vector<InputCheck> checks;  // the inputs checked and the verdict's tolerances (input_checks.h)
+  // The metric scale (head.mm_per_unit is its figure; scale.mean_face_mm_per_unit the mean face's),
+  // the iris measurements behind it, PD's 1-sigma, the policy the frame was placed with and the advice.
+  MetricScale scale;
+  IrisScale iris;
+  std::vector<IrisMeasurement> iris_measurements;
+  double pd_uncertainty_mm = 0.0;
+  ScalePolicy scale_policy = ScalePolicy::kStretch;
+  FitAdvice advice;
   double total_seconds() const;
 };
 

@@ -13,13 +13,16 @@ FitJobResult run_fit_job(nerf::NerfModel& model, const GlassesInput& glasses, co
   if (!transforms.empty() && std::filesystem::is_directory(transforms)) transforms += "/transforms.json";
   NerfViewSource source(model, prior_from_transforms(transforms, model), views.render);
   FitJobResult job;
-  job.fit = fit_glasses(source, glasses, options);
+  FitOptions opt = options;
+  if (const auto& m = model.metadata.metric_scale; m && !opt.scale.card)
+    opt.scale.card = CaptureScale{m->source, m->mm_per_unit, m->uncertainty};
+  job.fit = fit_glasses(source, glasses, opt);
   if (!model.metadata.subject_problem.empty()) {  // a head in a room: never a good fit (#13)
     job.fit.ok = false;
     job.fit.warnings.push_back("the model was trained without separating the subject: " +
                                model.metadata.subject_problem);
   }
-  job.placement = make_placement_file(job.fit, glasses.path, scale_policy_name(options.place.scale_policy));
+  job.placement = make_placement_file(job.fit, glasses.path, scale_policy_name(job.fit.scale_policy));
   return job;
 }
 

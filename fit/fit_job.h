@@ -35,7 +35,7 @@ struct FitSettings {
   int views = 12, resolution = 384, upsample = 0;
   int cap_resolution = 256;  // the K views' size (CapOptions::size); `resolution` is the front search's
   double yaw_range_deg = 20.0, pitch_range_deg = 15.0;
-  std::string policy = "stretch", landmark_model, mean_face, debug_dir;
+  std::string policy = "auto", landmark_model, mean_face, debug_dir;
 };
 // Throws OutOfRange for a number outside host/util/bounds.h's range.
 void validate(const FitSettings& settings);
@@ -44,7 +44,7 @@ FitOptions fit_options(const FitSettings& settings);
 
 struct FitJobResult {
   FitResult fit;
-  PlacementFile placement;  // make_placement_file: the glasses' path and the options' scale policy
+  PlacementFile placement;  // make_placement_file: the glasses' path and the scale policy the fit used
 };
 
 // Throws what fit_glasses throws. Writes nothing (write_placement is the caller's).

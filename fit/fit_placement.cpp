@@ -13,6 +13,11 @@ PlacementFile make_placement_file(const FitResult& r, const std::string& glasses
   p.scale = r.placement.scale;
   p.mm_per_unit = r.head.mm_per_unit;
   p.pd_mm = r.head.pd_mm;
+  p.scale_source = scale_source_name(r.scale.source);
+  p.mm_per_unit_uncertainty = r.scale.mm_per_unit_uncertainty;
+  p.pd_uncertainty_mm = r.pd_uncertainty_mm;
+  p.has_advice = !r.advice.rules.empty();
+  p.advice = r.advice;
   for (const auto& [name, l] : r.landmarks) {
     p.landmarks[name] = {l.position, l.sigma_mm, l.views};
     p.residuals_px[name] = l.residual_px;

@@ -17,6 +17,9 @@ GlassesInput load_glasses_input(const std::string& path, int samples, unsigned s
   in.ref.g_c = g.ref.g_c.cast<double>();
   in.ref.g_l = g.ref.g_l.cast<double>();
   in.ref.g_r = g.ref.g_r.cast<double>();
+  const mesh::FrameMetrics& m = g.metrics;
+  in.sizes = {m.total_width_mm,   m.lens_width_mm, m.lens_height_mm,
+              m.lens_centre_y_mm, m.bridge_mm,     m.temple_length_mm};
   if (const auto& h = g.metrics.hinges) {  // detected once, by the load's measurements
     in.ref.has_hinges = true;
     in.ref.hinge_l = h->left;

@@ -10,9 +10,17 @@
 
 namespace lorgnette::fit {
 
+// The frame's sizes (mesh/frame_metrics.h) the fit advice compares with the head, canonical mm; 0 when
+// not measurable (no lens parts, no temples found).
+struct FrameSizes {
+  double total_width_mm = 0, lens_width_mm = 0, lens_height_mm = 0, lens_centre_y_mm = 0, bridge_mm = 0;
+  double temple_length_mm = 0;
+};
+
 struct GlassesInput {
   std::string path;
   GlassesRefPoints ref;
+  FrameSizes sizes;
   std::vector<Eigen::Vector3d> frame_points;  // canonical mm
   std::vector<std::string> notes;
 };

@@ -28,18 +28,24 @@ Eigen::Matrix3d kabsch(const std::vector<Eigen::Vector3d>& a, const std::vector<
   return v * Eigen::Vector3d(1.0, 1.0, d).asDiagonal() * u.transpose();
 }
 
-const char* scale_policy_name(ScalePolicy p) { return p == ScalePolicy::kStretch ? "stretch" : "true-size"; }
+const char* scale_policy_name(ScalePolicy p) {
+  return p == ScalePolicy::kStretch ? "stretch" : p == ScalePolicy::kTrueSize ? "true-size" : "auto";
+}
 
 ScalePolicy parse_scale_policy(const std::string& s) {
   if (s == "stretch") return ScalePolicy::kStretch;
   if (s == "true-size") return ScalePolicy::kTrueSize;
-  throw std::runtime_error(fmt::format("unknown scale policy '{}': use 'stretch' or 'true-size'", s));
+  if (s == "auto") return ScalePolicy::kAuto;
+  throw std::runtime_error(fmt::format("unknown scale policy '{}': use 'auto', 'stretch' or 'true-size'", s));
 }
 
 Placement place_glasses(const GlassesRefPoints& g, const PlaceInputs& in, ScalePolicy policy) {
   Placement p;
   double g_width = (g.g_l - g.g_r).norm();
   if (g_width < 1e-9) throw std::runtime_error("glasses reference points g_l and g_r coincide");
+  if (policy == ScalePolicy::kAuto)
+    throw std::runtime_error(
+        "place_glasses: the scale policy 'auto' must be resolved first (resolve_scale_policy)");
   if (policy == ScalePolicy::kStretch) {
     p.scale = (in.t_l - in.t_r).norm() / g_width;
   } else {

@@ -28,9 +28,11 @@ struct GlassesRefPoints {
 Eigen::Matrix3d kabsch(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b,
                        const std::vector<double>& weights = {});
 
-enum class ScalePolicy { kStretch, kTrueSize };
+// kAuto: true size when the scale is metric (a card or the irises), else stretch (scale_chain.h
+// resolves it once the scale's source is known; place_glasses needs it resolved).
+enum class ScalePolicy { kStretch, kTrueSize, kAuto };
 const char* scale_policy_name(ScalePolicy p);
-ScalePolicy parse_scale_policy(const std::string& s);  // "stretch" | "true-size"; throws otherwise
+ScalePolicy parse_scale_policy(const std::string& s);  // "stretch" | "true-size" | "auto"; throws otherwise
 
 struct Placement {
   Eigen::Matrix4d transform = Eigen::Matrix4d::Identity();  // canonical mm -> scene
@@ -39,7 +41,7 @@ struct Placement {
 };
 
 // Eq. 4-5 with a uniform scale: scene = scale * R * g + t, t = f_c - scale * R * g_c.
-// stretch: scale = |t_l - t_r| / |g_l - g_r|; true-size: scale = 1 / mm_per_unit.
+// stretch: scale = |t_l - t_r| / |g_l - g_r|; true-size: scale = 1 / mm_per_unit; auto: throws.
 struct PlaceInputs {
   Eigen::Vector3d f_c, f_l, f_r, t_l, t_r;
   double mm_per_unit = 0.0;

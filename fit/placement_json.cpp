@@ -125,6 +125,21 @@ TempleFitResult temples_from_json(const nlohmann::json& placement) {
   return t;
 }
 
+nlohmann::json advice_json(const FitAdvice& a) {
+  nlohmann::json rules = nlohmann::json::array();
+  for (const AdviceRule& r : a.rules)
+    rules.push_back({{"name", r.name},
+                     {"verdict", r.verdict},
+                     {"frame_mm", r.frame_mm},
+                     {"head_mm", r.head_mm},
+                     {"difference_mm", r.difference_mm},
+                     {"low_mm", r.low_mm},
+                     {"high_mm", r.high_mm},
+                     {"off_by_mm", r.off_by_mm},
+                     {"text", r.text}});
+  return {{"approximate", a.approximate}, {"rules", rules}};
+}
+
 }  // namespace
 
 nlohmann::json to_json(const PlacementFile& p) {
@@ -163,6 +178,10 @@ nlohmann::json to_json(const PlacementFile& p) {
     out["nudge"] = {
         {"up_mm", p.nudge.up_mm}, {"forward_mm", p.nudge.forward_mm}, {"tilt_deg", p.nudge.tilt_deg}};
   if (!p.checks.is_null()) out["checks"] = p.checks;
+  if (!p.scale_source.empty()) out["scale_source"] = p.scale_source;
+  out["mm_per_unit_uncertainty"] = p.mm_per_unit_uncertainty;
+  out["pd_uncertainty_mm"] = p.pd_uncertainty_mm;
+  if (p.has_advice) out["advice"] = advice_json(p.advice);
   return out;
 }
 
@@ -233,6 +252,42 @@ void nudge_from_json(const nlohmann::json& j, PlacementFile& p) {
   p.nudge.tilt_deg = optional_field<double>(*n, "tilt_deg", 0.0);
 }
 
+// A rule of "advice": name and verdict strings, its numbers finite (absent: 0).
+AdviceRule advice_rule_from_json(const nlohmann::json& r) {
+  if (!r.is_object()) throw std::runtime_error("placement.json: each of 'advice.rules' must be an object");
+  AdviceRule a;
+  a.name = field<std::string>(r, "name");
+  a.verdict = field<std::string>(r, "verdict");
+  a.text = optional_field<std::string>(r, "text", "");
+  a.frame_mm = optional_field<double>(r, "frame_mm", 0.0);
+  a.head_mm = optional_field<double>(r, "head_mm", 0.0);
+  a.difference_mm = optional_field<double>(r, "difference_mm", 0.0);
+  a.low_mm = optional_field<double>(r, "low_mm", 0.0);
+  a.high_mm = optional_field<double>(r, "high_mm", 0.0);
+  a.off_by_mm = optional_field<double>(r, "off_by_mm", 0.0);
+  return a;
+}
+
+// "scale_source", the uncertainties and "advice" (all optional: files before them read as unknown).
+void scale_and_advice_from_json(const nlohmann::json& j, PlacementFile& p) {
+  p.scale_source = optional_field<std::string>(j, "scale_source", "");
+  if (!p.scale_source.empty() && p.scale_source != "card" && p.scale_source != "iris" &&
+      p.scale_source != "mean-face")
+    throw std::runtime_error(fmt::format(
+        "placement.json: field 'scale_source' must be card, iris or mean-face, found '{}'", p.scale_source));
+  p.mm_per_unit_uncertainty = optional_field<double>(j, "mm_per_unit_uncertainty", 0.0);
+  p.pd_uncertainty_mm = optional_field<double>(j, "pd_uncertainty_mm", 0.0);
+  if (p.mm_per_unit_uncertainty < 0.0 || p.pd_uncertainty_mm < 0.0)
+    throw std::runtime_error("placement.json: the uncertainties must not be negative");
+  p.has_advice = j.contains("advice") && !j["advice"].is_null();
+  if (!p.has_advice) return;
+  const nlohmann::json& a = j["advice"];
+  if (!a.is_object()) throw std::runtime_error("placement.json: field 'advice' must be an object");
+  p.advice.approximate = optional_field<bool>(a, "approximate", false);
+  for (const nlohmann::json& r : optional_field<nlohmann::json>(a, "rules", nlohmann::json::array()))
+    p.advice.rules.push_back(advice_rule_from_json(r));
+}
+
 }  // namespace
 
 PlacementFile placement_from_json(const nlohmann::json& j) {
@@ -291,6 +346,7 @@ PlacementFile placement_from_json(const nlohmann::json& j) {
     }
   }
   nudge_from_json(j, p);
+  scale_and_advice_from_json(j, p);
   return p;
 }
 

@@ -18,6 +18,7 @@
 #include <utility>
 #include <vector>
 
+#include "fit/fit_advice.h"
 #include "fit/placement_transform.h"
 #include "fit/temple_fit.h"
 
@@ -41,8 +42,14 @@ struct PlacementFile {
   int version = kVersion;
   std::string glasses_path, glasses_hash;       // hash: FNV-1a 64 of the file's bytes, hex
   Transform transform = Transform::Identity();  // canonical mm -> scene
-  std::string scale_policy = "stretch";
+  std::string scale_policy = "stretch";         // as the frame was placed ("auto" is resolved by the fit)
   double scale = 1.0, mm_per_unit = 0.0, pd_mm = 0.0;
+  // Where mm_per_unit came from ("card" | "iris" | "mean-face"; "" in files written before it) and
+  // the 1-sigma uncertainties of the scale and of PD.
+  std::string scale_source;
+  double mm_per_unit_uncertainty = 0.0, pd_uncertainty_mm = 0.0;
+  bool has_advice = false;  // "advice" (optional): the fit advice (fit_advice.h)
+  FitAdvice advice;
   struct Landmark {
     Eigen::Vector3d position = Eigen::Vector3d::Zero();
     double sigma_mm = 0.0;

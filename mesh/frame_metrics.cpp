@@ -114,6 +114,7 @@ FrameMetrics measure_frame(const TriMesh& mesh) {
     m.lens_width_mm = 0.5f * (left.sizes().x() + right.sizes().x());
     m.lens_height_mm = 0.5f * (left.sizes().y() + right.sizes().y());
     m.bridge_mm = std::max(0.0f, left.min().x() - right.max().x());
+    m.lens_centre_y_mm = 0.5f * (left.center().y() + right.center().y());
   }
   lens.flip();
   m.hinges = detect_temple_hinges(mesh, &m.no_hinges);

@@ -21,6 +21,8 @@ namespace lorgnette::mesh {
 struct FrameMetrics {
   float total_width_mm = 0, total_height_mm = 0, total_depth_mm = 0;
   float lens_width_mm = 0, lens_height_mm = 0, bridge_mm = 0;  // 0 when the frame has no lens parts
+  float lens_centre_y_mm =
+      0;  // the lenses' boxes' mean centre height (canonical y; the fit's lens-height advice)
   float temple_length_mm = 0;
   std::vector<int> lens_parts;         // parts mostly of lens material and at least 22 % of the width wide
   std::optional<TempleHinges> hinges;  // detect_temple_hinges (before the rearmost-point refinement)

@@ -150,6 +150,18 @@ nlohmann::json FrameAssets::describe(uint32_t i) {
                         {"bridge", m.bridge_mm},
                         {"temple", m.temple_length_mm}}}};
   if (s.placement && s.placement->pd_mm > 0) j["pd_mm"] = s.placement->pd_mm;
+  if (s.placement) {  // the scale's source and the fit advice (#44), for the panel
+    const fit::PlacementFile& p = *s.placement;
+    j["pd_uncertainty_mm"] = p.pd_uncertainty_mm;
+    j["scale_source"] = p.scale_source;
+    j["scale_policy"] = p.scale_policy;
+    nlohmann::json advice = nlohmann::json::array();
+    for (const fit::AdviceRule& r : p.advice.rules)
+      advice.push_back(
+          {{"name", r.name}, {"verdict", r.verdict}, {"off_by_mm", r.off_by_mm}, {"text", r.text}});
+    j["advice"] = advice;
+    j["advice_approximate"] = p.advice.approximate;
+  }
   if (!s.message.empty()) j["message"] = s.message;
   return j;
 }
@@ -213,11 +225,13 @@ std::string fit_stage_label(const std::string& stage) {
       {"render_detect_recentred", "rendering re-centred views and finding landmarks"},
       {"triangulate", "triangulating the landmarks"},
       {"triangulate_recentred", "triangulating the re-centred landmarks"},
+      {"scale", "measuring the irises for the scale"},
       {"place", "placing the frame"},
       {"contact", "seating the frame on the skin"},
       {"temples", "fitting the temples"},
       {"contact_eq23_ears", "seating the frame again, ears at the eye height"},
       {"temples_eq23_ears", "fitting the temples again"},
+      {"advice", "comparing the frame's sizes with the head's"},
       {"checks", "checking the head for holes"}};
   auto it = labels.find(stage);
   return it != labels.end() ? it->second : stage;

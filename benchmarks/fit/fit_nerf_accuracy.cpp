@@ -126,7 +126,7 @@ Row run_fit(const std::function<FitResult()>& fit, const GlassesInput& g, const 
       row.ear_l_anat_mm = (r.ears.f_l - anat.ear_l).norm() * mm;
       row.ear_r_anat_mm = (r.ears.f_r - anat.ear_r).norm() * mm;
       PlaceInputs truth{gt.f_c, anat.ear_l, anat.ear_r, gt.points[lm::kTempleL], gt.points[lm::kTempleR], mm};
-      const Placement p = place_glasses(g.ref, truth, opt.place.scale_policy);
+      const Placement p = place_glasses(g.ref, truth, r.scale_policy);
       row.rotation_anat_deg =
           std::abs(Eigen::AngleAxisd(r.placement.rotation * p.rotation.transpose()).angle()) * 180.0 / M_PI;
     }

@@ -51,7 +51,7 @@ def _accepts_face_px(fn):
 
 
 def fit(model, glasses, landmarks=None, *, views=12, resolution=384, yaw_range=20.0, pitch_range=15.0,
-        upsample=0, scale_policy="stretch", dataset="", mean_face="", landmark_model="", debug_dir=""):
+        upsample=0, scale_policy="auto", dataset="", mean_face="", landmark_model="", debug_dir=""):
     """Places `glasses` (a Glasses or a path) on `model` as ``lorgnette fit`` does; returns a Placement.
 
     `landmarks` finds the 68 iBUG face landmarks in one rendered view. It is called with an

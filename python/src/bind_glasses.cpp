@@ -220,6 +220,20 @@ void bind_placement_class(pyb::module_& m) {
       .def_property_readonly("warnings", [](const Placement& p) { return p.file.warnings; })
       .def_property_readonly("pd_mm", [](const Placement& p) { return p.file.pd_mm; })
       .def_property_readonly("mm_per_unit", [](const Placement& p) { return p.file.mm_per_unit; })
+      .def_property_readonly(
+          "scale_source", [](const Placement& p) { return p.file.scale_source; },
+          "Where mm_per_unit came from: 'card', 'iris' or 'mean-face' ('' for an older placement).")
+      .def_property_readonly("mm_per_unit_uncertainty",
+                             [](const Placement& p) { return p.file.mm_per_unit_uncertainty; })
+      .def_property_readonly("pd_uncertainty_mm", [](const Placement& p) { return p.file.pd_uncertainty_mm; })
+      .def_property_readonly("scale_policy", [](const Placement& p) { return p.file.scale_policy; })
+      .def_property_readonly(
+          "advice",
+          [](const Placement& p) {
+            return to_python(p.file.has_advice ? fit::to_json(p.file)["advice"] : nlohmann::json());
+          },
+          "The fit advice: {'approximate': bool, 'rules': [{'name', 'verdict', 'frame_mm', 'head_mm', "
+          "'difference_mm', 'low_mm', 'high_mm', 'off_by_mm', 'text'}]}, or None.")
       .def_property_readonly("scale", [](const Placement& p) { return p.file.scale; })
       .def_property_readonly("penetration_mm", [](const Placement& p) { return p.file.penetration_mm; })
       .def_property_readonly("views_used", [](const Placement& p) { return p.file.views_used; })

@@ -28,6 +28,13 @@ def test_fit_with_python_dlib_landmarks_equals_cli(model, frame_path, cli_placem
     cli = json.loads(cli_placement.read_text())
     assert comparable(placement.data) == comparable(cli)
     assert placement.ok and 50.0 < placement.pd_mm < 80.0
+    # The scale's source and the fit advice (#44), as placement.json has them.
+    assert placement.scale_source in ("card", "iris", "mean-face")
+    assert placement.scale_source == cli["scale_source"]
+    assert 0.0 < placement.pd_uncertainty_mm < placement.pd_mm
+    assert placement.advice == cli["advice"]
+    assert [r["name"] for r in placement.advice["rules"]] == [
+        "frame_width", "bridge", "temple_length", "lens_height"]
 
 
 def test_landmark_callable_without_face_raises(model, frame_path):

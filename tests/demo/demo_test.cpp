@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "demo/pipeline.h"
+#include "demo/report.h"
 #include "host/util/interrupt.h"
 #include "host/util/output_folder.h"
 
@@ -45,6 +46,38 @@ TEST(Demo, QuickRunFitsAndReachesThePsnrFloor) {
                         "orbit/contact_sheet.png", "dataset/transforms.json", "frame.glb"})
     EXPECT_TRUE(fs::exists(o.out_dir + "/" + f)) << f;
   EXPECT_EQ(r.stages.size(), 5u);
+  // The scale's source and the fit advice (#44) reach the report.
+  EXPECT_TRUE(j["fit"]["scale_source"].is_string());
+  EXPECT_EQ(j["fit"]["advice"]["rules"].size(), 4u);
+  std::ifstream html(o.out_dir + "/report.html");
+  const std::string page((std::istreambuf_iterator<char>(html)), std::istreambuf_iterator<char>());
+  EXPECT_NE(page.find("Size and fit"), std::string::npos);
+}
+
+// The report's size-and-fit section from a placement's fields alone: the scale's source with its
+// +-, whether the size is real, and one row per advice rule.
+TEST(DemoReport, SizeAndFitSection) {
+  demo::DemoReport r;
+  r.fit = {
+      {"scale_source", "iris"},
+      {"scale_policy", "true-size"},
+      {"mm_per_unit", 201.5},
+      {"mm_per_unit_uncertainty", 8.6},
+      {"pd_mm", 63.3},
+      {"pd_uncertainty_mm", 2.8},
+      {"advice",
+       {{"approximate", false},
+        {"rules",
+         {{{"name", "frame_width"}, {"verdict", "too narrow"}, {"text", "frame width 127.9 mm <x>"}}}}}}};
+  std::string page = demo::render_report_html(r);
+  EXPECT_NE(page.find("Scale from <b>iris</b>: 201.5 &plusmn; 8.6 mm per unit; PD 63.3 &plusmn; 2.8 mm"),
+            std::string::npos);
+  EXPECT_NE(page.find("shown at its real size"), std::string::npos);
+  EXPECT_NE(page.find("<td>too narrow</td><td>frame width 127.9 mm &lt;x&gt;</td>"), std::string::npos);
+  r.fit["scale_policy"] = "stretch";
+  EXPECT_NE(demo::render_report_html(r).find("not its real size"), std::string::npos);
+  r.fit = nlohmann::json::object();  // a fit that failed: no section
+  EXPECT_EQ(demo::render_report_html(r).find("Size and fit"), std::string::npos);
 }
 
 TEST(Demo, RefusesANonEmptyOutputDirectoryAndChangesNothing) {

@@ -389,6 +389,13 @@ TEST_F(ViewerServer, AFrameWithoutPlacementIsFittedWithProgressAndCached) {
   ASSERT_TRUE(state);
   EXPECT_EQ((*state)["frame"]["source"], "fit");
   EXPECT_GT((*state)["frame"]["pd_mm"].get<double>(), 0.0);
+  // The panel's scale and fit advice (#44): the placement's, rule by rule.
+  const nlohmann::json& f = (*state)["frame"];
+  EXPECT_TRUE(f["scale_source"] == "iris" || f["scale_source"] == "mean-face") << f.dump();
+  EXPECT_GT(f["pd_uncertainty_mm"].get<double>(), 0.0);
+  ASSERT_EQ(f["advice"].size(), 4u) << f.dump();
+  EXPECT_EQ(f["advice"][0]["name"], "frame_width");
+  EXPECT_FALSE(f["advice"][0]["text"].get<std::string>().empty());
 }
 
 // True when the server closes `fd` (end of stream or reset) within `within`.

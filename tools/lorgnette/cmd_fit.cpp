@@ -57,6 +57,10 @@ void run_fit(const FitArgs& a, GlobalOptions& global) {
               << pf.pd_mm << " mm, " << pf.mm_per_unit << " mm/unit, penetration " << pf.penetration_mm
               << " mm, " << r.total_seconds() << " s" << (pf.ok ? "" : ", NOT ok: see warnings") << ") -> "
               << a.output << "\n";
+    std::cerr << fit::scale_summary(pf.scale_source, pf.mm_per_unit, pf.mm_per_unit_uncertainty, pf.pd_mm,
+                                    pf.pd_uncertainty_mm, pf.scale_policy)
+              << "\n";
+    for (const fit::AdviceRule& rule : pf.advice.rules) std::cerr << "  " << rule.text << "\n";
   }
 }
 
@@ -81,7 +85,9 @@ void add_fit(CLI::App& app, GlobalOptions& global) {
       ->capture_default_str()
       ->capture_default_str();
   cmd->add_option("--upsample", a->settings.upsample, "detector up-sampling steps for small faces");
-  cmd->add_option("--scale-policy", a->settings.policy, "stretch (paper) or true-size")
+  cmd->add_option(
+         "--scale-policy", a->settings.policy,
+         "auto (true size with a card's or the irises' scale, else stretch), stretch (paper) or true-size")
       ->capture_default_str();
   cmd->add_option("--dataset", a->dataset,
                   "transforms.json of the capture (prior front/up; default: the model's)");

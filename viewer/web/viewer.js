@@ -141,17 +141,31 @@
     }
   }
 
+  // Where the scale came from and whether the frame is drawn at its real size.
+  function scaleText(f) {
+    if (!f.scale_source) return "–";
+    const from = { card: "card", iris: "irises", "mean-face": "mean face (approximate)" }[f.scale_source] || f.scale_source;
+    return f.scale_policy === "true-size" ? `${from}: real size` : `${from}: stretched, not the real size`;
+  }
+  const adviceLabel = { frame_width: "Fit: width", bridge: "Fit: bridge", temple_length: "Fit: temples", lens_height: "Fit: lens height" };
+  function adviceText(r, approximate) {
+    if (r.verdict === "not judged") return "not judged";
+    const v = r.verdict === "good" ? "good" : `${r.verdict} by ${r.off_by_mm.toFixed(1)} mm`;
+    return approximate ? v + " (approx.)" : v;
+  }
   function showState(s) {
     const f = s.frame;
     document.querySelectorAll(".thumb").forEach((t) => t.setAttribute("aria-selected", String(Number(t.dataset.index) === f.index)));
     const mm = (v) => (v > 0 ? v.toFixed(1) + " mm" : "–");
     const facts = [
       ["Frame", f.name],
-      ["PD (est.)", f.pd_mm ? f.pd_mm.toFixed(1) + " mm" : "–"],
+      ["PD (est.)", f.pd_mm ? f.pd_mm.toFixed(1) + (f.pd_uncertainty_mm ? " ± " + f.pd_uncertainty_mm.toFixed(1) : "") + " mm" : "–"],
+      ["Scale", scaleText(f)],
       ["Size", `${mm(f.size_mm.lens_width)} □ ${mm(f.size_mm.bridge)} – ${mm(f.size_mm.temple)}`],
       ["Width", mm(f.size_mm.total_width)],
       ["Placement", f.status === "fitting" ? "fitting…" : f.source || "–"],
       ["Nudge", `${s.nudge.up_mm.toFixed(1)} mm up, ${s.nudge.forward_mm.toFixed(1)} mm fwd, ${s.nudge.tilt_deg.toFixed(0)}° tilt`],
+      ...(f.advice || []).map((r) => [adviceLabel[r.name] || r.name, adviceText(r, f.advice_approximate)]),
     ];
     $("facts").replaceChildren(...facts.flatMap(([k, v]) => [el("dt", k), el("dd", v)]));
     $("fit-banner").hidden = f.status !== "fitting";

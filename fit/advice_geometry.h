@@ -1,0 +1,48 @@
+// The head's and the frame's numbers the fit advice compares (fit_advice.h), from the fitted head and
+// the placed frame. The frame is taken at its true size on the placement's rotation and bridge point
+// whatever the scale policy drew it at, and the head's sizes are in mm through the fit's scale:
+//   - the face's width at the temples: the two temple landmarks' distance;
+//   - hinge to ear: each hinge to its ear rest, averaged over the sides;
+//   - the pupils' height above the lens' centre line: the eye centres (each the mean of its six
+//     landmarks) in the frame's canonical axes;
+//   - the nose's width where the pads rest: the width of the head's solid cross-section at the lens'
+//     centre height, `pad_depth_mm` behind the nose's front there (pads rest on the nose's sides a few
+//     mm behind its ridge).
+#pragma once
+#include <Eigen/Core>
+
+#include "fit/fit_advice.h"
+#include "fit/glasses_input.h"
+#include "fit/head_probe.h"
+#include "fit/place.h"
+
+namespace lorgnette::fit {
+
+struct AdviceHead {
+  Eigen::Vector3d temple_l, temple_r, eye_l, eye_r, ear_l, ear_r;  // scene; eye_*: the eye centres
+  double mm_per_unit = 0.0;
+  bool approximate = false;  // the scale is the mean face's
+};
+
+struct NoseProbeOptions {
+  double pad_depth_mm = 5.0;
+  double search_mm = 40.0;     // how far in front of and behind the bridge to look for the nose's front
+  double step_mm = 0.5;        // probe spacing
+  double max_width_mm = 30.0;  // wider: the slice reached the cheeks, not a nose
+};
+
+// Canonical mm of a scene point for the frame at true size: g = g_c + R^T (p - T g_c) mm_per_unit.
+Eigen::Vector3d canonical_at_true_size(const Placement& placement, const Eigen::Vector3d& g_c,
+                                       double mm_per_unit, const Eigen::Vector3d& scene_point);
+
+// The nose's width (mm) at canonical height `y_mm` for the frame at true size; 0 with `why` when the
+// density shows no nose there. `density` is solid above `threshold`.
+double nose_width_mm(const DensityFn& density, float threshold, const Placement& placement,
+                     const Eigen::Vector3d& g_c, double mm_per_unit, double y_mm,
+                     const NoseProbeOptions& options, std::string* why);
+
+// All four rules' inputs. `density` may be empty (no nose width then).
+AdviceInputs advice_inputs(const GlassesInput& glasses, const Placement& placement, const AdviceHead& head,
+                           const DensityFn& density, float threshold, const NoseProbeOptions& options = {});
+
+}  // namespace lorgnette::fit
