@@ -184,39 +184,6 @@ TEST(Snapshot, HoleFiguresRoundTripAndDefaultToUnchecked) {
   }
 }
 
-// The capture's metric scale (a card; fit/scale_chain.h reads it) round-trips; absent it is none, and
-// one that is there but broken (not an object, no or a non-positive mm_per_unit, a negative
-// uncertainty) is refused naming the field rather than ignored.
-TEST(Snapshot, MetricScaleRoundTripsAndBrokenOnesAreRefused) {
-  nerf::Snapshot s = host_snapshot();
-  EXPECT_FALSE(s.metadata.metric_scale.has_value());
-  s.metadata.metric_scale = nerf::MetricScale{"card", 199.25, 0.75};
-  const std::string file = nerf::encode_snapshot(s);
-  nerf::Snapshot back = nerf::parse_snapshot(file, "card.lnerf");
-  ASSERT_TRUE(back.metadata.metric_scale.has_value());
-  EXPECT_EQ(back.metadata.metric_scale->source, "card");
-  EXPECT_EQ(back.metadata.metric_scale->mm_per_unit, 199.25);
-  EXPECT_EQ(back.metadata.metric_scale->mm_per_unit_uncertainty, 0.75);
-  auto erase = [](nlohmann::json& h) { h["metadata"].erase("metric_scale"); };
-  EXPECT_FALSE(nerf::parse_snapshot(with_header(file, erase), "old.lnerf").metadata.metric_scale.has_value());
-  const std::vector<nlohmann::json> bad = {3.0,
-                                           nlohmann::json::object(),
-                                           {{"mm_per_unit", 0.0}},
-                                           {{"mm_per_unit", -5.0}},
-                                           {{"mm_per_unit", "200"}},
-                                           {{"mm_per_unit", 200.0}, {"mm_per_unit_uncertainty", -1.0}},
-                                           {{"mm_per_unit", 200.0}, {"source", 7}}};
-  for (const nlohmann::json& v : bad) {
-    try {
-      nerf::parse_snapshot(with_header(file, [&](nlohmann::json& h) { h["metadata"]["metric_scale"] = v; }),
-                           "bad.lnerf");
-      ADD_FAILURE() << "accepted metric_scale " << v.dump();
-    } catch (const std::runtime_error& e) {
-      EXPECT_NE(std::string(e.what()).find("metadata.metric_scale"), std::string::npos) << e.what();
-    }
-  }
-}
-
 // Found by fuzzing (fuzz/regressions/snapshot/): header numbers beyond their type were cast anyway
 // (undefined behaviour); each is refused naming the field.
 TEST(Snapshot, HeaderNumbersBeyondTheirTypeAreRefused) {
