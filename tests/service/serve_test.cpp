@@ -14,6 +14,7 @@
 #include <optional>
 
 #include "http_client.h"
+#include "serve_process.h"
 #include "service/content_type.h"
 #include "service_test_util.h"
 
@@ -22,52 +23,22 @@ using namespace lorgnette::service::test;
 
 namespace {
 
-const std::string kAdminToken = "admin-0123456789abcdef0123456789abcdef";
+const std::string& kAdminToken = kTestAdminToken;
 
-// A server on an ephemeral port over `data`; restartable on the same folder.
-class Server {
+// A server on an ephemeral port over `data` (its port file, token and log in the same folder);
+// restartable on the same folder.
+class Server : public ServeProcess {
  public:
   explicit Server(const fs::path& data,
                   std::vector<std::string> extra = {"--max-upload-mb", "1", "--train-steps", "30"})
-      : data_(data), extra_(std::move(extra)) {
-    start();
-  }
-  void start() {
-    fs::remove(data_ / "port");
-    write_file(data_ / "admin-token", kAdminToken + "\n");
-    std::vector<std::string> argv{LGN_CLI_PATH,
-                                  "serve",
-                                  "--data",
-                                  data_.string(),
-                                  "--port",
-                                  "0",
-                                  "--port-file",
-                                  (data_ / "port").string(),
-                                  "--admin-token-file",
-                                  (data_ / "admin-token").string(),
-                                  "--train-batch-log2",
-                                  "12"};
-    argv.insert(argv.end(), extra_.begin(), extra_.end());
-    process_.emplace(argv, (data_ / "serve.log").string());
-    if (!wait_for([&] { return fs::exists(data_ / "port"); }, 60.0))
-      throw std::runtime_error("serve did not start: " + read_file(data_ / "serve.log"));
-    port_ = uint16_t(std::stoi(read_file(data_ / "port")));
-  }
+      : ServeProcess(data, data, with_small_batch(std::move(extra))) {}
   void kill9() { stop(SIGKILL); }
-  ChildEnd stop(int sig) {
-    process_->signal(sig);
-    ChildEnd end = process_->wait();
-    process_.reset();
-    return end;
-  }
-  uint16_t port() const { return port_; }
-  std::string log() const { return read_file(data_ / "serve.log"); }
 
  private:
-  fs::path data_;
-  std::vector<std::string> extra_;
-  std::optional<ChildProcess> process_;
-  uint16_t port_ = 0;
+  static std::vector<std::string> with_small_batch(std::vector<std::string> extra) {
+    extra.insert(extra.begin(), {"--train-batch-log2", "12"});
+    return extra;
+  }
 };
 
 struct Capture {
