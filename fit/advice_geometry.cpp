@@ -64,6 +64,34 @@ double nose_width_mm(const DensityFn& density, float thr, const Placement& p, co
   return width;
 }
 
+double temple_width_mm(const DensityFn& density, float thr, const Placement& p, const Eigen::Vector3d& g_c,
+                       const AdviceHead& h, const TempleProbeOptions& o, std::string* why) {
+  const double mpu = h.mm_per_unit;
+  auto canon = [&](const Eigen::Vector3d& q) { return canonical_at_true_size(p, g_c, mpu, q); };
+  Eigen::Vector3d side_point[2];
+  const Eigen::Vector3d corners[2] = {canon(h.corner_r), canon(h.corner_l)};
+  const Eigen::Vector3d ears[2] = {canon(h.ear_r), canon(h.ear_l)};
+  for (int s = 0; s < 2; ++s) {
+    const double sign = s == 0 ? -1.0 : 1.0;  // canonical x: the wearer's left is +
+    const Eigen::Vector3d& c = corners[s];
+    const double y = c.y(), z = c.z() - o.depth_share * (c.z() - ears[s].z());
+    // Inwards from outside the head to the first solid point: the side of the head there. The probe
+    // ends a little inside the eye corner: a head is wider at its temples than between its outer eye
+    // corners, so anything found further in (the nose, a hole's far wall) is not a temple.
+    std::vector<Eigen::Vector3d> line;
+    for (double x = std::abs(c.x()) + o.reach_mm; x >= std::abs(c.x()) - o.inside_corner_mm; x -= o.step_mm)
+      line.emplace_back(sign * x, y, z);
+    const std::vector<bool> in = solid(density, thr, to_scene(p, g_c, mpu, line));
+    size_t k = 0;
+    while (k < line.size() && !in[k]) ++k;
+    if (k == 0) return *why = "the probe beside the temple starts inside the head", 0.0;
+    if (k == line.size()) return *why = "no side of the head at the temples", 0.0;
+    side_point[s] = line[k];
+    side_point[s].x() += sign * 0.5 * o.step_mm;  // the edge lies between the last point out and the first in
+  }
+  return (side_point[1] - side_point[0]).norm();
+}
+
 AdviceInputs advice_inputs(const GlassesInput& g, const Placement& p, const AdviceHead& h,
                            const DensityFn& density, float thr, const NoseProbeOptions& o) {
   AdviceInputs in;
@@ -71,7 +99,10 @@ AdviceInputs advice_inputs(const GlassesInput& g, const Placement& p, const Advi
   const double mpu = h.mm_per_unit;
   in.approximate = h.approximate;
   in.frame_width_mm = f.total_width_mm;
-  in.temple_width_mm = (h.temple_l - h.temple_r).norm() * mpu;
+  if (density)
+    in.temple_width_mm = temple_width_mm(density, thr, p, g.ref.g_c, h, {}, &in.why_no_temples);
+  else
+    in.why_no_temples = "no density to measure the head's width on";
   in.bridge_mm = f.bridge_mm;
   in.lens_height_mm = f.lens_height_mm;
   in.temple_length_mm = f.temple_length_mm;

@@ -1,7 +1,10 @@
 // The head's and the frame's numbers the fit advice compares (fit_advice.h), from the fitted head and
 // the placed frame. The frame is taken at its true size on the placement's rotation and bridge point
 // whatever the scale policy drew it at, and the head's sizes are in mm through the fit's scale:
-//   - the face's width at the temples: the two temple landmarks' distance;
+//   - the face's width at the temples: the head's width where a frame's temples pass it, at the
+//     outer eye corners' height, a quarter of the way back from each corner to its ear rest (the
+//     synthetic ground truth's definition, synth/procedural_head.cpp), from the density coming in
+//     from the side; the landmarks 0 and 16 sit at the tragus, 10-20 mm wider, and are not used;
 //   - hinge to ear: each hinge to its ear rest, averaged over the sides;
 //   - the pupils' height above the lens' centre line: the eye centres (each the mean of its six
 //     landmarks) in the frame's canonical axes;
@@ -19,7 +22,8 @@
 namespace lorgnette::fit {
 
 struct AdviceHead {
-  Eigen::Vector3d temple_l, temple_r, eye_l, eye_r, ear_l, ear_r;  // scene; eye_*: the eye centres
+  Eigen::Vector3d eye_l, eye_r, ear_l, ear_r;  // scene; eye_*: the eye centres, ear_*: the ear rests
+  Eigen::Vector3d corner_l, corner_r;          // the outer eye corners (landmarks 45 and 36)
   double mm_per_unit = 0.0;
   bool approximate = false;  // the scale is the mean face's
 };
@@ -40,6 +44,19 @@ Eigen::Vector3d canonical_at_true_size(const Placement& placement, const Eigen::
 double nose_width_mm(const DensityFn& density, float threshold, const Placement& placement,
                      const Eigen::Vector3d& g_c, double mm_per_unit, double y_mm,
                      const NoseProbeOptions& options, std::string* why);
+
+struct TempleProbeOptions {
+  double depth_share = 0.25;      // from the outer eye corner towards the ear rest
+  double reach_mm = 60.0;         // the probe starts this far outside the eye corner
+  double inside_corner_mm = 5.0;  // and ends this far inside it
+  double step_mm = 0.5;
+};
+
+// The face's width (mm) at the temples for the frame at true size (see the top of this file); 0 with
+// `why` when the density shows no head side on a probe line.
+double temple_width_mm(const DensityFn& density, float threshold, const Placement& placement,
+                       const Eigen::Vector3d& g_c, const AdviceHead& head, const TempleProbeOptions& options,
+                       std::string* why);
 
 // All four rules' inputs. `density` may be empty (no nose width then).
 AdviceInputs advice_inputs(const GlassesInput& glasses, const Placement& placement, const AdviceHead& head,

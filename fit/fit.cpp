@@ -368,12 +368,12 @@ void advise(FitRun& run) {
   StageTimer t{run.r, "advice", run.opt};
   FitResult& r = run.r;
   const auto& P = r.points;
-  AdviceHead h{P[lm::kTempleL].position,
-               P[lm::kTempleR].position,
-               eye_centre(P, lm::kEyeLFirst),
+  AdviceHead h{eye_centre(P, lm::kEyeLFirst),
                eye_centre(P, lm::kEyeRFirst),
                r.ears.f_l,
                r.ears.f_r,
+               P[lm::kEyeOuterL].position,
+               P[lm::kEyeOuterR].position,
                r.head.mm_per_unit,
                r.scale.source == ScaleSource::kMeanFace};
   ViewSource& source = run.source;

@@ -72,7 +72,9 @@ FitAdvice fit_advice(const AdviceInputs& in) {
   if (in.frame_width_mm > 0 && in.temple_width_mm > 0)
     a.rules.push_back(frame_width_rule(in.frame_width_mm, in.temple_width_mm));
   else
-    a.rules.push_back(not_judged("frame_width", "the frame's or the face's width is unknown"));
+    a.rules.push_back(not_judged("frame_width", in.why_no_temples.empty()
+                                                    ? "the frame's or the face's width is unknown"
+                                                    : in.why_no_temples));
   if (!(in.bridge_mm > 0))
     a.rules.push_back(not_judged("bridge", "the frame has no lenses to measure its bridge between"));
   else if (!(in.nose_width_mm > 0))

@@ -52,7 +52,7 @@ struct AdviceInputs {
   double bridge_mm = 0, nose_width_mm = 0;
   double temple_length_mm = 0, hinge_to_ear_mm = 0;
   double lens_height_mm = 0, pupil_above_centre_mm = 0;
-  std::string why_no_nose, why_no_hinges;
+  std::string why_no_nose, why_no_hinges, why_no_temples;
   bool approximate = false;
 };
 

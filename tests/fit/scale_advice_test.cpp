@@ -195,29 +195,70 @@ TEST(AdviceGeometry, InputsFromAKnownHead) {
   g.ref.hinge_l = {66, 10, -5};
   g.ref.hinge_r = {-66, 10, -5};
   g.sizes = {135.0, 52.0, 40.0, 3.0, 12.5, 140.0};
-  AdviceHead h{scene({70, 0, -20}),
-               scene({-70, 0, -20}),
-               scene({32, 7, -10}),
+  AdviceHead h{scene({32, 7, -10}),
                scene({-32, 5, -10}),
                scene({66, 4, -105}),
                scene({-66, 4, -105}),
+               scene({45, 0, -15}),
+               scene({-45, 0, -15}),
                w.mpu,
                false};
-  const AdviceInputs in = advice_inputs(g, w.placement, h, w.density(), 1.0f);
-  EXPECT_NEAR(in.temple_width_mm, 140.0, 1e-9);
+  // The nose wedge and, from 30 mm behind the bridge, a head 140 mm wide: the temple probe (at the
+  // eye corners' height, 15 + 0.25 * 90 mm back) finds its sides at +-70 mm.
+  const DensityFn nose = w.density();
+  const DensityFn head = [&](const std::vector<Eigen::Vector3f>& pts) {
+    std::vector<float> out = nose(pts);
+    for (size_t i = 0; i < pts.size(); ++i) {
+      const Eigen::Vector3d c = canonical_at_true_size(w.placement, w.g_c, w.mpu, pts[i].cast<double>());
+      if (c.z() < -30.0 && std::abs(c.x()) < 70.0 && std::abs(c.y()) < 60.0) out[i] = 100.0f;
+    }
+    return out;
+  };
+  const AdviceInputs in = advice_inputs(g, w.placement, h, head, 1.0f);
+  EXPECT_NEAR(in.temple_width_mm, 140.0, 0.5) << in.why_no_temples;
   EXPECT_NEAR(in.pupil_above_centre_mm, 6.0 - 3.0, 1e-9);
   EXPECT_NEAR(in.hinge_to_ear_mm, std::hypot(100.0, 6.0), 1e-9);
   EXPECT_NEAR(in.nose_width_mm, 12.0, 0.5) << in.why_no_nose;
   const FitAdvice a = fit_advice(in);
-  EXPECT_NEAR(a.rules[0].difference_mm, -5.0, 1e-9);  // 135 against 140: on the band's edge, good
-  EXPECT_EQ(a.rules[0].verdict, "good");
-  EXPECT_EQ(a.rules[1].verdict, "good");  // bridge 12.5 on a 12 mm nose
-  EXPECT_EQ(a.rules[2].verdict, "good");  // 140 - 100.2 = 39.8 mm behind the ear
-  EXPECT_EQ(a.rules[3].verdict, "good");  // the pupils 3 mm above the centre line
-  g.sizes.temple_length_mm = 120.0;       // 19.8 mm behind the ear: 5.2 short of 25
-  const AdviceRule t = fit_advice(advice_inputs(g, w.placement, h, w.density(), 1.0f)).rules[2];
+  EXPECT_NEAR(a.rules[0].difference_mm, -5.0, 0.5);  // 135 against 140: on the band's edge
+  EXPECT_EQ(a.rules[1].verdict, "good");             // bridge 12.5 on a 12 mm nose
+  EXPECT_EQ(a.rules[2].verdict, "good");             // 140 - 100.2 = 39.8 mm behind the ear
+  EXPECT_EQ(a.rules[3].verdict, "good");             // the pupils 3 mm above the centre line
+  g.sizes.temple_length_mm = 120.0;                  // 19.8 mm behind the ear: 5.2 short of 25
+  const AdviceRule t = fit_advice(advice_inputs(g, w.placement, h, head, 1.0f)).rules[2];
   EXPECT_EQ(t.verdict, "too short");
   EXPECT_NEAR(t.off_by_mm, 25.0 - (120.0 - std::hypot(100.0, 6.0)), 1e-9);
+}
+
+// No head beside the temples (only the nose wedge), or a probe that starts inside: no width, why said,
+// and the frame-width rule is not judged.
+TEST(AdviceGeometry, TempleWidthWithoutAHeadSideIsNotJudged) {
+  WedgeNose w;
+  const Eigen::Vector3d bridge = w.placement.transform.block<3, 1>(0, 3);
+  auto scene = [&](const Eigen::Vector3d& g) {
+    return Eigen::Vector3d(bridge + w.placement.rotation * g / w.mpu);
+  };
+  AdviceHead h{scene({32, 7, -10}),
+               scene({-32, 5, -10}),
+               scene({66, 4, -105}),
+               scene({-66, 4, -105}),
+               scene({45, 0, -15}),
+               scene({-45, 0, -15}),
+               w.mpu,
+               false};
+  std::string why;
+  EXPECT_EQ(temple_width_mm(w.density(), 1.0f, w.placement, w.g_c, h, {}, &why), 0.0);
+  EXPECT_NE(why.find("no side of the head"), std::string::npos) << why;
+  const DensityFn full = [](const std::vector<Eigen::Vector3f>& p) {
+    return std::vector<float>(p.size(), 9.0f);
+  };
+  EXPECT_EQ(temple_width_mm(full, 1.0f, w.placement, w.g_c, h, {}, &why), 0.0);
+  EXPECT_NE(why.find("starts inside"), std::string::npos) << why;
+  GlassesInput g;
+  g.sizes = {135.0, 52.0, 40.0, 3.0, 12.5, 140.0};
+  const FitAdvice a = fit_advice(advice_inputs(g, w.placement, h, w.density(), 1.0f));
+  EXPECT_EQ(a.rules[0].name, "frame_width");
+  EXPECT_FALSE(a.rules[0].judged());
 }
 
 TEST(PlacementJsonScale, RoundTripAndRefusals) {
@@ -226,7 +267,7 @@ TEST(PlacementJsonScale, RoundTripAndRefusals) {
   p.mm_per_unit_uncertainty = 8.5;
   p.pd_uncertainty_mm = 2.75;
   p.has_advice = true;
-  p.advice = fit_advice({130, 140, 18, 17, 140, 105, 40, 1.0, "", "", false});
+  p.advice = fit_advice({130, 140, 18, 17, 140, 105, 40, 1.0, "", "", "", false});
   nlohmann::json j = to_json(p);
   PlacementFile q = placement_from_json(j);
   EXPECT_EQ(q.scale_source, "iris");
