@@ -172,9 +172,11 @@ fit::FitResult stage_fit(Context& c, nerf::NerfModel& model, const std::string& 
                          const synth::Subject& subject) {
   c.begin("fit the glasses on the NeRF head");
   Stopwatch sw;
-  fit::FitOptions fo;
-  fo.cap.views = c.opt.fit_views;
-  fo.debug_dir = c.path("fit-debug");
+  // The fit request every front end builds (fit_job.h: the CLI's defaults), with the demo's views.
+  fit::FitSettings settings;
+  settings.views = c.opt.fit_views;
+  settings.debug_dir = c.path("fit-debug");
+  const fit::FitOptions fo = fit::fit_options(settings);
   fs::create_directories(fo.debug_dir);
   fit::NerfViewOptions views;
   views.dataset = c.path("dataset/transforms.json");
