@@ -23,12 +23,14 @@ namespace fs = std::filesystem;
 
 #define EXPECT_HAS(text, part) EXPECT_NE(std::string(text).find(part), std::string::npos) << (text)
 
-// A 52-18-140 parametric frame as a .glb (metres) in a fresh folder, and its sidecar's true points.
+// A 52-18-140 parametric frame as a .glb (metres) in a fresh folder of the running test's own (ctest
+// runs the tests of this file in parallel processes), and its sidecar's true points.
 struct FrameFile {
   std::string path;
   RefPointsSidecar sidecar;
   FrameFile() {
-    fs::path dir = fs::path(LORGNETTE_TEST_TMP) / "refpoints_sidecar";
+    fs::path dir = fs::path(LORGNETTE_TEST_TMP) / "refpoints_sidecar" /
+                   ::testing::UnitTest::GetInstance()->current_test_info()->name();
     fs::remove_all(dir);
     fs::create_directories(dir);
     path = (dir / "frame.glb").string();
