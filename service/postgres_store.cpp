@@ -230,7 +230,7 @@ std::map<JobState, int64_t> PostgresStore::count_by_state() {
 std::optional<CaptureRecord> PostgresStore::claim_next() {
   std::lock_guard<std::mutex> lock(mutex_);
   // One statement, so one transaction: the row is locked by the inner SELECT and updated before any
-  // other session can see it queued; SKIP LOCKED lets a second server take the next row instead of
+  // other connection can see it queued; SKIP LOCKED lets a second server take the next row instead of
   // waiting for this one (and then finding it no longer queued).
   Result res = exec(fmt::format("UPDATE captures SET state = 'running', attempts = attempts + 1, "
                                 "updated_unix = $1 WHERE id = (SELECT id FROM captures WHERE state = "

@@ -141,6 +141,22 @@ struct WedgeNose {
   Placement placement;
   Eigen::Vector3d g_c{0, 0, 0};
   double mpu = 200.0;
+  // The scene point of a canonical mm point (the inverse of canonical_at_true_size).
+  Eigen::Vector3d scene(const Eigen::Vector3d& g) const {
+    return placement.transform.block<3, 1>(0, 3) + placement.rotation * g / mpu;
+  }
+  // A head with known points in canonical mm: eye centres, ear rests 100 mm behind the hinges, outer
+  // eye corners at +-45 mm.
+  AdviceHead known_head() const {
+    return {scene({32, 7, -10}),
+            scene({-32, 5, -10}),
+            scene({66, 4, -105}),
+            scene({-66, 4, -105}),
+            scene({45, 0, -15}),
+            scene({-45, 0, -15}),
+            mpu,
+            false};
+  }
   DensityFn density() const {
     const Placement p = placement;
     const Eigen::Vector3d gc = g_c;
@@ -183,26 +199,15 @@ TEST(AdviceGeometry, NoseWidthOfAWedge) {
 // Known head points (placed through the inverse of canonical_at_true_size) give back their sizes.
 TEST(AdviceGeometry, InputsFromAKnownHead) {
   WedgeNose w;
-  const Eigen::Vector3d bridge = w.placement.transform.block<3, 1>(0, 3);
-  auto scene = [&](const Eigen::Vector3d& g) {
-    return Eigen::Vector3d(bridge + w.placement.rotation * g / w.mpu);
-  };
-  EXPECT_LT(
-      (canonical_at_true_size(w.placement, w.g_c, w.mpu, scene({1, 2, 3})) - Eigen::Vector3d(1, 2, 3)).norm(),
-      1e-9);
+  EXPECT_LT((canonical_at_true_size(w.placement, w.g_c, w.mpu, w.scene({1, 2, 3})) - Eigen::Vector3d(1, 2, 3))
+                .norm(),
+            1e-9);
   GlassesInput g;
   g.ref.has_hinges = true;
   g.ref.hinge_l = {66, 10, -5};
   g.ref.hinge_r = {-66, 10, -5};
   g.sizes = {135.0, 52.0, 40.0, 3.0, 12.5, 140.0};
-  AdviceHead h{scene({32, 7, -10}),
-               scene({-32, 5, -10}),
-               scene({66, 4, -105}),
-               scene({-66, 4, -105}),
-               scene({45, 0, -15}),
-               scene({-45, 0, -15}),
-               w.mpu,
-               false};
+  const AdviceHead h = w.known_head();
   // The nose wedge and, from 30 mm behind the bridge, a head 140 mm wide: the temple probe (at the
   // eye corners' height, 15 + 0.25 * 90 mm back) finds its sides at +-70 mm.
   const DensityFn nose = w.density();
@@ -234,18 +239,7 @@ TEST(AdviceGeometry, InputsFromAKnownHead) {
 // and the frame-width rule is not judged.
 TEST(AdviceGeometry, TempleWidthWithoutAHeadSideIsNotJudged) {
   WedgeNose w;
-  const Eigen::Vector3d bridge = w.placement.transform.block<3, 1>(0, 3);
-  auto scene = [&](const Eigen::Vector3d& g) {
-    return Eigen::Vector3d(bridge + w.placement.rotation * g / w.mpu);
-  };
-  AdviceHead h{scene({32, 7, -10}),
-               scene({-32, 5, -10}),
-               scene({66, 4, -105}),
-               scene({-66, 4, -105}),
-               scene({45, 0, -15}),
-               scene({-45, 0, -15}),
-               w.mpu,
-               false};
+  const AdviceHead h = w.known_head();
   std::string why;
   EXPECT_EQ(temple_width_mm(w.density(), 1.0f, w.placement, w.g_c, h, {}, &why), 0.0);
   EXPECT_NE(why.find("no side of the head"), std::string::npos) << why;
