@@ -4,8 +4,10 @@
 #include <fmt/format.h>
 #include <sqlite3.h>
 
+#include <chrono>
 #include <mutex>
 #include <stdexcept>
+#include <thread>
 
 #include "service/schema.h"
 
@@ -39,6 +41,7 @@ class SqliteStore final : public JobStore {
     throw std::runtime_error(fmt::format("job store '{}': {}: {}", path_, what, sqlite3_errmsg(db_.get())));
   }
   void exec(const std::string& sql);
+  void set_wal_mode();
   Stmt prepare(const std::string& sql);
   int version_unlocked();
   void migrate();
@@ -63,9 +66,23 @@ SqliteStore::SqliteStore(const std::string& path) : path_(path) {
   db_.reset(raw);
   if (rc != SQLITE_OK) fail("cannot open (is its folder there and writable?)");
   sqlite3_busy_timeout(db_.get(), 5000);
-  exec("PRAGMA journal_mode=WAL");
+  set_wal_mode();
   exec("PRAGMA foreign_keys=ON");
   migrate();
+}
+
+// Switching a new file to WAL takes an exclusive lock, and SQLite answers a second process doing the
+// same at that moment with "database is locked" without calling the busy handler: so the switch is
+// retried for as long as the busy timeout (5 s), like every other statement waits.
+void SqliteStore::set_wal_mode() {
+  const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(5);
+  for (;;) {
+    const int rc = sqlite3_exec(db_.get(), "PRAGMA journal_mode=WAL", nullptr, nullptr, nullptr);
+    const bool busy = rc == SQLITE_BUSY || rc == SQLITE_LOCKED;
+    if (!busy || std::chrono::steady_clock::now() > until) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  exec("PRAGMA journal_mode=WAL");  // done already (a no-op), or its error with the message
 }
 
 void SqliteStore::exec(const std::string& sql) {
