@@ -25,9 +25,16 @@ struct Stopped {
 
 // Runs `lorgnette -q <args>` in `dir`, sends SIGTERM after `after_s` seconds and waits for the exit
 // (a shell script does the timing; the whole run is killed after 120 s).
-Stopped stop_after(const fs::path& dir, const std::string& args, int after_s) {
-  write_file(dir / "stop.sh", "'" LGN_CLI_PATH "' -q " + args + " 2> stderr.txt & p=$!; sleep " +
-                                  std::to_string(after_s) +
+// `started` (a shell glob, relative to `dir`) names a file the command writes once its work is
+// under way: the signal waits for it (as long as the command runs), so a loaded machine that is
+// slow to start does not turn the test into one about start-up.
+Stopped stop_after(const fs::path& dir, const std::string& args, int after_s,
+                   const std::string& started = "") {
+  const std::string wait_started = started.empty() ? ""
+                                                   : "while kill -0 $p 2>/dev/null && ! ls " + started +
+                                                         " >/dev/null 2>&1; do sleep 0.2; done; ";
+  write_file(dir / "stop.sh", "'" LGN_CLI_PATH "' -q " + args + " 2> stderr.txt & p=$!; " + wait_started +
+                                  "sleep " + std::to_string(after_s) +
                                   "; t0=$(date +%s%N); kill -TERM $p; wait $p; s=$?; t1=$(date +%s%N); "
                                   "echo $s $(( (t1 - t0) / 1000000 )) > result.txt");
   Stopped r;
@@ -114,7 +121,7 @@ TEST(CliSweep, EvalStopsPromptlyOnSigterm) {
 TEST(CliSweep, RenderOrbitStopsPromptlyOnSigtermWithWholeFrames) {
   fs::path d = test_dir();
   write_tiny_model(d / "head.lnerf");
-  Stopped r = stop_after(d, "render head.lnerf --orbit 500 --size 256x256 -o orbit", 4);
+  Stopped r = stop_after(d, "render head.lnerf --orbit 500 --size 256x256 -o orbit", 1, "orbit/frame_*.png");
   EXPECT_EQ(r.status, 130) << r.err;
   EXPECT_LT(r.stop_ms, 15000) << "it stopped " << r.stop_ms << " ms after SIGTERM";
   expect_no_temporary_files(d / "orbit");
