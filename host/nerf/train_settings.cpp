@@ -90,6 +90,7 @@ TrainJob train_job(const TrainSettings& s) {
   to.loss_kind = s.linear_loss ? LOSS_L2_LINEAR : LOSS_L2_SRGB;
   to.snapshot_path = s.output;
   to.snapshot_every_seconds = s.snapshot_every;
+  job.resume = s.resume ? TrainJob::Resume::Required : TrainJob::Resume::Off;
   to.progress = s.progress;
   return job;
 }

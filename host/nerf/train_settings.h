@@ -31,7 +31,10 @@ struct TrainSettings {
   float aabb_scale = 0.0f, step = 0.0f;
   uint32_t finest_res = 0, log2_table = 0, levels = 0, occ_res = 0;
   float lr = 1e-2f;
-  double snapshot_every = 120.0;         // seconds; 0: only at the end
+  double snapshot_every = 120.0;  // seconds; 0: only at the end
+  // Continue from the training checkpoint beside the output (OUTPUT.ckpt) when there is one
+  // (train_resume.h); a corrupt one or one of another training is refused.
+  bool resume = false;
   BackgroundOptions room;                // the room model's prior and clearing weights
   uint32_t downscale = 1, max_side = 0;  // image loading; max_side 0: no limit
 };

@@ -11,6 +11,7 @@
 
 #include "capture/subject_box.h"
 #include "capture/train_request.h"
+#include "host/nerf/checkpoint.h"
 #include "host/nerf/train_job.h"
 #include "host/nerf/train_settings.h"
 #include "host/util/file_write.h"
@@ -39,6 +40,24 @@ void check_model_output(const std::string& output) {
                         fmt::format("the model (-o {})", output));
 }
 
+// An existing model is overwritten only with --force, or by --resume when the checkpoint of its
+// training is beside it (the model is that training's snapshot). A checkpoint is never written
+// over silently: without --resume it takes --force.
+void check_resume(const nerf::TrainSettings& s, bool force) {
+  namespace fs = std::filesystem;
+  const std::string ckpt = nerf::checkpoint_path_for(s.output);
+  const bool has_ckpt = fs::exists(ckpt);
+  if (s.resume && !has_ckpt)
+    spdlog::info("--resume: no training checkpoint at '{}': training from step 0", ckpt);
+  if (fs::exists(s.output) && !force && !(s.resume && has_ckpt))
+    throw std::runtime_error("'" + s.output + "' exists: pass --force to overwrite it or choose another -o");
+  if (has_ckpt && !s.resume && !force)
+    throw std::runtime_error(
+        fmt::format("'{}' holds an unfinished training of '{}': pass --resume to continue it, or --force to "
+                    "train from the start",
+                    ckpt, s.output));
+}
+
 void run_train(TrainArgs& a, GlobalOptions& global) {
   nerf::TrainSettings& s = a.settings;
   if (a.steps_given->count()) s.steps = a.steps;
@@ -49,8 +68,7 @@ void run_train(TrainArgs& a, GlobalOptions& global) {
   s.progress = !global.quiet;
   nerf::validate(s);
   nerf::refuse_output_onto_dataset(s.output, a.data);
-  if (std::filesystem::exists(s.output) && !a.force)
-    throw std::runtime_error("'" + s.output + "' exists: pass --force to overwrite it or choose another -o");
+  check_resume(s, a.force);
   check_model_output(s.output);
   capture::TrainRequest req = capture::prepare_training(a.data, s);
   if (interrupted())
@@ -85,6 +103,9 @@ void add_train(CLI::App& app, GlobalOptions& global) {
   cmd->add_flag("--deterministic", a->settings.deterministic,
                 "bitwise reproducible (same seed, same device)");
   cmd->add_flag("--force", a->force, "overwrite an existing model file");
+  cmd->add_flag("--resume", a->settings.resume,
+                "continue from the training checkpoint beside the output (OUTPUT.ckpt, written with every "
+                "snapshot) when there is one; it must be of the same data and settings");
   cmd->add_option("--batch-log2", a->settings.batch_log2,
                   "log2 of the samples per step, 10..22 (default: 18 on a GPU, 16 otherwise)");
   cmd->add_option("--lr", a->settings.lr, "base learning rate (default 1e-2)");
@@ -145,7 +166,7 @@ void add_train(CLI::App& app, GlobalOptions& global) {
   cmd->add_flag("--no-masks", a->no_masks, "ignore alpha masks when sizing the box");
   cmd->add_flag("--linear-loss", a->settings.linear_loss, "L2 on linear instead of sRGB colour");
   cmd->add_option("--snapshot-every", a->settings.snapshot_every,
-                  "seconds between snapshots (0: only at the end)");
+                  "seconds between snapshots and training checkpoints (OUTPUT.ckpt; 0: only at the end)");
   cmd->callback([a, &global] { run_train(*a, global); });
 }
 
