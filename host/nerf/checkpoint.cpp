@@ -41,7 +41,8 @@ void add_field_blobs(const std::string& prefix, const FieldState& f, std::vector
   blobs.push_back({prefix + ".adam_m", f.adam.m.data(), f.adam.m.size() * 4});
   blobs.push_back({prefix + ".adam_v", f.adam.v.data(), f.adam.v.size() * 4});
   blobs.push_back({prefix + ".occupancy_bits", f.occupancy.bits.data(), f.occupancy.bits.size() * 4});
-  blobs.push_back({prefix + ".occupancy_density", f.occupancy.density.data(), f.occupancy.density.size() * 4});
+  blobs.push_back(
+      {prefix + ".occupancy_density", f.occupancy.density.data(), f.occupancy.density.size() * 4});
 }
 
 json field_header(const FieldState& f) {
@@ -138,10 +139,12 @@ std::string encode_checkpoint(const CheckpointKey& key, const TrainingState& s) 
             {"blobs", json::array()}};
   uint64_t off = 0;
   for (const Blob& b : blobs) {
-    h["blobs"].push_back({{"name", b.name},
-                          {"offset", off},
-                          {"bytes", b.bytes},
-                          {"fnv1a64", fmt::format("{:016x}", snapshot_checksum({static_cast<const char*>(b.data), b.bytes}))}});
+    h["blobs"].push_back(
+        {{"name", b.name},
+         {"offset", off},
+         {"bytes", b.bytes},
+         {"fnv1a64",
+          fmt::format("{:016x}", snapshot_checksum({static_cast<const char*>(b.data), b.bytes}))}});
     off += b.bytes;
   }
   const std::string text = h.dump();
@@ -208,9 +211,11 @@ std::optional<TrainingState> read_checkpoint(const std::string& path, const Chec
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) return std::nullopt;
   if (!std::filesystem::is_regular_file(path, ec))
-    throw CheckpointCorrupt("training checkpoint '" + path + "' is not a file: remove it to train from the start");
+    throw CheckpointCorrupt("training checkpoint '" + path +
+                            "' is not a file: remove it to train from the start");
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw CheckpointCorrupt("cannot open the training checkpoint '" + path + "': check its permissions");
+  if (!in)
+    throw CheckpointCorrupt("cannot open the training checkpoint '" + path + "': check its permissions");
   const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   CheckpointKey found;
   TrainingState s = parse_checkpoint(bytes, path, found);

@@ -35,9 +35,9 @@ struct FieldState {
 
 struct TrainingState {
   uint64_t step = 0, samples = 0, rays = 0;
-  uint32_t n_rays = 0;      // the next step's ray count (adapted with integer arithmetic)
-  double elapsed = 0.0;     // training seconds so far (the schedule of a --seconds budget)
-  double last_loss = 0.0;   // the last known step loss (the model's final_loss when nothing is left)
+  uint32_t n_rays = 0;     // the next step's ray count (adapted with integer arithmetic)
+  double elapsed = 0.0;    // training seconds so far (the schedule of a --seconds budget)
+  double last_loss = 0.0;  // the last known step loss (the model's final_loss when nothing is left)
   FieldState subject;
   std::optional<FieldState> room;  // with a room model
   uint64_t room_samples = 0;

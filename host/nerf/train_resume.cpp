@@ -37,21 +37,22 @@ json room_json(const BackgroundOptions& r) {
 }
 
 json train_json(const TrainOptions& t) {
-  return {{"steps", t.steps},
-          {"seconds", t.seconds},
-          {"seed", t.seed},
-          {"loss_kind", t.loss_kind},
-          {"lr", t.adam.lr},
-          {"beta1", t.adam.beta1},
-          {"beta2", t.adam.beta2},
-          {"eps", t.adam.eps},
-          {"mlp_weight_decay", t.adam.mlp_weight_decay},
-          {"sparse_hash", t.adam.sparse_hash},
-          {"decay_start", t.decay_start},
-          {"final_lr_fraction", t.final_lr_fraction},
-          {"occupancy", {t.occupancy.update_every, t.occupancy.warmup_steps, t.occupancy.decay,
-                         t.occupancy.threshold_alpha}},
-          {"room", room_json(t.background)}};
+  return {
+      {"steps", t.steps},
+      {"seconds", t.seconds},
+      {"seed", t.seed},
+      {"loss_kind", t.loss_kind},
+      {"lr", t.adam.lr},
+      {"beta1", t.adam.beta1},
+      {"beta2", t.adam.beta2},
+      {"eps", t.adam.eps},
+      {"mlp_weight_decay", t.adam.mlp_weight_decay},
+      {"sparse_hash", t.adam.sparse_hash},
+      {"decay_start", t.decay_start},
+      {"final_lr_fraction", t.final_lr_fraction},
+      {"occupancy",
+       {t.occupancy.update_every, t.occupancy.warmup_steps, t.occupancy.decay, t.occupancy.threshold_alpha}},
+      {"room", room_json(t.background)}};
 }
 
 }  // namespace
@@ -83,7 +84,7 @@ CheckpointKey checkpoint_key(const dataset::Dataset& ds, const TrainPlan& plan, 
   j["batch_log2"] = plan.batch_log2;
   j["deterministic"] = job.deterministic;
   j["occupancy_mask"] = fmt::format("{:016x}", snapshot_checksum({reinterpret_cast<const char*>(mask.data()),
-                                                                   mask.size() * sizeof(uint32_t)}));
+                                                                  mask.size() * sizeof(uint32_t)}));
   return {dataset_fingerprint(ds), j.dump()};
 }
 

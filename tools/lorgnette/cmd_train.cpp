@@ -49,13 +49,13 @@ void check_resume(const nerf::TrainSettings& s, bool force) {
   const bool has_ckpt = fs::exists(ckpt);
   if (s.resume && !has_ckpt)
     spdlog::info("--resume: no training checkpoint at '{}': training from step 0", ckpt);
-  if (fs::exists(s.output) && !force && !(s.resume && has_ckpt))
-    throw std::runtime_error("'" + s.output + "' exists: pass --force to overwrite it or choose another -o");
   if (has_ckpt && !s.resume && !force)
     throw std::runtime_error(
         fmt::format("'{}' holds an unfinished training of '{}': pass --resume to continue it, or --force to "
                     "train from the start",
                     ckpt, s.output));
+  if (fs::exists(s.output) && !force && !(s.resume && has_ckpt))
+    throw std::runtime_error("'" + s.output + "' exists: pass --force to overwrite it or choose another -o");
 }
 
 void run_train(TrainArgs& a, GlobalOptions& global) {

@@ -34,7 +34,8 @@ struct Scene {
   ModelSizing sizing = choose_model_size(train.views, SizingOverrides{});
 
   NerfModel make_model() {
-    return NerfModel(rt, sizing.field, sizing.aabb, sizing.occupancy_resolution, sizing.step, 1u << 12, 7, true);
+    return NerfModel(rt, sizing.field, sizing.aabb, sizing.occupancy_resolution, sizing.step, 1u << 12, 7,
+                     true);
   }
 };
 
