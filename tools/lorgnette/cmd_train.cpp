@@ -81,7 +81,10 @@ void run_train(TrainArgs& a, GlobalOptions& global) {
     spdlog::warn("interrupted before the first training step: nothing was saved ('{}' is unchanged)",
                  s.output);
   else if (r.interrupted)
-    spdlog::warn("interrupted after {} steps: the model so far is saved in '{}'", r.steps, s.output);
+    spdlog::warn(
+        "interrupted after {} steps: the model so far is saved in '{}'; the same command with --resume "
+        "continues the training (from '{}')",
+        r.steps, s.output, nerf::checkpoint_path_for(s.output));
   else
     spdlog::info("trained {} steps ({} samples) in {:.1f} s ({}); saved '{}'", r.steps, r.samples, r.seconds,
                  out.budget, s.output);
