@@ -92,7 +92,7 @@ std::optional<uint64_t> resumed_at(const std::string& log, uint64_t of) {
 }
 
 TEST(JobRun, AWorkerKilledDuringTrainingLeavesNoModelAndTheRerunResumesAndFinishes) {
-  fs::path job = captured_job(200, "", 64, 0.2);
+  fs::path job = captured_job(200, "", 64, 2.0);
   {
     ChildProcess worker({LGN_CLI_PATH, "job", "run", job.string()}, (job / "killed.log").string());
     // Killed once training has reported progress and written a checkpoint (outside its partial folder).

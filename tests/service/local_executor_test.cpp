@@ -79,7 +79,7 @@ TEST(LocalExecutor, RunsAQueuedJobToFinished) {
 
 TEST(LocalExecutor, AWorkerKilledDuringTrainingIsRetriedAndFinishes) {
   ExecutorEnv s = make_setup();
-  add_job(s, "job2", 200, JobState::Queued, 0.2);
+  add_job(s, "job2", 200, JobState::Queued, 2.0);
   LocalExecutor ex(*s.store, s.options);
   const fs::path progress = s.data / "captures/job2/progress.json";
   ASSERT_TRUE(wait_for(
