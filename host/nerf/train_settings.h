@@ -47,6 +47,14 @@ void validate(const TrainSettings& settings);
 // descriptor itself, or a JSON file in the dataset's folder), even with --force.
 void refuse_output_onto_dataset(const std::string& output, const std::string& data);
 
+// Throws unless the training may write its model and checkpoint (checkpoint.h): an existing model is
+// overwritten only with `force`, or by `resume` when its training's checkpoint is beside it (the
+// model is that training's snapshot); a checkpoint there is an unfinished training, never written
+// over without `resume` or `force`. `force_flag` and `resume_flag` name the front end's flags in the
+// messages ("--force", "force=True").
+void refuse_overwrite(const TrainSettings& settings, bool force, const std::string& force_flag,
+                      const std::string& resume_flag);
+
 // The training split's LoadOptions (downscale, max_side, the kTrainImageBytes cap). Validates.
 dataset::LoadOptions train_load_options(const TrainSettings& settings);
 

@@ -241,7 +241,8 @@ void Trainer::diverged(double loss, uint64_t at_step) {
     step_ = bad_step;
   }
   // Resuming would take the same steps to the same divergence: the checkpoint is of no use.
-  if (!options_.checkpoint_path.empty()) std::filesystem::remove(options_.checkpoint_path);
+  std::error_code ignored;  // the divergence is the error to report
+  if (!options_.checkpoint_path.empty()) std::filesystem::remove(options_.checkpoint_path, ignored);
   throw TrainingDiverged(fmt::format(
       "training diverged: the loss became {} at step {}; kept the last good parameters (step {}), {}. "
       "Lower the learning rate (--lr, now {}) and train again",

@@ -40,24 +40,6 @@ void check_model_output(const std::string& output) {
                         fmt::format("the model (-o {})", output));
 }
 
-// An existing model is overwritten only with --force, or by --resume when the checkpoint of its
-// training is beside it (the model is that training's snapshot). A checkpoint is never written
-// over silently: without --resume it takes --force.
-void check_resume(const nerf::TrainSettings& s, bool force) {
-  namespace fs = std::filesystem;
-  const std::string ckpt = nerf::checkpoint_path_for(s.output);
-  const bool has_ckpt = fs::exists(ckpt);
-  if (s.resume && !has_ckpt)
-    spdlog::info("--resume: no training checkpoint at '{}': training from step 0", ckpt);
-  if (has_ckpt && !s.resume && !force)
-    throw std::runtime_error(
-        fmt::format("'{}' holds an unfinished training of '{}': pass --resume to continue it, or --force to "
-                    "train from the start",
-                    ckpt, s.output));
-  if (fs::exists(s.output) && !force && !(s.resume && has_ckpt))
-    throw std::runtime_error("'" + s.output + "' exists: pass --force to overwrite it or choose another -o");
-}
-
 void run_train(TrainArgs& a, GlobalOptions& global) {
   nerf::TrainSettings& s = a.settings;
   if (a.steps_given->count()) s.steps = a.steps;
@@ -68,7 +50,7 @@ void run_train(TrainArgs& a, GlobalOptions& global) {
   s.progress = !global.quiet;
   nerf::validate(s);
   nerf::refuse_output_onto_dataset(s.output, a.data);
-  check_resume(s, a.force);
+  nerf::refuse_overwrite(s, a.force, "--force", "--resume");
   check_model_output(s.output);
   capture::TrainRequest req = capture::prepare_training(a.data, s);
   if (interrupted())
