@@ -14,6 +14,9 @@ struct JobFolder {
   std::filesystem::path dataset() const { return root / "dataset"; }
   std::filesystem::path model_dir() const { return root / "model"; }
   std::filesystem::path model() const { return model_dir() / "head.lnerf"; }
+  // The training checkpoint (host/nerf/checkpoint.h): outside the train stage's temporary folder, so
+  // a worker killed during training leaves it for the retry to resume from.
+  std::filesystem::path train_checkpoint() const { return root / "train.ckpt"; }
   std::filesystem::path fits() const { return root / "fits"; }
   std::filesystem::path fit_dir(const std::string& frame_key) const { return fits() / frame_key; }
   std::filesystem::path settings() const { return root / "job.json"; }

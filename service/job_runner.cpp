@@ -13,6 +13,7 @@
 #include <stdexcept>
 
 #include "fit/placement_json.h"
+#include "host/nerf/train_resume.h"
 #include "host/util/image_io.h"
 #include "host/util/interrupt.h"
 #include "service/job_folder.h"
@@ -75,13 +76,17 @@ void capture_stage(const JobFolder& f, const JobSettings& s, Reporter& r) {
 void train_stage(const JobFolder& f, const JobSettings& s, cl::Runtime& rt, Reporter& r) {
   check_interrupt("training");
   r.update("train", kCaptureEnd, "training the head's model");
+  // The checkpoint lives outside the stage's temporary folder: a run killed or stopped during
+  // training leaves it, and the next run resumes from it (the temporary folder is made again).
   run_stage(f.model_dir(), [&](const fs::path& tmp) {
-    train_model(rt, f.dataset(), tmp / f.model().filename(), s, [&](double done) {
+    train_model(rt, f.dataset(), tmp / f.model().filename(), f.train_checkpoint(), s, [&](double done) {
       r.update("train", kCaptureEnd + (kTrainEnd - kCaptureEnd) * std::min(done, 1.0),
                "training the head's model", false);
     });
     if (interrupted()) throw Interrupted("stopped during training; the job can run again");
   });
+  // Only once the model is in place (a kill before this resumes at the last step, trains nothing more).
+  nerf::remove_checkpoints(f.train_checkpoint().string());
   r.artifacts()["model"] = "model/head.lnerf";
 }
 

@@ -20,6 +20,7 @@ nlohmann::json JobSettings::to_json() const {
           {"train_batch_log2", train_batch_log2},
           {"train_seed", train_seed},
           {"train_max_side", train_max_side},
+          {"train_snapshot_seconds", train_snapshot_seconds},
           {"fit_views", fit_views},
           {"fit_resolution", fit_resolution},
           {"tryon_views", tryon_views},
@@ -37,6 +38,7 @@ JobSettings JobSettings::from_json(const nlohmann::json& j) {
     s.train_batch_log2 = j.value("train_batch_log2", s.train_batch_log2);
     s.train_seed = j.value("train_seed", s.train_seed);
     s.train_max_side = j.value("train_max_side", s.train_max_side);
+    s.train_snapshot_seconds = j.value("train_snapshot_seconds", s.train_snapshot_seconds);
     s.fit_views = j.value("fit_views", s.fit_views);
     s.fit_resolution = j.value("fit_resolution", s.fit_resolution);
     s.tryon_views = j.value("tryon_views", s.tryon_views);
@@ -59,6 +61,7 @@ void JobSettings::validate() const {
     check_bound_or_zero(b::kJobTrainSteps, double(train_steps));
     check_bound_or_zero(b::kJobBatchLog2, train_batch_log2);
     check_bound_or_zero(b::kJobTrainSide, train_max_side);
+    check_bound_or_zero(b::kJobTrainSnapshot, train_snapshot_seconds);
     check_bound(b::kJobFitViews, fit_views);
     check_bound(b::kJobFitResolution, fit_resolution);
     check_bound(b::kJobTryonViews, tryon_views);

@@ -21,6 +21,9 @@ struct JobSettings {
   uint32_t train_batch_log2 = 0;
   uint32_t train_seed = 1337;
   int train_max_side = 0;  // shrink training images to this longer side (0: keep)
+  // Seconds between training checkpoints (host/nerf/checkpoint.h): at most this much training is
+  // trained again when a worker dies. 0: only at the end.
+  double train_snapshot_seconds = 60.0;
   // Fit (fit::FitSettings): rendered views and their size.
   int fit_views = 12;
   int fit_resolution = 384;

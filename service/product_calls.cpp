@@ -45,7 +45,8 @@ void capture_dataset(const fs::path& input, const fs::path& output_dir, const Jo
 }
 
 void train_model(cl::Runtime& rt, const fs::path& dataset_dir, const fs::path& model_file,
-                 const JobSettings& settings, const std::function<void(double)>& on_fraction) {
+                 const fs::path& checkpoint, const JobSettings& settings,
+                 const std::function<void(double)>& on_fraction) {
   dataset::LoadOptions lo;
   lo.max_side = settings.train_max_side;
   lo.max_image_bytes = nerf::kTrainImageBytes;
@@ -57,6 +58,12 @@ void train_model(cl::Runtime& rt, const fs::path& dataset_dir, const fs::path& m
   job.train.steps = settings.train_steps;
   job.train.seed = settings.train_seed;
   job.train.snapshot_path = model_file.string();
+  job.train.snapshot_every_seconds = settings.train_snapshot_seconds;
+  // A retried job continues its training (a checkpoint that does not match is trained over), and the
+  // stage removes the checkpoint once the model is in place.
+  job.train.checkpoint_path = checkpoint.string();
+  job.resume = nerf::TrainJob::Resume::IfValid;
+  job.keep_checkpoint = true;
   job.train.progress = false;
   uint64_t budget = settings.train_steps;
   job.train.on_step = [&](uint64_t step, double, double) {

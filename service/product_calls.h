@@ -27,10 +27,13 @@ void capture_dataset(const std::filesystem::path& input, const std::filesystem::
 
 // Trains on the dataset and writes the snapshot to `model_file`; `on_fraction` gets the share of the
 // step budget done (0..1). Throws when training diverges; returns early when interrupted() (the
-// caller must then discard the folder).
+// caller must then discard the folder). The training checkpoint goes to `checkpoint` every
+// settings.train_snapshot_seconds and at the end; a matching one there is resumed from
+// (host/nerf/train_resume.h). The caller removes it (nerf::remove_checkpoints) once the model is in
+// place.
 void train_model(cl::Runtime& rt, const std::filesystem::path& dataset_dir,
-                 const std::filesystem::path& model_file, const JobSettings& settings,
-                 const std::function<void(double)>& on_fraction);
+                 const std::filesystem::path& model_file, const std::filesystem::path& checkpoint,
+                 const JobSettings& settings, const std::function<void(double)>& on_fraction);
 
 // Fits the frame file `glasses` on the model and writes placement.json into `output_dir`.
 // Returns whether the fit passed its own checks (placement.json's `ok`).

@@ -199,4 +199,17 @@ void Field::upload_params(const std::vector<float>& params) {
   adam_t_ = 0;
 }
 
+OptimiserState Field::download_optimiser() const { return {adam_m_.read(rt_), adam_v_.read(rt_), adam_t_}; }
+
+void Field::restore(const std::vector<float>& params, const OptimiserState& adam) {
+  if (adam.m.size() != layout_.total || adam.v.size() != layout_.total)
+    throw std::invalid_argument("Field::restore: the optimiser state has " + std::to_string(adam.m.size()) +
+                                " moments but this configuration has " + std::to_string(layout_.total) +
+                                " parameters");
+  upload_params(params);  // checks the size; zeroes the gradients (adam_step cleared them too)
+  adam_m_.write(rt_, adam.m);
+  adam_v_.write(rt_, adam.v);
+  adam_t_ = adam.t;
+}
+
 }  // namespace lorgnette::field

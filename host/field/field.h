@@ -28,6 +28,13 @@ class Mlp;
 class Adam;
 class FieldInfer;
 
+// Adam's state over the flat parameter vector: first and second moments and the step count (the
+// bias correction's t). A training checkpoint keeps it so a resumed training takes the same steps.
+struct OptimiserState {
+  std::vector<float> m, v;
+  uint64_t t = 0;
+};
+
 class Field {
  public:
   // variant: the kernels shaped for the device (Auto) or forced (tests run the GPU ones on PoCL).
@@ -59,6 +66,10 @@ class Field {
   // state of other parameters (e.g. from before a divergence) must not carry over.
   void upload_params(const std::vector<float>& params);
   std::vector<float> download_gradients() const;
+  OptimiserState download_optimiser() const;
+  // Parameters with the optimiser state they were trained with (a training checkpoint): the next
+  // adam_step() is the one the interrupted training would have taken. Sizes must be param_count().
+  void restore(const std::vector<float>& params, const OptimiserState& adam);
   // Device buffers (for tests and benchmarks).
   cl::Buffer<float>& params() { return params_; }
   cl::Buffer<float>& gradients() { return grads_; }

@@ -104,6 +104,11 @@ class BackgroundField {
   NerfModel& model() { return *model_; }
   std::string summary() const;
   uint64_t samples_done() const { return samples_; }  // room samples trained so far
+  // The state a training checkpoint keeps beside the model's (checkpoint.h).
+  OccupancyUpdater& occupancy_updater() { return *occupancy_; }
+  const OccupancyUpdater& occupancy_updater() const { return *occupancy_; }
+  const NerfModel& model() const { return *model_; }
+  void set_samples_done(uint64_t n) { samples_ = n; }
 
   // Counts the room samples of the same rays the subject's sampler draws (p: the subject step's
   // SampleParams); returns how many leading rays fit the room model's batch.

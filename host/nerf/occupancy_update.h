@@ -41,6 +41,8 @@ class OccupancyUpdater {
   uint64_t interior_cells() const { return interior_count_; }
   uint64_t interior_empty() const { return interior_empty_; }
   uint32_t updates() const { return updates_; }
+  // The update count seeds each update's jitter: a resumed training restores it (checkpoint.h).
+  void set_updates(uint32_t n) { updates_ = n; }
 
  private:
   std::vector<uint32_t> pick_cells(uint32_t step) const;

@@ -10,6 +10,7 @@
 #include "host/nerf/subject_cut.h"
 #include "host/nerf/subject_holes.h"
 #include "host/nerf/subject_region.h"
+#include "host/nerf/train_resume.h"
 
 namespace lorgnette::nerf {
 
@@ -140,7 +141,9 @@ TrainJobResult train_planned(cl::Runtime& rt, const dataset::Dataset& ds, const 
                background ? "a room model behind the subject (mask-less capture, subject box)"
                           : (ds.has_alpha ? "none (the images' alpha masks separate the subject)" : "none"));
   std::string region;
+  plan.train.checkpoint_key = checkpoint_key(ds, plan, job);
   Trainer trainer(model, views, plan.train, plan.sizing.occupancy_mask);
+  resume_training(trainer, plan.train, job.resume);
   TrainResult result = trainer.run();
   // As the trainer's own snapshots: an untrained model is never saved.
   const std::string snapshot = result.steps > 0 ? plan.train.snapshot_path : std::string();
@@ -183,7 +186,8 @@ bool has_holes(const NerfModel& m) { return m.metadata.holes >= kSubjectHoleShar
 
 TrainJobResult train_on_dataset(cl::Runtime& rt, const dataset::Dataset& ds, TrainJob job) {
   std::vector<View> views = training_views(ds);
-  const TrainPlan plan = plan_training(rt, ds, views, job);
+  TrainPlan plan = plan_training(rt, ds, views, job);
+  plan.train.checkpoint_path = checkpoint_for(plan.train);
   TrainJobResult out = train_planned(rt, ds, views, plan, job);
   const BackgroundOptions& room = plan.train.background;
   const bool clearing = room.room_clear > 0.0f || room.lean_gate > 0.0f;
@@ -201,6 +205,7 @@ TrainJobResult train_on_dataset(cl::Runtime& rt, const dataset::Dataset& ds, Tra
     // is chosen: an interrupt or a kill during it never leaves a less trained model at the output.
     const std::string first_path = plan.train.snapshot_path;
     if (!first_path.empty()) safer.train.snapshot_path = first_path + ".second";
+    safer.train.checkpoint_path = second_checkpoint(plan.train.checkpoint_path);
     TrainJobResult again = train_planned(rt, ds, views, safer, job);
     // Without the clearing the room is rebuilt as haze in the subject's volume (the synthetic pale
     // selfie: leak 46 -> 98 % of the subject's area for holes 3.2 -> 1.7 %), so the second model is
@@ -224,6 +229,8 @@ TrainJobResult train_on_dataset(cl::Runtime& rt, const dataset::Dataset& ds, Tra
     spdlog::warn("{}", out.model.metadata.subject_problem);
     if (!plan.train.snapshot_path.empty()) out.model.save(plan.train.snapshot_path);
   }
+  // The model is complete: its checkpoints are of no more use (kept after an interrupt, to resume).
+  if (!out.result.interrupted && !job.keep_checkpoint) remove_checkpoints(plan.train.checkpoint_path);
   return out;
 }
 

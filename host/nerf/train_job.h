@@ -44,6 +44,14 @@ struct TrainJob {
   // the room-explained clearing and keep that model when it is whole; holes that remain become the
   // model's subject_problem (on the first model, which keeps the clearing's cleaner room).
   bool retrain_on_holes = true;
+  // The training checkpoint (checkpoint.h, train_resume.h) at train.checkpoint_path, or beside the
+  // snapshot: Off trains from step 0 (writing over it); Required (train --resume) continues from it
+  // when it is there and refuses one that is corrupt or of another training; IfValid (the service)
+  // continues from a matching one and trains from step 0, with a warning, otherwise.
+  enum class Resume { Off, IfValid, Required } resume = Resume::Off;
+  // The checkpoints stay when the training completes: the caller removes them once the model is in
+  // place (the service's stage, after its rename). Otherwise they go when the model is complete.
+  bool keep_checkpoint = false;
 };
 
 struct TrainJobResult {

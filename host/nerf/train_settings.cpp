@@ -7,6 +7,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "host/nerf/checkpoint.h"
 #include "host/util/bounds.h"
 #include "host/util/output_folder.h"
 
@@ -90,6 +91,7 @@ TrainJob train_job(const TrainSettings& s) {
   to.loss_kind = s.linear_loss ? LOSS_L2_LINEAR : LOSS_L2_SRGB;
   to.snapshot_path = s.output;
   to.snapshot_every_seconds = s.snapshot_every;
+  job.resume = s.resume ? TrainJob::Resume::Required : TrainJob::Resume::Off;
   to.progress = s.progress;
   return job;
 }
@@ -108,6 +110,20 @@ std::optional<Aabb> parse_aabb(const std::string& text) {
   }
   if (!box.valid()) throw OutOfRange("--aabb: max must exceed min on every axis");
   return box;
+}
+
+void refuse_overwrite(const TrainSettings& s, bool force, const std::string& force_flag,
+                      const std::string& resume_flag) {
+  namespace fs = std::filesystem;
+  const std::string ckpt = checkpoint_path_for(s.output);
+  const bool has_ckpt = fs::exists(ckpt);
+  if (has_ckpt && !s.resume && !force)
+    throw std::runtime_error(fmt::format(
+        "'{}' holds an unfinished training of '{}': pass {} to continue it, or {} to train from the start",
+        ckpt, s.output, resume_flag, force_flag));
+  if (fs::exists(s.output) && !force && !(s.resume && has_ckpt))
+    throw std::runtime_error(
+        fmt::format("'{}' exists: pass {} to overwrite it or choose another output", s.output, force_flag));
 }
 
 void refuse_output_onto_dataset(const std::string& output, const std::string& data) {

@@ -31,7 +31,10 @@ struct TrainSettings {
   float aabb_scale = 0.0f, step = 0.0f;
   uint32_t finest_res = 0, log2_table = 0, levels = 0, occ_res = 0;
   float lr = 1e-2f;
-  double snapshot_every = 120.0;         // seconds; 0: only at the end
+  double snapshot_every = 120.0;  // seconds; 0: only at the end
+  // Continue from the training checkpoint beside the output (OUTPUT.ckpt) when there is one
+  // (train_resume.h); a corrupt one or one of another training is refused.
+  bool resume = false;
   BackgroundOptions room;                // the room model's prior and clearing weights
   uint32_t downscale = 1, max_side = 0;  // image loading; max_side 0: no limit
 };
@@ -43,6 +46,14 @@ void validate(const TrainSettings& settings);
 // Throws when the model file `output` would be written over a file of the dataset `data` (the
 // descriptor itself, or a JSON file in the dataset's folder), even with --force.
 void refuse_output_onto_dataset(const std::string& output, const std::string& data);
+
+// Throws unless the training may write its model and checkpoint (checkpoint.h): an existing model is
+// overwritten only with `force`, or by `resume` when its training's checkpoint is beside it (the
+// model is that training's snapshot); a checkpoint there is an unfinished training, never written
+// over without `resume` or `force`. `force_flag` and `resume_flag` name the front end's flags in the
+// messages ("--force", "force=True").
+void refuse_overwrite(const TrainSettings& settings, bool force, const std::string& force_flag,
+                      const std::string& resume_flag);
 
 // The training split's LoadOptions (downscale, max_side, the kTrainImageBytes cap). Validates.
 dataset::LoadOptions train_load_options(const TrainSettings& settings);

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <filesystem>
 
 #include "host/util/interrupt.h"
 #include "host/util/progress.h"
@@ -239,6 +240,9 @@ void Trainer::diverged(double loss, uint64_t at_step) {
     if (save_snapshot(elapsed_)) where = "saved to '" + options_.snapshot_path + "'";
     step_ = bad_step;
   }
+  // Resuming would take the same steps to the same divergence: the checkpoint is of no use.
+  std::error_code ignored;  // the divergence is the error to report
+  if (!options_.checkpoint_path.empty()) std::filesystem::remove(options_.checkpoint_path, ignored);
   throw TrainingDiverged(fmt::format(
       "training diverged: the loss became {} at step {}; kept the last good parameters (step {}), {}. "
       "Lower the learning rate (--lr, now {}) and train again",
@@ -269,6 +273,7 @@ TrainResult Trainer::run() {
       candidate.clear();
     }
     result.loss_curve.push_back(loss);
+    last_loss_ = loss;
     mse_ema = mse_ema < 0.0 ? loss : 0.95 * mse_ema + 0.05 * loss;
     double now = std::chrono::duration<double>(clock::now() - start).count();
     if (options_.on_step) options_.on_step(done, now, loss);
@@ -280,7 +285,7 @@ TrainResult Trainer::run() {
                              100.0 * model_.occupancy().occupied_fraction()));
   };
   while (true) {
-    elapsed_ = std::chrono::duration<double>(clock::now() - start).count();
+    elapsed_ = resumed_elapsed_ + std::chrono::duration<double>(clock::now() - start).count();
     if (by_steps && step_ >= options_.steps) break;
     if (options_.seconds > 0.0 && elapsed_ >= options_.seconds) break;
     if (interrupted()) {
@@ -305,7 +310,9 @@ TrainResult Trainer::run() {
     if (options_.snapshot_every_seconds > 0.0 &&
         std::chrono::duration<double>(clock::now() - last_snapshot).count() >
             options_.snapshot_every_seconds) {
-      save_snapshot(std::chrono::duration<double>(clock::now() - start).count());
+      const double elapsed = resumed_elapsed_ + std::chrono::duration<double>(clock::now() - start).count();
+      save_snapshot(elapsed);
+      save_checkpoint(elapsed);
       last_snapshot = clock::now();
     }
   }
@@ -315,10 +322,11 @@ TrainResult Trainer::run() {
   if (options_.progress) bar.finish(fmt::format("{} steps in {:.1f} s", step_, result.seconds));
   result.steps = step_;
   result.samples = samples_;
-  result.final_loss = result.loss_curve.empty() ? 0.0 : result.loss_curve.back();
+  result.final_loss = result.loss_curve.empty() ? last_loss_ : result.loss_curve.back();
   model_.metadata.final_loss = float(result.final_loss);
-  if (!save_snapshot(result.seconds) && !options_.snapshot_path.empty())
+  if (!save_snapshot(resumed_elapsed_ + result.seconds) && !options_.snapshot_path.empty())
     spdlog::warn("no training step finished: nothing was saved to '{}'", options_.snapshot_path);
+  save_checkpoint(resumed_elapsed_ + result.seconds);
   return result;
 }
 

@@ -17,6 +17,7 @@
 
 #include "host/field/field_config.h"
 #include "host/nerf/background_field.h"
+#include "host/nerf/checkpoint.h"
 #include "host/nerf/model.h"
 #include "host/nerf/occupancy_update.h"
 #include "host/nerf/ray_batch.h"
@@ -38,6 +39,10 @@ struct TrainOptions {
   BackgroundOptions background;  // a room model behind the subject (mask-less captures)
   std::string snapshot_path;     // periodic / final / last-good snapshots ("" = none)
   double snapshot_every_seconds = 120.0;
+  // The training checkpoint (checkpoint.h), written with every snapshot and at the end ("" = none),
+  // and the training it belongs to.
+  std::string checkpoint_path;
+  CheckpointKey checkpoint_key;
   uint32_t good_copy_every = 50;  // steps between in-memory copies of the parameters for NaN recovery
   bool progress = true;
   // Called once per step with (steps done, seconds, that step's loss); for benchmarks, tests and
@@ -91,13 +96,18 @@ class Trainer {
   const BackgroundField* background() const { return background_.get(); }
   // For callers that drive step() themselves: the training time so far (learning-rate schedule).
   void set_elapsed(double seconds) { elapsed_ = seconds; }
+  // The whole state the next step depends on (checkpoint.h), and its restoration before run():
+  // run() then continues at the checkpoint's step and takes the steps the stopped training would have.
+  TrainingState state() const;
+  void restore(const TrainingState& state);
 
  private:
   double run_fraction(double elapsed) const;  // of the steps or seconds, whichever is further
   float learning_rate(double elapsed) const;
   RayPriors opacity_prior() const;  // the room model's opacity prior now (its weight ramps in)
   [[noreturn]] void diverged(double loss, uint64_t at_step);
-  bool save_snapshot(double elapsed);  // false when nothing was saved (no path, or no step trained)
+  bool save_snapshot(double elapsed);    // false when nothing was saved (no path, or no step trained)
+  void save_checkpoint(double elapsed);  // the state to options_.checkpoint_path (when set)
 
   NerfModel& model_;
   TrainOptions options_;
@@ -113,6 +123,8 @@ class Trainer {
   uint32_t n_rays_;
   uint64_t samples_ = 0, rays_ = 0;
   double elapsed_ = 0.0;
+  double resumed_elapsed_ = 0.0;  // training seconds before run() (a restored checkpoint's)
+  double last_loss_ = 0.0;        // the last step loss known (kept by checkpoints)
   std::vector<float> good_params_;
   OccupancyGrid good_occupancy_;
   uint64_t good_step_ = 0;

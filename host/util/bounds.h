@@ -192,6 +192,8 @@ inline constexpr Bound kJobTrainSteps{"--train-steps", "", kTrainSteps.lo, kTrai
                                       "training steps; 0: the default"};
 inline constexpr Bound kJobBatchLog2{"--train-batch-log2", "", kBatchLog2.lo, kBatchLog2.hi,
                                      "log2 of the samples per step; 0: the device's"};
+inline constexpr Bound kJobTrainSnapshot{"train_snapshot_seconds", "", kSnapshotEvery.lo, kSnapshotEvery.hi,
+                                         "seconds between training checkpoints; 0: at the end"};
 inline constexpr Bound kJobTrainSide{"train_max_side", "", kMaxSide.lo, kMaxSide.hi, kMaxSide.what};
 inline constexpr Bound kJobFitViews{"--fit-views", "", kFitViews.lo, kFitViews.hi, kFitViews.what};
 inline constexpr Bound kJobFitResolution{"--fit-resolution", "", kFitResolution.lo, kFitResolution.hi,

@@ -57,9 +57,7 @@ pyb::object run_train(const TrainArgs& a) {
   const nerf::TrainSettings& s = a.settings;
   nerf::validate(s);
   nerf::refuse_output_onto_dataset(s.output, a.data);
-  if (std::filesystem::exists(s.output) && !a.force)
-    throw std::runtime_error("'" + s.output +
-                             "' exists: pass force=True to overwrite it or choose another output");
+  nerf::refuse_overwrite(s, a.force, "force=True", "resume=True");
   if (!std::filesystem::exists(a.data)) require_file(a.data, "dataset");
   auto model = std::make_shared<Model>();
   model->device = device_for(a.device);
@@ -108,7 +106,7 @@ void bind_train(pyb::module_& m) {
       [](const std::string& data, const std::string& output, pyb::object steps, pyb::object seconds,
          pyb::object progress, pyb::object seed, pyb::object batch_log2, const std::string& box,
          const std::string& background, bool deterministic, pyb::object max_side, pyb::object downscale,
-         bool force, bool show_progress, const std::string& device, pyb::object hair_mm) {
+         bool force, bool show_progress, const std::string& device, pyb::object hair_mm, bool resume) {
         namespace b = bounds;
         TrainArgs a;
         nerf::TrainSettings& s = a.settings;
@@ -122,6 +120,7 @@ void bind_train(pyb::module_& m) {
         s.downscale = uint32_t(count_arg(downscale, b::kDownscale));
         if (!hair_mm.is_none()) s.hair_mm = number_arg(hair_mm, b::kHairMm);
         s.progress = show_progress;
+        s.resume = resume;
         return run_train(a);
       },
       pyb::arg("dataset"), pyb::arg("output"), pyb::arg("steps") = pyb::none(),
@@ -129,7 +128,7 @@ void bind_train(pyb::module_& m) {
       pyb::arg("batch_log2") = 0, pyb::arg("box") = "auto", pyb::arg("background") = "auto",
       pyb::arg("deterministic") = false, pyb::arg("max_side") = 0, pyb::arg("downscale") = 1,
       pyb::arg("force") = false, pyb::arg("show_progress") = false, pyb::arg("device") = "",
-      pyb::arg("hair_mm") = pyb::none(),
+      pyb::arg("hair_mm") = pyb::none(), pyb::arg("resume") = false,
       "`lorgnette train DATASET -o OUTPUT`: trains and saves the snapshot, returns the Model (its "
       "`train_info` dict: steps, seconds, final_loss, stopped, budget, loss_curve). steps (1..1e7) and "
       "seconds (0.1 .. a week) left out: the size-based default budget. hair_mm: `--hair` (0..300, default "
@@ -137,7 +136,9 @@ void bind_train(pyb::module_& m) {
       "by half of what exceeds 30). Images that would hold more than 1.5 GB in memory are shrunk to fit (a "
       "warning says to what; max_side sets it). A number outside its range raises lorgnette.RangeError with "
       "the CLI's message. progress(step, seconds, loss) is called after every step (GIL held only then); "
-      "returning False stops cleanly (the snapshot is saved, train_info['stopped']).");
+      "returning False stops cleanly (the snapshot is saved, train_info['stopped']). The training checkpoint "
+      "OUTPUT.ckpt (docs/file-formats.md) is written with the snapshots: resume=True continues a stopped "
+      "training from it (same dataset and settings; `train --resume`).");
 }
 
 }  // namespace lorgnette::py

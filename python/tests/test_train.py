@@ -46,3 +46,23 @@ def test_train_releases_the_gil_and_refuses_to_overwrite(work, dataset):
         lorgnette.train(str(dataset), str(out), steps=10)
     with pytest.raises(FileNotFoundError):
         lorgnette.train(str(work / "no-dataset"), str(work / "x.lnerf"), steps=10)
+
+
+def test_a_stopped_training_resumes_from_its_checkpoint(work, dataset):
+    out = work / "resumed.lnerf"
+    stopped = lorgnette.train(str(dataset), str(out), steps=20, batch_log2=12, deterministic=True,
+                              progress=lambda step, seconds, loss: step < 7)
+    assert stopped.train_info["stopped"] and stopped.train_info["steps"] == 7
+    ckpt = work / "resumed.lnerf.ckpt"
+    assert ckpt.exists()
+    with pytest.raises(lorgnette.Error, match="unfinished training .* resume=True"):
+        lorgnette.train(str(dataset), str(out), steps=20, batch_log2=12, deterministic=True)
+    with pytest.raises(lorgnette.Error, match="'steps' \\(20 there, 30 now\\)"):
+        lorgnette.train(str(dataset), str(out), steps=30, batch_log2=12, deterministic=True, resume=True)
+    model = lorgnette.train(str(dataset), str(out), steps=20, batch_log2=12, deterministic=True, resume=True)
+    info = model.train_info
+    assert info["steps"] == 20 and not info["stopped"] and len(info["loss_curve"]) == 13
+    assert not ckpt.exists()  # the model is complete
+    straight = lorgnette.train(str(dataset), str(work / "straight.lnerf"), steps=20, batch_log2=12,
+                               deterministic=True)
+    assert straight.train_info["loss_curve"][7:] == info["loss_curve"]

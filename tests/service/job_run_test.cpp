@@ -1,10 +1,13 @@
 // `lorgnette job run` as a worker process over a capture folder: a job trains and finishes, a second
 // run skips the stages already done (same bytes), a bad upload fails with the capture's own message
 // and leaves no stage output, a worker killed during training leaves no model and the rerun
-// finishes, a fit that finds no face fails the job with the fit's message at the fit stage, and
-// SIGTERM during a fit hands the job back instead of failing it.
+// resumes from the training checkpoint and finishes, a fit that finds no face fails the job with the fit's
+// message at the fit stage, and SIGTERM during a fit hands the job back instead of failing it.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <signal.h>
+
+#include <optional>
 
 #include "host/nerf/snapshot.h"
 #include "service/job_settings.h"
@@ -19,7 +22,8 @@ namespace {
 
 // A capture folder whose capture stage already ran (the tiny dataset in dataset/), so the test
 // trains without COLMAP; `steps` of 2^12 samples.
-fs::path captured_job(uint64_t steps, const std::string& catalogue = "", int fit_resolution = 64) {
+fs::path captured_job(uint64_t steps, const std::string& catalogue = "", int fit_resolution = 64,
+                      double snapshot_seconds = 60.0) {
   fs::path job = test_dir("service_job");
   fs::copy(tiny_dataset(), job / "dataset", fs::copy_options::recursive);
   JobSettings s;
@@ -28,6 +32,7 @@ fs::path captured_job(uint64_t steps, const std::string& catalogue = "", int fit
   s.catalogue = catalogue;
   s.fit_views = 4;
   s.fit_resolution = fit_resolution;
+  s.train_snapshot_seconds = snapshot_seconds;
   write_job_settings(job / "job.json", s);
   return job;
 }
@@ -76,25 +81,45 @@ TEST(JobRun, NoUploadFailsSayingWhatToUpload) {
   EXPECT_NE(p["message"].get<std::string>().find("upload a video"), std::string::npos) << p["message"];
 }
 
-TEST(JobRun, AWorkerKilledDuringTrainingLeavesNoModelAndTheRerunFinishes) {
-  fs::path job = captured_job(200);
+// The step a worker's log says training resumed at ("resuming at step N of M"), or nothing.
+std::optional<uint64_t> resumed_at(const std::string& log, uint64_t of) {
+  const std::string tail = fmt::format(" of {} ", of);
+  const size_t at = log.find("resuming at step ");
+  if (at == std::string::npos) return std::nullopt;
+  const size_t num = at + std::string("resuming at step ").size();
+  if (log.compare(log.find(' ', num), tail.size(), tail) != 0) return std::nullopt;
+  return std::stoull(log.substr(num));
+}
+
+TEST(JobRun, AWorkerKilledDuringTrainingLeavesNoModelAndTheRerunResumesAndFinishes) {
+  fs::path job = captured_job(200, "", 64, 2.0);
   {
-    ChildProcess worker({LGN_CLI_PATH, "job", "run", job.string()}, (job / "worker.log").string());
-    // Killed once training has reported progress (its partial folder exists by then).
+    ChildProcess worker({LGN_CLI_PATH, "job", "run", job.string()}, (job / "killed.log").string());
+    // Killed once training has reported progress and written a checkpoint (outside its partial folder).
     ASSERT_TRUE(wait_for(
         [&] {
           auto p = read_progress(job / "progress.json");
-          return p && p->stage == "train" && p->percent > 21.0;
+          return p && p->stage == "train" && p->percent > 21.0 && fs::exists(job / "train.ckpt");
         },
         120.0))
-        << read_file(job / "worker.log");
+        << read_file(job / "killed.log");
     worker.signal(SIGKILL);
     ChildEnd end = worker.wait();
     EXPECT_EQ(end.signal, SIGKILL);
   }
   EXPECT_FALSE(fs::exists(job / "model"));
+  ASSERT_TRUE(fs::exists(job / "train.ckpt"));
   ASSERT_EQ(job_run(job), 0) << read_file(job / "worker.log");
+  // The retry took up the training where the checkpoint left it, not at step 0, and trained to the
+  // budget once: the model holds 200 steps and the checkpoint is gone with the finished stage.
+  const std::string log = read_file(job / "worker.log");
+  const std::optional<uint64_t> from = resumed_at(log, 200);
+  ASSERT_TRUE(from.has_value()) << log;
+  EXPECT_GT(*from, 0u);
+  EXPECT_LT(*from, 200u);
+  EXPECT_EQ(read_file(job / "killed.log").find("resuming at step"), std::string::npos);
   EXPECT_FALSE(fs::exists(partial_path(job / "model")));
+  EXPECT_FALSE(fs::exists(job / "train.ckpt"));
   EXPECT_EQ(lorgnette::nerf::read_snapshot((job / "model" / "head.lnerf").string()).metadata.steps, 200u);
   EXPECT_EQ(read_json(job / "progress.json")["state"], "finished");
 }

@@ -1,8 +1,9 @@
 // The local executor with real worker processes (`lorgnette job run`) and a real SQLite store: a
-// queued job runs to finished; a worker SIGKILLed during training is retried and finishes (two
-// attempts, the model trained once to its full budget); after a "restart" (a new executor on the
-// same store) running jobs are handed back to the queue and finish, finished ones stay finished;
-// a job whose stage fails ends failed with the product's message and is not retried.
+// queued job runs to finished; a worker SIGKILLed during training is retried, resumes from the
+// training checkpoint and finishes (two attempts, the model trained once to its full budget); after
+// a "restart" (a new executor on the same store) running jobs are handed back to the queue and
+// finish, finished ones stay finished; a job whose stage fails ends failed with the product's
+// message and is not retried.
 #include "service/local_executor.h"
 
 #include <gtest/gtest.h>
@@ -36,13 +37,15 @@ ExecutorEnv make_setup() {
 }
 
 // A queued capture whose capture stage is done (the tiny dataset), training `steps` of 2^12.
-void add_job(ExecutorEnv& s, const std::string& id, uint64_t steps, JobState state = JobState::Queued) {
+void add_job(ExecutorEnv& s, const std::string& id, uint64_t steps, JobState state = JobState::Queued,
+             double snapshot_seconds = 60.0) {
   fs::path job = s.data / "captures" / id;
   fs::create_directories(job);
   fs::copy(tiny_dataset(), job / "dataset", fs::copy_options::recursive);
   JobSettings js;
   js.train_steps = steps;
   js.train_batch_log2 = 12;
+  js.train_snapshot_seconds = snapshot_seconds;
   write_job_settings(job / "job.json", js);
   CaptureRecord r;
   r.id = id, r.token_hash = "x", r.state = state, r.created_unix = unix_now(), r.queued_unix = unix_now();
@@ -76,14 +79,15 @@ TEST(LocalExecutor, RunsAQueuedJobToFinished) {
 
 TEST(LocalExecutor, AWorkerKilledDuringTrainingIsRetriedAndFinishes) {
   ExecutorEnv s = make_setup();
-  add_job(s, "job2", 200);
+  add_job(s, "job2", 200, JobState::Queued, 2.0);
   LocalExecutor ex(*s.store, s.options);
   const fs::path progress = s.data / "captures/job2/progress.json";
   ASSERT_TRUE(wait_for(
       [&] {
         ex.tick();
         auto p = read_progress(progress);
-        return p && p->stage == "train" && p->percent > 21.0;
+        return p && p->stage == "train" && p->percent > 21.0 &&
+               fs::exists(s.data / "captures/job2/train.ckpt");
       },
       120.0));
   const pid_t pid = ex.worker_pid("job2");
@@ -101,6 +105,11 @@ TEST(LocalExecutor, AWorkerKilledDuringTrainingIsRetriedAndFinishes) {
   EXPECT_EQ(s.store->get("job2")->attempts, 2);
   auto snap = lorgnette::nerf::read_snapshot((s.data / "captures/job2/model/head.lnerf").string());
   EXPECT_EQ(snap.metadata.steps, 200u);  // one whole training, not two halves
+  // The retry resumed from the training checkpoint the killed worker left (both attempts append to
+  // worker.log), so no step was trained twice; the checkpoint went with the finished stage.
+  const std::string log = read_file(s.data / "captures/job2/worker.log");
+  EXPECT_NE(log.find("resuming at step "), std::string::npos) << log;
+  EXPECT_FALSE(fs::exists(s.data / "captures/job2/train.ckpt"));
 }
 
 TEST(LocalExecutor, AfterARestartRunningJobsAreRequeuedAndFinishedOnesStay) {

@@ -307,6 +307,28 @@ TEST(Cli, TrainChecksTheModelFolderBeforeAnyWork) {
   EXPECT_FALSE(fs::exists(d / "full" / "head.lnerf"));
 }
 
+// A training checkpoint beside the model is an unfinished training: a new training without --resume
+// is refused before any work (nothing of it is written over), as is --resume onto a model that has
+// no checkpoint (it would be written over); the dataset does not exist, so a later check would
+// complain about it instead.
+TEST(Cli, TrainRefusesToWriteOverAnUnfinishedTrainingWithoutResume) {
+  fs::path d = test_dir();
+  write_file(d / "head.lnerf.ckpt", "a checkpoint");
+  CliResult r = cli(d, "train no-such-dataset -o head.lnerf");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_CONTAINS(r.err, "'head.lnerf.ckpt' holds an unfinished training of 'head.lnerf': pass --resume");
+  EXPECT_EQ(lt::read(d / "head.lnerf.ckpt"), "a checkpoint");
+  r = cli(d, "train no-such-dataset -o head.lnerf --resume");  // taken: the dataset is what fails
+  EXPECT_EQ(r.status, 1);
+  EXPECT_EQ(r.err.find("unfinished training"), std::string::npos) << r.err;
+  fs::remove(d / "head.lnerf.ckpt");
+  write_file(d / "head.lnerf", "a model");
+  r = cli(d, "train no-such-dataset -o head.lnerf --resume");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_CONTAINS(r.err, "'head.lnerf' exists: pass --force");
+  EXPECT_EQ(lt::read(d / "head.lnerf"), "a model");
+}
+
 TEST(Cli, GlassesPreviewOnAFullDiskIsAnError) {
   fs::path d = test_dir();
   CliResult r = cli(d, "glasses make -o frame.glb");

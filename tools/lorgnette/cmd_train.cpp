@@ -11,6 +11,7 @@
 
 #include "capture/subject_box.h"
 #include "capture/train_request.h"
+#include "host/nerf/checkpoint.h"
 #include "host/nerf/train_job.h"
 #include "host/nerf/train_settings.h"
 #include "host/util/file_write.h"
@@ -49,8 +50,7 @@ void run_train(TrainArgs& a, GlobalOptions& global) {
   s.progress = !global.quiet;
   nerf::validate(s);
   nerf::refuse_output_onto_dataset(s.output, a.data);
-  if (std::filesystem::exists(s.output) && !a.force)
-    throw std::runtime_error("'" + s.output + "' exists: pass --force to overwrite it or choose another -o");
+  nerf::refuse_overwrite(s, a.force, "--force", "--resume");
   check_model_output(s.output);
   capture::TrainRequest req = capture::prepare_training(a.data, s);
   if (interrupted())
@@ -63,7 +63,10 @@ void run_train(TrainArgs& a, GlobalOptions& global) {
     spdlog::warn("interrupted before the first training step: nothing was saved ('{}' is unchanged)",
                  s.output);
   else if (r.interrupted)
-    spdlog::warn("interrupted after {} steps: the model so far is saved in '{}'", r.steps, s.output);
+    spdlog::warn(
+        "interrupted after {} steps: the model so far is saved in '{}'; the same command with --resume "
+        "continues the training (from '{}')",
+        r.steps, s.output, nerf::checkpoint_path_for(s.output));
   else
     spdlog::info("trained {} steps ({} samples) in {:.1f} s ({}); saved '{}'", r.steps, r.samples, r.seconds,
                  out.budget, s.output);
@@ -85,6 +88,9 @@ void add_train(CLI::App& app, GlobalOptions& global) {
   cmd->add_flag("--deterministic", a->settings.deterministic,
                 "bitwise reproducible (same seed, same device)");
   cmd->add_flag("--force", a->force, "overwrite an existing model file");
+  cmd->add_flag("--resume", a->settings.resume,
+                "continue from the training checkpoint beside the output (OUTPUT.ckpt, written with every "
+                "snapshot) when there is one; it must be of the same data and settings");
   cmd->add_option("--batch-log2", a->settings.batch_log2,
                   "log2 of the samples per step, 10..22 (default: 18 on a GPU, 16 otherwise)");
   cmd->add_option("--lr", a->settings.lr, "base learning rate (default 1e-2)");
@@ -145,7 +151,7 @@ void add_train(CLI::App& app, GlobalOptions& global) {
   cmd->add_flag("--no-masks", a->no_masks, "ignore alpha masks when sizing the box");
   cmd->add_flag("--linear-loss", a->settings.linear_loss, "L2 on linear instead of sRGB colour");
   cmd->add_option("--snapshot-every", a->settings.snapshot_every,
-                  "seconds between snapshots (0: only at the end)");
+                  "seconds between snapshots and training checkpoints (OUTPUT.ckpt; 0: only at the end)");
   cmd->callback([a, &global] { run_train(*a, global); });
 }
 
