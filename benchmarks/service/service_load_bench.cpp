@@ -17,6 +17,7 @@
 //        [--db postgresql://...] [--video FILE] [--capture-fps 0 --capture-max-side 0 (the defaults)]
 #include <fmt/format.h>
 #include <signal.h>
+#include <unistd.h>
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
@@ -151,6 +152,7 @@ struct Job {
   // From the job's folder after the run (check_folders): the fit stage split into the placement
   // (from the model file's time to placement.json's) and the try-on pictures (to views.json's).
   double fit_only_s = 0, tryon_s = 0;
+  std::map<std::string, double> cpu_s;  // CPU seconds of its worker by stage (MemoryMonitor)
 };
 
 double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
@@ -222,11 +224,14 @@ void write_outputs(const Args& a, const std::vector<Job>& jobs, nlohmann::json s
   for (size_t i = 0; i < jobs.size(); ++i) {
     const Job& j = jobs[i];
     auto st = [&](const char* s) { return j.stage_s.count(s) ? j.stage_s.at(s) : 0.0; };
+    auto cpu = [&](const char* s) { return j.cpu_s.count(s) ? j.cpu_s.at(s) : 0.0; };
     rows.push_back({std::to_string(i + 1), j.id, j.state, std::to_string(j.attempts),
                     fmt::format("{:.2f}", j.upload_s), fmt::format("{:.2f}", j.queue_wait_s),
                     fmt::format("{:.2f}", st("capture")), fmt::format("{:.2f}", st("train")),
                     fmt::format("{:.2f}", st("fit")), fmt::format("{:.2f}", j.fit_only_s),
-                    fmt::format("{:.2f}", j.tryon_s), fmt::format("{:.2f}", j.total_s)});
+                    fmt::format("{:.2f}", j.tryon_s), fmt::format("{:.2f}", j.total_s),
+                    fmt::format("{:.2f}", cpu("capture")), fmt::format("{:.2f}", cpu("train")),
+                    fmt::format("{:.2f}", cpu("fit"))});
     const double x = double(i + 1);
     for (auto [series, v] : std::vector<std::pair<lorgnette::ChartSeries*, double>>{{&wait, j.queue_wait_s},
                                                                                     {&cap, st("capture")},
@@ -235,10 +240,11 @@ void write_outputs(const Args& a, const std::vector<Job>& jobs, nlohmann::json s
                                                                                     {&total, j.total_s}})
       series->x.push_back(x), series->y.push_back(v);
   }
-  lorgnette::write_csv(a.out + "/jobs.csv",
-                       {"shopper", "id", "state", "attempts", "upload_s", "queue_wait_s", "capture_s",
-                        "train_s", "fit_s", "fit_placement_s", "fit_tryon_pictures_s", "total_s"},
-                       rows);
+  lorgnette::write_csv(
+      a.out + "/jobs.csv",
+      {"shopper", "id", "state", "attempts", "upload_s", "queue_wait_s", "capture_s", "train_s", "fit_s",
+       "fit_placement_s", "fit_tryon_pictures_s", "total_s", "capture_cpu_s", "train_cpu_s", "fit_cpu_s"},
+      rows);
   lorgnette::write_chart(
       a.out + "/jobs.png",
       {fmt::format("{} shoppers, {} worker slot(s): seconds per job", jobs.size(), a.workers),
@@ -356,8 +362,41 @@ std::pair<std::unique_ptr<ChildProcess>, uint16_t> start_server(const Args& a) {
 }
 
 // Peak resident memory of the server and of its workers, sampled every 0.2 s until stopped.
+// CPU seconds (user + system, its reaped children such as COLMAP and ffmpeg included) that process
+// `pid` has used so far, from /proc/<pid>/stat; -1 when it is gone.
+double cpu_seconds(pid_t pid) {
+  const std::string stat = read_text(fmt::format("/proc/{}/stat", pid));
+  const size_t paren = stat.rfind(')');
+  if (paren == std::string::npos) return -1.0;
+  std::istringstream in(stat.substr(paren + 2));
+  std::string field;
+  double ticks = 0;
+  for (int i = 3; i <= 17 && in >> field; ++i)  // fields 14-17: utime stime cutime cstime
+    if (i >= 14) ticks += std::stod(field);
+  return ticks / double(sysconf(_SC_CLK_TCK));
+}
+
+// The job a worker runs (the last word of `job run FOLDER`) and the stage its progress.json names.
+std::pair<std::string, std::string> worker_job_stage(pid_t pid) {
+  const std::string cmd = read_text(fmt::format("/proc/{}/cmdline", pid));
+  std::vector<std::string> words;
+  for (size_t at = 0; at < cmd.size();) {
+    const size_t end = cmd.find('\0', at);
+    words.push_back(cmd.substr(at, end - at));
+    at = end == std::string::npos ? cmd.size() : end + 1;
+  }
+  if (words.size() < 3 || words[words.size() - 3] != "job") return {"", ""};
+  const fs::path folder = words.back();
+  const auto p = nlohmann::json::parse(read_text(folder / "progress.json"), nullptr, false);
+  return {folder.filename().string(), p.is_discarded() ? "" : p.value("stage", "")};
+}
+
+// Peak memory of the server and its workers, the load average, and each worker's CPU seconds by the
+// job and stage it was in, sampled every 0.2 s until stopped.
 struct MemoryMonitor {
   pid_t server;
+  std::map<pid_t, double> cpu_seen;                                 // per worker, at its last sample
+  std::map<std::string, std::map<std::string, double>> cpu_by_job;  // job id -> stage -> CPU seconds
   std::atomic<bool> stop{false};
   double server_peak_kb = 0, worker_peak_kb = 0, workers_total_peak_kb = 0;
   double load_sum = 0, load_max = 0;  // the machine's 1-minute load average, over the samples
@@ -371,6 +410,7 @@ struct MemoryMonitor {
         for (pid_t c : children(server)) {
           const double kb = rss_kb(c);
           worker_peak_kb = std::max(worker_peak_kb, kb), total += kb;
+          sample_cpu(c);
         }
         workers_total_peak_kb = std::max(workers_total_peak_kb, total);
         double load = 0;
@@ -380,9 +420,18 @@ struct MemoryMonitor {
       }
     });
   }
-  ~MemoryMonitor() {
+  ~MemoryMonitor() { finish(); }
+  void finish() {
     stop = true;
-    thread.join();
+    if (thread.joinable()) thread.join();
+  }
+  void sample_cpu(pid_t c) {
+    const double now = cpu_seconds(c);
+    const auto [job, stage] = worker_job_stage(c);
+    if (now < 0 || job.empty()) return;
+    const double before = cpu_seen.count(c) ? cpu_seen[c] : 0.0;
+    cpu_by_job[job][stage.empty() ? "start" : stage] += now - before;
+    cpu_seen[c] = now;
   }
 };
 
@@ -448,6 +497,9 @@ int main(int argc, char** argv) {
       server_peak = mem.server_peak_kb, worker_peak = mem.worker_peak_kb;
       workers_total_peak = mem.workers_total_peak_kb;
       load_mean = mem.load_samples ? mem.load_sum / mem.load_samples : 0.0, load_max = mem.load_max;
+      mem.finish();
+      for (Job& j : jobs)
+        if (mem.cpu_by_job.count(j.id)) j.cpu_s = mem.cpu_by_job[j.id];
     }
     const double wall = since(t0);
     nlohmann::json check = check_store_and_folders(a, admin_metrics(port), jobs);
@@ -468,7 +520,12 @@ int main(int argc, char** argv) {
     server->signal(SIGTERM);
     server->wait();
     double stage_sum = 0;
-    for (const Job& j : jobs) stage_sum += j.total_s - j.queue_wait_s;
+    nlohmann::json cpu_mean = nlohmann::json::object();
+    for (const Job& j : jobs) {
+      stage_sum += j.total_s - j.queue_wait_s;
+      for (const auto& [stage, sec] : j.cpu_s)
+        cpu_mean[stage] = cpu_mean.value(stage, 0.0) + sec / double(jobs.size());
+    }
     nlohmann::json summary = {
         {"shoppers", a.shoppers},
         {"workers", a.workers},
@@ -480,6 +537,7 @@ int main(int argc, char** argv) {
         {"wall_seconds", wall},
         {"jobs_per_hour", finished / wall * 3600.0},
         {"seconds_per_job_in_a_worker_mean", jobs.empty() ? 0 : stage_sum / jobs.size()},
+        {"worker_cpu_seconds_per_job_mean", cpu_mean},
         {"status_requests_per_second", rps},
         {"status_clients", a.status_clients},
         {"server_rss_kb", {{"idle", rss0}, {"peak_under_load", server_peak}, {"after_load", rss1}}},
