@@ -530,7 +530,12 @@ int main(int argc, char** argv) {
         {"shoppers", a.shoppers},
         {"workers", a.workers},
         {"train_steps", a.train_steps},
-        {"video", {{"views", a.views}, {"size", a.size}, {"bytes", video.size()}}},
+        {"video", a.video.empty()
+                      ? nlohmann::json{{"views", a.views}, {"size", a.size}, {"bytes", video.size()}}
+                      : nlohmann::json{{"file", a.video}, {"bytes", video.size()}}},
+        {"capture_fps", a.capture_fps},
+        {"capture_max_side", a.capture_max_side},
+        {"frames", a.frames},
         {"finished", finished},
         {"distinct_ids", ids.size()},
         {"one_worker_start_each", single_start},
