@@ -40,6 +40,7 @@ class Reporter {
   // Writes at most twice a second unless `force` (stage changes and the end are always written).
   void update(const std::string& stage, double percent, const std::string& message, bool force = true) {
     const auto now = Clock::now();
+    if (stage != p_.stage) end_stage(now), stage_start_ = now, force = true;
     if (!force && now - last_ < std::chrono::milliseconds(500)) return;
     last_ = now;
     p_.stage = stage, p_.percent = percent, p_.message = message;
@@ -49,16 +50,21 @@ class Reporter {
   }
   void finish(const std::string& state, const std::string& message) {
     p_.state = state, p_.message = message, p_.eta_seconds = state == "finished" ? 0.0 : -1.0;
-    if (state == "finished") p_.percent = 100.0;
+    if (state == "finished") p_.percent = 100.0, end_stage(Clock::now());
     write_progress(folder_.progress(), p_);
   }
   nlohmann::json& artifacts() { return p_.artifacts; }
 
  private:
   using Clock = std::chrono::steady_clock;
+  // The stage in progress is complete: its seconds into progress.json (a failed one is not counted).
+  void end_stage(Clock::time_point now) {
+    if (!p_.stage.empty())
+      p_.stage_seconds[p_.stage] = std::chrono::duration<double>(now - stage_start_).count();
+  }
   const JobFolder& folder_;
   Progress p_;
-  Clock::time_point start_, last_{};
+  Clock::time_point start_, last_{}, stage_start_{};
 };
 
 void check_interrupt(const char* where) {
