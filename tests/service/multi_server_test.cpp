@@ -48,7 +48,8 @@ int start_held_job(uint16_t port, const fs::path& data, Capture& c) {
   EXPECT_EQ(r.status, 201) << r.body;
   auto j = nlohmann::json::parse(r.body);
   c = {j["id"], j["token"]};
-  EXPECT_EQ(http_request(port, "PUT", "/api/v1/captures/" + c.id + "/video", c.token, broken_mp4()).status, 201);
+  EXPECT_EQ(http_request(port, "PUT", "/api/v1/captures/" + c.id + "/video", c.token, broken_mp4()).status,
+            201);
   const int fd = ::open((data / "captures" / c.id / "job.lock").c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
   EXPECT_EQ(::flock(fd, LOCK_EX), 0);
   EXPECT_EQ(http_request(port, "POST", "/api/v1/captures/" + c.id + "/start", c.token).status, 202);
