@@ -42,7 +42,8 @@ std::vector<std::string> frames_not_fitted(const std::string& catalogue, const n
 fs::path tryon_snapshot(const fs::path& capture_dir) { return capture_dir / "tryon.json"; }
 
 CaptureRecord Api::fit_new_frames(CaptureRecord rec) {
-  if (rec.state != JobState::Finished) return rec;
+  // A server without a catalogue has none to add (and a status request stays one store read).
+  if (rec.state != JobState::Finished || options_.job.catalogue.empty()) return rec;
   const JobFolder f{capture_dir(rec.id)};
   const auto p = read_progress(f.progress());
   if (!p) return rec;
