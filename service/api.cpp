@@ -95,7 +95,7 @@ ApiResponse Api::route(const ApiRequest& rq, BodySource& body) {
     return artifact(rec, path.substr(path.find("/artifacts/") + 11));
   }
   const std::string action = p.size() == 5 ? p[4] : "";
-  if (action.empty() && m == "GET") return status(rec);
+  if (action.empty() && m == "GET") return status(fit_new_frames(rec));
   if (action.empty() && m == "DELETE") return remove(rec);
   if (action == "video" && m == "PUT") return upload(rec, body, rq.content_length, true);
   if (action == "photos" && m == "POST") return upload(rec, body, rq.content_length, false);
@@ -187,6 +187,10 @@ ApiResponse Api::status(const CaptureRecord& rec) {
   const auto p = read_progress(JobFolder{capture_dir(rec.id)}.progress());
   if (p && rec.state == JobState::Running && p->eta_seconds >= 0) j["eta_seconds"] = p->eta_seconds;
   if (p && rec.state == JobState::Finished) j["artifacts"] = p->artifacts;
+  // Fitting frames added since it finished: the last finished artifacts, and the frames to come.
+  const auto before =
+      rec.state == JobState::Finished ? std::nullopt : read_progress(tryon_snapshot(capture_dir(rec.id)));
+  if (before) j["artifacts"] = before->artifacts;
   return json_response(200, j);
 }
 

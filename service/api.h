@@ -5,6 +5,8 @@
 //   POST   /api/v1/captures/{id}/photos     one photo (the same checks; up to max_photos)
 //   POST   /api/v1/captures/{id}/start      queue its job -> 202
 //   GET    /api/v1/captures/{id}            its job: state, stage, progress, ETA, message, artifacts
+//                                            (a finished job whose catalogue gained frames since is
+//                                            queued again to fit them: api_refit.cpp)
 //   DELETE /api/v1/captures/{id}            the capture and everything made from it -> 204
 //   GET    /api/v1/queue, /metrics          admin token only (Prometheus text for /metrics)
 //   GET    /api/v1/health                   no token
@@ -19,8 +21,10 @@
 #include <filesystem>
 #include <map>
 #include <mutex>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "service/executor.h"
 #include "service/job_settings.h"
@@ -70,6 +74,11 @@ struct ApiOptions {
   int64_t retention_seconds = 30 * 86400;
 };
 
+// The catalogue's frame names that `artifacts` (a job's) neither fits nor lists as unavailable.
+std::vector<std::string> frames_not_fitted(const std::string& catalogue, const nlohmann::json& artifacts);
+// The last finished progress of a job fitting new frames (api_refit.cpp).
+std::filesystem::path tryon_snapshot(const std::filesystem::path& capture_dir);
+
 class Api {
  public:
   Api(ApiOptions options, JobStore& store, Executor& executor);
@@ -85,6 +94,9 @@ class Api {
   ApiResponse upload(const CaptureRecord& rec, BodySource& body, std::optional<uint64_t> length, bool video);
   ApiResponse start(CaptureRecord rec);
   ApiResponse status(const CaptureRecord& rec);
+  // A finished job with catalogue frames it has neither fitted nor found unavailable: queued again
+  // at its fit stage, its last artifacts kept for the try-on page (api_refit.cpp). Returns the record.
+  CaptureRecord fit_new_frames(CaptureRecord rec);
   ApiResponse remove(const CaptureRecord& rec);
   ApiResponse artifact(const CaptureRecord& rec, const std::string& relative);  // api_shop.cpp
   ApiResponse queue();

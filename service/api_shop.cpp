@@ -46,12 +46,14 @@ std::optional<ApiResponse> shop_page(const std::string& path) {
 }
 
 ApiResponse Api::artifact(const CaptureRecord& rec, const std::string& relative) {
-  if (rec.state != JobState::Finished)
+  const JobFolder f{capture_dir(rec.id)};
+  // A job fitting frames added since it finished serves the files of its last finished run.
+  const bool finished = rec.state == JobState::Finished;
+  const auto p = read_progress(finished ? f.progress() : tryon_snapshot(f.root));
+  if (!finished && !p)
     throw ApiError(
         409, "not_finished",
         fmt::format("this capture's job is {}: its files exist once it is finished", to_string(rec.state)));
-  const JobFolder f{capture_dir(rec.id)};
-  const auto p = read_progress(f.progress());
   std::vector<std::string> listed;
   if (p)
     for (const char* key : {"preview", "views", "fits"})

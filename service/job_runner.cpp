@@ -41,6 +41,7 @@ class Reporter {
   // Writes at most twice a second unless `force` (stage changes and the end are always written).
   void update(const std::string& stage, double percent, const std::string& message, bool force = true) {
     const auto now = Clock::now();
+    if (stage != p_.stage) end_stage(now), stage_start_ = now, force = true;
     if (!force && now - last_ < std::chrono::milliseconds(500)) return;
     last_ = now;
     p_.stage = stage, p_.percent = percent, p_.message = message;
@@ -50,16 +51,21 @@ class Reporter {
   }
   void finish(const std::string& state, const std::string& message) {
     p_.state = state, p_.message = message, p_.eta_seconds = state == "finished" ? 0.0 : -1.0;
-    if (state == "finished") p_.percent = 100.0;
+    if (state == "finished") p_.percent = 100.0, end_stage(Clock::now());
     write_progress(folder_.progress(), p_);
   }
   nlohmann::json& artifacts() { return p_.artifacts; }
 
  private:
   using Clock = std::chrono::steady_clock;
+  // The stage in progress is complete: its seconds into progress.json (a failed one is not counted).
+  void end_stage(Clock::time_point now) {
+    if (!p_.stage.empty())
+      p_.stage_seconds[p_.stage] = std::chrono::duration<double>(now - stage_start_).count();
+  }
   const JobFolder& folder_;
   Progress p_;
-  Clock::time_point start_, last_{};
+  Clock::time_point start_, last_{}, stage_start_{};
 };
 
 void check_interrupt(const char* where) {
@@ -106,34 +112,60 @@ void drop_stale_fit(const fs::path& dir, const nlohmann::json& expected) {
   fs::remove_all(dir);
 }
 
+// Fits one frame and renders its try-on views, or reuses its cached fit; returns the reason when
+// the frame cannot be fitted (its file does not load, no face is found with it, ...): a frame's
+// failure is that frame's, and the job goes on with the others. A stop (SIGTERM) passes on.
+std::optional<std::string> fit_one(const JobFolder& f, const JobSettings& s, cl::Runtime& rt,
+                                   const viewer::FrameEntry& frame, const std::string& model_hash) {
+  try {
+    const std::string key = frame_key(frame.name);
+    const nlohmann::json stamp = made_from(model_hash, frame.path);
+    drop_stale_fit(f.fit_dir(key), stamp);
+    run_stage(f.fit_dir(key), [&](const fs::path& tmp) {
+      fit_frame(rt, f.model(), f.dataset(), frame.path, tmp, s);
+      const auto names = render_tryon_views(rt, f.model(), frame.path, tmp / "placement.json", tmp, s);
+      write_text_file_atomic((tmp / "views.json").string(), nlohmann::json(names).dump() + "\n");
+      write_text_file_atomic((tmp / "made_from.json").string(), stamp.dump() + "\n");
+    });
+    return std::nullopt;
+  } catch (const std::exception& e) {
+    if (interrupted()) throw;
+    spdlog::warn("frame '{}' could not be fitted: {}", frame.name, e.what());
+    return std::string(e.what());
+  }
+}
+
+// Every catalogue frame fitted (artifacts "fits", "views", "preview"); frames that cannot be are
+// listed with the reason under "unavailable". The job fails only when no frame fits at all (then
+// the head, not a frame, is the likely cause: e.g. no face found), with the first frame's reason.
 void fit_stage(const JobFolder& f, const JobSettings& s, cl::Runtime& rt, Reporter& r) {
   if (s.catalogue.empty()) return;
   const std::vector<viewer::FrameEntry> frames = viewer::catalogue_from_dir(s.catalogue);
   const std::string model_hash = fit::file_hash(f.model().string());
   nlohmann::json fits = nlohmann::json::object(), views = nlohmann::json::object();
+  nlohmann::json unavailable = nlohmann::json::object();
+  std::string first_error;
   for (size_t i = 0; i < frames.size(); ++i) {
     check_interrupt("a fit");
     const double pct = kTrainEnd + (kFitEnd - kTrainEnd) * double(i) / double(frames.size());
     r.update("fit", pct, fmt::format("placing frame {} of {} ({})", i + 1, frames.size(), frames[i].name));
-    const std::string key = frame_key(frames[i].name);
-    const nlohmann::json stamp = made_from(model_hash, frames[i].path);
-    drop_stale_fit(f.fit_dir(key), stamp);
-    run_stage(f.fit_dir(key), [&](const fs::path& tmp) {
-      fit_frame(rt, f.model(), f.dataset(), frames[i].path, tmp, s);
-      const auto names = render_tryon_views(rt, f.model(), frames[i].path, tmp / "placement.json", tmp, s);
-      write_text_file_atomic((tmp / "views.json").string(), nlohmann::json(names).dump() + "\n");
-      write_text_file_atomic((tmp / "made_from.json").string(), stamp.dump() + "\n");
-    });
-    const std::string dir = "fits/" + key + "/";
+    if (auto error = fit_one(f, s, rt, frames[i], model_hash)) {
+      unavailable[frames[i].name] = *error;
+      if (first_error.empty()) first_error = *error;
+      continue;
+    }
+    const std::string dir = "fits/" + frame_key(frames[i].name) + "/";
     fits[frames[i].name] = dir + "placement.json";
     views[frames[i].name] = nlohmann::json::array();
-    std::ifstream in(f.fit_dir(key) / "views.json");
+    std::ifstream in(f.fit_dir(frame_key(frames[i].name)) / "views.json");
     for (const auto& n : nlohmann::json::parse(in))
       views[frames[i].name].push_back(dir + n.get<std::string>());
+    if (!r.artifacts().contains("preview")) r.artifacts()["preview"] = views[frames[i].name].at(0);
   }
+  if (fits.empty() && !frames.empty()) throw std::runtime_error(first_error);
   r.artifacts()["fits"] = fits;
   r.artifacts()["views"] = views;
-  if (!frames.empty()) r.artifacts()["preview"] = views[frames[0].name].at(0);
+  r.artifacts()["unavailable"] = unavailable;
 }
 
 // Holds job.lock in the capture folder for the worker's life (flock: released by the kernel when

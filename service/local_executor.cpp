@@ -32,16 +32,21 @@ std::string LocalExecutor::folder(const std::string& id) const {
   return (fs::path(options_.data_dir) / "captures" / id).string();
 }
 
+int LocalExecutor::requeue_adopted() {
+  int n = 0;
+  for (CaptureRecord r : store_.adopt(options_.lease.owner, options_.lease.lease_ms())) {
+    r.state = JobState::Queued;
+    r.message = "handed back to the queue: the server that ran it stopped";
+    r.queued_unix = unix_now();
+    if (store_.update_owned(r, options_.lease.owner.instance)) ++n;
+  }
+  return n;
+}
+
 int LocalExecutor::reconcile() {
   std::lock_guard<std::mutex> lock(mutex_);
-  int n = 0;
-  for (CaptureRecord r : store_.with_state(JobState::Running)) {
-    if (workers_.count(r.id)) continue;
-    r.state = JobState::Queued;
-    r.message = "handed back to the queue after a server restart";
-    store_.update(r);
-    ++n;
-  }
+  last_adopt_ = std::chrono::steady_clock::now();
+  const int n = requeue_adopted();
   if (n) spdlog::info("reconciled {} running job(s) back to the queue", n);
   return n;
 }
@@ -91,29 +96,52 @@ void LocalExecutor::finish(Worker& w, const ChildEnd& end) {
   }
   if (!cause.empty()) metrics_.count_failure(r.stage, cause);
   if (r.state == JobState::Queued) r.queued_unix = unix_now();
-  store_.update(r);
+  if (!store_.update_owned(r, options_.lease.owner.instance)) {
+    spdlog::warn(
+        "job {}: worker ended, but another server has taken the job over (this server's lease "
+        "expired); its result is left to that server",
+        w.id);
+    return;
+  }
   spdlog::info("job {}: worker ended ({} {}), now {}", w.id, end.exited ? "status" : "signal",
                end.exited ? end.code : end.signal, to_string(r.state));
 }
 
-void LocalExecutor::tick() {
-  std::lock_guard<std::mutex> lock(mutex_);
+// Ended workers recorded, running ones' progress copied; a worker whose row is gone (its capture
+// deleted through any server) is killed.
+void LocalExecutor::follow_workers() {
   for (auto it = workers_.begin(); it != workers_.end();) {
     if (auto end = it->second->process.poll()) {
       finish(*it->second, *end);
       it = workers_.erase(it);
       continue;
     }
-    if (auto rec = store_.get(it->first)) {
-      CaptureRecord r = *rec;
-      refresh(r);
-      follow_stage(*it->second, r.stage, false);
-      if (r.stage != rec->stage || r.percent != rec->percent || r.message != rec->message) store_.update(r);
+    auto rec = store_.get(it->first);
+    if (!rec) {
+      spdlog::info("job {}: its capture was deleted; stopping its worker", it->first);
+      it = workers_.erase(it);  // ChildProcess kills and reaps
+      continue;
     }
+    CaptureRecord r = *rec;
+    refresh(r);
+    follow_stage(*it->second, r.stage, false);
+    if (r.stage != rec->stage || r.percent != rec->percent || r.message != rec->message)
+      store_.update_owned(r, options_.lease.owner.instance);
     ++it;
   }
+}
+
+void LocalExecutor::tick() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  follow_workers();
+  const auto now = std::chrono::steady_clock::now();
+  if (now - last_adopt_ >= options_.lease.check_every()) {
+    last_adopt_ = now;
+    if (const int n = requeue_adopted())
+      spdlog::info("{} running job(s) whose server stopped renewing their lease: back to the queue", n);
+  }
   while (!draining_ && int(workers_.size()) < options_.slots) {
-    auto job = store_.claim_next();
+    auto job = store_.claim_next(options_.lease.owner);
     if (!job) break;
     std::vector<std::string> argv{options_.worker_exe};
     argv.insert(argv.end(), options_.global_flags.begin(), options_.global_flags.end());
@@ -125,7 +153,7 @@ void LocalExecutor::tick() {
     } catch (const std::exception& e) {
       job->state = JobState::Failed;
       job->message = e.what();
-      store_.update(*job);
+      store_.update_owned(*job, options_.lease.owner.instance);
       metrics_.count_failure("", "start");
     }
   }

@@ -6,8 +6,11 @@
 //   exit 0 -> finished; exit 1 -> failed with the product's message; exit 75 (interrupted) -> queued;
 //   killed by SIGKILL/SIGTERM/SIGINT (an operator, the OOM killer, a shutdown) -> queued again while
 //   attempts remain; any other signal (a crash) or status -> failed, saying so.
-// After a server restart no worker of the old server is ours: reconcile() hands every job the store
-// says is running back to the queue (each stage resumes after its last finished stage).
+// A job it runs is its own in the store (owner and lease, job_store.h): it writes a running job's
+// row only while it owns it, and kills the worker of a row deleted meanwhile (by any server). At
+// start, reconcile() hands back to the queue the running jobs of its own earlier process (their
+// workers died with it) and those whose lease expired (another server died); tick() keeps doing
+// the latter. Each stage resumes after its last finished stage.
 #pragma once
 #include <chrono>
 #include <map>
@@ -28,6 +31,7 @@ struct LocalExecutorOptions {
   std::string data_dir;                   // capture folders are data_dir/captures/<id>
   std::string worker_exe;                 // the lorgnette binary ("" = this executable)
   std::vector<std::string> global_flags;  // passed before `job run` (e.g. --kernel-cache DIR)
+  LeaseSettings lease;                    // who this server is, and its jobs' lease
 };
 
 class LocalExecutor final : public Executor {
@@ -35,7 +39,8 @@ class LocalExecutor final : public Executor {
   LocalExecutor(JobStore& store, LocalExecutorOptions options);
   ~LocalExecutor();  // kills and reaps running workers (their jobs stay "running" until reconcile)
 
-  // Running jobs (left by a previous server) back to the queue; returns how many.
+  // Adopted running jobs (this server's earlier process's, or with an expired lease) back to the
+  // queue; returns how many.
   int reconcile() override;
   // One pass: record ended workers and the progress of running ones, then start queued jobs in the
   // free slots. Thread-safe; the server calls it from one loop every fraction of a second.
@@ -63,6 +68,8 @@ class LocalExecutor final : public Executor {
   void finish(Worker& w, const ChildEnd& end);
   void follow_stage(Worker& w, const std::string& stage, bool job_finished);
   void refresh(CaptureRecord& r) const;  // the worker's progress.json into the record
+  int requeue_adopted();                 // store_.adopt(), each back to the queue
+  void follow_workers();
   std::string folder(const std::string& id) const;
 
   JobStore& store_;
@@ -70,6 +77,7 @@ class LocalExecutor final : public Executor {
   mutable std::mutex mutex_;
   std::map<std::string, std::unique_ptr<Worker>> workers_;
   bool draining_ = false;
+  std::chrono::steady_clock::time_point last_adopt_{};
   JobMetrics metrics_;
 };
 

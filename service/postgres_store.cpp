@@ -25,6 +25,10 @@ using Result = std::unique_ptr<PGresult, ResultClear>;
 // Any constant shared by every Lorgnette server: the key of the advisory lock around migrations.
 constexpr const char* kMigrationLock = "4237184301";
 
+// The database's clock in milliseconds since 1970 (clock_timestamp: the moment of the call, not the
+// transaction's start): every lease is stamped and compared by it.
+constexpr const char* kNowMs = "(EXTRACT(EPOCH FROM clock_timestamp()) * 1000)::bigint";
+
 std::string trimmed(const char* message) {
   std::string s = message ? message : "";
   while (!s.empty() && (s.back() == '\n' || s.back() == ' ')) s.pop_back();
@@ -38,13 +42,17 @@ class PostgresStore final : public JobStore {
   void insert(const CaptureRecord& r) override;
   std::optional<CaptureRecord> get(const std::string& id) override;
   bool update(const CaptureRecord& r) override;
+  bool update_owned(const CaptureRecord& r, const std::string& owner) override;
   bool remove(const std::string& id) override;
   std::vector<CaptureRecord> with_state(JobState s) override;
   std::vector<std::string> created_before(int64_t unix_seconds) override;
   std::map<JobState, int64_t> count_by_state() override;
-  std::optional<CaptureRecord> claim_next() override;
+  std::optional<CaptureRecord> claim_next(const JobOwner& by) override;
+  int renew_leases(const std::string& owner) override;
+  std::vector<CaptureRecord> adopt(const JobOwner& by, int64_t lease_ms) override;
 
  private:
+  bool update_row(const CaptureRecord& r, const std::string* owner);
   Result exec(const std::string& sql, const std::vector<std::string>& params = {});
   int version_unlocked();
   void migrate();
@@ -145,7 +153,10 @@ std::vector<std::string> PostgresStore::record_params(const CaptureRecord& r) {
           std::to_string(r.created_unix),
           std::to_string(r.updated_unix),
           std::to_string(r.queued_unix),
-          r.executor_job_id};
+          r.executor_job_id,
+          r.owner,
+          r.owner_home,
+          std::to_string(r.heartbeat_ms)};
 }
 
 std::vector<CaptureRecord> PostgresStore::rows(const PGresult* res) {
@@ -157,6 +168,7 @@ std::vector<CaptureRecord> PostgresStore::rows(const PGresult* res) {
     r.stage = v(3), r.message = v(4), r.percent = std::stod(v(5)), r.attempts = std::stoi(v(6));
     r.upload_kind = v(7), r.created_unix = std::stoll(v(8)), r.updated_unix = std::stoll(v(9));
     r.queued_unix = std::stoll(v(10)), r.executor_job_id = v(11);
+    r.owner = v(12), r.owner_home = v(13), r.heartbeat_ms = std::stoll(v(14));
     out.push_back(std::move(r));
   }
   return out;
@@ -164,7 +176,7 @@ std::vector<CaptureRecord> PostgresStore::rows(const PGresult* res) {
 
 void PostgresStore::insert(const CaptureRecord& r) {
   std::lock_guard<std::mutex> lock(mutex_);
-  exec(fmt::format("INSERT INTO captures ({}) VALUES ($1,$2,$3,$4,$5,$6,$7,$8,$9,$10,$11,$12)",
+  exec(fmt::format("INSERT INTO captures ({}) VALUES ($1,$2,$3,$4,$5,$6,$7,$8,$9,$10,$11,$12,$13,$14,$15)",
                    kCaptureColumns),
        record_params(r));
 }
@@ -177,17 +189,27 @@ std::optional<CaptureRecord> PostgresStore::get(const std::string& id) {
   return r.front();
 }
 
-bool PostgresStore::update(const CaptureRecord& r) {
+bool PostgresStore::update(const CaptureRecord& r) { return update_row(r, nullptr); }
+
+bool PostgresStore::update_owned(const CaptureRecord& r, const std::string& owner) {
+  return update_row(r, &owner);
+}
+
+// Every column but the heartbeat, which only claim_next, renew_leases and adopt set (by the
+// database's clock); with `owner`, only while the row is still that server's.
+bool PostgresStore::update_row(const CaptureRecord& r, const std::string* owner) {
   std::lock_guard<std::mutex> lock(mutex_);
   CaptureRecord copy = r;
   copy.updated_unix = unix_now();
-  Result res = exec(
-      "UPDATE captures SET token_hash = $2, state = $3, stage = $4, message = $5, percent = $6, attempts = "
-      "$7, "
-      "upload_kind = $8, created_unix = $9, updated_unix = $10, queued_unix = $11, executor_job_id = $12 "
-      "WHERE id = "
-      "$1",
-      record_params(copy));
+  std::vector<std::string> params = record_params(copy);
+  params.pop_back();  // the heartbeat
+  if (owner) params.push_back(*owner);
+  Result res = exec(std::string("UPDATE captures SET token_hash = $2, state = $3, stage = $4, message = $5, "
+                                "percent = $6, attempts = $7, upload_kind = $8, created_unix = $9, "
+                                "updated_unix = $10, queued_unix = $11, executor_job_id = $12, owner = $13, "
+                                "owner_home = $14 WHERE id = $1") +
+                        (owner ? " AND owner = $15" : ""),
+                    params);
   return std::string(PQcmdTuples(res.get())) != "0";
 }
 
@@ -227,20 +249,41 @@ std::map<JobState, int64_t> PostgresStore::count_by_state() {
   return counts;
 }
 
-std::optional<CaptureRecord> PostgresStore::claim_next() {
+std::optional<CaptureRecord> PostgresStore::claim_next(const JobOwner& by) {
   std::lock_guard<std::mutex> lock(mutex_);
   // One statement, so one transaction: the row is locked by the inner SELECT and updated before any
   // other connection can see it queued; SKIP LOCKED lets a second server take the next row instead of
   // waiting for this one (and then finding it no longer queued).
-  Result res = exec(fmt::format("UPDATE captures SET state = 'running', attempts = attempts + 1, "
-                                "updated_unix = $1 WHERE id = (SELECT id FROM captures WHERE state = "
-                                "'queued' ORDER BY queued_unix, created_unix, id LIMIT 1 FOR UPDATE SKIP "
-                                "LOCKED) RETURNING {}",
-                                kCaptureColumns),
-                    {std::to_string(unix_now())});
+  Result res =
+      exec(fmt::format("UPDATE captures SET state = 'running', attempts = attempts + 1, "
+                       "updated_unix = $1, owner = $2, owner_home = $3, heartbeat_ms = {} WHERE id = "
+                       "(SELECT id FROM captures WHERE state = 'queued' ORDER BY queued_unix, "
+                       "created_unix, id LIMIT 1 FOR UPDATE SKIP LOCKED) RETURNING {}",
+                       kNowMs, kCaptureColumns),
+           {std::to_string(unix_now()), by.instance, by.home});
   auto r = rows(res.get());
   if (r.empty()) return std::nullopt;
   return r.front();
+}
+
+int PostgresStore::renew_leases(const std::string& owner) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  Result res = exec(
+      fmt::format("UPDATE captures SET heartbeat_ms = {} WHERE state = 'running' AND owner = $1", kNowMs),
+      {owner});
+  return std::stoi(PQcmdTuples(res.get()));
+}
+
+// One statement: a second server adopting at the same moment waits for the row lock, then reads
+// the row again (READ COMMITTED) and finds its lease renewed by this one, so it leaves it.
+std::vector<CaptureRecord> PostgresStore::adopt(const JobOwner& by, int64_t lease_ms) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  Result res = exec(fmt::format("UPDATE captures SET owner = $1, owner_home = $2, heartbeat_ms = {0} WHERE "
+                                "state = 'running' AND owner <> $1 AND (owner_home = $2 OR heartbeat_ms < "
+                                "{0} - $3::bigint) RETURNING {1}",
+                                kNowMs, kCaptureColumns),
+                    {by.instance, by.home, std::to_string(lease_ms)});
+  return rows(res.get());
 }
 
 }  // namespace

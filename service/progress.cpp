@@ -15,6 +15,7 @@ nlohmann::json Progress::to_json() const {
           {"message", message},
           {"eta_seconds", eta_seconds},
           {"artifacts", artifacts},
+          {"stage_seconds", stage_seconds},
           {"updated_unix", updated_unix}};
 }
 
@@ -26,6 +27,7 @@ Progress Progress::from_json(const nlohmann::json& j) {
   p.message = j.value("message", "");
   p.eta_seconds = j.value("eta_seconds", -1.0);
   p.artifacts = j.value("artifacts", nlohmann::json::object());
+  p.stage_seconds = j.value("stage_seconds", nlohmann::json::object());
   p.updated_unix = j.value("updated_unix", int64_t(0));
   return p;
 }

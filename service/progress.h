@@ -17,7 +17,10 @@ struct Progress {
   double eta_seconds = -1.0;      // of the whole job; < 0: not known yet
   std::string message;            // what the worker is doing, or (failed) the product's own error
   nlohmann::json artifacts = nlohmann::json::object();  // paths relative to the capture folder
-  int64_t updated_unix = 0;                             // set by write_progress
+  // Seconds of each stage this worker run completed (stage name -> seconds, the worker's clock):
+  // how executors that do not watch the worker (Slurm) measure stages for /metrics.
+  nlohmann::json stage_seconds = nlohmann::json::object();
+  int64_t updated_unix = 0;  // set by write_progress
 
   nlohmann::json to_json() const;
   static Progress from_json(const nlohmann::json& j);

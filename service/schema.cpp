@@ -23,6 +23,13 @@ const std::vector<Migration>& migrations() {
       // The id of a job's worker in an external scheduler (a Slurm job id), so that a restarted
       // server re-attaches the running worker instead of starting a second one.
       {2, {"ALTER TABLE captures ADD COLUMN executor_job_id TEXT NOT NULL DEFAULT ''"}},
+      // Who runs a job and until when (job_store.h: owner, home, lease), so that several servers
+      // share one database: rows from before have no owner and a lease long expired, so the first
+      // server to start adopts them, as every server did before.
+      {3,
+       {"ALTER TABLE captures ADD COLUMN owner TEXT NOT NULL DEFAULT ''",
+        "ALTER TABLE captures ADD COLUMN owner_home TEXT NOT NULL DEFAULT ''",
+        "ALTER TABLE captures ADD COLUMN heartbeat_ms BIGINT NOT NULL DEFAULT 0"}},
   };
   return list;
 }

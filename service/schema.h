@@ -18,7 +18,7 @@ const std::vector<Migration>& migrations();
 // The captures table's columns in the order every store reads and writes them.
 inline constexpr const char* kCaptureColumns =
     "id, token_hash, state, stage, message, percent, attempts, upload_kind, created_unix, updated_unix, "
-    "queued_unix, executor_job_id";
+    "queued_unix, executor_job_id, owner, owner_home, heartbeat_ms";
 inline int latest_schema_version() { return migrations().back().version; }
 
 }  // namespace lorgnette::service

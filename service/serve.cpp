@@ -9,6 +9,8 @@
 
 #include "host/util/image_io.h"
 #include "host/util/interrupt.h"
+#include "service/lease_keeper.h"
+#include "service/server_identity.h"
 #include "service/store_selection.h"
 
 namespace fs = std::filesystem;
@@ -28,14 +30,19 @@ void drain_workers(Executor& executor, double grace_seconds) {
                  executor.running(), grace_seconds);
 }
 
-std::unique_ptr<Executor> make_executor(const ServeOptions& o, JobStore& store) {
-  if (o.executor == "local") return std::make_unique<LocalExecutor>(store, o.local);
+std::unique_ptr<Executor> make_executor(const ServeOptions& o, JobStore& store, const LeaseSettings& lease) {
+  if (o.executor == "local") {
+    LocalExecutorOptions l = o.local;
+    l.lease = lease;
+    return std::make_unique<LocalExecutor>(store, l);
+  }
   if (o.executor == "slurm") {
     SlurmExecutorOptions s = o.slurm;
     s.data_dir = fs::absolute(o.data_dir).string();  // the nodes start in the job folder, not here
     s.max_attempts = o.local.max_attempts;
     s.worker_exe = o.local.worker_exe;
     s.global_flags = o.local.global_flags;
+    s.lease = lease;
     return std::make_unique<SlurmExecutor>(store, s);
   }
   throw std::runtime_error("--executor '" + o.executor + "' is not one of: local, slurm");
@@ -51,9 +58,15 @@ void run_serve(ServeOptions o) {
   if (o.db.empty()) o.db = (fs::path(o.data_dir) / "jobs.sqlite").string();
   o.local.data_dir = o.api.data_dir = o.data_dir;
   auto store = open_job_store(o.db);
-  const std::unique_ptr<Executor> owned = make_executor(o, *store);
+  const ServerIdentity identity(o.data_dir);  // held for the process's life
+  if (!(o.lease_seconds >= 1.0)) throw std::runtime_error("--lease-seconds must be at least 1");
+  const LeaseSettings lease{identity.owner(), o.lease_seconds};
+  const std::unique_ptr<Executor> owned = make_executor(o, *store, lease);
   Executor& executor = *owned;
   executor.reconcile();
+  const LeaseKeeper keeper(*store, lease);
+  spdlog::info("server {} (home {}, slot '{}'); running jobs' leases last {} s", lease.owner.instance,
+               lease.owner.home, identity.slot_path(), lease.lease_seconds);
   Api api(o.api, *store, executor);
   HttpServer http(api, o.http);
   http.start();

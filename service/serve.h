@@ -24,6 +24,7 @@ struct ServeOptions {
   ApiOptions api;              // its data_dir is set from data_dir
   std::string port_file;       // when set, the bound port is written there (for --port 0)
   double grace_seconds = 20.0;
+  double lease_seconds = 60.0;  // a running job's lease (LeaseSettings in executor.h)
 };
 
 // Runs until interrupted; throws with the reason when it cannot start.

@@ -136,32 +136,39 @@ std::string SlurmExecutor::active_job_named(const std::string& name) const {
   return "";
 }
 
-int SlurmExecutor::reconcile() {
-  std::lock_guard<std::mutex> lock(mutex_);
-  int attached = 0, requeued = 0;
-  for (CaptureRecord r : store_.with_state(JobState::Running)) {
-    if (jobs_.count(r.id)) continue;
-    if (r.executor_job_id.empty()) {
-      // The old server may have died between sbatch and recording the id: find the job by name.
-      r.executor_job_id = active_job_named("lgn-" + r.id);
-      if (!r.executor_job_id.empty()) store_.update(r);
-    }
-    if (!r.executor_job_id.empty()) {
-      jobs_[r.id] = r.executor_job_id;  // the next poll learns whether it still runs
-      ++attached;
-      continue;
-    }
-    r.state = JobState::Queued;  // claimed but never submitted: the old server died in between
-    r.message = "handed back to the queue after a server restart";
-    r.queued_unix = unix_now();
-    store_.update(r);
-    ++requeued;
+bool SlurmExecutor::take_over(CaptureRecord r) {
+  const std::string& me = options_.lease.owner.instance;
+  if (r.executor_job_id.empty()) {
+    // The old server may have died between sbatch and recording the id: find the job by name.
+    r.executor_job_id = active_job_named("lgn-" + r.id);
+    if (!r.executor_job_id.empty()) store_.update_owned(r, me);
   }
+  if (!r.executor_job_id.empty()) {
+    jobs_[r.id] = r.executor_job_id;  // the next poll learns whether it still runs
+    return true;
+  }
+  r.state = JobState::Queued;  // claimed but never submitted: the old server died in between
+  r.message = "handed back to the queue: the server that claimed it stopped before submitting it";
+  r.queued_unix = unix_now();
+  store_.update_owned(r, me);
+  return false;
+}
+
+int SlurmExecutor::take_over_adopted() {
+  int attached = 0, requeued = 0;
+  for (CaptureRecord& r : store_.adopt(options_.lease.owner, options_.lease.lease_ms()))
+    ++(take_over(r) ? attached : requeued);
   last_poll_ = {};
   if (attached + requeued)
     spdlog::info("re-attached {} Slurm job(s); {} never submitted job(s) back to the queue", attached,
                  requeued);
   return attached + requeued;
+}
+
+int SlurmExecutor::reconcile() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  last_adopt_ = std::chrono::steady_clock::now();
+  return take_over_adopted();
 }
 
 bool SlurmExecutor::submit(CaptureRecord job) {
@@ -194,7 +201,7 @@ bool SlurmExecutor::submit(CaptureRecord job) {
     if (r.ok() && std::regex_match(id, slurm_id)) {
       job.executor_job_id = id;
       job.message = "waiting in the Slurm queue (job " + id + ")";
-      store_.update(job);
+      store_.update_owned(job, options_.lease.owner.instance);
       jobs_[job.id] = id;
       spdlog::info("job {}: submitted to Slurm as job {}", job.id, id);
       return true;
@@ -207,7 +214,8 @@ bool SlurmExecutor::submit(CaptureRecord job) {
       retry ? fmt::format("{}; retrying (attempt {} of {})", error, job.attempts + 1, options_.max_attempts)
             : error;
   if (retry) job.queued_unix = unix_now();
-  store_.update(job);
+  if (!retry) metrics_.count_failure("", "start");
+  store_.update_owned(job, options_.lease.owner.instance);
   spdlog::error("job {}: {}", job.id, error);
   return false;
 }
@@ -229,6 +237,11 @@ std::optional<std::map<std::string, std::string>> SlurmExecutor::poll_states() {
   return states;
 }
 
+void SlurmExecutor::record_metrics(const Progress& p) {
+  for (const auto& [stage, seconds] : p.stage_seconds.items())
+    if (seconds.is_number()) metrics_.observe_stage(stage, seconds.get<double>());
+}
+
 // `slurm_state` is the job's last state in squeue, or "gone" when Slurm no longer lists it.
 void SlurmExecutor::finish(const std::string& id, const std::string& slurm_id,
                            const std::string& slurm_state) {
@@ -237,10 +250,12 @@ void SlurmExecutor::finish(const std::string& id, const std::string& slurm_id,
   CaptureRecord r = *rec;
   refresh(r);
   const auto p = read_progress(fs::path(folder(id)) / "progress.json");
+  std::string cause;
   if (p && p->state == "finished") {
     r.state = JobState::Finished;
   } else if (p && p->state == "failed") {
     r.state = JobState::Failed;  // the message is the product's, from progress.json
+    cause = "refused";
   } else {
     const auto exit = parse_exit_code(
         run_command({program("scontrol"), "show", "job", "-o", slurm_id}, kCommandSeconds).out);
@@ -253,21 +268,22 @@ void SlurmExecutor::finish(const std::string& id, const std::string& slurm_id,
                               slurm_state, during, r.attempts + 1, options_.max_attempts);
     } else {
       r.state = JobState::Failed;
+      cause = crashed ? "crashed" : "killed";
       r.message = crashed ? fmt::format("the worker crashed ({}) during {} (Slurm job {})",
                                         strsignal(exit->signal), during, slurm_id)
                           : fmt::format("the Slurm job {} ended ({}) during {} after {} attempt(s)", slurm_id,
                                         slurm_state, during, r.attempts);
     }
   }
-  store_.update(r);
+  if (!store_.update_owned(r, options_.lease.owner.instance)) return;  // another server's now
+  if (p && (p->state == "finished" || p->state == "failed")) record_metrics(*p);
+  if (!cause.empty()) metrics_.count_failure(r.stage, cause);
   spdlog::info("job {}: Slurm job {} ended ({}), now {}", id, slurm_id, slurm_state, to_string(r.state));
 }
 
-void SlurmExecutor::tick() {
-  std::lock_guard<std::mutex> lock(mutex_);
+void SlurmExecutor::follow_jobs() {
   const auto now = std::chrono::steady_clock::now();
-  const auto poll_every = std::chrono::duration<double>(options_.poll_seconds);
-  if (!jobs_.empty() && now - last_poll_ >= poll_every) {
+  if (!jobs_.empty() && now - last_poll_ >= std::chrono::duration<double>(options_.poll_seconds)) {
     last_poll_ = now;
     if (auto states = poll_states()) {
       for (auto it = jobs_.begin(); it != jobs_.end();) {
@@ -281,17 +297,37 @@ void SlurmExecutor::tick() {
       }
     }
   }
-  for (const auto& [id, slurm_id] : jobs_) {
-    auto rec = store_.get(id);
-    if (!rec) continue;
-    CaptureRecord r = *rec;
-    refresh(r);
-    if (r.stage != rec->stage || r.percent != rec->percent || r.message != rec->message) store_.update(r);
+  for (auto it = jobs_.begin(); it != jobs_.end();) {
+    auto rec = store_.get(it->first);
+    if (rec && rec->owner != options_.lease.owner.instance) {
+      // Adopted by another server (this one's lease ran out): that server follows it now.
+      spdlog::warn("job {}: another server has taken the Slurm job {} over", it->first, it->second);
+      it = jobs_.erase(it);
+      continue;
+    }
+    if (rec) {
+      CaptureRecord r = *rec;
+      refresh(r);
+      if (r.stage != rec->stage || r.percent != rec->percent || r.message != rec->message)
+        store_.update_owned(r, options_.lease.owner.instance);
+    }
+    ++it;
+  }
+}
+
+void SlurmExecutor::tick() {
+  std::lock_guard<std::mutex> lock(mutex_);
+  follow_jobs();
+  const auto now = std::chrono::steady_clock::now();
+  if (now - last_adopt_ >= options_.lease.check_every()) {
+    last_adopt_ = now;
+    take_over_adopted();
   }
   if (draining_ || now < submit_pause_until_) return;
-  while (auto job = store_.claim_next()) {
+  while (auto job = store_.claim_next(options_.lease.owner)) {
     if (!submit(*job)) {
-      submit_pause_until_ = now + std::chrono::duration_cast<std::chrono::steady_clock::duration>(poll_every);
+      submit_pause_until_ = now + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                      std::chrono::duration<double>(options_.poll_seconds));
       break;
     }
   }

@@ -23,6 +23,9 @@ struct StmtFinalize {
 using Db = std::unique_ptr<sqlite3, DbClose>;
 using Stmt = std::unique_ptr<sqlite3_stmt, StmtFinalize>;
 
+// The database's clock in milliseconds since 1970: every lease is stamped and compared by it.
+constexpr const char* kNowMs = "CAST((julianday('now') - 2440587.5) * 86400000.0 AS INTEGER)";
+
 class SqliteStore final : public JobStore {
  public:
   explicit SqliteStore(const std::string& path);
@@ -30,11 +33,14 @@ class SqliteStore final : public JobStore {
   void insert(const CaptureRecord& r) override;
   std::optional<CaptureRecord> get(const std::string& id) override;
   bool update(const CaptureRecord& r) override;
+  bool update_owned(const CaptureRecord& r, const std::string& owner) override;
   bool remove(const std::string& id) override;
   std::vector<CaptureRecord> with_state(JobState s) override;
   std::vector<std::string> created_before(int64_t unix_seconds) override;
   std::map<JobState, int64_t> count_by_state() override;
-  std::optional<CaptureRecord> claim_next() override;
+  std::optional<CaptureRecord> claim_next(const JobOwner& by) override;
+  int renew_leases(const std::string& owner) override;
+  std::vector<CaptureRecord> adopt(const JobOwner& by, int64_t lease_ms) override;
 
  private:
   [[noreturn]] void fail(const std::string& what) const {
@@ -47,7 +53,11 @@ class SqliteStore final : public JobStore {
   void migrate();
   bool migrate_one_step();
   std::vector<CaptureRecord> rows(Stmt& st);
-  void bind_record(sqlite3_stmt* st, const CaptureRecord& r);
+  void bind_record(sqlite3_stmt* st, const CaptureRecord& r, bool with_heartbeat);
+  bool update_row(const CaptureRecord& r, const std::string* owner);
+  std::vector<CaptureRecord> select_ids(const std::vector<std::string>& ids);
+  template <class F>
+  auto transaction(F&& work);
 
   std::string path_;
   Db db_;
@@ -150,7 +160,22 @@ int SqliteStore::schema_version() {
   return version_unlocked();
 }
 
-void SqliteStore::bind_record(sqlite3_stmt* st, const CaptureRecord& r) {
+// Runs `work` inside BEGIN IMMEDIATE ... COMMIT (the write lock taken first, so no other process
+// changes the rows it reads before it writes them), rolled back when it throws.
+template <class F>
+auto SqliteStore::transaction(F&& work) {
+  exec("BEGIN IMMEDIATE");
+  try {
+    auto result = work();
+    exec("COMMIT");
+    return result;
+  } catch (...) {
+    sqlite3_exec(db_.get(), "ROLLBACK", nullptr, nullptr, nullptr);
+    throw;
+  }
+}
+
+void SqliteStore::bind_record(sqlite3_stmt* st, const CaptureRecord& r, bool with_heartbeat) {
   sqlite3_bind_text(st, 1, r.id.c_str(), -1, SQLITE_TRANSIENT);
   sqlite3_bind_text(st, 2, r.token_hash.c_str(), -1, SQLITE_TRANSIENT);
   sqlite3_bind_text(st, 3, to_string(r.state), -1, SQLITE_STATIC);
@@ -163,6 +188,9 @@ void SqliteStore::bind_record(sqlite3_stmt* st, const CaptureRecord& r) {
   sqlite3_bind_int64(st, 10, r.updated_unix);
   sqlite3_bind_int64(st, 11, r.queued_unix);
   sqlite3_bind_text(st, 12, r.executor_job_id.c_str(), -1, SQLITE_TRANSIENT);
+  sqlite3_bind_text(st, 13, r.owner.c_str(), -1, SQLITE_TRANSIENT);
+  sqlite3_bind_text(st, 14, r.owner_home.c_str(), -1, SQLITE_TRANSIENT);
+  if (with_heartbeat) sqlite3_bind_int64(st, 15, r.heartbeat_ms);
 }
 
 std::vector<CaptureRecord> SqliteStore::rows(Stmt& st) {
@@ -180,6 +208,8 @@ std::vector<CaptureRecord> SqliteStore::rows(Stmt& st) {
     r.created_unix = sqlite3_column_int64(s, 8), r.updated_unix = sqlite3_column_int64(s, 9);
     r.queued_unix = sqlite3_column_int64(s, 10);
     r.executor_job_id = column_text(s, 11);
+    r.owner = column_text(s, 12), r.owner_home = column_text(s, 13);
+    r.heartbeat_ms = sqlite3_column_int64(s, 14);
     out.push_back(std::move(r));
   }
   if (rc != SQLITE_DONE) fail("cannot read captures");
@@ -188,9 +218,9 @@ std::vector<CaptureRecord> SqliteStore::rows(Stmt& st) {
 
 void SqliteStore::insert(const CaptureRecord& r) {
   std::lock_guard<std::mutex> lock(mutex_);
-  Stmt st =
-      prepare(fmt::format("INSERT INTO captures ({}) VALUES (?,?,?,?,?,?,?,?,?,?,?,?)", kCaptureColumns));
-  bind_record(st.get(), r);
+  Stmt st = prepare(
+      fmt::format("INSERT INTO captures ({}) VALUES (?,?,?,?,?,?,?,?,?,?,?,?,?,?,?)", kCaptureColumns));
+  bind_record(st.get(), r, true);
   if (sqlite3_step(st.get()) != SQLITE_DONE) fail("cannot insert capture " + r.id);
 }
 
@@ -203,16 +233,23 @@ std::optional<CaptureRecord> SqliteStore::get(const std::string& id) {
   return r.front();
 }
 
-bool SqliteStore::update(const CaptureRecord& r) {
+bool SqliteStore::update(const CaptureRecord& r) { return update_row(r, nullptr); }
+
+bool SqliteStore::update_owned(const CaptureRecord& r, const std::string& owner) {
+  return update_row(r, &owner);
+}
+
+bool SqliteStore::update_row(const CaptureRecord& r, const std::string* owner) {
   std::lock_guard<std::mutex> lock(mutex_);
   Stmt st = prepare(
-      "UPDATE captures SET id = ?1, token_hash = ?2, state = ?3, stage = ?4, message = ?5, percent = ?6, "
-      "attempts = ?7, upload_kind = ?8, created_unix = ?9, updated_unix = ?10, queued_unix = ?11, "
-      "executor_job_id = ?12 "
-      "WHERE id = ?1");
+      std::string("UPDATE captures SET id = ?1, token_hash = ?2, state = ?3, stage = ?4, message = ?5, "
+                  "percent = ?6, attempts = ?7, upload_kind = ?8, created_unix = ?9, updated_unix = ?10, "
+                  "queued_unix = ?11, executor_job_id = ?12, owner = ?13, owner_home = ?14 WHERE id = ?1") +
+      (owner ? " AND owner = ?15" : ""));
   CaptureRecord copy = r;
   copy.updated_unix = unix_now();
-  bind_record(st.get(), copy);
+  bind_record(st.get(), copy, false);
+  if (owner) sqlite3_bind_text(st.get(), 15, owner->c_str(), -1, SQLITE_TRANSIENT);
   if (sqlite3_step(st.get()) != SQLITE_DONE) fail("cannot update capture " + r.id);
   return sqlite3_changes(db_.get()) > 0;
 }
@@ -254,30 +291,72 @@ std::map<JobState, int64_t> SqliteStore::count_by_state() {
   return counts;
 }
 
-std::optional<CaptureRecord> SqliteStore::claim_next() {
-  std::lock_guard<std::mutex> lock(mutex_);
-  exec("BEGIN IMMEDIATE");  // takes the write lock first, so no other process claims the same row
-  try {
-    Stmt st = prepare(fmt::format(
-        "SELECT {} FROM captures WHERE state = 'queued' ORDER BY queued_unix, created_unix, id LIMIT 1",
-        kCaptureColumns));
-    auto r = rows(st);
-    if (!r.empty()) {
-      Stmt up = prepare(
-          "UPDATE captures SET state = 'running', attempts = attempts + 1, updated_unix = ? WHERE id = ?");
-      sqlite3_bind_int64(up.get(), 1, unix_now());
-      sqlite3_bind_text(up.get(), 2, r[0].id.c_str(), -1, SQLITE_TRANSIENT);
-      if (sqlite3_step(up.get()) != SQLITE_DONE) fail("cannot claim capture " + r[0].id);
-      r[0].state = JobState::Running;
-      r[0].attempts += 1;
-    }
-    exec("COMMIT");
-    if (r.empty()) return std::nullopt;
-    return r.front();
-  } catch (...) {
-    sqlite3_exec(db_.get(), "ROLLBACK", nullptr, nullptr, nullptr);
-    throw;
+std::vector<CaptureRecord> SqliteStore::select_ids(const std::vector<std::string>& ids) {
+  std::vector<CaptureRecord> out;
+  for (const std::string& id : ids) {
+    Stmt st = prepare(fmt::format("SELECT {} FROM captures WHERE id = ?", kCaptureColumns));
+    sqlite3_bind_text(st.get(), 1, id.c_str(), -1, SQLITE_TRANSIENT);
+    for (auto& r : rows(st)) out.push_back(std::move(r));
   }
+  return out;
+}
+
+std::optional<CaptureRecord> SqliteStore::claim_next(const JobOwner& by) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  auto claimed = transaction([&] {
+    Stmt st = prepare(
+        "SELECT id FROM captures WHERE state = 'queued' ORDER BY queued_unix, created_unix, id LIMIT 1");
+    std::vector<std::string> ids;
+    if (sqlite3_step(st.get()) == SQLITE_ROW) ids.push_back(column_text(st.get(), 0));
+    if (ids.empty()) return ids;
+    Stmt up = prepare(fmt::format(
+        "UPDATE captures SET state = 'running', attempts = attempts + 1, updated_unix = ?, owner = ?, "
+        "owner_home = ?, heartbeat_ms = {} WHERE id = ?",
+        kNowMs));
+    sqlite3_bind_int64(up.get(), 1, unix_now());
+    sqlite3_bind_text(up.get(), 2, by.instance.c_str(), -1, SQLITE_TRANSIENT);
+    sqlite3_bind_text(up.get(), 3, by.home.c_str(), -1, SQLITE_TRANSIENT);
+    sqlite3_bind_text(up.get(), 4, ids[0].c_str(), -1, SQLITE_TRANSIENT);
+    if (sqlite3_step(up.get()) != SQLITE_DONE) fail("cannot claim capture " + ids[0]);
+    return ids;
+  });
+  auto r = select_ids(claimed);
+  if (r.empty()) return std::nullopt;
+  return r.front();
+}
+
+int SqliteStore::renew_leases(const std::string& owner) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  Stmt st = prepare(
+      fmt::format("UPDATE captures SET heartbeat_ms = {} WHERE state = 'running' AND owner = ?", kNowMs));
+  sqlite3_bind_text(st.get(), 1, owner.c_str(), -1, SQLITE_TRANSIENT);
+  if (sqlite3_step(st.get()) != SQLITE_DONE) fail("cannot renew the leases of " + owner);
+  return sqlite3_changes(db_.get());
+}
+
+std::vector<CaptureRecord> SqliteStore::adopt(const JobOwner& by, int64_t lease_ms) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  auto ids = transaction([&] {
+    Stmt st = prepare(
+        fmt::format("SELECT id FROM captures WHERE state = 'running' AND owner <> ?1 AND (owner_home = ?2 "
+                    "OR heartbeat_ms < {} - ?3) ORDER BY queued_unix, id",
+                    kNowMs));
+    sqlite3_bind_text(st.get(), 1, by.instance.c_str(), -1, SQLITE_TRANSIENT);
+    sqlite3_bind_text(st.get(), 2, by.home.c_str(), -1, SQLITE_TRANSIENT);
+    sqlite3_bind_int64(st.get(), 3, lease_ms);
+    std::vector<std::string> found;
+    while (sqlite3_step(st.get()) == SQLITE_ROW) found.push_back(column_text(st.get(), 0));
+    for (const std::string& id : found) {
+      Stmt up = prepare(fmt::format(
+          "UPDATE captures SET owner = ?, owner_home = ?, heartbeat_ms = {} WHERE id = ?", kNowMs));
+      sqlite3_bind_text(up.get(), 1, by.instance.c_str(), -1, SQLITE_TRANSIENT);
+      sqlite3_bind_text(up.get(), 2, by.home.c_str(), -1, SQLITE_TRANSIENT);
+      sqlite3_bind_text(up.get(), 3, id.c_str(), -1, SQLITE_TRANSIENT);
+      if (sqlite3_step(up.get()) != SQLITE_DONE) fail("cannot adopt capture " + id);
+    }
+    return found;
+  });
+  return select_ids(ids);
 }
 
 }  // namespace

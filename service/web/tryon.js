@@ -1,5 +1,6 @@
 // The try-on page: the finished job's views of every catalogue frame on the shopper's head (rendered
-// once by the job, served behind the capture's token), one frame at a time, turned by dragging or
+// once by the job, served behind the capture's token; frames that could not be fitted listed with
+// the reason, frames added since being fitted), one frame at a time, turned by dragging or
 // the slider; the frame's placement and the picture shown can be downloaded. Images are fetched with
 // the token and drawn from blob URLs (same origin, so the canvas stays readable).
 "use strict";
@@ -55,26 +56,60 @@
   });
   $("angle").addEventListener("input", () => show(Number($("angle").value)));
 
+  // One button per fitted frame; a frame that could not be fitted is shown disabled with the
+  // reason, and frames added to the catalogue since the job finished as being fitted.
+  function listFrames(a) {
+    views = a.views || {};
+    fits = a.fits || {};
+    $("frames").textContent = "";
+    for (const name of Object.keys(views)) {
+      const b = document.createElement("button");
+      b.className = "frame";
+      b.textContent = name;
+      b.addEventListener("click", () => choose(name).catch((e) => shopShowError($("error"), e.message)));
+      $("frames").appendChild(b);
+    }
+    const off = Object.entries(a.unavailable || {}).map(([name, why]) => [name, "unavailable: " + why]);
+    for (const name of a.pending || []) off.push([name, "being fitted to your head, shown in a minute"]);
+    for (const [name, why] of off) {
+      const b = document.createElement("button");
+      b.className = "frame unavailable";
+      b.disabled = true;
+      b.textContent = name;
+      b.title = why;
+      $("frames").appendChild(b);
+    }
+    $("unavailable").textContent = off.map(([name, why]) => name + ": " + why).join("\n");
+    $("unavailable").hidden = !off.length;
+  }
+  async function job() {
+    return (await shopFetch(c, "/api/v1/captures/" + c.id)).json();
+  }
+  // While frames added to the catalogue are fitted, the page asks again every 2 s.
+  async function follow(st) {
+    if (st.state === "finished") return;
+    while (st.state === "queued" || st.state === "running") {
+      await new Promise((r) => setTimeout(r, 2000));
+      st = await job();
+    }
+    if (st.state !== "finished") throw new Error(st.message || "the new frames could not be fitted");
+    listFrames(st.artifacts);
+    if (frame && views[frame]) await choose(frame);
+  }
+
   (async () => {
     try {
-      const st = await (await shopFetch(c, "/api/v1/captures/" + c.id)).json();
-      if (st.state !== "finished") {
+      const st = await job();
+      const names = Object.keys((st.artifacts || {}).views || {});
+      if (st.state !== "finished" && !names.length) {
         location.href = shopLink("/status.html", c);
         return;
       }
-      views = st.artifacts.views || {};
-      fits = st.artifacts.fits || {};
-      const names = Object.keys(views);
+      listFrames(st.artifacts);
       if (!names.length) throw new Error("The shop has no frames to try on yet.");
-      for (const name of names) {
-        const b = document.createElement("button");
-        b.className = "frame";
-        b.textContent = name;
-        b.addEventListener("click", () => choose(name).catch((e) => shopShowError($("error"), e.message)));
-        $("frames").appendChild(b);
-      }
       await choose(names[0]);
       document.body.dataset.ready = "1";
+      await follow(st);
     } catch (e) {
       shopShowError($("error"), e.message);
     }

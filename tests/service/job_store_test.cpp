@@ -3,7 +3,10 @@
 // servers open a new database at once), rows round-trip every field, the queue hands out the oldest
 // job once (attempts counted), two connections claiming at once take every job exactly once,
 // counts and retention queries see what was written, a database from a newer Lorgnette is refused,
-// and an unreachable database is named in the error (a PostgreSQL password never is).
+// and an unreachable database is named in the error (a PostgreSQL password never is). Owners and
+// leases: a claimed job carries its owner and a lease from the database's clock, only its owner
+// writes it, and it is adopted only once its lease has expired or by a later process of its
+// owner's home, by one server when several try at once.
 #include <gtest/gtest.h>
 #include <libpq-fe.h>
 #include <sqlite3.h>
@@ -78,6 +81,15 @@ struct BackendNames {
 using Backends = ::testing::Types<SqliteBackend, PostgresBackend>;
 TYPED_TEST_SUITE(JobStoreTest, Backends, BackendNames);
 
+const JobOwner kServerA{"a-instance@host", "a-home@host"}, kServerB{"b-instance@host", "b-home@host"};
+const JobOwner kServerARestarted{"a-second-instance@host", "a-home@host"};
+
+int64_t unix_ms_now() {
+  return std::chrono::duration_cast<std::chrono::milliseconds>(
+             std::chrono::system_clock::now().time_since_epoch())
+      .count();
+}
+
 CaptureRecord record(const std::string& id, JobState state, int64_t created, int64_t queued = 0) {
   CaptureRecord r;
   r.id = id;
@@ -144,15 +156,15 @@ TYPED_TEST(JobStoreTest, ClaimsTheOldestQueuedJobOnceAndCountsAttempts) {
   store->insert(record("late", JobState::Queued, 10, 300));
   store->insert(record("early", JobState::Queued, 20, 200));
   store->insert(record("new", JobState::Created, 30));
-  auto first = store->claim_next();
+  auto first = store->claim_next(kServerA);
   ASSERT_TRUE(first);
   EXPECT_EQ(first->id, "early");
   EXPECT_EQ(first->state, JobState::Running);
   EXPECT_EQ(first->attempts, 1);
   EXPECT_EQ(store->get("early")->attempts, 1);
   EXPECT_EQ(store->get("early")->state, JobState::Running);
-  EXPECT_EQ(store->claim_next()->id, "late");
-  EXPECT_FALSE(store->claim_next());  // "new" was never queued
+  EXPECT_EQ(store->claim_next(kServerA)->id, "late");
+  EXPECT_FALSE(store->claim_next(kServerA));  // "new" was never queued
   auto counts = store->count_by_state();
   EXPECT_EQ(counts[JobState::Running], 2);
   EXPECT_EQ(counts[JobState::Created], 1);
@@ -171,7 +183,7 @@ TYPED_TEST(JobStoreTest, TwoConnectionsClaimingAtOnceTakeEveryJobExactlyOnce) {
     ++ready;
     while (ready < 2) {
     }
-    while (auto r = store.claim_next()) out.push_back(r->id);
+    while (auto r = store.claim_next(kServerA)) out.push_back(r->id);
   };
   std::thread ta(claim_all, std::ref(*a), std::ref(claimed[0]));
   std::thread tb(claim_all, std::ref(*b), std::ref(claimed[1]));
@@ -235,6 +247,98 @@ TYPED_TEST(JobStoreTest, ADatabaseOfTheFirstSchemaGainsTheSchedulerJobIdAndKeeps
   got->executor_job_id = "12";
   ASSERT_TRUE(store->update(*got));
   EXPECT_EQ(store->get("old")->executor_job_id, "12");
+  // A running row from before owners: no owner, a lease long expired, so the first server adopts it.
+  EXPECT_EQ(got->owner, "");
+  auto adopted = store->adopt(kServerB, 60'000);
+  ASSERT_EQ(adopted.size(), 1u);
+  EXPECT_EQ(adopted[0].owner, kServerB.instance);
+}
+
+TYPED_TEST(JobStoreTest, AClaimedJobHasItsOwnerAndALeaseOnlyItsOwnerRenewsAndWrites) {
+  auto store = this->open();
+  store->insert(record("j", JobState::Queued, 1, 1));
+  const int64_t before = unix_ms_now();
+  auto j = store->claim_next(kServerA);
+  const int64_t after = unix_ms_now();
+  ASSERT_TRUE(j);
+  EXPECT_EQ(j->owner, kServerA.instance);
+  EXPECT_EQ(j->owner_home, kServerA.home);
+  // The database's clock, on this machine: the same as ours within 2 s (clock reading and rounding).
+  EXPECT_GE(j->heartbeat_ms, before - 2000);
+  EXPECT_LE(j->heartbeat_ms, after + 2000);
+  std::this_thread::sleep_for(std::chrono::milliseconds(30));
+  EXPECT_EQ(store->renew_leases(kServerA.instance), 1);
+  EXPECT_EQ(store->renew_leases(kServerB.instance), 0);
+  EXPECT_GE(store->get("j")->heartbeat_ms, j->heartbeat_ms + 20);
+  CaptureRecord r = *j;
+  r.message = "written by B";
+  EXPECT_FALSE(store->update_owned(r, kServerB.instance));
+  r.message = "written by A";
+  EXPECT_TRUE(store->update_owned(r, kServerA.instance));
+  EXPECT_EQ(store->get("j")->message, "written by A");
+  EXPECT_GE(store->get("j")->heartbeat_ms, j->heartbeat_ms + 20);  // an update keeps the lease
+}
+
+TYPED_TEST(JobStoreTest, AJobIsAdoptedOnlyWhenItsLeaseExpiredOrByALaterProcessOfItsHome) {
+  auto store = this->open();
+  for (const char* id : {"a1", "a2"}) store->insert(record(id, JobState::Queued, 1, 1));
+  store->insert(record("b1", JobState::Queued, 1, 2));
+  ASSERT_TRUE(store->claim_next(kServerA));
+  ASSERT_TRUE(store->claim_next(kServerA));
+  ASSERT_EQ(store->claim_next(kServerB)->id, "b1");
+  // A live server's fresh leases are nobody else's; nor its own to adopt.
+  EXPECT_TRUE(store->adopt(kServerB, 60'000).empty());
+  EXPECT_TRUE(store->adopt(kServerA, 60'000).empty());
+  // Server A restarted (its home, another instance): its earlier rows at once, not B's.
+  auto mine = store->adopt(kServerARestarted, 60'000);
+  ASSERT_EQ(mine.size(), 2u);
+  for (const auto& r : mine) EXPECT_EQ(r.owner, kServerARestarted.instance) << r.id;
+  EXPECT_EQ(store->get("b1")->owner, kServerB.instance);
+  EXPECT_EQ(store->renew_leases(kServerA.instance), 0);  // the old process owns nothing now
+  // B stops renewing: after 300 ms a lease of 100 ms has expired, and A takes b1 over; A's own are
+  // renewed and stay.
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  EXPECT_EQ(store->renew_leases(kServerARestarted.instance), 2);
+  auto taken = store->adopt(kServerARestarted, 100);
+  ASSERT_EQ(taken.size(), 1u);
+  EXPECT_EQ(taken[0].id, "b1");
+  EXPECT_EQ(taken[0].owner_home, kServerARestarted.home);
+  EXPECT_EQ(taken[0].attempts, 1);  // adopting is not another attempt
+  // Finished, queued and created rows are never adopted.
+  store->insert(record("done", JobState::Finished, 1, 1));
+  store->insert(record("waiting", JobState::Queued, 1, 1));
+  std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  EXPECT_EQ(store->adopt(kServerB, 1).size(), 3u);
+}
+
+TYPED_TEST(JobStoreTest, TwoServersAdoptingExpiredJobsAtOnceTakeEachOnce) {
+  constexpr int kJobs = 100;
+  auto a = this->open(), b = this->open();
+  for (int i = 0; i < kJobs; ++i) a->insert(record("job" + std::to_string(i), JobState::Queued, i, i));
+  const JobOwner dead{"dead@host", "dead-home@host"};
+  while (a->claim_next(dead)) {
+  }
+  // Their leases expire after 1 s, far longer than one adoption takes: a server never adopts what
+  // the other has just adopted.
+  std::this_thread::sleep_for(std::chrono::milliseconds(1200));
+  std::vector<CaptureRecord> adopted[2];
+  std::atomic<int> ready{0};
+  auto adopt = [&](JobStore& store, const JobOwner& by, std::vector<CaptureRecord>& out) {
+    ++ready;
+    while (ready < 2) {
+    }
+    out = store.adopt(by, 1000);
+  };
+  std::thread ta(adopt, std::ref(*a), std::cref(kServerA), std::ref(adopted[0]));
+  std::thread tb(adopt, std::ref(*b), std::cref(kServerB), std::ref(adopted[1]));
+  ta.join(), tb.join();
+  std::multiset<std::string> all;
+  for (int k = 0; k < 2; ++k)
+    for (const auto& r : adopted[k]) all.insert(r.id);
+  EXPECT_EQ(all.size(), size_t(kJobs));
+  EXPECT_EQ(std::set<std::string>(all.begin(), all.end()).size(), size_t(kJobs));  // none twice
+  for (int k = 0; k < 2; ++k)
+    for (const auto& r : adopted[k]) EXPECT_EQ(a->get(r.id)->owner, (k == 0 ? kServerA : kServerB).instance);
 }
 
 TYPED_TEST(JobStoreTest, AnUnreachableDatabaseIsNamedButNeverItsPassword) {

@@ -1,15 +1,16 @@
 // (LABELS slow, ~90 s) The Slurm executor against a real one-node Slurm cluster started by each test
 // (slurm_cluster.h), with real `lorgnette job run` workers on the tiny synthetic head:
 //   - a job goes through sbatch to finished (one COMPLETED Slurm job named after the capture, its
-//     output in worker.log, the model trained to its budget);
+//     output in worker.log, the model trained to its budget, its stages' seconds in /metrics);
 //   - a submission the controller refuses (an unknown partition) is retried, then fails the job
-//     with Slurm's reason;
+//     with Slurm's reason (counted in /metrics as a start failure);
 //   - DELETE on a capture whose Slurm job runs cancels it with scancel (the worker process ends);
 //   - a server killed with SIGKILL and restarted re-attaches the running Slurm job by its stored id,
 //     and the job finishes once: one Slurm job, one attempt, one whole training;
 //   - a job Slurm requeues (as on a node failure) runs again under its id and finishes.
 // The option and command checks need no cluster and always run. Skips with a message without root
 // or Slurm.
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <signal.h>
 
@@ -174,6 +175,23 @@ TEST_F(Slurm, AJobGoesThroughSbatchToFinished) {
   auto snap = lorgnette::nerf::read_snapshot((data / "captures/job1/model/head.lnerf").string());
   EXPECT_EQ(snap.metadata.steps, 30u);
   EXPECT_EQ(ex.running(), 0);
+  // /metrics' stage seconds: each stage the worker completed, once, with the seconds its own clock
+  // measured (progress.json's stage_seconds); the capture stage was done already (near zero).
+  const auto progress = read_progress(data / "captures/job1/progress.json");
+  ASSERT_TRUE(progress);
+  const std::string text = ex.metrics()->prometheus_text();
+  for (const char* stage : {"capture", "train"}) {
+    ASSERT_TRUE(progress->stage_seconds.contains(stage)) << progress->stage_seconds.dump();
+    const double seconds = progress->stage_seconds[stage];
+    EXPECT_NE(text.find(fmt::format("lorgnette_stage_seconds_count{{stage=\"{}\"}} 1\n", stage)),
+              std::string::npos)
+        << text;
+    EXPECT_NE(text.find(fmt::format("lorgnette_stage_seconds_sum{{stage=\"{}\"}} {}\n", stage, seconds)),
+              std::string::npos)
+        << text;
+  }
+  EXPECT_GT(progress->stage_seconds["train"].get<double>(), 0.0);
+  EXPECT_LT(progress->stage_seconds["capture"].get<double>(), 1.0);  // skipped: the dataset was there
 }
 
 TEST_F(Slurm, ASubmissionSlurmRefusesIsRetriedThenFailsWithSlurmsReason) {
@@ -197,6 +215,11 @@ TEST_F(Slurm, ASubmissionSlurmRefusesIsRetriedThenFailsWithSlurmsReason) {
   EXPECT_NE(r.message.find("sbatch failed"), std::string::npos) << r.message;
   EXPECT_NE(r.message.find("partition"), std::string::npos) << r.message;  // Slurm's own reason
   EXPECT_TRUE(r.executor_job_id.empty());
+  // Counted in /metrics as a job whose worker could not be started (the first retry is not).
+  EXPECT_NE(ex.metrics()->prometheus_text().find(
+                "lorgnette_job_failures_total{stage=\"start\",cause=\"start\"} 1\n"),
+            std::string::npos)
+      << ex.metrics()->prometheus_text();
 }
 
 namespace {

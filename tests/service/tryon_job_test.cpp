@@ -2,7 +2,11 @@
 // tests/viewer/make_fixture.sh) with one catalogue frame: `job run` fits the frame and renders the
 // orbit of views into fits/<frame>/ (the status lists them), the head is drawn where the view's
 // middle is and fills most of its height, the frame's dark rims are there; a rerun reuses the cached
-// fit (same time), and a fit folder made from another model is made again.
+// fit (same time), and a fit folder made from another model is made again. A frame that cannot be
+// fitted (a file that does not load) is listed as unavailable with its reason and the job finishes
+// with the others, and a frame added to the catalogue after the job finished is fitted when the try-on
+// page asks for the job (queued again at its fit stage, the cached fit reused, the last finished
+// files served meanwhile).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -10,8 +14,11 @@
 
 #include "fit/placement_json.h"
 #include "host/util/image_io.h"
+#include "service/api.h"
 #include "service/job_settings.h"
+#include "service/local_executor.h"
 #include "service/progress.h"
+#include "service/sqlite_store.h"
 #include "service_test_util.h"
 
 using namespace lorgnette::service;
@@ -21,20 +28,35 @@ namespace {
 
 const fs::path kFixture = fs::path(LORGNETTE_TEST_TMP) / "viewer-fixture";
 
-// A job whose capture and train stages are done: the fixture's dataset and model.
-fs::path trained_job(const fs::path& catalogue) {
-  fs::path job = test_dir("service_tryon");
-  fs::copy(kFixture / "dataset", job / "dataset", fs::copy_options::recursive);
-  fs::create_directories(job / "model");
-  fs::copy_file(kFixture / "head.lnerf", job / "model" / "head.lnerf");
+JobSettings small_fit_settings(const fs::path& catalogue) {
   JobSettings s;
   s.catalogue = catalogue.string();
   s.fit_views = 8;
   s.tryon_views = 3;
   s.tryon_size = 96;
-  write_job_settings(job / "job.json", s);
+  return s;
+}
+
+// The fixture's dataset and model in `job`: its capture and train stages are done.
+void copy_trained_head(const fs::path& job) {
+  fs::copy(kFixture / "dataset", job / "dataset", fs::copy_options::recursive);
+  fs::create_directories(job / "model");
+  fs::copy_file(kFixture / "head.lnerf", job / "model" / "head.lnerf");
+}
+
+fs::path trained_job(const fs::path& catalogue) {
+  fs::path job = test_dir("service_tryon");
+  copy_trained_head(job);
+  write_job_settings(job / "job.json", small_fit_settings(catalogue));
   return job;
 }
+
+// The request body of a GET (none).
+class NoBody final : public BodySource {
+ public:
+  std::string read_all(uint64_t) override { return ""; }
+  uint64_t read_to_file(const fs::path&, uint64_t) override { return 0; }
+};
 
 int job_run(const fs::path& job) { return run_cli({"job", "run", job.string()}, job / "worker.log"); }
 
@@ -108,4 +130,75 @@ TEST(TryOnJob, AFitMadeFromAnotherModelIsMadeAgain) {
   const std::string model_hash = lorgnette::fit::file_hash((job / "model" / "head.lnerf").string());
   EXPECT_EQ(read_json(fit / "made_from.json")["model_hash"], model_hash);
   EXPECT_EQ(read_progress(job / "progress.json")->artifacts["views"]["round.glb"].size(), 3u);
+}
+
+// In-process API and local executor over a real worker, one job (one test, as each fit takes most
+// of a minute on a loaded 2-core CPU): the catalogue's damaged frame file is listed as unavailable
+// with the loader's reason and the job finishes with the frame that fitted; a frame is added to
+// the catalogue; the next GET queues the job at its fit stage, serves the first frame's files
+// meanwhile, and the job finishes with both frames, the first one's fit not made again.
+TEST(TryOnJob, AnUnfittableFrameIsUnavailableAndAFrameAddedLaterIsFittedWhenAskedFor) {
+  if (!fs::exists(kFixture / "head.lnerf"))
+    GTEST_SKIP() << "the viewer fixture is missing (ctest -R viewer_fixture)";
+  const fs::path data = test_dir("service_tryon_refit"), catalogue = data / "catalogue";
+  fs::create_directories(catalogue);
+  fs::copy_file(kFixture / "catalogue" / "a-round.glb", catalogue / "round.glb");
+  write_file(catalogue / "a-broken.glb", "glTF but not really: a damaged upload of the shop's");
+  auto store = open_sqlite_store((data / "jobs.sqlite").string());
+  LocalExecutorOptions eo;
+  eo.data_dir = data.string();
+  eo.worker_exe = LGN_CLI_PATH;
+  LocalExecutor executor(*store, eo);
+  ApiOptions ao;
+  ao.data_dir = data.string();
+  ao.job = small_fit_settings(catalogue);
+  Api api(ao, *store, executor);
+  NoBody none;
+  const auto made = nlohmann::json::parse(api.handle({"POST", "/api/v1/captures", "", 0}, none).body);
+  const std::string id = made["id"], bearer = "Bearer " + made["token"].get<std::string>();
+  auto get = [&](const std::string& rest = "") {
+    return api.handle({"GET", "/api/v1/captures/" + id + rest, bearer, std::nullopt}, none);
+  };
+  copy_trained_head(data / "captures" / id);
+  CaptureRecord rec = *store->get(id);
+  rec.state = JobState::Queued, rec.upload_kind = "video";  // uploaded and started
+  store->update(rec);
+  auto run_to = [&](JobState want) {
+    return wait_for(
+        [&] {
+          executor.tick();
+          return store->get(id)->state == want;
+        },
+        240.0);
+  };
+  ASSERT_TRUE(run_to(JobState::Finished)) << read_file(data / "captures" / id / "worker.log");
+  const nlohmann::json first = nlohmann::json::parse(get().body);
+  EXPECT_EQ(first["state"], "finished");  // nothing new (an unavailable frame is known): stays finished
+  EXPECT_EQ(first["artifacts"]["views"].size(), 1u) << first.dump(2);
+  EXPECT_EQ(first["artifacts"]["preview"], first["artifacts"]["views"]["round.glb"][0]);  // the first fitted
+  const std::string why = first["artifacts"]["unavailable"].value("a-broken.glb", "");
+  EXPECT_NE(why.find("not a valid or supported glTF file"), std::string::npos) << first.dump(2);
+  EXPECT_FALSE(first["artifacts"]["fits"].contains("a-broken.glb"));
+  EXPECT_FALSE(fs::exists(data / "captures" / id / "fits" / "a-broken.glb"));
+  const fs::path view0 = data / "captures" / id / "fits" / "round.glb" / "view_00.jpg";
+  const auto round_made = fs::last_write_time(view0);
+
+  fs::copy_file(kFixture / "catalogue" / "a-round.glb", catalogue / "round-2.glb");
+  const nlohmann::json st = nlohmann::json::parse(get().body);
+  EXPECT_EQ(st["state"], "queued");
+  EXPECT_EQ(st["stage"], "fit");
+  EXPECT_EQ(st["artifacts"]["views"].size(), 1u) << st.dump(2);
+  EXPECT_EQ(st["artifacts"]["pending"], nlohmann::json::array({"round-2.glb"}));
+  EXPECT_EQ(get("/artifacts/fits/round.glb/view_00.jpg").status, 200);  // the last finished files
+
+  ASSERT_TRUE(run_to(JobState::Finished)) << read_file(data / "captures" / id / "worker.log");
+  const nlohmann::json done = nlohmann::json::parse(get().body);
+  EXPECT_EQ(done["state"], "finished");
+  EXPECT_EQ(done["artifacts"]["views"].size(), 2u) << done.dump(2);
+  EXPECT_EQ(done["artifacts"]["views"]["round-2.glb"].size(), 3u);
+  EXPECT_TRUE(done["artifacts"]["unavailable"].contains("a-broken.glb"));
+  EXPECT_FALSE(done["artifacts"].contains("pending"));
+  EXPECT_EQ(fs::last_write_time(view0), round_made);  // the cached fit, not made again
+  EXPECT_EQ(store->get(id)->attempts, 2);
+  EXPECT_EQ(get("/artifacts/fits/round-2.glb/view_00.jpg").status, 200);
 }

@@ -83,6 +83,11 @@ void add_serve(CLI::App& app, GlobalOptions& global) {
   cmd->add_option("--slurm-poll-seconds", o.slurm.poll_seconds, "how often squeue is asked")
       ->check(CLI::Range(0.1, 600.0))
       ->capture_default_str();
+  cmd->add_option("--lease-seconds", o.lease_seconds,
+                  "a running job's lease: renewed by its server every sixth of it; once expired (the server "
+                  "died) another server on the same database takes the job over")
+      ->check(CLI::Range(1.0, 3600.0))
+      ->capture_default_str();
   cmd->add_option("--workers", o.local.slots, "local worker slots (one per GPU, or one on a CPU)")
       ->capture_default_str();
   cmd->add_option("--host", o.http.host, "address to bind (anything but loopback: behind a TLS proxy)")
