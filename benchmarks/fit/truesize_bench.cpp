@@ -1,13 +1,13 @@
 // bench_truesize: the scale chain against synthetic ground truth (#44). For each trained model and
 // the synthetic dataset it was trained on, the fit as `lorgnette fit` runs it (its default settings,
-// scale policy auto) twice: with the model's header as `train` wrote it (the card's scale when the
-// capture found one) and with metadata.metric_scale removed (a capture without a card: the irises,
-// else the mean face; the mean face's own figure comes from the same fit). Against ground_truth.json:
+// scale policy auto) with metadata.metric_scale removed (a capture without a card: the irises, else
+// the mean face, whose own figure the fit keeps); the card's figures (the scale `train` wrote into
+// the header from the capture's scale.json) follow from the same fit. Against ground_truth.json:
 // each source's mm per unit (per model unit through the model's normalisation) and PD (pd_mm), the
 // stated uncertainties, and the iris measure's own error against the painted iris (iris_diameter_mm:
-// the method's error apart from the population's). Also the card step's seconds in `capture`
-// (DATASET/card.json, `capture --card-only --json`), the fit's "scale" stage (the iris renders and
-// measure) and the training's seconds (DATASET/train_seconds.json, when the script wrote it).
+// the method's error apart from the population's). Also the card step's
+// seconds in `capture` (DATASET/card.json, `capture --card-only --json`), the fit's "scale" stage (the iris
+// renders and measure) and the training's seconds (DATASET/train_seconds.json, when the script wrote it).
 // Writes OUT.csv (one row per capture) and beside it OUT.png (the scale errors per capture).
 //
 //   bench_truesize GLASSES OUT.csv MODEL DATASET [MODEL DATASET ...]
@@ -35,8 +35,8 @@ struct Row {
   std::string name, source, iris_why;
   double truth = NAN, painted = NAN, pd_true = NAN, face_width = NAN;
   double card = NAN, card_unc = NAN, card_pd = NAN, card_pd_unc = NAN, card_s = NAN;
-  double iris = NAN, iris_unc = NAN, iris_pd = NAN, iris_measured_mm = NAN, mean_face = NAN,
-         mean_face_pd = NAN;
+  double iris = NAN, iris_unc = NAN, iris_pd = NAN, iris_measured_mm = NAN;
+  double mean_face = NAN, mean_face_pd = NAN;
   double pd_unc = NAN, iris_s = NAN, fit_s = NAN, train_s = NAN;
   int iris_views = 0;
 };
@@ -89,15 +89,20 @@ Row measure(const std::string& model_path, const std::string& dataset, const Gla
   w.train_s = number_or_nan(read_json_or_empty(dataset + "/train_seconds.json"), "seconds");
   NerfViewOptions views;
   views.dataset = dataset;
-  const FitOptions opt = fit_options(FitSettings{});
-  if (m.metadata.metric_scale) {  // the product's path: the card's scale from the model's header
-    const FitResult c = run_fit_job(m, glasses, opt, views).fit;
-    w.card = c.scale.mm_per_unit, w.card_unc = c.scale.mm_per_unit_uncertainty;
-    w.card_pd = c.head.pd_mm, w.card_pd_unc = c.pd_uncertainty_mm;
-    m.metadata.metric_scale.reset();
-  }
-  const FitResult r = run_fit_job(m, glasses, opt, views).fit;
+  // One fit, without the card (a capture without one: the irises, else the mean face). With a card the
+  // fit takes the model's metric_scale as its mm per unit and PD in units times it (scale_chain.h), so
+  // the card's figures follow from the same fit: PD's sigma has the scale's share replaced.
+  const std::optional<nerf::MetricScale> card = m.metadata.metric_scale;
+  m.metadata.metric_scale.reset();
+  const FitResult r = run_fit_job(m, glasses, fit_options(FitSettings{}), views).fit;
   const double pd_units = r.head.pd_mm / r.scale.mm_per_unit;  // PD in units does not depend on the scale
+  if (card) {
+    w.card = card->mm_per_unit, w.card_unc = card->uncertainty, w.card_pd = pd_units * w.card;
+    const double eyes2 =
+        std::pow(r.pd_uncertainty_mm, 2) - std::pow(r.head.pd_mm * r.scale.relative_uncertainty(), 2);
+    w.card_pd_unc = std::sqrt(std::pow(w.card_pd * w.card_unc / w.card, 2) +
+                              std::max(0.0, eyes2) * std::pow(w.card / r.scale.mm_per_unit, 2));
+  }
   w.source = scale_source_name(r.scale.source);
   w.iris_why = r.iris.why;
   if (r.iris.ok) w.iris = r.iris.mm_per_unit, w.iris_unc = r.iris.mm_per_unit_uncertainty;
@@ -172,7 +177,7 @@ std::vector<std::string> cells(const Row& w) {
 void chart(const std::string& path, const std::vector<Row>& rows) {
   std::vector<ChartSeries> s = {{"card", {}, {}, true},
                                 {"irises", {}, {}, true},
-                                {"iris measure vs paint (diameter)", {}, {}, true},
+                                {"iris diameter vs paint", {}, {}, true},
                                 {"mean face", {}, {}, true}};
   for (size_t i = 0; i < rows.size(); ++i) {
     const Row& w = rows[i];
