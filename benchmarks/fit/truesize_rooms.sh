@@ -1,10 +1,10 @@
 #!/usr/bin/env bash
 # The scale chain on synthetic room captures (#44): for each case a procedural head holding an ID-1
 # card (`synth --room R --card`, several head sizes and seeds, both rooms, two sweep arcs), the card
-# step alone (`capture --card-only`, its seconds), a short training, then bench_truesize --rooms:
-# the fit with the card's scale (the model's metadata.metric_scale, as `train` wrote it) and without
-# it (the irises, else the mean face), against ground_truth.json. Then the scan subject (no card:
-# its eyes are closed in the scan, so the irises must be refused and the mean face used).
+# step alone (`capture --card-only`, its seconds), a short training, then bench_truesize: the card's
+# scale (the model's metadata.metric_scale, as `train` wrote it) and the fit without it (the irises,
+# else the mean face), against ground_truth.json. Then the scan subject (no card: its eyes are
+# closed in the scan, so the irises must be refused and the mean face used).
 #
 #   benchmarks/fit/truesize_rooms.sh BUILD_DIR OUT_DIR [DATA_DIR]
 # DATA_DIR: the team data (LORGNETTE_DATA_DIR; the scan case is skipped without it).
