@@ -363,7 +363,9 @@ void measure_scale(FitRun& run) {
     r.warnings.push_back("true size with an approximate scale: " + r.scale.why);
 }
 
-// The fit advice (fit_advice.h) for the frame as it rests on the head.
+HeadProbe make_head_probe(const FitRun& run);
+
+// The fit advice (fit_advice.h) for the frame at true size as it rests on the head.
 void advise(FitRun& run) {
   StageTimer t{run.r, "advice", run.opt};
   FitResult& r = run.r;
@@ -376,9 +378,15 @@ void advise(FitRun& run) {
                P[lm::kEyeOuterR].position,
                r.head.mm_per_unit,
                r.scale.source == ScaleSource::kMeanFace};
+  const PlaceInputs points{
+      r.f_c, r.ears.f_l, r.ears.f_r, P[lm::kTempleL].position, P[lm::kTempleR].position, r.head.mm_per_unit};
+  const bool rest = run.opt.place.refine_contact && !run.glasses.frame_points.empty();
+  const HeadProbe probe = make_head_probe(run);
+  r.advice_placement = advice_placement(run.glasses.ref, points, r.scale_policy, r.placement,
+                                        rest ? &probe : nullptr, r.head.d_fwd);
   ViewSource& source = run.source;
   DensityFn density = [&source](const std::vector<Eigen::Vector3f>& p) { return source.density(p); };
-  r.advice = fit_advice(advice_inputs(run.glasses, r.placement, h, density, run.surface));
+  r.advice = fit_advice(advice_inputs(run.glasses, r.advice_placement, h, density, run.surface));
   for (const AdviceRule& a : r.advice.rules) spdlog::info("fit advice: {}", a.text);
 }
 
