@@ -7,6 +7,14 @@
 
 namespace lorgnette::fit {
 
+Placement advice_placement(const GlassesRefPoints& g, const PlaceInputs& points, ScalePolicy used,
+                           const Placement& drawn, const HeadProbe* head, const Eigen::Vector3d& d_fwd) {
+  if (used == ScalePolicy::kTrueSize) return drawn;
+  Placement p = place_glasses(g, points, ScalePolicy::kTrueSize);
+  if (head && !head->frame_points.empty()) refine_contact(p, *head, d_fwd);
+  return p;
+}
+
 Eigen::Vector3d canonical_at_true_size(const Placement& p, const Eigen::Vector3d& g_c, double mpu,
                                        const Eigen::Vector3d& q) {
   const Eigen::Vector3d bridge = p.transform.block<3, 3>(0, 0) * g_c + p.transform.block<3, 1>(0, 3);

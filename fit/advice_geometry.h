@@ -1,11 +1,14 @@
 // The head's and the frame's numbers the fit advice compares (fit_advice.h), from the fitted head and
-// the placed frame. The frame is taken at its true size on the placement's rotation and bridge point
-// whatever the scale policy drew it at, and the head's sizes are in mm through the fit's scale:
+// the placed frame. The frame is taken at its true size on the placement's rotation, resting on the
+// head (advice_placement below) whatever the scale policy drew it at, and the head's sizes are in mm through
+// the fit's scale:
 //   - the face's width at the temples: the head's width where a frame's temples pass it, at the
 //     outer eye corners' height, a quarter of the way back from each corner to its ear rest (the
 //     synthetic ground truth's definition, synth/procedural_head.cpp), from the density coming in
 //     from the side; the landmarks 0 and 16 sit at the tragus, 10-20 mm wider, and are not used;
-//   - hinge to ear: each hinge to its ear rest, averaged over the sides;
+//   - hinge to ear: each hinge to its ear rest, averaged over the sides, in a straight line: a temple
+//     runs straight back from its hinge over the ear's root (where the helix meets the head, the
+//     rest), and the length printed on it adds the drop bent down behind the ear (fit_advice.h);
 //   - the pupils' height above the lens' centre line: the eye centres (each the mean of its six
 //     landmarks) in the frame's canonical axes;
 //   - the nose's width where the pads rest: the width of the head's solid cross-section at the lens'
@@ -34,6 +37,15 @@ struct NoseProbeOptions {
   double step_mm = 0.5;        // probe spacing
   double max_width_mm = 30.0;  // wider: the slice reached the cheeks, not a nose
 };
+
+// The frame the advice measures: at its true size on the placement's rotation, resting on the head.
+// A stretched frame (policy stretch) is larger than the real one, so its rims meet the nose's flanks
+// lower down and the contact search slides it further off the face (14 mm on the procedural head
+// with the mean face's scale, against none at true size); the real frame would sit nearer, and its
+// hinges nearer the ears. So with any policy other than true size the frame is placed at true size
+// from the same points and rested anew (`head` null or without frame points: not rested).
+Placement advice_placement(const GlassesRefPoints& glasses, const PlaceInputs& points, ScalePolicy used,
+                           const Placement& drawn, const HeadProbe* head, const Eigen::Vector3d& d_fwd);
 
 // Canonical mm of a scene point for the frame at true size: g = g_c + R^T (p - T g_c) mm_per_unit.
 Eigen::Vector3d canonical_at_true_size(const Placement& placement, const Eigen::Vector3d& g_c,

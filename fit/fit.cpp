@@ -10,6 +10,7 @@
 #include <chrono>
 #include <cmath>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 
 #include "fit/advice_geometry.h"
@@ -160,6 +161,9 @@ struct FitRun {
   };
   bool skin_read = false;  // r.skin holds the nose line's tone (face_skin)
   EarPoints eq23_ears{};   // Eq. 2-3's ears, kept for ears_back_to_eq23
+  // The density's ear rests when the placement went back to Eq. 2-3's: still where a temple rests,
+  // so the advice measures the temples to them.
+  std::optional<EarPoints> rest_ears;
 };
 
 void load_detector(FitRun& run) {
@@ -363,22 +367,40 @@ void measure_scale(FitRun& run) {
     r.warnings.push_back("true size with an approximate scale: " + r.scale.why);
 }
 
-// The fit advice (fit_advice.h) for the frame as it rests on the head.
+HeadProbe make_head_probe(const FitRun& run);
+
+// The fit advice (fit_advice.h) for the frame at true size as it rests on the head.
 void advise(FitRun& run) {
   StageTimer t{run.r, "advice", run.opt};
   FitResult& r = run.r;
   const auto& P = r.points;
+  // The temples are measured to the ears' rests: the density's, whether or not the placement kept
+  // them. Eq. 2-3's ears are a point for the frame's turn, 20-40 mm off the ear (ear_root.h).
+  const EarPoints& ears = r.ear_roots.from_density() || !run.rest_ears ? r.ears : *run.rest_ears;
+  const bool rests = r.ear_roots.from_density() || run.rest_ears.has_value();
   AdviceHead h{eye_centre(P, lm::kEyeLFirst),
                eye_centre(P, lm::kEyeRFirst),
-               r.ears.f_l,
-               r.ears.f_r,
+               ears.f_l,
+               ears.f_r,
                P[lm::kEyeOuterL].position,
                P[lm::kEyeOuterR].position,
                r.head.mm_per_unit,
                r.scale.source == ScaleSource::kMeanFace};
+  const PlaceInputs points{
+      r.f_c, r.ears.f_l, r.ears.f_r, P[lm::kTempleL].position, P[lm::kTempleR].position, r.head.mm_per_unit};
+  const bool rest = run.opt.place.refine_contact && !run.glasses.frame_points.empty();
+  const HeadProbe probe = make_head_probe(run);
+  r.advice_placement = advice_placement(run.glasses.ref, points, r.scale_policy, r.placement,
+                                        rest ? &probe : nullptr, r.head.d_fwd);
   ViewSource& source = run.source;
   DensityFn density = [&source](const std::vector<Eigen::Vector3f>& p) { return source.density(p); };
-  r.advice = fit_advice(advice_inputs(run.glasses, r.placement, h, density, run.surface));
+  AdviceInputs in = advice_inputs(run.glasses, r.advice_placement, h, density, run.surface);
+  if (!rests && in.hinge_to_ear_mm > 0) {
+    in.hinge_to_ear_mm = 0.0;
+    in.why_no_hinges =
+        "the ears' rests were not found on the head (Eq. 2-3's estimate lies 20-40 mm off the ear)";
+  }
+  r.advice = fit_advice(in);
   for (const AdviceRule& a : r.advice.rules) spdlog::info("fit advice: {}", a.text);
 }
 
@@ -413,6 +435,7 @@ void place_on_face(FitRun& run) {
 // the frame is placed again.
 void ears_back_to_eq23(FitRun& run) {
   FitResult& r = run.r;
+  if (r.ear_roots.from_density()) run.rest_ears = r.ears;
   const std::string why = fmt::format(
       "with them the frame's front still passes {:.2f} mm into the face after the contact search; the ears "
       "from Eq. 2-3 instead",

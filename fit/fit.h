@@ -140,6 +140,7 @@ struct FitResult {
   double pd_uncertainty_mm = 0.0;
   ScalePolicy scale_policy = ScalePolicy::kStretch;
   FitAdvice advice;
+  Placement advice_placement;  // the frame the advice measures: true size, resting on the head
   double total_seconds() const;
 };
 

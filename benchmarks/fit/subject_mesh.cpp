@@ -1,6 +1,7 @@
 // Rebuilds a synthetic subject's mesh in a model's frame (see subject_mesh.h).
 #include "subject_mesh.h"
 
+#include <cmath>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
@@ -76,7 +77,12 @@ std::unique_ptr<MeshViewSource> subject_source(const std::string& dataset, const
   nlohmann::json gt = nlohmann::json::parse(in);
   mesh::TriMesh m;
   if (gt.at("source") == "procedural") {
-    synth::Subject s = synth::procedural_subject(synth::random_head_params(gt.at("seed").get<uint64_t>()));
+    // `synth --head-scale` scales the seed's lengths; the factor is the two head widths' ratio (the
+    // parameters' comparison below checks it).
+    const synth::HeadParams seeded = synth::random_head_params(gt.at("seed").get<uint64_t>());
+    const float factor = gt.at("params").at("head_width").get<float>() / seeded.head_width;
+    synth::Subject s = synth::procedural_subject(
+        std::abs(factor - 1.0f) < 1e-6f ? seeded : synth::scale_head(seeded, factor));
     if (s.params != gt.at("params"))
       throw std::runtime_error("the procedural head of seed " + gt.at("seed").dump() +
                                " differs from the dataset's");

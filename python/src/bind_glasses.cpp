@@ -82,6 +82,7 @@ std::shared_ptr<Glasses> make_glasses(const mesh::FrameParams& params, std::stri
   mesh::RefPointsSidecar s;  // file coordinates of a .glb are metres (as `glasses make`)
   s.points = f.ref;
   s.points.g_l /= 1000.0f, s.points.g_r /= 1000.0f;
+  s.mm_per_unit = 1000.0;  // stated: a frame narrower than unit detection's adult range keeps its size
   mesh::write_refpoints_sidecar(path, s);
   return load_glasses(path);
 }

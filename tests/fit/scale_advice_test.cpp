@@ -255,6 +255,74 @@ TEST(AdviceGeometry, TempleWidthWithoutAHeadSideIsNotJudged) {
   EXPECT_FALSE(a.rules[0].judged());
 }
 
+// The frame the advice measures rests at true size, not where a stretched frame came to rest. The head
+// (scene = mm / 200, the frame's axes): a nose whose front lies at z = 0.07 y^2 - 1.5 |x| below the
+// bridge (y < 0), widening downwards as a nose does. The frame's lower inner rim corners at
+// (+-12, -15, 0) mm clear it at true size (the nose's front there is 2.25 mm behind them), so that frame
+// slides in until it touches; stretched 1.306 x they lie at (+-15.7, -19.6) mm, 3.4 mm inside the nose,
+// and that frame slides out. The ear rests 100 mm behind the hinges' plane.
+TEST(AdviceGeometry, TheAdvicesFrameRestsAtTrueSizeNotWhereTheStretchedOneDid) {
+  const double mpu = 200.0;
+  GlassesRefPoints g;
+  g.g_l = {62, 0, -105}, g.g_r = {-62, 0, -105};
+  g.has_hinges = true;
+  g.hinge_l = {62, 3, -0.5}, g.hinge_r = {-62, 3, -0.5};
+  const PlaceInputs points{Eigen::Vector3d::Zero(),
+                           g.g_l / mpu,
+                           g.g_r / mpu,
+                           Eigen::Vector3d(81, 0, -20) / mpu,
+                           Eigen::Vector3d(-81, 0, -20) / mpu,
+                           mpu};
+  HeadProbe head;
+  head.density = [mpu](const std::vector<Eigen::Vector3f>& pts) {
+    std::vector<float> out;
+    for (const auto& q : pts) {
+      const Eigen::Vector3d c = q.cast<double>() * mpu;
+      const bool nose = c.y() < 0 && c.z() > -60 && c.z() < 0.07 * c.y() * c.y() - 1.5 * std::abs(c.x());
+      out.push_back(nose ? 100.0f : 0.0f);
+    }
+    return out;
+  };
+  head.mm_per_unit = mpu;
+  head.contact.density_threshold = 1.0f;
+  for (double x : {-30.0, -12.0, 12.0, 30.0})
+    for (double y : {-15.0, 15.0}) head.frame_points.emplace_back(x, y, 0.0);
+  const Eigen::Vector3d fwd(0, 0, 1);
+  Placement drawn = place_glasses(g, points, ScalePolicy::kStretch);
+  ASSERT_NEAR(drawn.scale * mpu, 162.0 / 124.0, 1e-9);
+  const ContactResult stretched = refine_contact(drawn, head, fwd);
+  EXPECT_NEAR(stretched.shift_mm, 3.5, 0.3);  // 3.4 mm out, in 0.25 mm steps
+  // True size: drawn as it is.
+  Placement true_size = place_glasses(g, points, ScalePolicy::kTrueSize);
+  refine_contact(true_size, head, fwd);
+  const Placement same = advice_placement(g, points, ScalePolicy::kTrueSize, true_size, &head, fwd);
+  EXPECT_EQ(same.transform, true_size.transform);
+  // Stretched: placed anew at true size and rested: 2-2.25 mm in, not 3.5 mm out.
+  const Placement a = advice_placement(g, points, ScalePolicy::kStretch, drawn, &head, fwd);
+  EXPECT_NEAR(a.scale, 1.0 / mpu, 1e-12);
+  const double shift_mm = a.transform(2, 3) * mpu;
+  EXPECT_LE(shift_mm, -2.0);
+  EXPECT_GE(shift_mm, -2.25);
+  // Hinge to ear on each: the stretched frame's rest puts its hinges 5.5-5.75 mm further from the ears.
+  GlassesInput gi;
+  gi.ref = g;
+  gi.sizes = {135.0, 52.0, 40.0, 3.0, 18.0, 140.0};
+  const AdviceHead h{Eigen::Vector3d(30, 0, -10) / mpu,
+                     Eigen::Vector3d(-30, 0, -10) / mpu,
+                     Eigen::Vector3d(66, 4, -100) / mpu,
+                     Eigen::Vector3d(-66, 4, -100) / mpu,
+                     Eigen::Vector3d(45, 0, -15) / mpu,
+                     Eigen::Vector3d(-45, 0, -15) / mpu,
+                     mpu,
+                     false};
+  const double at_rest = advice_inputs(gi, a, h, {}, 1.0f).hinge_to_ear_mm;
+  EXPECT_NEAR(at_rest, (Eigen::Vector3d(66, 4, -100 - shift_mm) - g.hinge_l).norm(), 1e-6);
+  EXPECT_GT(advice_inputs(gi, drawn, h, {}, 1.0f).hinge_to_ear_mm - at_rest, 5.4);
+  // Without a head to rest on, the true-size frame stays at the bridge point.
+  EXPECT_NEAR(advice_placement(g, points, ScalePolicy::kStretch, drawn, nullptr, fwd).transform(2, 3), 0.0,
+              1e-12);
+}
+
 TEST(PlacementJsonScale, RoundTripAndRefusals) {
   PlacementFile p;
   p.scale_source = "iris";

@@ -85,6 +85,21 @@ TEST(Cli, FitRefusesADebugDirectoryWithAnEarlierFitsViews) {
   EXPECT_FALSE(fs::exists(d / "placement.json"));
 }
 
+// A frame narrower than unit detection's adult range (105-185 mm) keeps its size: the sidecar states
+// the unit, so 2 x 30 + 14 + 6 = 80 mm is not read as some other unit's 140 mm.
+TEST(Cli, GlassesMakeKeepsANarrowFramesSize) {
+  fs::path d = test_dir();
+  lt::CliCall call;
+  call.stdout_to = "frame.json";
+  CliResult r = lt::run_cli(LGN_CLI_PATH, d, "glasses make --lens 30 --bridge 14 -o narrow.glb --json", call);
+  ASSERT_EQ(r.status, 0) << r.err;
+  const std::string out = lt::read(d / "frame.json");
+  const size_t at = out.find("\"total_width\":");
+  ASSERT_NE(at, std::string::npos) << out;
+  EXPECT_NEAR(std::atof(out.c_str() + at + 14), 80.3, 0.5) << out;
+  EXPECT_CONTAINS(lt::read(d / "narrow.glb.refpoints.json"), "\"mm_per_unit\": 1000");
+}
+
 TEST(Cli, GlassesMakeRefusesExistingOutputsUnlessForced) {
   fs::path d = test_dir();
   write_file(d / "frame.glb", kKeep);

@@ -139,6 +139,7 @@ void add_make(CLI::App& parent) {
     mesh::RefPointsSidecar s;  // file coordinates of a .glb are metres
     s.points = f.ref;
     s.points.g_l /= 1000.0f, s.points.g_r /= 1000.0f;
+    s.mm_per_unit = 1000.0;  // stated: a frame narrower than unit detection's adult range keeps its size
     mesh::write_refpoints_sidecar(o->output, s);
     mesh::Glasses g = mesh::load_glasses(o->output);
     if (!o->preview.empty()) write_image(o->preview, mesh::render_glasses_preview(g));
