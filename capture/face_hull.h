@@ -1,6 +1,7 @@
 // The regions of a head that its trained model must fill solidly, for training's check of its own
 // output (host/nerf/subject_holes.h): the face, as the hull of its triangulated landmarks from the
-// landmark head box (fit/head_box.h), and the neck's core below the chin. Holes there are what the
+// landmark head box (fit/head_box.h), and the head's certain interior (behind the face, the skull,
+// the neck's core below the chin). Holes there are what the
 // room model's separation takes from a face before a wall of the same colour (#41).
 #pragma once
 #include <vector>
@@ -22,9 +23,12 @@ struct NeckCoreMm {
   double radius = 20.0, behind_eyes = 90.0, top_below_eyes = 130.0, bottom_below_eyes = 155.0;
 };
 
-// The face hull (the jaw contour from below the ears round the chin, 2-14, and the inner points
-// 17-67 that triangulated; facing the head's forward axis, judged from views within 50 deg of it) and
-// the neck's core (seen from any side); empty when the box holds no landmarks.
+// The regions training checks for holes: the face hull (the jaw contour from below the ears round
+// the chin, 2-14, and the inner points 17-67 that triangulated; facing the head's forward axis,
+// judged from views within 50 deg of it) and the parts of the head's certain interior
+// (head_solid_core: "cheeks and jaw" behind the face, the "neck" core, the "skull"), each a convex
+// solid seen from any side, so a hole at the side or the top of the head is judged too; empty when the
+// box holds no landmarks.
 std::vector<nerf::SolidHull> head_solid_hulls(const fit::HeadBox& box, const NeckCoreMm& neck = {});
 
 // The head's certain interior (nerf::SubjectZones::solid), in the head frame (mm, as NeckCoreMm) and
