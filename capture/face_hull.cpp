@@ -42,7 +42,7 @@ nerf::SubjectVolume head_solid_core_mm(const NeckCoreMm& neck) {
   nerf::OrientedShape face;
   face.kind = nerf::OrientedShape::Kind::Ellipsoid;
   face.center = {0.0f, -40.0f, -70.0f};
-  face.half = {45.0f, 60.0f, 40.0f};
+  face.half = {55.0f, 65.0f, 40.0f};
   v.parts.push_back(face);
   nerf::OrientedShape core;
   core.kind = nerf::OrientedShape::Kind::Ellipsoid;
@@ -54,7 +54,7 @@ nerf::SubjectVolume head_solid_core_mm(const NeckCoreMm& neck) {
   nerf::OrientedShape skull;
   skull.kind = nerf::OrientedShape::Kind::Ellipsoid;
   skull.center = {0.0f, 30.0f, -75.0f};
-  skull.half = {50.0f, 50.0f, 60.0f};
+  skull.half = {58.0f, 58.0f, 68.0f};
   v.parts.push_back(skull);
   v.what =
       "the head's certain interior (behind the face, in the skull, the neck's core; capture/face_hull.h)";
