@@ -123,6 +123,13 @@ nerf::HoleReport held_out_holes(nerf::NerfModel& model, const EvalArgs& a, const
   return nerf::check_subject_holes(model, cams, box.zones->whole, o);
 }
 
+// --holes as JSON: the worst region's share, the worst view's, and each region's rays and share.
+nlohmann::json holes_json(const nerf::HoleReport& r) {
+  nlohmann::json regions = nlohmann::json::object();
+  for (const nerf::RegionHoles& g : r.regions) regions[g.name] = {{"rays", g.rays}, {"holes", g.share()}};
+  return {{"holes", r.holes}, {"worst_view", r.worst_view}, {"regions", regions}};
+}
+
 void run_eval(const EvalArgs& a, GlobalOptions& global) {
   check_bound_or_zero(bounds::kEvalMaxViews, a.max_views);  // host/util/bounds.h, before any loading
   check_bound(bounds::kDownscale, a.downscale);
@@ -165,13 +172,7 @@ void run_eval(const EvalArgs& a, GlobalOptions& global) {
                           {"view_ssim", r.view_ssim},
                           {"model", a.model}};
     if (!mattes.is_null()) out["mattes"] = mattes;
-    if (holes) {
-      nlohmann::json regions = nlohmann::json::object();
-      for (const nerf::RegionHoles& g : holes->regions)
-        regions[g.name] = {{"rays", g.rays}, {"holes", g.share()}};
-      out["held_out_holes"] = {
-          {"holes", holes->holes}, {"worst_view", holes->worst_view}, {"regions", regions}};
-    }
+    if (holes) out["held_out_holes"] = holes_json(*holes);
     if (!model.metadata.subject_problem.empty()) out["subject_problem"] = model.metadata.subject_problem;
     // Training's check of its own output (host/nerf/subject_holes.h); null when it did not run.
     out["holes"] = model.metadata.holes >= 0.0 ? nlohmann::json(model.metadata.holes) : nlohmann::json();
