@@ -28,21 +28,12 @@ std::vector<nerf::SolidHull> head_solid_hulls(const fit::HeadBox& box, const Nec
     if ((k <= kContourLast || k >= kInnerFirst) && box.landmark_ok[size_t(k)])
       face.points.push_back(to_vec3f(box.landmarks[size_t(k)]));
   if (face.points.size() >= 3) hulls.push_back(face);
-  nerf::SolidHull core;
-  core.name = "neck";
-  core.facing = face.facing;
-  core.max_view_deg = 180.0f;
-  const double unit = 1.0 / box.head.mm_per_unit;
-  const Eigen::Vector3d axis = box.anchor - box.head.d_fwd * (neck.behind_eyes * unit);
-  for (double below : {neck.top_below_eyes, neck.bottom_below_eyes})
-    for (int i = 0; i < 12; ++i) {
-      const double a = 2.0 * M_PI * i / 12.0;
-      const Eigen::Vector3d p =
-          axis - box.head.d_up * (below * unit) +
-          (box.head.d_eye * std::cos(a) + box.head.d_fwd * std::sin(a)) * (neck.radius * unit);
-      core.points.push_back(to_vec3f(p));
-    }
-  hulls.push_back(core);
+  // The certain interior's parts (head_solid_core_mm's order: behind the face, the neck's core, the
+  // skull), each a convex solid inside the head, seen from any side.
+  const nerf::SubjectVolume core = head_solid_core(box, neck);
+  const char* names[] = {"cheeks and jaw", "neck", "skull"};
+  for (size_t i = 0; i < core.parts.size() && i < 3; ++i)
+    hulls.push_back(nerf::ellipsoid_hull(core.parts[i], names[i]));
   return hulls;
 }
 
@@ -51,7 +42,7 @@ nerf::SubjectVolume head_solid_core_mm(const NeckCoreMm& neck) {
   nerf::OrientedShape face;
   face.kind = nerf::OrientedShape::Kind::Ellipsoid;
   face.center = {0.0f, -40.0f, -70.0f};
-  face.half = {45.0f, 60.0f, 40.0f};
+  face.half = {55.0f, 65.0f, 40.0f};
   v.parts.push_back(face);
   nerf::OrientedShape core;
   core.kind = nerf::OrientedShape::Kind::Ellipsoid;
@@ -63,7 +54,7 @@ nerf::SubjectVolume head_solid_core_mm(const NeckCoreMm& neck) {
   nerf::OrientedShape skull;
   skull.kind = nerf::OrientedShape::Kind::Ellipsoid;
   skull.center = {0.0f, 30.0f, -75.0f};
-  skull.half = {50.0f, 50.0f, 60.0f};
+  skull.half = {58.0f, 58.0f, 68.0f};
   v.parts.push_back(skull);
   v.what =
       "the head's certain interior (behind the face, in the skull, the neck's core; capture/face_hull.h)";

@@ -1,6 +1,7 @@
 // The regions of a head that its trained model must fill solidly, for training's check of its own
 // output (host/nerf/subject_holes.h): the face, as the hull of its triangulated landmarks from the
-// landmark head box (fit/head_box.h), and the neck's core below the chin. Holes there are what the
+// landmark head box (fit/head_box.h), and the head's certain interior (behind the face, the skull,
+// the neck's core below the chin). Holes there are what the
 // room model's separation takes from a face before a wall of the same colour (#41).
 #pragma once
 #include <vector>
@@ -22,23 +23,29 @@ struct NeckCoreMm {
   double radius = 20.0, behind_eyes = 90.0, top_below_eyes = 130.0, bottom_below_eyes = 155.0;
 };
 
-// The face hull (the jaw contour from below the ears round the chin, 2-14, and the inner points
-// 17-67 that triangulated; facing the head's forward axis, judged from views within 50 deg of it) and
-// the neck's core (seen from any side); empty when the box holds no landmarks.
+// The regions training checks for holes: the face hull (the jaw contour from below the ears round
+// the chin, 2-14, and the inner points 17-67 that triangulated; facing the head's forward axis,
+// judged from views within 50 deg of it) and the parts of the head's certain interior
+// (head_solid_core: "cheeks and jaw" behind the face, the "neck" core, the "skull"), each a convex
+// solid seen from any side, so a hole at the side or the top of the head is judged too; empty when the
+// box holds no landmarks.
 std::vector<nerf::SolidHull> head_solid_hulls(const fit::HeadBox& box, const NeckCoreMm& neck = {});
 
 // The head's certain interior (nerf::SubjectZones::solid), in the head frame (mm, as NeckCoreMm) and
 // in the scene: an ellipsoid behind the face, centred 70 mm behind the inner eye corners and 40 mm
-// below the eyes, 45 mm to each side, 60 mm up and down and 40 mm deep, so its front lies 30 mm
-// behind the eye corners' plane at the nose's height and ~50 mm at the cheeks 40 mm out (the mean
-// face's cheeks lie 10-20 mm behind that plane, its eyeballs reach 25 mm); the skull's interior, an
-// ellipsoid centred 75 mm behind the inner eye corners and 30 mm above the eyes, 50 mm to each side,
-// 50 mm up and down and 60 mm deep (a small adult head, p1 of women: ~135 mm broad, ~173 mm from
-// glabella, 15 mm ahead of the eye corners, to the back, ~100 mm from the eyes to the vertex, so it
-// stays ~15 mm inside the forehead, the sides and the back and ~20 mm below the top); and the neck's
-// core (NeckCoreMm, as an ellipsoid of its radius). On six procedural heads every point of it lies 4 mm
-// or more inside the skin (tests/capture/face_hull_test.cpp), so a ray from any training view
-// through it passes through the subject.
+// below the eyes, 55 mm to each side, 65 mm up and down and 40 mm deep, so its front lies 30 mm
+// behind the eye corners' plane at the nose's height and ~43 mm at the cheeks 40 mm out (the mean
+// face's cheeks lie 10-20 mm behind that plane, its eyeballs reach 25 mm; a face is 120-140 mm wide
+// at the cheekbones); the skull's interior, an ellipsoid centred 75 mm behind the inner eye corners
+// and 30 mm above the eyes, 58 mm to each side, 58 mm up and down and 68 mm deep (a small adult head,
+// p1 of women: ~135 mm broad, ~173 mm from glabella, 15 mm ahead of the eye corners, to the back,
+// ~100 mm from the eyes to the vertex, so it stays ~10 mm inside the sides, ~15 mm inside the back,
+// ~20 mm inside the forehead and ~12 mm below the top); and the neck's core (NeckCoreMm, as an
+// ellipsoid of its radius). Rays that miss it get no pull (the rim of the head, where the evidence is
+// ambiguous), so it reaches as close to the skin as a small head allows: on six procedural heads
+// every point of it lies 4 mm or more inside the skin, the face's and the skull's parts 6.5 mm
+// (tests/capture/face_hull_test.cpp), so a ray from any training view through it passes through the
+// subject.
 nerf::SubjectVolume head_solid_core_mm(const NeckCoreMm& neck = {});
 nerf::SubjectVolume head_solid_core(const fit::HeadBox& box, const NeckCoreMm& neck = {});
 

@@ -169,6 +169,11 @@ nerf::SubjectVolume head_clear_keep_mm(const fit::HeadExtents& e) {
   Span keep = loose_hair_span(e);
   keep.hi.y() = -(e.chin_below_eyes_mm - kChinAboveP99Mm);
   keep.lo.z() = std::max(keep.lo.z(), nape_z_mm(e));  // not the nape
+  // Only as wide as the head (p99 breadth), which no jaw or neck exceeds: beside the neck the volume
+  // holds only loose hair and the ears' margin, and a side view sees that space against the wall,
+  // not the body. With the binary prior there a wall of the skin's colour was painted beside the
+  // neck as a solid slab (the synthetic pale selfie's leak; docs/room-training.md, "Zones").
+  keep.lo.x() = -0.5 * e.head_breadth_mm, keep.hi.x() = 0.5 * e.head_breadth_mm;
   nerf::SubjectVolume v;
   v.parts.push_back(span(OrientedShape::Kind::Box, keep.lo, keep.hi));
   v.what = "the head box below the chin, in front of the nape (the neck; capture/head_volume.h)";

@@ -24,8 +24,8 @@ nerf::SubjectVolume head_volume_mm(const fit::HeadExtents& extents,
 // The same volume placed in the scene (units of the head box's scene): its anchor, axes and scale.
 nerf::SubjectVolume head_volume(const fit::HeadBox& box, HeadVolumeShape shape = HeadVolumeShape::Head);
 
-// The part of the head box below the chin (from the average chin down to the box's bottom, the box's
-// full width with loose hair, in front of the nape), in the head frame (mm) and in the scene: the
+// The part of the head box below the chin (from the average chin down to the box's bottom, as wide
+// as the head's p99 breadth, in front of the nape), in the head frame (mm) and in the scene: the
 // neck, which the body in the room model lies right behind, so the room's colour can match it
 // without the neck being a backdrop. The room-explained clearing (nerf::SubjectZones::keep) leaves
 // it out.

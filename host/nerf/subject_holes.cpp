@@ -89,26 +89,49 @@ std::vector<float> ray_opacity(const Camera& cam, const std::vector<HullRay>& ra
   return T;
 }
 
+// The region of each hull: one per distinct name, in the order the names first appear.
+std::vector<size_t> name_regions(const std::vector<SolidHull>& hulls, std::vector<RegionHoles>& regions) {
+  std::vector<size_t> region_of;
+  for (const SolidHull& h : hulls) {
+    const std::string name = h.name.empty() ? "region" : h.name;
+    size_t g = 0;
+    while (g < regions.size() && regions[g].name != name) ++g;
+    if (g == regions.size()) regions.push_back({name, 0, 0});
+    region_of.push_back(g);
+  }
+  return region_of;
+}
+
 }  // namespace
 
 std::string HoleReport::summary() const {
-  if (!checked) return "holes in the face and neck: not checked (no face region seen by the views)";
+  if (!checked) return "holes in the face and head: not checked (no face region seen by the views)";
+  std::vector<std::string> each;
+  for (const RegionHoles& g : regions)
+    if (g.rays) each.push_back(fmt::format("{} {:.2f} % of {}", g.name, 100.0 * g.share(), g.rays));
   return fmt::format(
-      "holes in the face and neck: {:.2f} % of {} rays through them are transparent (opacity < {:.1f}; "
-      "worst of {} views {:.2f} %), {} the {:.1f} % that breaks the head{}{}",
-      100.0 * holes, rays, kHoleOpacity, views, 100.0 * worst_view, broken() ? "over" : "under",
-      100.0 * kSubjectHoleShare, where.empty() ? "" : ": ", fmt::join(where, ", "));
+      "holes in the face and head: {:.2f} % of the worst region's rays are transparent (opacity < {:.1f}; "
+      "worst of {} views {:.2f} %), {} the {:.1f} % that breaks the head ({})",
+      100.0 * holes, kHoleOpacity, views, 100.0 * worst_view, broken() ? "over" : "under",
+      100.0 * kSubjectHoleShare, fmt::join(each, ", "));
+}
+
+std::string HoleReport::worst_region() const {
+  const RegionHoles* worst = nullptr;
+  for (const RegionHoles& g : regions)
+    if (g.rays && (!worst || g.share() > worst->share())) worst = &g;
+  return worst ? worst->name : "face and head";
 }
 
 std::string HoleReport::advice() const {
   if (!broken()) return "";
   return fmt::format(
-      "the trained head has holes: {:.1f} % of the face and neck is transparent seen from the capture's "
+      "the trained head has holes: {:.1f} % of the {} is transparent seen from the capture's "
       "views (worst view {:.1f} %), so the separation took skin for the room behind it. Film again with "
       "more between you and the wall: stand a metre or more in front of it, light your face from the "
       "front, not the wall, and prefer a wall darker or more coloured than your skin; turn slowly from "
       "one ear to the other (not only a small arc), with your own glasses off",
-      100.0 * holes, 100.0 * worst_view);
+      100.0 * holes, worst_region(), 100.0 * worst_view);
 }
 
 HoleReport measure_holes(const std::vector<Camera>& cameras, const Aabb& box, const SceneNormalisation& norm,
@@ -116,35 +139,36 @@ HoleReport measure_holes(const std::vector<Camera>& cameras, const Aabb& box, co
                          const std::vector<SolidHull>& hulls, const HoleCheckOptions& opt) {
   HoleReport rep;
   if (cameras.empty() || hulls.empty() || !(step > 0.0f) || occ.res == 0) return rep;
-  std::vector<size_t> hull_rays_n(hulls.size(), 0), hull_holes(hulls.size(), 0);
-  size_t holes = 0;
+  const std::vector<size_t> region_of = name_regions(hulls, rep.regions);
   const size_t n = std::min(cameras.size(), std::max<size_t>(opt.max_views, 1));
   for (size_t i = 0; i < n; ++i) {
     const Camera& cam = cameras[i * cameras.size() / n];
     const uint32_t stride = std::max(1u, std::max(cam.width, cam.height) / std::max(1u, opt.rays_across));
     std::vector<HullRay> rays;
     for (size_t h = 0; h < hulls.size(); ++h)
-      if (faces_camera(hulls[h], cam)) hull_rays(hulls[h], h, cam, stride, opt.shrink, rays);
+      if (faces_camera(hulls[h], cam))
+        hull_rays(hulls[h], h, cam, stride, hulls[h].convex_solid ? 1.0f : opt.shrink, rays);
     if (rays.empty()) continue;
     const std::vector<float> alpha = ray_opacity(cam, rays, box, norm, step, occ, density);
-    size_t view_holes = 0;
+    std::vector<RegionHoles> view(rep.regions.size());
     for (size_t r = 0; r < rays.size(); ++r) {
-      const bool hole = alpha[r] < kHoleOpacity;
-      view_holes += hole;
-      ++hull_rays_n[rays[r].hull];
-      hull_holes[rays[r].hull] += hole;
+      RegionHoles& g = view[region_of[rays[r].hull]];
+      ++g.rays;
+      g.holes += alpha[r] < kHoleOpacity;
     }
-    holes += view_holes;
+    for (size_t g = 0; g < view.size(); ++g) {
+      rep.regions[g].rays += view[g].rays, rep.regions[g].holes += view[g].holes;
+      if (view[g].rays >= kMinViewRays) rep.worst_view = std::max(rep.worst_view, view[g].share());
+    }
     rep.rays += rays.size();
     ++rep.views;
-    rep.worst_view = std::max(rep.worst_view, double(view_holes) / double(rays.size()));
   }
   rep.checked = rep.rays > 0;
-  rep.holes = rep.checked ? double(holes) / double(rep.rays) : 0.0;
-  for (size_t h = 0; h < hulls.size(); ++h)
-    if (hull_holes[h] > 0)
-      rep.where.push_back(fmt::format("{} {:.2f} %", hulls[h].name.empty() ? "region" : hulls[h].name,
-                                      100.0 * double(hull_holes[h]) / double(hull_rays_n[h])));
+  for (const RegionHoles& g : rep.regions) {
+    rep.holes = std::max(rep.holes, g.share());
+    if (g.holes > 0) rep.where.push_back(fmt::format("{} {:.2f} %", g.name, 100.0 * g.share()));
+  }
+  rep.worst_view = std::max(rep.worst_view, rep.holes);
   return rep;
 }
 

@@ -1,12 +1,13 @@
 // Holes in the trained subject: the product's check of its own output. A room model that takes part
 // of a face for the wall behind it (a pale face before a pale wall) leaves the face transparent there,
 // and every try-on then shows a head with holes. After training, the regions the subject must fill
-// solidly (SolidHull: the hull of a face's landmarks, a neck's core) are projected into the training
-// views, rays through pixels inside each projected hull (shrunk towards its centre, so the hull's
-// own rim, where the landmarks lie on the face's edge, is not judged) are marched through the model,
-// and the share of those rays whose opacity stays under 0.5 is the figure: near 0 for a whole head,
-// the area of the holes for a broken one. The NeRF core knows nothing about faces: the hulls come
-// from the capture (capture/face_hull.h).
+// solidly (SolidHull: the hull of a face's landmarks; the parts of the head's certain interior, the
+// skull's, behind the face and the neck's core, seen from any side) are projected into the training
+// views, rays through pixels inside each projected hull (a landmark hull shrunk towards its centre, so
+// its own rim, where the landmarks lie on the face's edge, is not judged) are marched through the
+// model, and the share of those rays whose opacity stays under 0.5, per region, is the figure: near 0
+// for a whole head, the area of the holes for a broken one. The NeRF core knows nothing about faces: the
+// hulls come from the capture (capture/face_hull.h).
 #pragma once
 #include <string>
 #include <vector>
@@ -34,19 +35,35 @@ constexpr double kSubjectHoleShare = 0.01;
 // front of a recessed mouth or beside a cheek seen at an angle (15 % of a face's half-width is ~9 mm).
 constexpr float kHullShrink = 0.85f;
 
+// A region seen by fewer rays than this in a view (a sliver of its outline) does not set that view's
+// worst figure: one grazing ray would be its whole share.
+constexpr size_t kMinViewRays = 50;
+
 struct HoleCheckOptions {
   size_t max_views = 12;      // evenly spread over the cameras
   uint32_t rays_across = 96;  // ray grid: the view's longer side / this (pixels between rays)
   float shrink = kHullShrink;
 };
 
+// One region's rays (a hull, or hulls of one name) and its hole rays.
+struct RegionHoles {
+  std::string name;
+  size_t rays = 0, holes = 0;
+  double share() const { return rays ? double(holes) / double(rays) : 0.0; }
+};
+
+// Each region is judged on its own share, so a hole in the face is not diluted by the many whole rays
+// through the skull behind it: the figure is the worst region's.
 struct HoleReport {
   bool checked = false;     // some hull was seen from some view
-  double holes = 0.0;       // share of all hull rays with opacity < kHoleOpacity
-  double worst_view = 0.0;  // the same in the worst view
+  double holes = 0.0;       // the worst region's share of rays with opacity < kHoleOpacity
+  double worst_view = 0.0;  // the same in the worst view (regions with kMinViewRays rays or more there)
   size_t rays = 0, views = 0;
-  std::vector<std::string> where;  // per hull with holes: "face 3.2 %"
+  std::vector<RegionHoles> regions;  // in the hulls' order, one per name
+  std::vector<std::string> where;    // per region with holes: "face 3.2 %"
   bool broken() const { return checked && holes >= kSubjectHoleShare; }
+  // The name of the region with the largest share ("face and head" when no region was recorded).
+  std::string worst_region() const;
   std::string summary() const;
   // What the shopper should film differently ("" when not broken).
   std::string advice() const;

@@ -70,6 +70,30 @@ std::vector<uint32_t> room_cutout_mask(const Aabb& room, const SubjectVolume& vo
   return mask;
 }
 
+SolidHull ellipsoid_hull(const OrientedShape& e, const std::string& name, int rings, int segments) {
+  SolidHull h;
+  h.name = name;
+  h.convex_solid = true;
+  h.max_view_deg = 180.0f;
+  h.facing = e.axes[2];
+  auto at = [&](double x, double y, double z) {
+    const double u[3] = {x, y, z};
+    Vec3f p = e.center;
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < 3; ++b) p[b] += float(u[a] * e.half[a]) * e.axes[a][b];
+    h.points.push_back(p);
+  };
+  at(0.0, 1.0, 0.0), at(0.0, -1.0, 0.0);
+  for (int r = 1; r <= rings; ++r) {
+    const double th = M_PI * r / (rings + 1);
+    for (int k = 0; k < segments; ++k) {
+      const double ph = 2.0 * M_PI * k / segments;
+      at(std::sin(th) * std::cos(ph), std::cos(th), std::sin(th) * std::sin(ph));
+    }
+  }
+  return h;
+}
+
 uint64_t mask_count(const std::vector<uint32_t>& mask) {
   uint64_t n = 0;
   for (uint32_t w : mask) n += static_cast<uint64_t>(__builtin_popcount(w));

@@ -66,12 +66,22 @@ struct SubjectRim {
 // solidly there (a face: the hull of its landmarks; host/nerf/subject_holes.h measures the holes in
 // it), with the direction it faces: views more than `max_view_deg` from it see the region's points
 // round its side, where their hull outlines air.
+// A hull marked `convex_solid` is the surface of a convex solid that lies inside the subject (a part
+// of its certain interior, SubjectZones::solid): every ray through its projection crosses the solid,
+// so the whole projection is judged, from any side, without the shrink a landmark hull needs.
 struct SolidHull {
   std::vector<Vec3f> points;  // scene frame
   Vec3f facing{0.0f, 0.0f, 1.0f};
   float max_view_deg = 50.0f;
-  std::string name;  // for logs: "face", "neck"
+  std::string name;  // for logs: "face", "skull", "neck"
+  bool convex_solid = false;
 };
+
+// Points on the surface of an ellipsoid part (a latitude-longitude net of `rings` x `segments` and
+// the two poles), as a convex_solid hull named `name`: the convex hull of their projection lies
+// inside the ellipsoid's projected outline.
+SolidHull ellipsoid_hull(const OrientedShape& ellipsoid, const std::string& name, int rings = 7,
+                         int segments = 16);
 
 // A subject's volume with the zones of the room model's clearing inside it (background_field.h;
 // capture/head_volume.h builds them from a landmark head box). Empty zones do not apply.

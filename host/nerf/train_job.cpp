@@ -195,7 +195,7 @@ TrainJobResult train_on_dataset(cl::Runtime& rt, const dataset::Dataset& ds, Tra
     // The room-explained clearing is the separation that takes skin whose colour the room model also
     // explains (a pale face before a pale wall, #41); without it only the binary prior separates.
     spdlog::warn(
-        "the head has holes ({:.2f} % of the face and neck transparent): training again without the "
+        "the head has holes ({:.2f} % of its worst region transparent): training again without the "
         "room-explained clearing (--room-clear 0 --lean-gate 0), which keeps more of the subject",
         100.0 * out.model.metadata.holes);
     TrainPlan safer = plan;

@@ -141,19 +141,22 @@ TEST(HeadVolume, MaskDropsTheTiltedBoxCorners) {
   EXPECT_EQ(lost, 0) << "head vertices in cells the mask drops";
 }
 
-// The room-clearing's keep zone is the neck: below the average chin to the box's bottom, across
-// the whole box; the eyes, nose, mouth and the mean face's chin are above it.
+// The room-clearing's keep zone is the neck: below the average chin to the box's bottom, as wide as
+// the head's p99 breadth; the eyes, nose, mouth and the mean face's chin are above it, and the space
+// beside the neck (loose hair, seen against the wall) is outside it.
 TEST(HeadVolume, ClearKeepIsTheNeckBelowTheChin) {
   const fit::HeadExtents e;
   const nerf::SubjectVolume keep = head_clear_keep_mm(e);
   auto in = [&](double x, double y, double z) { return keep.contains({float(x), float(y), float(z)}); };
   const double bottom = e.chin_below_eyes_mm + e.neck_mm;
-  EXPECT_TRUE(in(0, -bottom + 5, 0));                        // the neck at the box's bottom
-  EXPECT_TRUE(in(0, -(e.chin_below_eyes_mm + 5), -80));      // under the p99 chin, behind it
-  EXPECT_TRUE(in(0.5 * e.head_breadth_mm, -bottom + 5, 0));  // hair on the shoulder
-  EXPECT_FALSE(in(0, 0, 0));                                 // between the eyes
-  EXPECT_FALSE(in(0, -114.0 + 5.0, 10));                     // just above the mean face's menton
-  EXPECT_FALSE(in(0, -bottom - 5, 0));                       // below the box: the room's
+  EXPECT_TRUE(in(0, -bottom + 5, 0));                              // the neck at the box's bottom
+  EXPECT_TRUE(in(0, -(e.chin_below_eyes_mm + 5), -80));            // under the p99 chin, behind it
+  EXPECT_TRUE(in(0.5 * e.head_breadth_mm - 5, -bottom + 5, 0));    // the neck's widest
+  EXPECT_FALSE(in(0.5 * e.head_breadth_mm + 10, -bottom + 5, 0));  // beside the neck
+  EXPECT_FALSE(in(-0.5 * e.head_breadth_mm - 10, -(e.chin_below_eyes_mm + 5), -40));
+  EXPECT_FALSE(in(0, 0, 0));              // between the eyes
+  EXPECT_FALSE(in(0, -114.0 + 5.0, 10));  // just above the mean face's menton
+  EXPECT_FALSE(in(0, -bottom - 5, 0));    // below the box: the room's
   // Every mean-face landmark (its eye anchor at the origin, as above) lies above the keep zone.
   const fit::Face68& face = fit::builtin_mean_face();
   Eigen::Vector3d anchor = Eigen::Vector3d::Zero();

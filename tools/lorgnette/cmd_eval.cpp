@@ -1,6 +1,6 @@
 // `lorgnette eval MODEL DATA`: PSNR and SSIM of a trained model over held-out views (test split for
 // NeRF-synthetic, every 8th frame of a transforms.json), optional prediction|truth|error images,
-// and `--json` for scripts.
+// `--holes` (the self-check's regions judged on the evaluated views) and `--json` for scripts.
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
@@ -9,8 +9,11 @@
 #include <iostream>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <optional>
 
+#include "capture/subject_box.h"
 #include "host/dataset/dataset.h"
+#include "host/nerf/subject_holes.h"
 #include "host/render/evaluate.h"
 #include "host/render/matte_eval.h"
 #include "host/render/renderer.h"
@@ -25,7 +28,7 @@ namespace {
 struct EvalArgs {
   std::string model, data, split, output;
   int max_views = 0, downscale = 1, max_side = 0;  // signed, so -1 is refused with the range
-  bool json = false, black = false, force = false;
+  bool json = false, black = false, force = false, holes = false;
 };
 
 // The comparison images evaluate() writes are <index>_pred_truth_error.png: refuse a directory that
@@ -101,6 +104,32 @@ nlohmann::json matte_scores(nerf::NerfModel& model, const dataset::Dataset& ds,
           {"per_view", per}};
 }
 
+// Holes in the head seen from the evaluated views (host/nerf/subject_holes.h): the regions training's
+// self-check judges (the face's landmark hull and the head's certain interior), from the landmark head
+// box of the dataset's training photos, marched through the model from every evaluated view. On a
+// capture without true mattes (a real one) this is the held-out figure.
+nerf::HoleReport held_out_holes(nerf::NerfModel& model, const EvalArgs& a, const dataset::LoadOptions& lo,
+                                const std::vector<nerf::View>& views) {
+  dataset::LoadOptions train = lo;
+  train.splits = {dataset::Split::Train};
+  const dataset::Dataset photos = dataset::load_dataset(a.data, train);
+  const capture::SubjectBoxChoice box = capture::choose_subject_box(photos, capture::BoxSource::Head, false);
+  if (!box.zones || box.zones->whole.empty())
+    throw std::runtime_error("--holes: no face landmarks were triangulated on the dataset's training photos");
+  std::vector<Camera> cams;
+  for (const nerf::View& v : views) cams.push_back(v.camera);
+  nerf::HoleCheckOptions o;
+  o.max_views = cams.size();
+  return nerf::check_subject_holes(model, cams, box.zones->whole, o);
+}
+
+// --holes as JSON: the worst region's share, the worst view's, and each region's rays and share.
+nlohmann::json holes_json(const nerf::HoleReport& r) {
+  nlohmann::json regions = nlohmann::json::object();
+  for (const nerf::RegionHoles& g : r.regions) regions[g.name] = {{"rays", g.rays}, {"holes", g.share()}};
+  return {{"holes", r.holes}, {"worst_view", r.worst_view}, {"regions", regions}};
+}
+
 void run_eval(const EvalArgs& a, GlobalOptions& global) {
   check_bound_or_zero(bounds::kEvalMaxViews, a.max_views);  // host/util/bounds.h, before any loading
   check_bound(bounds::kDownscale, a.downscale);
@@ -129,6 +158,8 @@ void run_eval(const EvalArgs& a, GlobalOptions& global) {
   if (a.black) eo.background = {0.0f, 0.0f, 0.0f};
   render::EvalResult r = render::evaluate(model, views, eo);
   nlohmann::json mattes = matte_scores(model, ds, ds.require_split(split));
+  std::optional<nerf::HoleReport> holes;
+  if (a.holes) holes = held_out_holes(model, a, lo, views);
   if (a.json) {
     nlohmann::json out = {{"psnr", r.psnr},
                           {"ssim", r.ssim},
@@ -141,6 +172,7 @@ void run_eval(const EvalArgs& a, GlobalOptions& global) {
                           {"view_ssim", r.view_ssim},
                           {"model", a.model}};
     if (!mattes.is_null()) out["mattes"] = mattes;
+    if (holes) out["held_out_holes"] = holes_json(*holes);
     if (!model.metadata.subject_problem.empty()) out["subject_problem"] = model.metadata.subject_problem;
     // Training's check of its own output (host/nerf/subject_holes.h); null when it did not run.
     out["holes"] = model.metadata.holes >= 0.0 ? nlohmann::json(model.metadata.holes) : nlohmann::json();
@@ -166,11 +198,12 @@ void run_eval(const EvalArgs& a, GlobalOptions& global) {
   if (!a.json)
     std::cout << (model.metadata.holes >= 0.0
                       ? fmt::format(
-                            "holes in the face and neck (training's self-check, training views): {:.2f} % "
+                            "holes in the face and head (training's self-check, training views): {:.2f} % "
                             "transparent, worst view {:.2f} %\n",
                             100.0 * model.metadata.holes, 100.0 * model.metadata.holes_worst_view)
-                      : std::string("holes in the face and neck: not checked (no room model or no face "
+                      : std::string("holes in the face and head: not checked (no room model or no face "
                                     "landmarks in training)\n"));
+  if (holes && !a.json) std::cout << "evaluated views: " << holes->summary() << "\n";
   if (!a.output.empty()) spdlog::info("prediction | truth | error images in '{}'", a.output);
   // The scores judge the pixels, not whether the subject was separated: say so when it was not.
   if (!model.metadata.subject_problem.empty())
@@ -189,6 +222,10 @@ void add_eval(CLI::App& app, GlobalOptions& global) {
   cmd->add_option("--downscale", a->downscale, "integer image downscale factor (as in training)");
   cmd->add_option("--max-side", a->max_side, "shrink images so the longer side is at most this");
   cmd->add_flag("--black", a->black, "black background instead of white for RGBA truth");
+  cmd->add_flag(
+      "--holes", a->holes,
+      "also measure holes in the head from the evaluated views: the regions training's self-check "
+      "judges (face landmark hull, the head's certain interior), from the training photos' landmarks");
   cmd->add_flag("--json", a->json, "print one JSON object on stdout");
   cmd->add_flag("--force", a->force, "overwrite evaluation images already in the -o directory");
   cmd->callback([a, &global] { run_eval(*a, global); });

@@ -5,7 +5,8 @@
 // the shrunk hull's area (a disc of radius 0.85 x sin(50 deg) x R in an orthographic view; at the
 // camera's 40 units perspective narrows the tunnel's through-rays and widens the hull by ~3 % in
 // area together), and the head counts as broken.
-// Views behind the face are not judged, and the advice says what to film differently.
+// Views behind the face are not judged, and the advice says what to film differently. A convex solid
+// inside the subject is judged whole from any side, each region on its own share.
 #include "host/nerf/subject_holes.h"
 
 #include <gtest/gtest.h>
@@ -109,6 +110,38 @@ TEST(SubjectHoles, ViewsBehindTheFaceAreNotJudged) {
   EXPECT_FALSE(r.checked);
   EXPECT_FALSE(r.broken());
   EXPECT_NE(r.summary().find("not checked"), std::string::npos);
+}
+
+// A convex solid inside the subject (an ellipsoid_hull of a ball of half the sphere's radius) is
+// judged over its whole projection from any side: seen from the side (+x), where the face cap is not
+// judged, the tunnel along z is missed by every ray (it runs across the view), and seen from the
+// front the share of hole rays is the tunnel's cross-section over the ball's (unshrunk) outline. The
+// figure is the worst region's share: the cap's whole rays do not dilute the ball's hole.
+TEST(SubjectHoles, ConvexSolidIsJudgedFromAnySideWithoutShrink) {
+  Scene s;
+  OrientedShape ball;
+  ball.kind = OrientedShape::Kind::Ellipsoid;
+  ball.half = {0.5f * kRadius, 0.5f * kRadius, 0.5f * kRadius};
+  const SolidHull inner = ellipsoid_hull(ball, "ball", 12, 48);
+  EXPECT_TRUE(inner.convex_solid);
+  HoleCheckOptions o;
+  o.rays_across = 256;
+  const std::vector<Camera> side = {nerftest::look_at_camera(40.0f, 0.0f, 0.0f, 256, 1.5f)};
+  s.tunnel = 0.05f;
+  HoleReport r = measure_holes(side, s.box, {}, kStep, s.occ, s.density(), {face_cap(50.0f), inner}, o);
+  ASSERT_TRUE(r.checked);
+  ASSERT_EQ(r.regions.size(), 2u);
+  EXPECT_EQ(r.regions[0].rays, 0u);  // the face cap faces away from this view
+  EXPECT_GT(r.regions[1].rays, 1000u);
+  EXPECT_EQ(r.holes, 0.0) << r.summary();
+  const std::vector<Camera> front = {nerftest::look_at_camera(0.0f, 0.0f, 40.0f, 256, 1.5f)};
+  r = measure_holes(front, s.box, {}, kStep, s.occ, s.density(), {face_cap(50.0f), inner}, o);
+  const double expected = double(s.tunnel * s.tunnel) / double(ball.half[0] * ball.half[0]);  // 0.04
+  EXPECT_NEAR(r.regions[1].share(), expected, 0.1 * expected) << r.summary();
+  EXPECT_NEAR(r.holes, r.regions[1].share(), 1e-12);
+  EXPECT_GT(r.holes, r.regions[0].share());
+  EXPECT_EQ(r.worst_region(), "ball");
+  EXPECT_NE(r.advice().find("of the ball"), std::string::npos) << r.advice();
 }
 
 }  // namespace
