@@ -65,7 +65,8 @@ void train_model(cl::Runtime& rt, const fs::path& dataset_dir, const fs::path& m
   job.resume = nerf::TrainJob::Resume::IfValid;
   job.keep_checkpoint = true;
   job.train.progress = false;
-  uint64_t budget = settings.train_steps;
+  uint64_t budget = settings.train_steps;  // 0: the product's default budget, known once planned
+  job.on_planned = [&](uint64_t steps) { budget = steps; };
   job.train.on_step = [&](uint64_t step, double, double) {
     if (budget > 0) on_fraction(double(step) / double(budget));
   };

@@ -187,6 +187,7 @@ bool has_holes(const NerfModel& m) { return m.metadata.holes >= kSubjectHoleShar
 TrainJobResult train_on_dataset(cl::Runtime& rt, const dataset::Dataset& ds, TrainJob job) {
   std::vector<View> views = training_views(ds);
   TrainPlan plan = plan_training(rt, ds, views, job);
+  if (job.on_planned) job.on_planned(plan.train.steps);
   plan.train.checkpoint_path = checkpoint_for(plan.train);
   TrainJobResult out = train_planned(rt, ds, views, plan, job);
   const BackgroundOptions& room = plan.train.background;

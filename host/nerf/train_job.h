@@ -3,6 +3,7 @@
 // fingerprint, device) and the Trainer run. `lorgnette train` and the demo both go through here.
 #pragma once
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -52,6 +53,9 @@ struct TrainJob {
   // The checkpoints stay when the training completes: the caller removes them once the model is in
   // place (the service's stage, after its rename). Otherwise they go when the model is complete.
   bool keep_checkpoint = false;
+  // Called once with the step budget the plan chose (train_budget.h), before the first step: a
+  // caller that gave no step count learns the total its progress is a share of (0: a time budget).
+  std::function<void(uint64_t steps)> on_planned;
 };
 
 struct TrainJobResult {

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "host/nerf/sizing.h"
+#include "host/nerf/train_job.h"
 #include "host/nerf/trainer.h"
 #include "host/render/evaluate.h"
 #include "host/render/orbit.h"
@@ -284,3 +285,35 @@ TEST(Train, EmptyInputIsAClearError) {
 }
 
 }  // namespace
+
+// A caller that gives no step count (the service's default budget) learns the planned total before
+// the first step, so its progress is a share of the steps that will run.
+TEST(Train, TheDefaultBudgetsStepsAreAnnouncedBeforeTheFirstStep) {
+  SceneSetup s;
+  dataset::Dataset ds;
+  ds.root = LORGNETTE_TEST_TMP;
+  ds.format = "transforms";
+  ds.has_alpha = true;
+  for (size_t i = 0; i < s.train.views.size(); ++i) {
+    dataset::Frame f;
+    f.name = "r_" + std::to_string(i);
+    f.camera = s.train.views[i].camera;
+    f.image = s.train.images[i];
+    ds.frames.push_back(std::move(f));
+  }
+  TrainJob job;
+  job.background = "off";
+  job.train.progress = false;
+  const uint64_t expected = plan_training(s.rt, ds, training_views(ds), job).train.steps;
+  uint64_t announced = 0;
+  job.on_planned = [&](uint64_t steps) {
+    announced = steps;
+    request_interrupt();  // the announcement is all this test needs
+  };
+  TrainJobResult out = train_on_dataset(s.rt, ds, job);
+  clear_interrupt();
+  EXPECT_GE(expected, 500u) << "the default budget's least step count";
+  EXPECT_EQ(announced, expected);
+  EXPECT_TRUE(out.result.interrupted);
+  EXPECT_EQ(out.result.steps, 0u);
+}
