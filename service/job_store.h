@@ -37,7 +37,7 @@ struct CaptureRecord {
   std::string executor_job_id;  // the worker's id in an external scheduler (Slurm); "" = none
   std::string owner;            // the server process running it (JobOwner::instance); "" = none yet
   std::string owner_home;       // that server's home (JobOwner::home)
-  int64_t heartbeat_ms = 0;     // the lease's last renewal, the database's clock (ms since 1970)
+  int64_t heartbeat_ms = 0;     // the lease's last renewal, the database's clock (Unix-epoch ms)
 };
 
 // Who claims and renews jobs: one server process.

@@ -25,7 +25,7 @@ using Result = std::unique_ptr<PGresult, ResultClear>;
 // Any constant shared by every Lorgnette server: the key of the advisory lock around migrations.
 constexpr const char* kMigrationLock = "4237184301";
 
-// The database's clock in milliseconds since 1970 (clock_timestamp: the moment of the call, not the
+// The database's clock in Unix-epoch milliseconds (clock_timestamp: the moment of the call, not the
 // transaction's start): every lease is stamped and compared by it.
 constexpr const char* kNowMs = "(EXTRACT(EPOCH FROM clock_timestamp()) * 1000)::bigint";
 

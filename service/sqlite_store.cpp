@@ -23,7 +23,7 @@ struct StmtFinalize {
 using Db = std::unique_ptr<sqlite3, DbClose>;
 using Stmt = std::unique_ptr<sqlite3_stmt, StmtFinalize>;
 
-// The database's clock in milliseconds since 1970: every lease is stamped and compared by it.
+// The database's clock in Unix-epoch milliseconds: every lease is stamped and compared by it.
 constexpr const char* kNowMs = "CAST((julianday('now') - 2440587.5) * 86400000.0 AS INTEGER)";
 
 class SqliteStore final : public JobStore {
