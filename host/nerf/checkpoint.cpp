@@ -12,6 +12,7 @@
 #include <iterator>
 #include <nlohmann/json.hpp>
 
+#include "host/nerf/blob_table.h"
 #include "host/util/file_write.h"
 #include "kernels/train/occupancy.h"
 
@@ -30,13 +31,7 @@ constexpr size_t kPrefix = 24;  // magic, header length, header checksum
       path, why));
 }
 
-struct Blob {
-  std::string name;
-  const void* data;
-  size_t bytes;
-};
-
-void add_field_blobs(const std::string& prefix, const FieldState& f, std::vector<Blob>& blobs) {
+void add_field_blobs(const std::string& prefix, const FieldState& f, std::vector<BlobRef>& blobs) {
   blobs.push_back({prefix + ".params", f.params.data(), f.params.size() * 4});
   blobs.push_back({prefix + ".adam_m", f.adam.m.data(), f.adam.m.size() * 4});
   blobs.push_back({prefix + ".adam_v", f.adam.v.data(), f.adam.v.size() * 4});
@@ -53,26 +48,17 @@ json field_header(const FieldState& f) {
           {"has_density", !f.occupancy.density.empty()}};
 }
 
-// The blob `name` of `bytes` bytes, its checksum checked, copied into `out` (count elements of T).
+// The blob `name` (count elements of T), checked by the blob table, copied into `out`.
 template <typename T>
 void read_blob(const json& table, std::string_view file, size_t data_start, const std::string& name,
                size_t count, std::vector<T>& out, const std::string& path) {
-  for (const json& b : table) {
-    if (b.at("name").get<std::string>() != name) continue;
-    const uint64_t off = b.at("offset").get<uint64_t>(), bytes = b.at("bytes").get<uint64_t>();
-    if (bytes != count * sizeof(T))
-      corrupt(path, fmt::format("blob '{}' has {} bytes, the header's sizes need {}", name, bytes,
-                                count * sizeof(T)));
-    if (off > file.size() - data_start || bytes > file.size() - data_start - off)
-      corrupt(path, fmt::format("the file is truncated: blob '{}' ends past its end", name));
-    const char* p = file.data() + data_start + off;
-    if (fmt::format("{:016x}", snapshot_checksum({p, bytes})) != b.at("fnv1a64").get<std::string>())
-      corrupt(path, fmt::format("checksum mismatch in blob '{}'", name));
+  try {
+    const char* p = find_blob(file, data_start, table, name, count * sizeof(T));
     out.resize(count);
-    if (bytes) std::memcpy(out.data(), p, bytes);
-    return;
+    if (count) std::memcpy(out.data(), p, count * sizeof(T));
+  } catch (const BlobTableError& e) {
+    corrupt(path, e.what());
   }
-  corrupt(path, "blob '" + name + "' is missing");
 }
 
 FieldState parse_field(const json& h, const json& table, std::string_view file, size_t start,
@@ -108,7 +94,6 @@ TrainingState parse_state(const json& h, std::string_view file, size_t start, co
   s.last_loss = h.at("last_loss").get<double>();
   s.room_samples = h.at("room_samples").get<uint64_t>();
   const json& table = h.at("blobs");
-  if (!table.is_array()) corrupt(path, "'blobs' must be a list");
   s.subject = parse_field(h.at("subject"), table, file, start, "subject", path);
   if (!h.at("room").is_null()) s.room = parse_field(h.at("room"), table, file, start, "room", path);
   if (!std::isfinite(s.elapsed) || s.elapsed < 0.0) corrupt(path, "'elapsed' must be a finite time");
@@ -120,7 +105,7 @@ TrainingState parse_state(const json& h, std::string_view file, size_t start, co
 std::string checkpoint_path_for(const std::string& model_path) { return model_path + ".ckpt"; }
 
 std::string encode_checkpoint(const CheckpointKey& key, const TrainingState& s) {
-  std::vector<Blob> blobs;
+  std::vector<BlobRef> blobs;
   add_field_blobs("subject", s.subject, blobs);
   if (s.room) add_field_blobs("room", *s.room, blobs);
   json h = {{"format", "lorgnette-training-checkpoint"},
@@ -136,25 +121,14 @@ std::string encode_checkpoint(const CheckpointKey& key, const TrainingState& s) 
             {"room_samples", s.room_samples},
             {"subject", field_header(s.subject)},
             {"room", s.room ? field_header(*s.room) : json(nullptr)},
-            {"blobs", json::array()}};
-  uint64_t off = 0;
-  for (const Blob& b : blobs) {
-    h["blobs"].push_back(
-        {{"name", b.name},
-         {"offset", off},
-         {"bytes", b.bytes},
-         {"fnv1a64",
-          fmt::format("{:016x}", snapshot_checksum({static_cast<const char*>(b.data), b.bytes}))}});
-    off += b.bytes;
-  }
+            {"blobs", blob_table(blobs)}};
   const std::string text = h.dump();
   const uint64_t hlen = text.size(), hsum = snapshot_checksum(text);
   std::string out(kMagic, 8);
   out.append(reinterpret_cast<const char*>(&hlen), 8);
   out.append(reinterpret_cast<const char*>(&hsum), 8);
   out += text;
-  out.reserve(out.size() + off);
-  for (const Blob& b : blobs) out.append(static_cast<const char*>(b.data), b.bytes);
+  append_blobs(out, blobs);
   return out;
 }
 

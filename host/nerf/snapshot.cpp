@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
+#include "host/nerf/blob_table.h"
 #include "host/util/bounds.h"
 #include "host/util/file_kind.h"
 #include "kernels/train/occupancy.h"
@@ -247,38 +248,20 @@ void check_box_and_step(const Snapshot& s, const std::string& path) {
   }
 }
 
-// The blob `name` of `expected_bytes` checked against the file; nullptr when it is absent and
-// expected_bytes is 0.
-const char* find_blob(const std::string& path, std::string_view file, size_t data_start, const json& blobs,
-                      const std::string& name, size_t expected_bytes) {
-  for (const auto& b : blobs) {
-    if (!b.is_object()) corrupt(path, "bad header: each entry of 'blobs' must be an object");
-    if (b.value("name", "") != name) continue;
-    uint64_t off = to_uint(b.at("offset"), "blobs.offset"), bytes = to_uint(b.at("bytes"), "blobs.bytes");
-    if (bytes != expected_bytes)
-      corrupt(path, fmt::format("blob '{}' has {} bytes, the header's configuration needs {}", name, bytes,
-                                expected_bytes));
-    if (off > file.size() - data_start || bytes > file.size() - data_start - off)
-      corrupt(path, fmt::format("file is truncated: blob '{}' ends past the end of the file", name));
-    const char* p = file.data() + data_start + off;
-    if (hex64(fnv1a64_bytes(p, bytes)) != b.value("fnv1a64", ""))
-      corrupt(path, fmt::format("checksum mismatch in blob '{}'", name));
-    return p;
-  }
-  if (expected_bytes == 0) return nullptr;
-  corrupt(path, "blob '" + name + "' is missing");
-}
-
 // Copies the blobs out of the file into s.params and s.occ (sizes from the parsed header).
 void parse_blobs(const json& h, const std::string& path, std::string_view file, size_t start, Snapshot& s) {
   bool has_density = h.at("occupancy").value("has_density", false);
   const json& blobs = h.at("blobs");
-  if (!blobs.is_array()) corrupt(path, "bad header: 'blobs' must be a list");
   size_t n_params = s.config.param_count(), n_words = occ_word_count(s.occ.res);
   size_t n_cells = size_t(s.occ.res) * s.occ.res * s.occ.res;
-  const char* p = find_blob(path, file, start, blobs, "params", n_params * 4);
-  const char* w = find_blob(path, file, start, blobs, "occupancy_bits", n_words * 4);
-  const char* d = find_blob(path, file, start, blobs, "occupancy_density", has_density ? n_cells * 4 : 0);
+  const char *p = nullptr, *w = nullptr, *d = nullptr;
+  try {
+    p = find_blob(file, start, blobs, "params", n_params * 4);
+    w = find_blob(file, start, blobs, "occupancy_bits", n_words * 4);
+    d = find_blob(file, start, blobs, "occupancy_density", has_density ? n_cells * 4 : 0);
+  } catch (const BlobTableError& e) {
+    corrupt(path, e.what());
+  }
   s.params.resize(n_params);
   std::memcpy(s.params.data(), p, n_params * 4);
   s.occ.bits.resize(n_words);
@@ -326,13 +309,8 @@ OccupancyGrid full_occupancy(uint32_t res) {
 }
 
 std::string encode_snapshot(const Snapshot& s) {
-  struct Blob {
-    std::string name;
-    const void* data;
-    size_t bytes;
-  };
-  std::vector<Blob> blobs = {{"params", s.params.data(), s.params.size() * 4},
-                             {"occupancy_bits", s.occ.bits.data(), s.occ.bits.size() * 4}};
+  std::vector<BlobRef> blobs = {{"params", s.params.data(), s.params.size() * 4},
+                                {"occupancy_bits", s.occ.bits.data(), s.occ.bits.size() * 4}};
   if (!s.occ.density.empty())
     blobs.push_back({"occupancy_density", s.occ.density.data(), s.occ.density.size() * 4});
   json header = {{"format", "lorgnette-nerf"},
@@ -345,20 +323,13 @@ std::string encode_snapshot(const Snapshot& s) {
                  {"metadata", metadata_json(s.metadata)}};
   if (s.view_range) header["view_range"] = view_range_json(*s.view_range);
   header[kHeaderChecksumKey] = std::string(16, '0');
-  uint64_t off = 0;
-  for (const auto& b : blobs) {
-    header["blobs"].push_back({{"name", b.name},
-                               {"offset", off},
-                               {"bytes", b.bytes},
-                               {"fnv1a64", hex64(fnv1a64_bytes(b.data, b.bytes))}});
-    off += b.bytes;
-  }
+  header["blobs"] = blob_table(blobs);
   std::string text = seal_header(header.dump());
   std::string out(kMagic, 8);
   uint64_t hlen = text.size();
   out.append(reinterpret_cast<const char*>(&hlen), 8);
   out += text;
-  for (const auto& b : blobs) out.append(static_cast<const char*>(b.data), b.bytes);
+  append_blobs(out, blobs);
   return out;
 }
 
