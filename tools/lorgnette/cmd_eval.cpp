@@ -115,7 +115,10 @@ nerf::HoleReport held_out_holes(nerf::NerfModel& model, const EvalArgs& a, const
   const dataset::Dataset photos = dataset::load_dataset(a.data, train);
   const capture::SubjectBoxChoice box = capture::choose_subject_box(photos, capture::BoxSource::Head, false);
   if (!box.zones || box.zones->whole.empty())
-    throw std::runtime_error("--holes: no face landmarks were triangulated on the dataset's training photos");
+    throw std::runtime_error(
+        "--holes: no face was found in enough of the dataset's training photos to place the head's "
+        "regions (the landmark head box); evaluate without --holes, or give a capture whose photos show "
+        "the face");
   std::vector<Camera> cams;
   for (const nerf::View& v : views) cams.push_back(v.camera);
   nerf::HoleCheckOptions o;
