@@ -323,42 +323,63 @@ double iris_view_distance(const FitResult& r, const Eigen::Vector3d& eyes) {
   return dist;
 }
 
-// The irises (when there is no card), the scale's source (scale_chain.h) and the policy it implies;
-// the head's mm per unit and PD then follow the chosen scale.
+// The irises measured (iris_views.h) when the eyes' landmarks are all there, or the reason they are
+// not (then in r.iris.why).
+void measure_iris_views(FitRun& run) {
+  FitResult& r = run.r;
+  EyeContour left, right;
+  if (!eye_contour(r.points, lm::kEyeLFirst, &left) || !eye_contour(r.points, lm::kEyeRFirst, &right)) {
+    r.iris.why = "the eyes' landmarks were not all triangulated";
+    return;
+  }
+  const Eigen::Vector3d eyes =
+      0.5 * (eye_centre(r.points, lm::kEyeLFirst) + eye_centre(r.points, lm::kEyeRFirst));
+  r.iris_measurements = measure_irises(run.source, left, right, r.head.d_up, r.head.d_fwd,
+                                       iris_view_distance(r, eyes), run.opt.scale.iris);
+}
+
+// PD in scene units and each eye centre's 1-sigma along the eyes' line: from the limbus centres
+// (pupil_distance.h) when both eyes' were found, else from the eyes' landmarks (the mean of six,
+// whose sigma is along their worst axis, mostly depth, which PD does not see: sigma / sqrt(6) each).
+double pd_units(FitResult& r, double* sigma_l, double* sigma_r) {
+  r.pupils = pupil_distance(r.iris_measurements);
+  if (r.pupils.ok) {
+    *sigma_l = r.pupils.sigma_left, *sigma_r = r.pupils.sigma_right;
+    return r.pupils.units;
+  }
+  eye_centre(r.points, lm::kEyeLFirst, sigma_l), eye_centre(r.points, lm::kEyeRFirst, sigma_r);
+  *sigma_l /= std::sqrt(6.0), *sigma_r /= std::sqrt(6.0);
+  return r.head.pd_mm / r.head.mm_per_unit;
+}
+
+// The irises (their size for the scale when there is no card, their centres for PD either way), the
+// scale's source (scale_chain.h) and the policy it implies; the head's mm per unit and PD then follow
+// the chosen scale.
 void measure_scale(FitRun& run) {
   StageTimer t{run.r, "scale", run.opt};
   FitResult& r = run.r;
   const ScaleOptions& o = run.opt.scale;
   const double mean_face = r.head.mm_per_unit;
+  if (o.irises) measure_iris_views(run);
   const IrisScale* iris = nullptr;
   if (!o.card && o.irises) {
-    EyeContour left, right;
-    if (eye_contour(r.points, lm::kEyeLFirst, &left) && eye_contour(r.points, lm::kEyeRFirst, &right)) {
-      const Eigen::Vector3d eyes =
-          0.5 * (eye_centre(r.points, lm::kEyeLFirst) + eye_centre(r.points, lm::kEyeRFirst));
-      r.iris_measurements = measure_irises(run.source, left, right, r.head.d_up, r.head.d_fwd,
-                                           iris_view_distance(r, eyes), o.iris);
-      r.iris = iris_scale(r.iris_measurements, mean_face, o.iris_scale);
-    } else {
-      r.iris.why = "the eyes' landmarks were not all triangulated";
-    }
+    if (!r.iris_measurements.empty()) r.iris = iris_scale(r.iris_measurements, mean_face, o.iris_scale);
     iris = &r.iris;
   }
   r.scale = choose_scale(o.card, iris, mean_face);
-  r.head.pd_mm *= r.scale.mm_per_unit / mean_face;
-  r.head.mm_per_unit = r.scale.mm_per_unit;
   double sigma_l = 0, sigma_r = 0;
-  eye_centre(r.points, lm::kEyeLFirst, &sigma_l), eye_centre(r.points, lm::kEyeRFirst, &sigma_r);
-  // An eye centre is the mean of six landmarks whose sigma is along their worst axis (mostly depth,
-  // which PD does not see): sigma / sqrt(6) each.
+  const double pd = pd_units(r, &sigma_l, &sigma_r);
+  r.head.pd_mm = pd * r.scale.mm_per_unit;
+  r.head.mm_per_unit = r.scale.mm_per_unit;
   r.pd_uncertainty_mm = pd_uncertainty_mm(r.head.pd_mm, r.scale.relative_uncertainty(),
-                                          sigma_l * r.scale.mm_per_unit / std::sqrt(6.0),
-                                          sigma_r * r.scale.mm_per_unit / std::sqrt(6.0));
+                                          sigma_l * r.scale.mm_per_unit, sigma_r * r.scale.mm_per_unit);
   r.scale_policy = resolve_scale_policy(run.opt.place.scale_policy, r.scale.source);
   spdlog::info(
-      "fit: scale from {}: {:.4g} +- {:.2g} mm per unit (mean face {:.4g}); PD {:.1f} +- {:.1f} mm; {}",
+      "fit: scale from {}: {:.4g} +- {:.2g} mm per unit (mean face {:.4g}); PD {:.1f} +- {:.1f} mm (from "
+      "{}); {}",
       scale_source_name(r.scale.source), r.scale.mm_per_unit, r.scale.mm_per_unit_uncertainty, mean_face,
-      r.head.pd_mm, r.pd_uncertainty_mm, r.scale.why);
+      r.head.pd_mm, r.pd_uncertainty_mm,
+      r.pupils.ok ? "the limbus centres" : "the eyes' landmarks: " + r.pupils.why, r.scale.why);
   if (r.scale_policy == ScalePolicy::kStretch)
     r.warnings.push_back(fmt::format(
         "the frame is stretched to the face's width: the size shown is not its real size (scale: {})",

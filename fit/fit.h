@@ -25,6 +25,7 @@
 #include "fit/iris_views.h"
 #include "fit/landmarks_dlib.h"
 #include "fit/place.h"
+#include "fit/pupil_distance.h"
 #include "fit/scale_chain.h"
 #include "fit/surface_landmarks.h"
 #include "fit/temple_depth.h"
@@ -69,7 +70,7 @@ struct HeadOptions {           // the head frame ("triangulate") and the ears ("
 
 struct ScaleOptions {                // "scale": the metric scale's source (scale_chain.h)
   std::optional<CaptureScale> card;  // the capture's measured scale (the model's metadata.metric_scale)
-  bool irises = true;                // measure the irises when there is no card
+  bool irises = true;                // measure the irises: the scale without a card, PD always
   IrisViewOptions iris;
   IrisScaleOptions iris_scale;
 };
@@ -137,6 +138,7 @@ struct FitResult {
   MetricScale scale;
   IrisScale iris;
   std::vector<IrisMeasurement> iris_measurements;
+  PupilDistance pupils;  // PD from the limbus centres (or why not: PD then from the eyes' landmarks)
   double pd_uncertainty_mm = 0.0;
   ScalePolicy scale_policy = ScalePolicy::kStretch;
   FitAdvice advice;

@@ -58,6 +58,9 @@ struct IrisMeasurement {
   bool closed = false;
   IrisEdges edges;
   double diameter_units = 0.0;  // edges.diameter_px * depth / fx: the eye seen square-on
+  // The limbus' centre (the pupil's, within a fraction of a millimetre) on the eye's surface, scene
+  // units: where the ray through edges.centre_px meets the head; found with the edges.
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
 };
 
 // Scene units across `diameter_px` pixels of `cam` at the depth of `point` (a pinhole: width = px *

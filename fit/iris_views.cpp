@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "fit/camera_math.h"
+#include "fit/ray_surface.h"
 
 namespace lorgnette::fit {
 
@@ -22,6 +23,19 @@ Eigen::Vector3d centre_of(const EyeContour& e) {
   Eigen::Vector3d c = Eigen::Vector3d::Zero();
   for (const auto& p : e) c += p;
   return c / 6.0;
+}
+
+// Where `ray` meets the head: the depth at which the render's opacity reaches a half (what the view
+// shows there), searched within half the view's distance of `target`; without a surface there (a
+// source without density), the point on the ray at `target`'s depth. The eye's own surface, not the
+// landmarks' mean: triangulated lid landmarks sit millimetres off the eyeball, which would bias both
+// the limbus' size (its depth) and the pupil's position.
+Eigen::Vector3d surface_along(ViewSource& source, const Ray& ray, const Eigen::Vector3d& target,
+                              double dist) {
+  double t = 0.0;
+  if (!opacity_depth(source, ray.origin, ray.dir, 0.5 * dist, 1.5 * dist, 0.5, &t))
+    t = (target - ray.origin).dot(ray.dir);
+  return ray.origin + t * ray.dir;
 }
 
 IrisMeasurement measure_eye(ViewSource& source, const Eigen::Vector3d& from, const EyeContour& eye, int side,
@@ -49,7 +63,8 @@ IrisMeasurement measure_eye(ViewSource& source, const Eigen::Vector3d& from, con
   Eigen::Vector3d fwd = d_fwd - d_fwd.dot(d_up) * d_up;
   const double cosine =
       look.norm() > 1e-9 && fwd.norm() > 1e-9 ? look.normalized().dot(fwd.normalized()) : 1.0;
-  m.diameter_units = pixels_to_units(cam, target, m.edges.diameter_px) / std::max(cosine, 0.5);
+  m.centre = surface_along(source, camera_ray(cam, m.edges.centre_px), target, dist);
+  m.diameter_units = pixels_to_units(cam, m.centre, m.edges.diameter_px) / std::max(cosine, 0.5);
   return m;
 }
 

@@ -1,7 +1,8 @@
 // The iris measure against analytic pictures: a dark disc of known diameter on a white sclera inside
 // skin (anti-aliased by 8x8 supersampling, with fixed-seed noise), the px -> scene units step of a
 // pinhole camera, the scale and its refusals on synthetic measurements, and the whole chain on a
-// ViewSource that paints irises of known size on a plane (views straight on and from the side).
+// ViewSource that paints irises of known size on a plane (views straight on and from the side), with
+// PD from their centres.
 #include "fit/iris.h"
 
 #include <gtest/gtest.h>
@@ -11,6 +12,7 @@
 
 #include "fit/camera_math.h"
 #include "fit/iris_views.h"
+#include "fit/pupil_distance.h"
 
 namespace lorgnette::fit {
 namespace {
@@ -203,6 +205,10 @@ TEST(IrisViews, PaintedIrisesGiveTheirScale) {
   const IrisScale s = iris_scale(ms, 214.0);
   ASSERT_TRUE(s.ok) << s.why;
   EXPECT_NEAR(s.mm_per_unit, PaintedEyes::kMmPerUnit, 0.01 * PaintedEyes::kMmPerUnit);
+  // The discs' centres are 64 mm apart: PD from the limbus centres within 0.1 mm.
+  const PupilDistance pd = pupil_distance(ms);
+  ASSERT_TRUE(pd.ok) << pd.why;
+  EXPECT_NEAR(pd.units * PaintedEyes::kMmPerUnit, 64.0, 0.1);
 }
 
 TEST(IrisViews, ClosedEyesAreNotMeasured) {
