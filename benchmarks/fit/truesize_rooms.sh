@@ -8,10 +8,12 @@
 #
 #   benchmarks/fit/truesize_rooms.sh BUILD_DIR OUT_DIR [DATA_DIR]
 # DATA_DIR: the team data (LORGNETTE_DATA_DIR; the scan case is skipped without it).
-# Environment: VIEWS (default 32), SIZE (default 384x384), STEPS (default 600), BATCH_LOG2 (default 15: samples per step),
-# CASES (a subset of the case names below). Writes OUT_DIR/truesize_rooms.csv and its chart
-# OUT_DIR/truesize_rooms.png. Each case takes a few minutes on 2 CPU cores; models already in OUT_DIR
-# are reused (delete one to measure it again).
+# Environment: VIEWS (default 32), SIZE (default 768x768: `capture`'s frame size), STEPS (default:
+# the product's training budget; a number trains that many steps of 2^BATCH_LOG2 samples, default 15),
+# CASES (a subset of the case names below). The irises are 10-25 px across in a phone's frames; at
+# half that size and a fifth of the budget the iris measure reads 5-12 % small. Writes
+# OUT_DIR/truesize_rooms.csv and its chart OUT_DIR/truesize_rooms.png. Each case takes 5-15 minutes
+# on 2 CPU cores; models already in OUT_DIR are reused (delete one to measure it again).
 # The scan's true size is not known: its ground truth takes the bust as 486 mm along its largest side
 # (the mesh's 8.562 units, so 56.76 mm per mesh unit), an assumption, not a measurement.
 set -euo pipefail
@@ -32,6 +34,8 @@ all=(
   "r1_s5 1 5 1.12 -35 35" "r2_s6 2 6 1.00 -35 35" "r1_s7 1 7 0.95 -50 50" "r2_s8 2 8 1.05 -50 50"
 )
 [ -z "$data" ] || all+=("scan_r1 1 1 1.00 -35 35")
+budget=()
+[ -z "${STEPS:-}" ] || budget=(--steps "$STEPS" --batch-log2 "${BATCH_LOG2:-15}")
 args=()
 for r in "${all[@]}"; do
   read -r name room seed scale y0 y1 <<<"$r"
@@ -44,11 +48,11 @@ for r in "${all[@]}"; do
       subject=(--procedural --card --head-scale "$scale")
     fi
     [ -f "$ds/card.json" ] || "$cli" -q synth "${subject[@]}" --room "$room" --seed "$seed" \
-      --yaw-range "$y0" "$y1" --views "${VIEWS:-32}" --size "${SIZE:-384x384}" --samples 2 -o "$ds" --force
+      --yaw-range "$y0" "$y1" --views "${VIEWS:-32}" --size "${SIZE:-768x768}" --samples 2 -o "$ds" --force
     "$cli" capture --card-only "$ds" --json >"$ds/card.json" 2>"$ds/card.log" || true
     rm -f "$ds/train_seconds.json"  # written after the training: a model without it is unfinished
     start=$(date +%s.%N)
-    "$cli" train "$ds" -o "$model" --steps "${STEPS:-600}" --batch-log2 "${BATCH_LOG2:-15}" --seed "$seed" --force >"$ds/train.log" 2>&1
+    "$cli" train "$ds" -o "$model" "${budget[@]}" --seed "$seed" --force >"$ds/train.log" 2>&1
     echo "{\"seconds\": $(echo "$(date +%s.%N) - $start" | bc)}" >"$ds/train_seconds.json"
   fi
   args+=("$model" "$ds")
