@@ -69,15 +69,15 @@ mesh::Material plain_material(const char* name, const V3& colour, int texture) {
   return m;
 }
 
-}  // namespace
-
-HeldCard card_on_forehead(const mesh::TriMesh& head, float above_eyes_mm) {
-  mesh::EmbreeScene scene(head);
-  const float hw = 0.5f * kCardWidthMm, yc = above_eyes_mm + 0.5f * kCardHeightMm;
+// The card resting on the surface in front of it: centred on x = `x_mid` with its lower edge at
+// y = `lower_y`, its plane fitted to the surface under it (rays along -z from z = `front_z`) and moved
+// forward until the whole surface under the card lies behind it (the card rests on its bumps).
+HeldCard card_resting_on(const mesh::EmbreeScene& scene, float x_mid, float lower_y, float front_z) {
+  const float hw = 0.5f * kCardWidthMm, hh = 0.5f * kCardHeightMm, yc = lower_y + hh;
   std::vector<V3> under;
   for (int j = 0; j <= 6; ++j)
     for (int i = 0; i <= 8; ++i) {
-      V3 o(-hw + kCardWidthMm * i / 8, yc - 0.5f * kCardHeightMm + kCardHeightMm * j / 6, 400.0f);
+      V3 o(x_mid - hw + kCardWidthMm * i / 8, yc - hh + kCardHeightMm * j / 6, front_z);
       mesh::Hit h = scene.intersect(o, V3(0, 0, -1));
       if (!h.hit)
         throw std::runtime_error(
@@ -85,7 +85,6 @@ HeldCard card_on_forehead(const mesh::TriMesh& head, float above_eyes_mm) {
       under.push_back(h.position);
     }
   Eigen::Vector3f abc = fit_plane(under);
-  // Forward until the whole forehead under the card lies behind it (the card rests on its bumps).
   float lift = 0.0f;
   for (const V3& p : under) lift = std::max(lift, p.z() - (abc[0] * p.x() + abc[1] * p.y() + abc[2]));
   const float c = abc[2] + lift + 0.5f;
@@ -94,11 +93,82 @@ HeldCard card_on_forehead(const mesh::TriMesh& head, float above_eyes_mm) {
   v = (v - v.dot(u) * u).normalized();
   HeldCard card;
   card.normal = u.cross(v);
-  V3 centre(0.0f, yc, abc[1] * yc + c);
-  const float hh = 0.5f * kCardHeightMm;
+  V3 centre(x_mid, yc, abc[0] * x_mid + abc[1] * yc + c);
   card.corners = {centre - hw * u + hh * v, centre + hw * u + hh * v, centre + hw * u - hh * v,
                   centre - hw * u - hh * v};
   return card;
+}
+
+// The most forward point of the scene seen from the front: rays along -z on a 2 mm grid over its
+// bounds (the nose tip of a head or a bust facing +z).
+V3 most_forward_point(const mesh::EmbreeScene& scene) {
+  const Eigen::AlignedBox3f box = scene.bounds();
+  std::vector<mesh::RayQuery> rays;
+  for (float y = box.min().y(); y <= box.max().y(); y += 2.0f)
+    for (float x = box.min().x(); x <= box.max().x(); x += 2.0f)
+      rays.push_back({V3(x, y, box.max().z() + 10.0f), V3(0, 0, -1)});
+  V3 best(0, 0, -INFINITY);
+  for (const mesh::Hit& h : scene.intersect_many(rays))
+    if (h.hit && h.position.z() > best.z()) best = h.position;
+  if (!std::isfinite(best.z())) throw std::runtime_error("card: the head mesh has no surface facing +z");
+  return best;
+}
+
+// The midline x = `x` seen from the front, y from `y0` up in 0.5 mm steps over `length` mm.
+std::vector<V3> midline(const mesh::EmbreeScene& scene, float x, float y0, float length) {
+  const float front = scene.bounds().max().z() + 10.0f;
+  std::vector<V3> points;
+  for (float y = y0; y <= y0 + length; y += 0.5f) {
+    mesh::Hit h = scene.intersect(V3(x, y, front), V3(0, 0, -1));
+    if (!h.hit)
+      throw std::runtime_error(
+          fmt::format("card: the head's midline has a hole at y = {:.0f} mm (not a head facing +z?)", y));
+    points.push_back(h.position);
+  }
+  return points;
+}
+
+// midline_profile (card.h) on a scene in millimetres. The sellion is the lowest point of the midline
+// above the tip before it rises again by kRiseMm (the brow in front of the bridge); the glabella is
+// the most forward point within kBrowMm above the sellion.
+MidlineProfile profile_of(const mesh::EmbreeScene& scene) {
+  constexpr float kBridgeMm = 80.0f, kBrowMm = 35.0f, kRiseMm = 1.0f;
+  MidlineProfile p;
+  p.nose_tip = most_forward_point(scene);
+  const std::vector<V3> line = midline(scene, p.nose_tip.x(), p.nose_tip.y(), kBridgeMm + kBrowMm);
+  size_t low = 0, rise = 0;
+  for (size_t i = 1; i < line.size() && line[i].y() <= p.nose_tip.y() + kBridgeMm && !rise; ++i) {
+    if (line[i].z() < line[low].z()) low = i;
+    if (line[i].z() > line[low].z() + kRiseMm) rise = i;
+  }
+  if (!rise || low == 0)
+    throw std::runtime_error(fmt::format(
+        "card: no nose bridge and brow above the most forward point ({:.0f}, {:.0f}, {:.0f}) mm: the "
+        "mesh must be a head facing +z with +y up",
+        p.nose_tip.x(), p.nose_tip.y(), p.nose_tip.z()));
+  p.sellion = p.glabella = line[low];
+  for (size_t i = low; i < line.size() && line[i].y() <= p.sellion.y() + kBrowMm; ++i)
+    if (line[i].z() > p.glabella.z()) p.glabella = line[i];
+  return p;
+}
+
+}  // namespace
+
+HeldCard card_on_forehead(const mesh::TriMesh& head, float above_eyes_mm) {
+  mesh::EmbreeScene scene(head);
+  return card_resting_on(scene, 0.0f, above_eyes_mm, 400.0f);
+}
+
+MidlineProfile midline_profile(const mesh::TriMesh& head, const Eigen::Matrix4f& to_mm) {
+  return profile_of(mesh::EmbreeScene(head, to_mm));
+}
+
+HeldCard card_on_scanned_forehead(const mesh::TriMesh& head, const Eigen::Matrix4f& to_mm,
+                                  float above_glabella_mm) {
+  mesh::EmbreeScene scene(head, to_mm);
+  const MidlineProfile p = profile_of(scene);
+  return card_resting_on(scene, p.nose_tip.x(), p.glabella.y() + above_glabella_mm,
+                         scene.bounds().max().z() + 10.0f);
 }
 
 mesh::TriMesh card_mesh(const HeldCard& card) {

@@ -26,6 +26,23 @@ struct HeldCard {
 // `above_eyes_mm` above eye level. Throws std::runtime_error when the head has no forehead there.
 HeldCard card_on_forehead(const mesh::TriMesh& head, float above_eyes_mm);
 
+// Points of a head's midline profile found from its shape alone (millimetres, +y up, facing +z), for
+// a head whose landmarks are not known (a scan): the nose tip (the most forward point of the mesh
+// seen from the front), the sellion (the deepest point of the nose's bridge, at most 80 mm above
+// the tip) and the glabella (the brow's most forward point, at most 35 mm above the sellion).
+struct MidlineProfile {
+  Eigen::Vector3f nose_tip, sellion, glabella;
+};
+// `to_mm` maps the mesh's coordinates to that frame. Throws std::runtime_error when the profile
+// above the most forward point is not a nose's bridge and a brow (not a face seen from +z).
+MidlineProfile midline_profile(const mesh::TriMesh& head, const Eigen::Matrix4f& to_mm);
+
+// The card on the forehead of a head whose landmarks are not known (a scan; `to_mm` as above),
+// resting on it as card_on_forehead does, centred on the nose tip's x with its lower edge
+// `above_glabella_mm` above the glabella. Millimetres in the to_mm frame.
+HeldCard card_on_scanned_forehead(const mesh::TriMesh& head, const Eigen::Matrix4f& to_mm,
+                                  float above_glabella_mm);
+
 // The card as a textured two-triangle mesh (part "card"), millimetres, head frame.
 mesh::TriMesh card_mesh(const HeldCard& card);
 

@@ -154,6 +154,27 @@ HeldCard card_in_dataset(const HeldCard& mm, const Eigen::Matrix4f& to_dataset) 
   return d;
 }
 
+// The card on the subject's forehead (millimetres) and the map from those millimetres to the dataset
+// frame. The procedural head's own frame is in millimetres and its brows' height is known; a mesh's
+// forehead is found from its shape (card.h) in the dataset frame scaled to millimetres, which needs
+// the mesh's millimetres (checked before anything is rendered).
+struct PlacedCard {
+  HeldCard mm;
+  Eigen::Matrix4f mm_to_dataset;
+};
+
+PlacedCard card_on_subject(const Subject& s) {
+  // The card's lower edge 6 mm above the brows (the procedural head's brows' peak, a scan's
+  // glabella), clear of the brows and the eyes.
+  if (s.source == "procedural")
+    return {card_on_forehead(s.mesh, s.params.at("brow_height").get<float>() + 6.0f), s.mesh_to_dataset};
+  const float mm = float(*s.mm_per_unit);
+  Eigen::Matrix4f to_mm = Eigen::Matrix4f::Identity(), mm_to_dataset = Eigen::Matrix4f::Identity();
+  to_mm.topLeftCorner<3, 3>() *= mm;
+  mm_to_dataset.topLeftCorner<3, 3>() *= 1.0f / mm;
+  return {card_on_scanned_forehead(s.mesh, to_mm * s.mesh_to_dataset, 6.0f), mm_to_dataset};
+}
+
 SceneSet make_scenes(const Subject& subject, const SynthOptions& o, const std::vector<RigView>& views) {
   SceneSet set;
   set.view_scene.assign(views.size(), 0);
@@ -166,17 +187,13 @@ SceneSet make_scenes(const Subject& subject, const SynthOptions& o, const std::v
   RoomScene room = subject_in_room(subject, o.room, plain);
   set.subject_triangles = room.subject_triangles;
   if (o.card) {
-    if (subject.source != "procedural")
-      throw std::runtime_error(
-          "synth: --card needs the procedural head (its forehead is known): give --procedural");
-    // The card's lower edge 6 mm above the brows' peak, clear of the brows and the eyes.
-    HeldCard card = card_on_forehead(subject.mesh, subject.params.at("brow_height").get<float>() + 6.0f);
-    set.card = card_in_dataset(card, subject.mesh_to_dataset);
+    const PlacedCard card = card_on_subject(subject);
+    set.card = card_in_dataset(card.mm, card.mm_to_dataset);
     mesh::TriMesh with_card = room.mesh;
-    append_mesh(with_card, card_mesh(card), subject.mesh_to_dataset);
+    append_mesh(with_card, card_mesh(card.mm), card.mm_to_dataset);
     for (FingerPlacement f : {FingerPlacement::LowerEdge, FingerPlacement::LowerRightCorner}) {
       mesh::TriMesh m = with_card;
-      append_mesh(m, finger_mesh(card, f), subject.mesh_to_dataset);
+      append_mesh(m, finger_mesh(card.mm, f), card.mm_to_dataset);
       set.scenes.push_back(std::make_unique<mesh::EmbreeScene>(std::move(m)));
     }
     set.scenes.insert(set.scenes.begin(), std::make_unique<mesh::EmbreeScene>(std::move(with_card)));
@@ -248,6 +265,10 @@ RigOptions rig_for(const Subject& subject, const SynthOptions& o) {
 SynthReport synthesize_dataset(const Subject& subject, const std::string& out_dir, const SynthOptions& o) {
   auto t0 = std::chrono::steady_clock::now();
   check_options(o);
+  if (o.card && !subject.mm_per_unit)
+    throw std::runtime_error(
+        "synth: --card with --mesh needs --mesh-mm-per-unit: the card is 85.60 x 53.98 mm, a size "
+        "that means nothing without the mesh's millimetres (give the millimetres per mesh unit)");
   std::vector<RigView> views = make_camera_rig(rig_for(subject, o));
   std::vector<std::string> inputs;  // a mesh file inside the output folder is refused
   if (subject.source != "procedural") inputs.push_back(subject.source);

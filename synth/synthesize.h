@@ -48,10 +48,12 @@ struct SynthOptions {
   // and linear RGB albedo.
   float wall_mm = 1000.0f;
   Eigen::Vector3f wall_rgb{0.80f, 0.80f, 0.78f};
-  // With a room and the procedural head: the subject holds an ID-1 card (synth/card.h) flat against
-  // the forehead for the first half of the sweep (the views 0 .. ceil(views / 2) - 1), a finger over
-  // its lower edge in every 4th of those views from the 2nd, over its lower right corner in every
-  // 4th from the 4th. ground_truth.json "card" gives its corners (dataset frame and per view pixels).
+  // With a room and a subject whose millimetres are known (the procedural head, or a mesh with its
+  // mm_per_unit; a mesh's forehead is found from its shape): the subject holds an ID-1 card
+  // (synth/card.h) flat against the forehead for the first half of the sweep (the views
+  // 0 .. ceil(views / 2) - 1), a finger over its lower edge in every 4th of those views from the 2nd,
+  // over its lower right corner in every 4th from the 4th. ground_truth.json "card" gives its corners
+  // (dataset frame and per view pixels).
   bool card = false;
   std::function<void(int done, int total)> progress;  // called after each view
 };

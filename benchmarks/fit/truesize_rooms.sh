@@ -3,8 +3,10 @@
 # card (`synth --room R --card`, several head sizes and seeds, both rooms, two sweep arcs), the card
 # step alone (`capture --card-only`, its seconds), a short training, then bench_truesize: the card's
 # scale (the model's metadata.metric_scale, as `train` wrote it) and the fit without it (the irises,
-# else the mean face), against ground_truth.json. Then the scan subject (no card: its eyes are
-# closed in the scan, so the irises must be refused and the mean face used).
+# else the mean face), against ground_truth.json. Then the scan subject, holding the card as well
+# (`synth --mesh --mesh-mm-per-unit --card`: the card on the forehead found from the mesh's shape);
+# its eyes are closed in the scan, so without the card the irises must be refused and the mean face
+# used. The scan has no true PD in its ground truth: its PD error is blank.
 #
 #   benchmarks/fit/truesize_rooms.sh BUILD_DIR OUT_DIR [DATA_DIR]
 # DATA_DIR: the team data (LORGNETTE_DATA_DIR; the scan case is skipped without it).
@@ -43,7 +45,7 @@ for r in "${all[@]}"; do
   ds=$out/$name model=$out/$name.lnerf
   if [ ! -f "$model" ] || [ ! -f "$ds/train_seconds.json" ]; then
     if [ "$name" = scan_r1 ]; then
-      subject=(--mesh "$data/heads/lee-perry-smith/LeePerrySmith.glb" --mesh-mm-per-unit 56.76)
+      subject=(--mesh "$data/heads/lee-perry-smith/LeePerrySmith.glb" --mesh-mm-per-unit 56.76 --card)
     else
       subject=(--procedural --card --head-scale "$scale")
     fi

@@ -111,8 +111,8 @@ void run_synth(const SynthArgs& a) {
   if (!a.skin.empty() && !a.procedural)
     throw std::runtime_error(
         "--skin colours the procedural head: give --procedural (a mesh has its texture)");
-  if ((a.head_scale != 1.0f || a.card) && !a.procedural)
-    throw std::runtime_error("--head-scale and --card need the procedural head: give --procedural");
+  if (a.head_scale != 1.0f && !a.procedural)
+    throw std::runtime_error("--head-scale needs the procedural head: give --procedural");
   o.card = a.card;
   synth::HeadParams params = synth::scale_head(synth::random_head_params(a.seed), a.head_scale);
   if (!a.skin.empty()) params.skin = parse_srgb(a.skin, "--skin");
@@ -189,9 +189,9 @@ void add_synth(CLI::App& app, GlobalOptions&) {
   cmd->add_option("--head-scale", a->head_scale,
                   "the procedural head's lengths times this (0.85..1.15; irises keep their size)");
   cmd->add_flag("--card", a->card,
-                "with --room and --procedural: the subject holds an ID-1 card against the forehead in "
-                "the first half of the sweep, partly under a finger in some views (ground truth: "
-                "ground_truth.json \"card\")");
+                "with --room, and --procedural or --mesh with --mesh-mm-per-unit: the subject holds an "
+                "ID-1 card against the forehead in the first half of the sweep, partly under a finger "
+                "in some views (ground truth: ground_truth.json \"card\")");
   cmd->add_flag("--force", a->force, "replace an earlier synth output in the output directory");
   cmd->add_flag("--json", a->json, "print one JSON object on stdout");
   cmd->callback([a] { run_synth(*a); });
