@@ -47,7 +47,7 @@ case $steps in
   *) step_args=(--steps "$steps" --log2-table 15) ;;
 esac
 
-pale=(--skin 250,228,215 --specular 0.6)
+pale=(--skin "250,228,215" --specular 0.6)
 offwhite=244,242,238
 # synth's options for a case (on top of the common ones).
 case_args() {
