@@ -22,6 +22,9 @@ struct Material {
   Eigen::Vector3f tint{1.0f, 1.0f, 1.0f};  // transmitted colour (lens tint)
   int base_color_texture = -1;             // index into TriMesh::textures, or -1
   bool is_lens = false;
+  // Light the surface gives off itself (linear RGB radiance, glTF's emissiveFactor): a window's daylight.
+  // Renderers that light surfaces add it to the lit colour; 0 = none.
+  Eigen::Vector3f emission{0.0f, 0.0f, 0.0f};
 };
 
 struct TriMesh {

@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <stdexcept>
@@ -207,16 +208,45 @@ void office(RoomBuilder& b) {
 }
 
 // Layout 3, a plain room: one wall `wall_mm` behind, floor and side walls of the same paint, no
-// texture and no furniture (room.h).
+// texture and no furniture (room.h); with a window, its pane just in front of the wall, black
+// (it reflects nothing the daylight does not drown) and glowing.
 void plain_room(RoomBuilder& b, const RoomPlacement& p) {
   if (!(p.wall_mm >= 200.0f && p.wall_mm <= 5000.0f))
     throw std::runtime_error(
         fmt::format("plain room: the wall must lie 200-5000 mm behind, not {}", p.wall_mm));
   const int paint = b.material(Pattern::Plain, p.wall_rgb, V3(0, 0, 0), 31);
   b.shell(-1400.0f, -2500.0f, 2500.0f, -p.wall_mm, 1500.0f, 1400.0f, paint, paint, paint);
+  if (!p.window) return;
+  const int pane = b.material(Pattern::Plain, V3(0, 0, 0), V3(0, 0, 0), 32);
+  b.m.materials[size_t(pane)].emission = window_daylight();
+  const WindowRect& w = kWindowMm;
+  const float z = -p.wall_mm + kWindowPaneMm;
+  b.quad(V3(w.x0, w.y0, z), V3(w.x1, w.y0, z), V3(w.x1, w.y1, z), V3(w.x0, w.y1, z), pane, 0.0f);
+}
+
+// Solid angle (sr) of the rectangle [x0, x1] x [y0, y1] in a plane at distance d, seen from the foot
+// of the perpendicular at the origin: inclusion-exclusion over the corner rectangles' exact formula.
+float rectangle_solid_angle(const WindowRect& r, float d) {
+  auto corner = [d](float x, float y) { return std::atan(x * y / (d * std::sqrt(x * x + y * y + d * d))); };
+  return corner(r.x1, r.y1) - corner(r.x0, r.y1) - corner(r.x1, r.y0) + corner(r.x0, r.y0);
 }
 
 }  // namespace
+
+StudioLighting room_lighting(const RoomPlacement& plain, const StudioLighting& front) {
+  if (!plain.window) return front;
+  const WindowRect& w = kWindowMm;
+  const float d = plain.wall_mm - kWindowPaneMm;
+  const V3 daylight = window_daylight();
+  const float luminance = 0.2126f * daylight.x() + 0.7152f * daylight.y() + 0.0722f * daylight.z();
+  StudioLighting l = front;
+  l.key_dir = V3(0.5f * (w.x0 + w.x1), 0.5f * (w.y0 + w.y1), -d).normalized();
+  const float nearest_edge = std::min({-w.x0, w.x1, -w.y0, w.y1});
+  l.key_radius_deg = std::atan(nearest_edge / d) * 180.0f / float(M_PI);
+  l.key = luminance * rectangle_solid_angle(w, d) / float(M_PI);
+  l.fill = front.fill / 3.0f;
+  return l;
+}
 
 mesh::TriMesh make_room(const RoomPlacement& placement) {
   RoomBuilder b;

@@ -2,6 +2,8 @@
 // sub-pixel rays; each sub-sample also takes one stratified point on the key light's disc for its
 // shadow ray, so n^2 samples give both anti-aliasing and soft shadows. Shadow rays start a small
 // offset along the geometric normal (relative to the scene size) to avoid self-intersection.
+// Emissive surfaces (a window) add their radiance to the lit colour and let the key light through:
+// they are the opening the light comes in by, so a shadow ray whose first hit glows is lit.
 #include "synth/studio_render.h"
 
 #include <fmt/format.h>
@@ -37,12 +39,29 @@ V3 albedo_at(const mesh::TriMesh& m, const mesh::Hit& h) {
   return c;
 }
 
+V3 emission_at(const mesh::TriMesh& m, const mesh::Hit& h) {
+  if (h.material < 0 || h.material >= int(m.materials.size())) return V3::Zero();
+  return m.materials[size_t(h.material)].emission;
+}
+
+bool has_emission(const mesh::TriMesh& m) {
+  for (const mesh::Material& mat : m.materials)
+    if (mat.emission.maxCoeff() > 0.0f) return true;
+  return false;
+}
+
 struct Shader {
   const mesh::EmbreeScene& scene;
   const StudioLighting& light;
   V3 key, fill;
   float eps;
-  int subject = -1;  // triangles [0, subject) take the highlight (-1: all)
+  int subject = -1;       // triangles [0, subject) take the highlight (-1: all)
+  bool emitters = false;  // the scene has emissive surfaces (costs a full hit on blocked shadow rays)
+
+  bool key_blocked(const V3& p, const V3& kd) const {
+    if (!scene.occluded(p, kd)) return false;
+    return !emitters || emission_at(scene.mesh(), scene.intersect(p, kd)).maxCoeff() <= 0.0f;
+  }
 
   V3 shade(const mesh::Hit& h, const V3& ray_dir, float la, float lb) const {
     V3 n = h.shading_normal, ng = h.geometric_normal;
@@ -52,9 +71,9 @@ struct Shader {
     float e = light.sky * (0.5f + 0.5f * n.y()) + light.ground * (0.5f - 0.5f * n.y());
     V3 kd = disc_direction(key, light.key_radius_deg * float(M_PI) / 180.0f, la, lb);
     float k = std::max(0.0f, n.dot(kd));
-    if (k > 0 && light.shadows && scene.occluded(p, kd)) k = 0;
+    if (k > 0 && light.shadows && key_blocked(p, kd)) k = 0;
     e += light.key * k + light.fill * std::max(0.0f, n.dot(fill));
-    V3 c = e * albedo_at(scene.mesh(), h);
+    V3 c = e * albedo_at(scene.mesh(), h) + emission_at(scene.mesh(), h);
     if (light.specular > 0.0f && k > 0.0f && (subject < 0 || h.triangle < subject)) {
       const V3 half = (kd - ray_dir.normalized()).normalized();
       c += V3::Constant(light.specular * light.key * std::pow(std::max(0.0f, n.dot(half)), light.shininess));
@@ -78,7 +97,7 @@ RenderedView render_view(const mesh::EmbreeScene& scene, const Camera& cam, cons
   auto is_subject = [subject](const mesh::Hit& h) { return subject < 0 || h.triangle < subject; };
   const float diag = scene.bounds().diagonal().norm();
   Shader shader{scene,        lighting, lighting.key_dir.normalized(), lighting.fill_dir.normalized(),
-                1e-4f * diag, subject};
+                1e-4f * diag, subject,  has_emission(scene.mesh())};
   const V3 origin = to_v3(camera_origin(&cam));
   mesh::parallel_rows(hgt, settings.threads, [&](int y) {
     for (int x = 0; x < w; ++x) {

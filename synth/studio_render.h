@@ -1,8 +1,9 @@
 // Offline rendering of a textured TriMesh for dataset synthesis: Embree primary rays with stratified
 // anti-aliasing, a diffuse (Lambert) surface (with an optional highlight on the subject) shaded by a soft
 // studio setup fixed in the world frame (key light with soft shadows, fill light, sky/ground ambient), so the
-// lighting is baked consistently into every view. Outputs linear RGBA with coverage alpha (straight colour,
-// as instant-ngp reads PNGs) and the depth of the pixel-centre ray.
+// lighting is baked consistently into every view; glowing surfaces (mesh::Material::emission) add their
+// light. Outputs linear RGBA with coverage alpha (straight colour, as instant-ngp reads PNGs) and the depth
+// of the pixel-centre ray.
 #pragma once
 #include <Eigen/Core>
 #include <optional>

@@ -36,6 +36,22 @@ json matrix_json(const Eigen::Matrix4f& m) {
   return rows;
 }
 
+RoomPlacement plain_placement(const SynthOptions& o) {
+  RoomPlacement plain;
+  plain.wall_mm = o.wall_mm, plain.wall_rgb = o.wall_rgb, plain.window = o.window;
+  return plain;
+}
+
+// The window's pane in the room's millimetres about the eye point (the dataset frame's axes).
+json window_json(float wall_mm) {
+  const WindowRect& w = kWindowMm;
+  return {{"x_mm", {w.x0, w.x1}},
+          {"y_mm", {w.y0, w.y1}},
+          {"z_mm", -wall_mm + kWindowPaneMm},
+          {"radiance_linear", vec_json(window_daylight())},
+          {"note", "emissive pane in the wall, the key light's source (lighting)"}};
+}
+
 void check_options(const SynthOptions& o) {
   if (o.samples_per_axis < 1 || o.samples_per_axis > 16)
     throw std::runtime_error(
@@ -46,6 +62,9 @@ void check_options(const SynthOptions& o) {
   if (o.room > 0 && !(o.fov_y_deg > 10.0f && o.fov_y_deg < 120.0f))
     throw std::runtime_error(
         fmt::format("synth: field of view {} deg is out of range (10..120)", o.fov_y_deg));
+  if (o.window && o.room != kPlainRoomLayout)
+    throw std::runtime_error(
+        fmt::format("synth: the window lies in the plain room's wall: give --room {}", kPlainRoomLayout));
   if (o.card && o.room == 0)
     throw std::runtime_error("synth: the card is held in a room capture: give --room 1..3 with --card");
   if (o.background && (o.background->minCoeff() < 0.0f || o.background->maxCoeff() > 1.0f))
@@ -85,7 +104,7 @@ json ground_truth_json(const Subject& s, const SynthOptions& o, const std::vecto
                   {"yaw_deg", views[i].yaw_deg},
                   {"pitch_deg", views[i].pitch_deg}});
   gt["views"] = vj;
-  const StudioLighting& l = o.lighting;
+  const StudioLighting l = room_lighting(plain_placement(o), o.lighting);
   gt["lighting"] = {
       {"model", l.specular > 0.0f ? "lambert + blinn-phong highlight on the subject" : "lambert"},
       {"key_dir", vec_json(l.key_dir.normalized())},
@@ -107,6 +126,7 @@ json ground_truth_json(const Subject& s, const SynthOptions& o, const std::vecto
                   {"cameras", "hand-held sweep"},
                   {"wall_mm", o.room == kPlainRoomLayout ? json(o.wall_mm) : json()},
                   {"wall_rgb", o.room == kPlainRoomLayout ? vec_json(o.wall_rgb) : json()},
+                  {"window", o.window ? window_json(o.wall_mm) : json()},
                   {"fov_y_deg", o.fov_y_deg},
                   {"distance_mm", o.phone_distance_mm},
                   {"mattes", "mattes/NNNN.png: subject coverage 0..255 (not sRGB); frames' eval_matte_path"},
@@ -182,9 +202,7 @@ SceneSet make_scenes(const Subject& subject, const SynthOptions& o, const std::v
     set.scenes.push_back(std::make_unique<mesh::EmbreeScene>(subject.mesh, subject.mesh_to_dataset));
     return set;
   }
-  RoomPlacement plain;
-  plain.wall_mm = o.wall_mm, plain.wall_rgb = o.wall_rgb;
-  RoomScene room = subject_in_room(subject, o.room, plain);
+  RoomScene room = subject_in_room(subject, o.room, plain_placement(o));
   set.subject_triangles = room.subject_triangles;
   if (o.card) {
     const PlacedCard card = card_on_subject(subject);
@@ -278,6 +296,7 @@ SynthReport synthesize_dataset(const Subject& subject, const std::string& out_di
   if (o.room > 0) fs::create_directories(fs::path(staged.path()) / "mattes");
   RenderSettings settings{o.samples_per_axis, o.background, 0};
   SceneSet scenes = make_scenes(subject, o, views);
+  const StudioLighting lighting = room_lighting(plain_placement(o), o.lighting);
   if (o.room > 0) {
     settings.subject_triangles = scenes.subject_triangles;
     if (!settings.background) settings.background = room_sky();
@@ -290,7 +309,7 @@ SynthReport synthesize_dataset(const Subject& subject, const std::string& out_di
       throw std::runtime_error("synth: interrupted; nothing was written to the output directory");
     auto r0 = std::chrono::steady_clock::now();
     const mesh::EmbreeScene& scene = *scenes.scenes[size_t(scenes.view_scene[i])];
-    RenderedView v = render_view(scene, views[i].camera, o.lighting, settings);
+    RenderedView v = render_view(scene, views[i].camera, lighting, settings);
     report.render_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - r0).count();
     std::string name = fmt::format("{:04d}", i);
     if (o.room > 0) {

@@ -48,6 +48,9 @@ struct SynthOptions {
   // and linear RGB albedo.
   float wall_mm = 1000.0f;
   Eigen::Vector3f wall_rgb{0.80f, 0.80f, 0.78f};
+  // The plain room's window behind the subject (RoomPlacement::window): the views are then lit by
+  // room_lighting(), not `lighting` alone (ground_truth.json "lighting" is what they were lit by).
+  bool window = false;
   // With a room and a subject whose millimetres are known (the procedural head, or a mesh with its
   // mm_per_unit; a mesh's forehead is found from its shape): the subject holds an ID-1 card
   // (synth/card.h) flat against the forehead for the first half of the sweep (the views

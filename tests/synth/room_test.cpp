@@ -218,6 +218,138 @@ TEST(Room, PlainWallIsUntexturedAndTheHighlightLiesOnTheSubject) {
   EXPECT_THROW(make_room(bad), std::runtime_error);
 }
 
+// The plain room at `wall_mm` behind, with or without its window, lit as synth lights it.
+RenderedView render_plain(const Subject& s, const Camera& cam, float wall_mm, bool window,
+                          const Eigen::Vector3f& wall_rgb) {
+  RoomPlacement plain;
+  plain.wall_mm = wall_mm, plain.window = window, plain.wall_rgb = wall_rgb;
+  RoomScene rs = subject_in_room(s, kPlainRoomLayout, plain);
+  RenderSettings settings{3, room_sky(), 1};
+  settings.subject_triangles = rs.subject_triangles;
+  mesh::EmbreeScene scene(std::move(rs.mesh));
+  return render_view(scene, cam, room_lighting(plain, StudioLighting{}), settings);
+}
+
+Eigen::Vector3f rgb_at(const RenderedView& v, int x, int y) {
+  return {v.rgba.at(x, y, 0), v.rgba.at(x, y, 1), v.rgba.at(x, y, 2)};
+}
+
+float luminance(const Eigen::Vector3f& c) { return 0.2126f * c.x() + 0.7152f * c.y() + 0.0722f * c.z(); }
+
+// A frontal view of the window behind the head, before a white wall (the brightest wall: the least
+// margin) 1.5 m behind (the farthest the window is sized for, where the wall shows around it):
+// - the pane glows with daylight, at least kWindowOverWall times the brightest wall pixel once
+//   clipped to white as the image file stores it;
+// - the head is seen against it: the pixels 3 px beside the upper quarter of the subject's rows and
+//   3 px above its top are window;
+// - the face is lit more from behind than from the front: between the eyes it keeps under half of
+//   its light under the studio's front key, while the head's outline, which the window lights from
+//   behind, keeps more of its light than the face's centre (a rim);
+// - the matte is the subject's whether the window is there or not (edge ties as above).
+TEST(Room, WindowBehindTheHeadBacklightsIt) {
+  const Subject& s = head_with_body();
+  SynthOptions o = room_options(kPlainRoomLayout);
+  o.width = 120, o.height = 160, o.yaw_min_deg = -3.0f, o.yaw_max_deg = 3.0f;
+  o.pitch_min_deg = -2.0f, o.pitch_max_deg = 2.0f;
+  const Camera cam = first_camera(s, o);
+  const Eigen::Vector3f white(1, 1, 1);
+  const RenderedView lit = render_plain(s, cam, 1500.0f, true, white);
+  const RenderedView studio = render_plain(s, cam, 1500.0f, false, white);
+  const int w = lit.rgba.width, h = lit.rgba.height;
+  auto is_window = [&](int x, int y) {
+    return lit.matte.at(x, y, 0) == 0.0f &&
+           (rgb_at(lit, x, y) - window_daylight()).cwiseAbs().maxCoeff() < 1e-4f;
+  };
+  int window_px = 0, wall_px = 0, differ = 0;
+  float brightest_wall = 0.0f;
+  int top = h, outline_n = 0;
+  double outline_keep = 0.0;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const float m = lit.matte.at(x, y, 0), d = std::abs(m - studio.matte.at(x, y, 0));
+      EXPECT_LE(d, 1.0f / 9.0f + 1e-6f) << x << "," << y;
+      differ += d > 1e-6f;
+      const Eigen::Vector3f c = rgb_at(lit, x, y);
+      if (m > 0.5f) top = std::min(top, y);
+      if (is_window(x, y)) ++window_px;
+      if (m == 0.0f && c.maxCoeff() - c.minCoeff() < 1e-4f) {  // the white wall's pixels are grey
+        ++wall_px;
+        brightest_wall = std::max(brightest_wall, luminance(c));
+      }
+    }
+  EXPECT_LE(differ, int(0.001 * w * h) + 1);
+  ASSERT_GT(window_px, w * h / 4);
+  ASSERT_GT(wall_px, 100);
+  EXPECT_GE(luminance(window_daylight().cwiseMin(1.0f)), kWindowOverWall * brightest_wall);
+  // The head against the window, and its outline's light against the face's centre.
+  ASSERT_LT(top, h / 3);
+  const int head_rows = (h - top) / 4;
+  for (int x = 0; x < w; ++x)
+    if (lit.matte.at(x, top, 0) > 0.5f) EXPECT_TRUE(top >= 3 && is_window(x, top - 3)) << "above the head";
+  for (int y = top; y < top + head_rows; ++y) {
+    int x0 = w, x1 = -1;
+    for (int x = 0; x < w; ++x)
+      if (lit.matte.at(x, y, 0) > 0.5f) x0 = std::min(x0, x), x1 = std::max(x1, x);
+    if (x1 - x0 < 6) continue;  // the crown's first rows: its outline runs nearly level there
+    EXPECT_TRUE(x0 - 3 >= 0 && is_window(x0 - 3, y)) << "left of row " << y;
+    EXPECT_TRUE(x1 + 3 < w && is_window(x1 + 3, y)) << "right of row " << y;
+    for (int x : {x0, x1})
+      if (lit.matte.at(x, y, 0) == 1.0f) {
+        outline_keep += luminance(rgb_at(lit, x, y)) / luminance(rgb_at(studio, x, y));
+        ++outline_n;
+      }
+  }
+  const Eigen::Vector3f between_eyes = 0.5f * (s.landmarks.at("pupil_l") + s.landmarks.at("pupil_r"));
+  float u = 0, v = 0;
+  camera_project(&cam, lgn_vec3(between_eyes.x(), between_eyes.y(), between_eyes.z()), &u, &v);
+  double face_keep = 0.0;
+  for (int dy = -1; dy <= 1; ++dy)
+    for (int dx = -1; dx <= 1; ++dx) {
+      const int x = int(u) + dx, y = int(v) + dy;
+      ASSERT_EQ(lit.matte.at(x, y, 0), 1.0f);
+      face_keep += luminance(rgb_at(lit, x, y)) / luminance(rgb_at(studio, x, y)) / 9.0;
+    }
+  ASSERT_GT(outline_n, 10);
+  EXPECT_LT(face_keep, 0.5);
+  EXPECT_GT(outline_keep / outline_n, face_keep) << "no rim: the outline lost as much light as the face";
+}
+
+// The hair's pixels take the colour HeadParams::hair (synth --hair) gives them. Two heads that differ
+// only in the hair's albedo, one view from behind (the brows, which mix the hair's colour with the
+// skin's, out of sight): the pixels that differ are the hair's, 5 % of the subject or more; under the
+// studio's white lights a pixel the hair covers fully has the hair's chromaticity exactly (light x
+// albedo x the strands' shade, all grey but the albedo), so most of them (80 %: the hairline at the
+// nape and beside the ears blends hair with skin) lie within 0.01 of it; the room is identical.
+TEST(Room, HairTakesItsColour) {
+  HeadParams p = random_head_params(0);
+  p.hair = Eigen::Vector3f(0.58f, 0.19f, 0.08f);  // sRGB 200,120,80: clear of the texture's ceiling
+  const Subject coloured = procedural_subject(p, HeadMeshOptions{256, 128, 512}, true);
+  const Subject& usual = head_with_body();
+  SynthOptions behind = room_options(kPlainRoomLayout);
+  behind.yaw_min_deg = 150.0f, behind.yaw_max_deg = 180.0f;
+  const Camera cam = first_camera(usual, behind);
+  const Eigen::Vector3f paint = RoomPlacement{}.wall_rgb;
+  const RenderedView a = render_plain(coloured, cam, 800.0f, false, paint);
+  const RenderedView b = render_plain(usual, cam, 800.0f, false, paint);
+  const Eigen::Vector3f hue = p.hair / p.hair.sum();
+  int subject = 0, changed = 0, hair_hue = 0;
+  for (int y = 0; y < a.rgba.height; ++y)
+    for (int x = 0; x < a.rgba.width; ++x) {
+      const Eigen::Vector3f ca = rgb_at(a, x, y), cb = rgb_at(b, x, y);
+      ASSERT_EQ(a.matte.at(x, y, 0), b.matte.at(x, y, 0));
+      if (a.matte.at(x, y, 0) == 0.0f) {
+        EXPECT_EQ(ca, cb) << x << "," << y;
+        continue;
+      }
+      ++subject;
+      if ((ca - cb).cwiseAbs().maxCoeff() < 1e-4f) continue;
+      ++changed;
+      hair_hue += (ca / ca.sum() - hue).cwiseAbs().maxCoeff() < 0.01f;
+    }
+  EXPECT_GE(changed, subject / 20);
+  EXPECT_GE(hair_hue, int(0.8 * changed)) << changed << " changed pixels";
+}
+
 TEST(Room, UnknownLayoutIsRefused) {
   EXPECT_THROW(make_room(RoomPlacement{kRoomLayouts + 1}), std::runtime_error);
 }

@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -301,6 +302,36 @@ TEST(Cli, SynthIntoTheWorkingDirectoryIsRefused) {
   EXPECT_EQ(r.status, 1);
   EXPECT_CONTAINS(r.err, "working directory");
   EXPECT_TRUE(fs::is_directory(d / "empty"));
+}
+
+// --hair and --window as a user types them: a colour that is not r,g,b or lies outside 0..255, hair
+// on a mesh and a window outside the plain room are refused with what to give instead, before
+// anything is written; a good run records the hair's albedo (sRGB 244,242,238 -> linear, within
+// float rounding) and the window in ground_truth.json.
+TEST(Cli, SynthHairAndWindow) {
+  fs::path d = test_dir();
+  const std::string room = kTinySynth + " --room 3 -o ds";
+  CliResult r = cli(d, room + " --hair 300,0,0");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_CONTAINS(r.err, "--hair component 300 is outside 0..255");
+  r = cli(d, room + " --hair blond");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_CONTAINS(r.err, "--hair 'blond' is not r,g,b");
+  r = cli(d, "synth --mesh head.glb -o ds --hair 10,10,10");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_CONTAINS(r.err, "give --procedural");
+  r = cli(d, kTinySynth + " --room 1 -o ds --window");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_CONTAINS(r.err, "give --room 3");
+  EXPECT_FALSE(fs::exists(d / "ds"));
+  r = cli(d, room + " --window --wall 244,242,238 --hair 244,242,238");
+  ASSERT_EQ(r.status, 0) << r.err;
+  const nlohmann::json gt = nlohmann::json::parse(std::ifstream(d / "ds" / "ground_truth.json"));
+  const nlohmann::json& hair = gt.at("params").at("hair_linear");
+  const nlohmann::json& wall = gt.at("room").at("wall_rgb");
+  for (int k = 0; k < 3; ++k) EXPECT_FLOAT_EQ(hair[k].get<float>(), wall[k].get<float>()) << k;
+  EXPECT_NEAR(hair[0].get<float>(), 0.9047f, 1e-4f);  // sRGB 244 -> linear
+  EXPECT_TRUE(gt.at("room").at("window").is_object()) << gt.at("room").dump();
 }
 
 // The model's folder is checked before the dataset is read (the dataset here does not exist: a

@@ -19,9 +19,9 @@ namespace lorgnette::cli {
 namespace {
 
 struct SynthArgs {
-  std::string mesh, out, size = "256x256", background = "transparent", skin, wall;
+  std::string mesh, out, size = "256x256", background = "transparent", skin, hair, wall;
   float specular = 0.0f, wall_mm = 1000.0f, head_scale = 1.0f;
-  bool procedural = false, force = false, json = false, card = false;
+  bool procedural = false, force = false, json = false, card = false, window = false;
   int views = 24, samples = 3, room = 0;
   float fov = 60.0f, phone_mm = 480.0f;
   std::vector<float> yaw{-35.0f, 35.0f}, pitch{-12.0f, 18.0f};
@@ -105,17 +105,19 @@ void run_synth(const SynthArgs& a) {
   o.lighting.specular = a.specular;
   o.wall_mm = a.wall_mm;
   if (!a.wall.empty()) o.wall_rgb = parse_srgb(a.wall, "--wall");
-  if ((!a.wall.empty() || a.wall_mm != 1000.0f) && a.room != synth::kPlainRoomLayout)
+  o.window = a.window;
+  if ((!a.wall.empty() || a.wall_mm != 1000.0f || a.window) && a.room != synth::kPlainRoomLayout)
+    throw std::runtime_error(fmt::format(
+        "--wall, --wall-mm and --window describe the plain room: give --room {}", synth::kPlainRoomLayout));
+  if ((!a.skin.empty() || !a.hair.empty()) && !a.procedural)
     throw std::runtime_error(
-        fmt::format("--wall and --wall-mm describe the plain room: give --room {}", synth::kPlainRoomLayout));
-  if (!a.skin.empty() && !a.procedural)
-    throw std::runtime_error(
-        "--skin colours the procedural head: give --procedural (a mesh has its texture)");
+        "--skin and --hair colour the procedural head: give --procedural (a mesh has its texture)");
   if (a.head_scale != 1.0f && !a.procedural)
     throw std::runtime_error("--head-scale needs the procedural head: give --procedural");
   o.card = a.card;
   synth::HeadParams params = synth::scale_head(synth::random_head_params(a.seed), a.head_scale);
   if (!a.skin.empty()) params.skin = parse_srgb(a.skin, "--skin");
+  if (!a.hair.empty()) params.hair = parse_srgb(a.hair, "--hair");
   synth::Subject subject =
       a.procedural
           ? synth::procedural_subject(params, {}, a.room > 0)
@@ -176,6 +178,9 @@ void add_synth(CLI::App& app, GlobalOptions&) {
   cmd->add_option("--skin", a->skin,
                   "the procedural head's skin albedo, r,g,b in 0-255 sRGB (e.g. 250,222,205 very pale, "
                   "70,45,35 very dark)");
+  cmd->add_option("--hair", a->hair,
+                  "the procedural head's hair albedo, r,g,b in 0-255 sRGB (e.g. the --wall colour: hair "
+                  "that colour cannot tell from the wall)");
   cmd->add_option("--specular", a->specular,
                   "a white highlight of the key light on the subject (oily skin's sheen), 0 = none");
   cmd->add_option(
@@ -186,6 +191,11 @@ void add_synth(CLI::App& app, GlobalOptions&) {
       "--wall", a->wall,
       fmt::format("with --room {}: the plain wall's colour, r,g,b in 0-255 sRGB (default off-white)",
                   synth::kPlainRoomLayout));
+  cmd->add_flag("--window", a->window,
+                fmt::format("with --room {}: a window of daylight in the wall behind the head, larger than "
+                            "its silhouette and several times the wall's brightness, which lights the "
+                            "subject from behind (a dark face with a bright rim)",
+                            synth::kPlainRoomLayout));
   cmd->add_option("--head-scale", a->head_scale,
                   "the procedural head's lengths times this (0.85..1.15; irises keep their size)");
   cmd->add_flag("--card", a->card,
