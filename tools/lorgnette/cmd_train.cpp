@@ -123,6 +123,10 @@ void add_train(CLI::App& app, GlobalOptions& global) {
   cmd->add_option("--room-clear-tolerance", a->settings.room.room_clear_tolerance,
                   "RMS sRGB difference between the room's colour and the pixel at which --room-clear stops")
       ->capture_default_str();
+  cmd->add_option("--room-clear-depth", a->settings.room.room_clear_depth,
+                  "share of --room-clear that pulls the ray's optical depth rather than its opacity, 0..1 "
+                  "(the opacity's pull vanishes on an opaque ray: a haze already opaque is not cleared)")
+      ->capture_default_str();
   cmd->add_option("--lean-gate", a->settings.room.lean_gate,
                   "with the room model and a head box: in the head volume beyond the bare head, the "
                   "clearing's gate is at least this (1: always clear there; 0 = off)")
