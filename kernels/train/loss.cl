@@ -31,7 +31,7 @@ __kernel void render_loss(const LossParams p, __global const uint* ray_offsets,
                                      p.stride, zone_bits, p.zone_res, dsigma);
     else
       render_ray_opacity_prior(first, used, p.step, color, p.opacity_prior, p.room_clear, gate,
-                               p.room_clear_depth, 3.0f * p.grad_scale, sigma, dsigma);
+                               p.room_clear_depth, 3.0f * p.grad_scale, dsigma);
   }
 }
 

@@ -67,7 +67,7 @@ typedef struct LossParams {
   lgn_uint zone_res;
   float lean_gate;
   float solid_pull;        // the "solid" zone's pull towards an opaque ray, relative to opacity_prior
-  float room_clear_depth;  // the clearing's share on the ray's optical depth rather than its opacity
+  float room_clear_depth;  // the clearing pulls the optical depth while it is under this, the opacity beyond
   lgn_uint pad0, pad1;
 } LossParams;
 LGN_STATIC_ASSERT(sizeof(LossParams) == 64, "LossParams layout is shared with OpenCL");

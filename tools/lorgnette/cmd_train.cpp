@@ -124,8 +124,8 @@ void add_train(CLI::App& app, GlobalOptions& global) {
                   "RMS sRGB difference between the room's colour and the pixel at which --room-clear stops")
       ->capture_default_str();
   cmd->add_option("--room-clear-depth", a->settings.room.room_clear_depth,
-                  "share of --room-clear that pulls the ray's optical depth rather than its opacity, 0..1 "
-                  "(the opacity's pull vanishes on an opaque ray: a haze already opaque is not cleared)")
+                  "--room-clear pulls the ray's optical depth while it is under this, its opacity beyond "
+                  "(the opacity's pull vanishes on an opaque ray, so a haze already opaque stays; 0 = off)")
       ->capture_default_str();
   cmd->add_option("--lean-gate", a->settings.room.lean_gate,
                   "with the room model and a head box: in the head volume beyond the bare head, the "
