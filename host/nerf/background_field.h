@@ -73,12 +73,6 @@ struct BackgroundOptions {
   // the head volume's rim). 0 = off.
   float room_clear = 1.0f;
   float room_clear_tolerance = 0.05f;
-  // That pull acts on the ray's optical depth while it is under this, on its opacity beyond
-  // (kernels/train/render.h): the opacity's gradient vanishes on an opaque ray, so a haze the subject
-  // made opaque before the prior ramped in, before a wall of its colour, is never cleared; the optical
-  // depth's does not. The zones still decide where the clearing applies (keep, solid). 0 = the
-  // opacity alone.
-  float room_clear_depth = 0.0f;
   // subject->keep is where the clearing does not apply (the binary prior does): the part of the
   // subject that the room model's own surfaces lie right behind (a head's neck, with the body below
   // the box in the room model), where the room can match the subject's colour without the subject

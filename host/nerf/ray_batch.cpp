@@ -185,7 +185,6 @@ LossParams RayBatch::loss_params(uint32_t loss_kind, bool forward_only, float mi
   lp.opacity_prior = priors.weight;
   lp.room_clear = priors.room_clear;
   lp.room_clear_tolerance = priors.room_clear_tolerance;
-  lp.room_clear_depth = priors.room_clear_depth;
   lp.zone_res = priors.zones ? priors.zone_res : 0u;
   lp.lean_gate = priors.zones ? priors.lean_gate : 0.0f;
   lp.solid_pull = priors.zones ? priors.solid_pull : 0.0f;

@@ -28,7 +28,6 @@ struct RayPriors {
   float weight = 0.0f;
   float room_clear = 0.0f;
   float room_clear_tolerance = 0.0f;
-  float room_clear_depth = 0.0f;  // the clearing's cap on the ray's optical depth (render.h)
   const cl::Buffer<uint32_t>* zones = nullptr;
   uint32_t zone_res = 0;
   float lean_gate = 0.0f;

@@ -31,7 +31,6 @@ json room_json(const BackgroundOptions& r) {
           {"opacity_prior_ramp", r.opacity_prior_ramp},
           {"room_clear", r.room_clear},
           {"room_clear_tolerance", r.room_clear_tolerance},
-          {"room_clear_depth", r.room_clear_depth},
           {"lean_gate", r.lean_gate},
           {"solid_pull", r.solid_pull},
           {"subject_zones", r.subject.has_value()}};

@@ -90,7 +90,6 @@ inline constexpr Bound kHairMm{"--hair", "hair_mm", 0, 300,
 inline constexpr Bound kOpacityPrior{"--opacity-prior", "", 0, 1, "weight of the room model's opacity prior"};
 inline constexpr Bound kRoomClear{"--room-clear", "", 0, 100, "room clearing weight"};
 inline constexpr Bound kRoomClearTolerance{"--room-clear-tolerance", "", 0.001, 1, "RMS sRGB difference"};
-inline constexpr Bound kRoomClearDepth{"--room-clear-depth", "", 0, 20, "optical depth the clearing pulls"};
 inline constexpr Bound kLeanGate{"--lean-gate", "", 0, 1, "clearing gate beyond the bare head"};
 inline constexpr Bound kSolidPull{"--solid-pull", "", 0, 100, "pull towards opaque in the head's interior"};
 

@@ -27,11 +27,11 @@ __kernel void render_loss(const LossParams p, __global const uint* ray_offsets,
     const float gate = p.room_clear > 0.0f ? render_ray_room_gate(target, bg, p.room_clear_tolerance) : 0.0f;
     if (p.zone_res > 0u)
       render_ray_opacity_prior_zones(first, count, used, p.step, color, p.opacity_prior, p.room_clear, gate,
-                                     p.room_clear_depth, p.lean_gate, p.solid_pull, 3.0f * p.grad_scale, pos,
-                                     p.stride, zone_bits, p.zone_res, dsigma);
+                                     p.lean_gate, p.solid_pull, 3.0f * p.grad_scale, pos, p.stride, zone_bits,
+                                     p.zone_res, dsigma);
     else
       render_ray_opacity_prior(first, used, p.step, color, p.opacity_prior, p.room_clear, gate,
-                               p.room_clear_depth, 3.0f * p.grad_scale, dsigma);
+                               3.0f * p.grad_scale, dsigma);
   }
 }
 

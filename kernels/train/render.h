@@ -29,17 +29,6 @@
 // wall, which the subject's fine grid can paint in its volume's rim as well as the coarse room model
 // can behind it, is made opaque there by the binary push (docs/room-training.md, "The opacity prior
 // and the room-explained clearing"). A pixel the room does not explain (g = 0) keeps the binary prior.
-//
-// The clearing on the optical depth: d(a)/d(sigma_i) = step * T_end, so a pull on the opacity
-// vanishes once the ray is opaque, and a haze that turned opaque before the prior ramped in would
-// never be cleared (on a wall of the skin's colour the colour loss does not move it either). So the
-// clearing term pulls the ray's optical depth tau = -ln(T_end) (= sum_i sigma_i * step) while it is
-// under `depth_cap`, and the opacity beyond:
-//   clear * g * f(tau),   f(tau) = tau for tau < depth_cap, else depth_cap + a - (1 - exp(-depth_cap)),
-// whose gradient is `step` per used sample under the cap whatever the ray's opacity (tau and a agree
-// to first order on a clear ray), and step * T_end beyond it. depth_cap = 0: the opacity alone. The
-// cap spares a ray the subject has made fully opaque (skin) where a haze is only partly so.
-// The binary part keeps the opacity (a ray the subject makes opaque is where it should be).
 #pragma once
 #include "common/cl_compat.h"
 #include "common/composite.h"
@@ -47,8 +36,6 @@
 #include "train/train_types.h"
 
 #ifndef __OPENCL_C_VERSION__
-using std::exp;
-using std::log;
 using std::pow;
 #endif
 
@@ -151,26 +138,22 @@ LGN_INLINE float render_ray_room_gate(const float* target, const float* bg, floa
   return fmin(fmax(1.0f - sqrt(e2 / 3.0f) / tolerance, 0.0f), 1.0f);
 }
 
-// Adds the opacity prior's gradient (the per-ray prior above, times `ray_scale`, the batch mean's
-// 1 / rays) to dsigma of the `used` samples from `first`; returns the prior's value (unscaled).
-// color[3] is the ray's opacity from render_ray_forward; gate = 0 gives the binary prior alone.
-// dL/dsigma / step of one used sample: T_end * dL/da of the binary part, and the clearing's pull on
-// the optical depth under the cap (1 per unit of tau), on the opacity beyond (T_end).
-LGN_INLINE float render_ray_opacity_prior_dsigma(float a, float weight, float clear, float gate,
-                                                 float depth_cap, float ray_scale) {
-  const float T = 1.0f - a;
-  const float clear_factor = -log(T) < depth_cap ? 1.0f : T;
-  return weight * ray_scale * ((1.0f - gate) * (1.0f - 2.0f * a) * T + clear * gate * clear_factor);
+// Adds the opacity prior's gradient (weight * ((1 - g) a (1 - a) + clear g a) per ray, times
+// `ray_scale`, the batch mean's 1 / rays) to dsigma of the `used` samples from `first`; returns the
+// prior's value (unscaled). color[3] is the ray's opacity from render_ray_forward; gate = 0 gives the
+// binary prior alone.
+LGN_INLINE float render_ray_opacity_prior_dlda(float a, float weight, float clear, float gate,
+                                               float ray_scale) {
+  return weight * ray_scale * ((1.0f - gate) * (1.0f - 2.0f * a) + clear * gate);
 }
 
 LGN_INLINE float render_ray_opacity_prior(lgn_uint first, lgn_uint used, float step, const float* color,
-                                          float weight, float clear, float gate, float depth_cap,
-                                          float ray_scale, LGN_GLOBAL float* dsigma) {
-  const float a = color[3], tau = -log(1.0f - a);
-  const float d = step * render_ray_opacity_prior_dsigma(a, weight, clear, gate, depth_cap, ray_scale);
-  for (lgn_uint k = 0; k < used; ++k) dsigma[first + k] += d;
-  const float f = tau < depth_cap ? tau : depth_cap + a - (1.0f - exp(-depth_cap));
-  return weight * ((1.0f - gate) * a * (1.0f - a) + clear * gate * f);
+                                          float weight, float clear, float gate, float ray_scale,
+                                          LGN_GLOBAL float* dsigma) {
+  const float a = color[3], T = 1.0f - a;
+  const float dLda = render_ray_opacity_prior_dlda(a, weight, clear, gate, ray_scale);
+  for (lgn_uint k = 0; k < used; ++k) dsigma[first + k] += step * T * dLda;
+  return weight * ((1.0f - gate) * a * (1.0f - a) + clear * gate * a);
 }
 
 // The same with prior zones: three bitfields of `res`^3 cells over the model's box, one after the other
@@ -181,7 +164,7 @@ LGN_INLINE float render_ray_opacity_prior(lgn_uint first, lgn_uint used, float s
 // ("lean", the head volume's margin beyond the bare head) get the gate raised to at least
 // `lean_gate`: there the binary prior no longer makes a haze that the room does not yet explain
 // solid, so matter beyond the head must earn its place through the colour loss. The rest get the
-// ray's gate. Each zone's clearing pulls the optical depth under `depth_cap` (render_ray_opacity_prior).
+// ray's gate.
 // The third field ("solid") is the subject's certain interior (behind a face's skin, a neck's core).
 // A ray that crosses it ends in the subject before it reaches the wall, and the room model holds
 // only what lies beyond the subject's volume: whatever its colour matches, the room cannot explain
@@ -192,8 +175,8 @@ LGN_INLINE float render_ray_opacity_prior(lgn_uint first, lgn_uint used, float s
 // front of its opaque surface: a ray that the skin makes opaque before the interior still crosses it.
 LGN_INLINE void render_ray_opacity_prior_zones(lgn_uint first, lgn_uint count, lgn_uint used, float step,
                                                const float* color, float weight, float clear, float gate,
-                                               float depth_cap, float lean_gate, float solid_pull,
-                                               float ray_scale, LGN_GLOBAL const float* pos, lgn_uint stride,
+                                               float lean_gate, float solid_pull, float ray_scale,
+                                               LGN_GLOBAL const float* pos, lgn_uint stride,
                                                LGN_GLOBAL const lgn_uint* zone_bits, lgn_uint res,
                                                LGN_GLOBAL float* dsigma) {
   LGN_GLOBAL const lgn_uint* lean_bits = zone_bits + occ_word_count(res);
@@ -204,13 +187,11 @@ LGN_INLINE void render_ray_opacity_prior_zones(lgn_uint first, lgn_uint count, l
     crosses = occ_test(solid_bits, res, pos[i], pos[stride + i], pos[2u * stride + i]);
   }
   const float a = color[3], T = 1.0f - a;
-  const float binary = render_ray_opacity_prior_dsigma(a, weight, clear, 0.0f, depth_cap, ray_scale);
-  const float gated =
-      crosses ? binary : render_ray_opacity_prior_dsigma(a, weight, clear, gate, depth_cap, ray_scale);
-  const float lean = crosses ? binary
-                             : render_ray_opacity_prior_dsigma(a, weight, clear, fmax(gate, lean_gate),
-                                                               depth_cap, ray_scale);
-  const float solid = -solid_pull * weight * ray_scale * T;
+  const float binary = render_ray_opacity_prior_dlda(a, weight, clear, 0.0f, ray_scale);
+  const float gated = crosses ? binary : render_ray_opacity_prior_dlda(a, weight, clear, gate, ray_scale);
+  const float lean =
+      crosses ? binary : render_ray_opacity_prior_dlda(a, weight, clear, fmax(gate, lean_gate), ray_scale);
+  const float solid = -solid_pull * weight * ray_scale;
   for (lgn_uint k = 0; k < used; ++k) {
     const lgn_uint i = first + k;
     const float x = pos[i], y = pos[stride + i], z = pos[2u * stride + i];
@@ -218,6 +199,6 @@ LGN_INLINE void render_ray_opacity_prior_zones(lgn_uint first, lgn_uint count, l
                     : occ_test(zone_bits, res, x, y, z) ? binary
                     : occ_test(lean_bits, res, x, y, z) ? lean
                                                         : gated;
-    dsigma[i] += step * d;
+    dsigma[i] += step * T * d;
   }
 }

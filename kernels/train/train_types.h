@@ -66,9 +66,8 @@ typedef struct LossParams {
   // ray's gate everywhere), and the least gate in the "lean" zone.
   lgn_uint zone_res;
   float lean_gate;
-  float solid_pull;        // the "solid" zone's pull towards an opaque ray, relative to opacity_prior
-  float room_clear_depth;  // the clearing pulls the optical depth while it is under this, the opacity beyond
-  lgn_uint pad0, pad1;
+  float solid_pull;  // the "solid" zone's pull towards an opaque ray, relative to opacity_prior
+  lgn_uint pad0, pad1, pad2;
 } LossParams;
 LGN_STATIC_ASSERT(sizeof(LossParams) == 64, "LossParams layout is shared with OpenCL");
 

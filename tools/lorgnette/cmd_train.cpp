@@ -123,10 +123,6 @@ void add_train(CLI::App& app, GlobalOptions& global) {
   cmd->add_option("--room-clear-tolerance", a->settings.room.room_clear_tolerance,
                   "RMS sRGB difference between the room's colour and the pixel at which --room-clear stops")
       ->capture_default_str();
-  cmd->add_option("--room-clear-depth", a->settings.room.room_clear_depth,
-                  "--room-clear pulls the ray's optical depth while it is under this, its opacity beyond "
-                  "(the opacity's pull vanishes on an opaque ray, so a haze already opaque stays; 0 = off)")
-      ->capture_default_str();
   cmd->add_option("--lean-gate", a->settings.room.lean_gate,
                   "with the room model and a head box: in the head volume beyond the bare head, the "
                   "clearing's gate is at least this (1: always clear there; 0 = off)")

@@ -54,13 +54,12 @@ float opacity(const Ray& r) {
 
 // Plain gradient descent on the samples' densities with the prior alone (the colour loss has no
 // gradient: skin, wall and room are one colour); returns the ray's final opacity.
-float descend(Ray r, float solid_pull, const std::vector<uint32_t>& zones, int steps,
-              float depth_cap = 0.0f) {
+float descend(Ray r, float solid_pull, const std::vector<uint32_t>& zones, int steps) {
   for (int it = 0; it < steps; ++it) {
     const float color[4] = {0.9f, 0.9f, 0.9f, opacity(r)};
     std::vector<float> dsigma(kSamples, 0.0f);
-    render_ray_opacity_prior_zones(0, kSamples, kSamples, kStep, color, kWeight, kClear, kGate, depth_cap,
-                                   kLeanGate, solid_pull, kScale, r.pos.data(), kSamples, zones.data(), kRes,
+    render_ray_opacity_prior_zones(0, kSamples, kSamples, kStep, color, kWeight, kClear, kGate, kLeanGate,
+                                   solid_pull, kScale, r.pos.data(), kSamples, zones.data(), kRes,
                                    dsigma.data());
     for (uint32_t k = 0; k < kSamples; ++k) r.sigma[k] = std::fmax(0.0f, r.sigma[k] - 2e4f * dsigma[k]);
   }
@@ -97,8 +96,8 @@ TEST(SolidPrior, TheCrossingIsJudgedOverTheWholeRay) {
   const float binary = kWeight * kScale * (1.0f - 2.0f * a), gated = kWeight * kScale * kClear;
   for (uint32_t used : {first_inside, first_inside + 3}) {
     std::vector<float> dsigma(kSamples, 0.0f);
-    render_ray_opacity_prior_zones(0, kSamples, used, kStep, color, kWeight, kClear, kGate, 0.0f, kLeanGate,
-                                   pull, kScale, r.pos.data(), kSamples, zones.data(), kRes, dsigma.data());
+    render_ray_opacity_prior_zones(0, kSamples, used, kStep, color, kWeight, kClear, kGate, kLeanGate, pull,
+                                   kScale, r.pos.data(), kSamples, zones.data(), kRes, dsigma.data());
     for (uint32_t k = 0; k < kSamples; ++k) {
       const float want =
           k >= used ? 0.0f : kStep * T * (k < first_inside ? binary : -pull * kWeight * kScale);
@@ -107,31 +106,9 @@ TEST(SolidPrior, TheCrossingIsJudgedOverTheWholeRay) {
   }
   const Ray beside = ray_at(0.5f + 0.3f, 0.5f, 0.0f);
   std::vector<float> dsigma(kSamples, 0.0f);
-  render_ray_opacity_prior_zones(0, kSamples, kSamples, kStep, color, kWeight, kClear, kGate, 0.0f, kLeanGate,
-                                 pull, kScale, beside.pos.data(), kSamples, zones.data(), kRes,
-                                 dsigma.data());
+  render_ray_opacity_prior_zones(0, kSamples, kSamples, kStep, color, kWeight, kClear, kGate, kLeanGate, pull,
+                                 kScale, beside.pos.data(), kSamples, zones.data(), kRes, dsigma.data());
   for (uint32_t k = 0; k < kSamples; ++k) EXPECT_FLOAT_EQ(dsigma[k], kStep * T * gated) << "sample " << k;
-}
-
-// The clearing on the optical depth (render.h, `depth_cap`): a haze slab beside the head, already
-// opaque when the prior ramps in (optical depth 8.1), before a wall of its colour. On the opacity
-// (cap 0) the pull is step * T_end per sample and T_end is 0.03 %, so the slab stays; on the optical
-// depth under a cap above the slab's (20) the pull does not vanish and the slab clears; under a cap
-// below it (3) the slab is pulled on its opacity and stays. A ray through the interior with opaque skin stays
-// opaque under either: it gets no clearing (the binary prior and the interior's pull).
-TEST(SolidPrior, AnOpaqueHazeClearsOnTheOpticalDepthAndTheInteriorStays) {
-  const std::vector<uint32_t> zones = interior_zones();
-  Ray haze = ray_at(0.5f + 0.42f, 0.5f, 0.0f);  // misses the head (radius 0.35) and its interior
-  for (uint32_t k = 0; k < kSamples; ++k)
-    if (haze.pos[2 * kSamples + k] > 0.3f && haze.pos[2 * kSamples + k] < 0.5f) haze.sigma[k] = 40.0f;
-  const Ray face = ray_at(0.5f, 0.52f, 60.0f);  // skin 0.05 thick at 60: opacity 0.95 per crossing
-  ASSERT_GT(opacity(haze), 0.999f);
-  ASSERT_GT(opacity(face), 0.99f);
-  EXPECT_GT(descend(haze, 1.0f, zones, 400, 0.0f), 0.99f) << "on the opacity the opaque haze stays";
-  EXPECT_LT(descend(haze, 1.0f, zones, 400, 20.0f), 0.05f) << "on the optical depth it clears";
-  EXPECT_GT(descend(haze, 1.0f, zones, 400, 3.0f), 0.99f) << "a cap under the haze's depth spares it";
-  EXPECT_GT(descend(face, 1.0f, zones, 400, 20.0f), 0.99f) << "the ray through the interior stays opaque";
-  EXPECT_GT(descend(face, 1.0f, zones, 400, 0.0f), 0.99f);
 }
 
 }  // namespace
