@@ -111,4 +111,30 @@ TEST(SolidPrior, TheCrossingIsJudgedOverTheWholeRay) {
   for (uint32_t k = 0; k < kSamples; ++k) EXPECT_FLOAT_EQ(dsigma[k], kStep * T * gated) << "sample " << k;
 }
 
+// The limit of the clearing on the opacity (render.h: its gradient is step * T_end per sample), the
+// pale capture's leak (#41): a haze slab beside the head, before a wall of its colour, is cleared
+// while it is partly transparent (optical depth 0.4) and stays once it is opaque (8.1: T_end 0.03 %)
+// when the prior ramps in, the colour loss giving no gradient either way. A ray through the head's
+// interior with opaque skin stays opaque.
+TEST(SolidPrior, AHazeOpaqueBeforeTheClearingStaysAndOnePartlyTransparentClears) {
+  const std::vector<uint32_t> zones = interior_zones();
+  auto slab = [](float tau) {
+    Ray r = ray_at(0.5f + 0.42f, 0.5f, 0.0f);  // misses the head (radius 0.35) and its interior
+    uint32_t n = 0;
+    for (uint32_t k = 0; k < kSamples; ++k)
+      n += r.pos[2 * kSamples + k] > 0.3f && r.pos[2 * kSamples + k] < 0.5f;
+    for (uint32_t k = 0; k < kSamples; ++k)
+      if (r.pos[2 * kSamples + k] > 0.3f && r.pos[2 * kSamples + k] < 0.5f)
+        r.sigma[k] = tau / (float(n) * kStep);
+    return r;
+  };
+  const Ray opaque = slab(8.1f), partly = slab(0.4f), face = ray_at(0.5f, 0.52f, 60.0f);
+  ASSERT_GT(opacity(opaque), 0.999f);
+  ASSERT_LT(opacity(partly), 0.4f);
+  ASSERT_GT(opacity(face), 0.99f);
+  EXPECT_GT(descend(opaque, 1.0f, zones, 400), 0.99f) << "the opaque haze stays";
+  EXPECT_LT(descend(partly, 1.0f, zones, 400), 0.05f) << "the partly transparent haze clears";
+  EXPECT_GT(descend(face, 1.0f, zones, 400), 0.99f) << "the ray through the interior stays opaque";
+}
+
 }  // namespace
