@@ -45,7 +45,7 @@ IrisMeasurement measure_eye(ViewSource& source, const Eigen::Vector3d& from, con
   m.eye = side;
   if (const double ratio = eye_opening_ratio(eye); ratio < o.closed_ratio) {
     m.closed = true;
-    m.edges.why = fmt::format("lid opening {:.2f} of the eye's width < {:.2f}", ratio, o.closed_ratio);
+    m.edges.why = fmt::format("lid opening {:.3f} of the eye's width < {:.2f}", ratio, o.closed_ratio);
     return m;
   }
   const Eigen::Vector3d target = centre_of(eye);
