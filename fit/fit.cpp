@@ -193,7 +193,8 @@ void triangulate_and_cast(FitRun& run) {
 }
 
 // The mean face aligned to the points (and again after they are snapped onto the skin), then the
-// temples at one depth (temple_depth.h).
+// temples at one depth (temple_depth.h). The advice's outer eye corners are the triangulated ones
+// moved to their nearest skin (surface_landmarks.h), not along the mean ray as the others.
 void estimate_head(FitRun& run) {
   const LandmarkOptions& o = run.opt.landmarks;
   FitResult& r = run.r;
