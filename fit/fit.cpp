@@ -193,7 +193,8 @@ void triangulate_and_cast(FitRun& run) {
 }
 
 // The mean face aligned to the points (and again after they are snapped onto the skin), then the
-// temples at one depth (temple_depth.h).
+// temples at one depth (temple_depth.h). The advice's outer eye corners are the triangulated ones
+// moved to their nearest skin (surface_landmarks.h), not along the mean ray as the others.
 void estimate_head(FitRun& run) {
   const LandmarkOptions& o = run.opt.landmarks;
   FitResult& r = run.r;
@@ -203,6 +204,11 @@ void estimate_head(FitRun& run) {
   require_points(r.points);
   r.head = estimate_head_frame(p, valid, run.mean_face);
   if (o.snap_to_skin) {
+    std::vector<TriangulatedPoint> corners = r.points;
+    for (int k = 0; k < lm::kCount; ++k) corners[k].ok &= k == lm::kEyeOuterL || k == lm::kEyeOuterR;
+    snap_to_surface(run.source, r.views, o.snap_reach_mm / r.head.mm_per_unit, run.surface, corners, -1, -1,
+                    0.0, true);
+    r.corner_skin_l = corners[lm::kEyeOuterL].position, r.corner_skin_r = corners[lm::kEyeOuterR].position;
     snap_to_surface(run.source, r.views, o.snap_reach_mm / r.head.mm_per_unit, run.surface, r.points,
                     lm::kTempleR, o.cast_contour ? lm::kTempleL : -1);
     r.head = estimate_head_frame(positions(r.points), valid, run.mean_face);
@@ -403,8 +409,8 @@ void advise(FitRun& run) {
                eye_centre(P, lm::kEyeRFirst),
                ears.f_l,
                ears.f_r,
-               P[lm::kEyeOuterL].position,
-               P[lm::kEyeOuterR].position,
+               r.corner_skin_l.isZero() ? P[lm::kEyeOuterL].position : r.corner_skin_l,
+               r.corner_skin_r.isZero() ? P[lm::kEyeOuterR].position : r.corner_skin_r,
                r.head.mm_per_unit,
                r.scale.source == ScaleSource::kMeanFace};
   const PlaceInputs points{

@@ -124,6 +124,10 @@ struct FitResult {
   Eigen::Vector3d f_c = Eigen::Vector3d::Zero();
   std::map<std::string, NamedLandmark> landmarks;  // nose eye_l eye_r temple_l temple_r ear_l ear_r
   std::vector<TriangulatedPoint> points;           // all 68
+  // The outer eye corners (45, 36) moved to their nearest skin (snap_to_surface's `nearest`), where the
+  // advice measures the face's width at the temples: `points` holds them snapped along the mean ray
+  // with the other landmarks (zero: not snapped, the advice then uses `points`).
+  Eigen::Vector3d corner_skin_l = Eigen::Vector3d::Zero(), corner_skin_r = Eigen::Vector3d::Zero();
   ContactResult contact;
   Orbit orbit;                                          // the final view plan
   std::vector<ViewRecord> views;                        // the final cap

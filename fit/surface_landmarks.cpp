@@ -75,22 +75,57 @@ void cast_surface_landmarks(ViewSource& source, const std::vector<ViewRecord>& v
   }
 }
 
+namespace {
+
+// The directions a landmark's snap searches along: its inlier views' mean forward direction and, when
+// `nearest`, the two most different of their own (the widest pair of the views that saw it, e.g. one
+// from each side) and both ways square to the mean in their plane.
+std::vector<Eigen::Vector3d> snap_directions(const std::vector<ViewRecord>& views,
+                                             const std::vector<int>& inliers, bool nearest) {
+  std::vector<Eigen::Vector3d> f;
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (int v : inliers) f.push_back(camera_forward(views[v].camera)), mean += f.back();
+  std::vector<Eigen::Vector3d> out{mean.normalized()};
+  if (!nearest) return out;
+  auto farthest = [&](const Eigen::Vector3d& from) {
+    return *std::min_element(f.begin(), f.end(),
+                             [&](const auto& a, const auto& b) { return a.dot(from) < b.dot(from); });
+  };
+  const Eigen::Vector3d a = farthest(out[0]), b = farthest(a);
+  for (const Eigen::Vector3d& d : {a, b})
+    if (d.dot(out[0]) < 1.0 - 1e-9) out.push_back(d.normalized());
+  // Square to the mean ray in the plane of the views' sweep, both ways: the nearest skin of a point
+  // just inside a side of the face that the rays meet obliquely.
+  const Eigen::Vector3d across = (b - a) - (b - a).dot(out[0]) * out[0];
+  if (across.norm() > 1e-6) out.push_back(across.normalized()), out.push_back(-across.normalized());
+  return out;
+}
+
+}  // namespace
+
 int snap_to_surface(ViewSource& source, const std::vector<ViewRecord>& views, double reach,
                     float density_threshold, std::vector<TriangulatedPoint>& points, int skip_first,
-                    int skip_last, double opacity) {
+                    int skip_last, double opacity, bool nearest) {
   int moved = 0;
   for (int k = 0; k < int(points.size()); ++k) {
     TriangulatedPoint& p = points[k];
     if (!p.ok || (k >= skip_first && k <= skip_last) || p.inliers.empty()) continue;
-    Eigen::Vector3d dir = Eigen::Vector3d::Zero();
-    for (int v : p.inliers) dir += camera_forward(views[v].camera);
-    dir.normalize();
-    double t = 0.0;
-    const Eigen::Vector3d start = p.position - reach * dir;
-    if (!first_surface_hit(source, start, dir, 0.0, 2.0 * reach, density_threshold, &t)) continue;
-    if (t <= 0.0) continue;  // already inside at the start of the search: leave it
-    if (opacity > 0.0 && !opacity_depth(source, start, dir, 0.0, 2.0 * reach, opacity, &t)) continue;
-    Eigen::Vector3d snapped = p.position - reach * dir + t * dir;
+    // Each direction's first skin hit within +-reach of the point; the nearest one wins.
+    Eigen::Vector3d best_dir = Eigen::Vector3d::Zero();
+    double best_t = 0.0;
+    const std::vector<Eigen::Vector3d> dirs = snap_directions(views, p.inliers, nearest);
+    for (const Eigen::Vector3d& dir : dirs) {
+      double t = 0.0;
+      if (!first_surface_hit(source, p.position - reach * dir, dir, 0.0, 2.0 * reach, density_threshold, &t))
+        continue;
+      if (t <= 0.0) continue;  // already inside at the start of this search: not this way
+      if (best_dir.isZero() || std::abs(t - reach) < std::abs(best_t - reach)) best_dir = dir, best_t = t;
+    }
+    if (best_dir.isZero()) continue;
+    const Eigen::Vector3d start = p.position - reach * best_dir;
+    if (opacity > 0.0 && !opacity_depth(source, start, best_dir, 0.0, 2.0 * reach, opacity, &best_t))
+      continue;
+    const Eigen::Vector3d snapped = start + best_t * best_dir;
     p.sigma = std::sqrt(p.sigma * p.sigma + (snapped - p.position).squaredNorm());
     p.position = snapped;
     ++moved;

@@ -54,8 +54,13 @@ void cast_surface_landmarks(ViewSource& source, const std::vector<ViewRecord>& v
 // constrained direction). Returns how many moved; the move is added to the point's sigma.
 // `opacity` > 0: to the depth where the opacity from the search's start reaches it instead of the
 // first density hit (ray_surface.h), unless the start already lies in the skin.
+// `nearest`: to the nearest of the first hits along five directions instead: the mean ray, the two
+// inlier rays most apart, and both ways square to the mean ray in their plane. Where the skin is
+// steep to the rays (the outer eye corners, where the face turns to its sides) a point a little beside
+// the skin lies a little inside it, and the mean ray alone carries it to the face's front, several mm
+// too far forward; the nearest skin is the smallest correction.
 int snap_to_surface(ViewSource& source, const std::vector<ViewRecord>& views, double reach,
                     float density_threshold, std::vector<TriangulatedPoint>& points, int skip_first = 0,
-                    int skip_last = 16, double opacity = 0.0);
+                    int skip_last = 16, double opacity = 0.0, bool nearest = false);
 
 }  // namespace lorgnette::fit

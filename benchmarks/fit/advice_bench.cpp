@@ -126,11 +126,13 @@ std::vector<std::string> rows_for(const std::string& frame, const std::string& m
       canon(t.pupil_l).x(), canon(t.pupil_l).y(), canon(t.pupil_l).z());
   for (int s = 0; s < 2; ++s) {  // where the fit's eye corners lie from the true ones (frame axes, mm)
     const Eigen::Vector3d d = canon(P[s ? 45 : 36].position) - canon(s ? t.corner_l : t.corner_r);
+    const Eigen::Vector3d a =
+        canon(s ? r.corner_skin_l : r.corner_skin_r) - canon(s ? t.corner_l : t.corner_r);
     const Eigen::Vector3d tp = canon(s ? t.temple_l : t.temple_r);
     std::cerr << fmt::format(
-        "{} eye corner: fit - true = ({:+.1f}, {:+.1f}, {:+.1f}); true temple point ({:.1f}, {:.1f}, "
-        "{:.1f})\n",
-        s ? "left" : "right", d.x(), d.y(), d.z(), tp.x(), tp.y(), tp.z());
+        "{} eye corner: fit - true = ({:+.1f}, {:+.1f}, {:+.1f}), the advice's (nearest skin) ({:+.1f}, "
+        "{:+.1f}, {:+.1f}); true temple point ({:.1f}, {:.1f}, {:.1f})\n",
+        s ? "left" : "right", d.x(), d.y(), d.z(), a.x(), a.y(), a.z(), tp.x(), tp.y(), tp.z());
   }
   for (int s = 0; s < 2; ++s) {  // where the fit's ear rests lie from the true ones (frame axes, mm)
     const Eigen::Vector3d d = canon(s ? r.ears.f_l : r.ears.f_r) - canon(s ? t.ear_l : t.ear_r);

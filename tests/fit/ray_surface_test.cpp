@@ -8,6 +8,7 @@
 #include <functional>
 
 #include "fit/camera_math.h"
+#include "fit/detect_views.h"
 #include "fit/fit.h"
 #include "fit/landmark_ids.h"
 #include "fit/surface_landmarks.h"
@@ -137,6 +138,38 @@ TEST(ContourSide, CastUsesOnlyTheNearSideViews) {
   ASSERT_EQ(pts[lm::kTempleR].inliers, std::vector<int>{0});
   // The ball's surface along the first view's ray; the mesh-like step is resolved to a fine step.
   EXPECT_LT((pts[lm::kTempleR].position - near_hit).norm(), 1e-3);
+}
+
+// snap_to_surface on a quarter space (solid where x <= 0 and z <= 0: a front at z = 0 and a steep side
+// at x = 0) seen by three views 30 deg apart. With `nearest`, a landmark just inside the side goes to
+// the nearest skin, square to the mean ray; along the mean ray alone (the default) it goes to the
+// front. One just behind the flat front goes straight forward either way. The searches span 0.2
+// units: 512 coarse samples, then 64 fine ones (6e-6 apart).
+TEST(SnapToSurface, NearestTakesEachPointToItsNearestSkin) {
+  FieldSource s([](const Eigen::Vector3f& p) { return p.x() <= 0.0f && p.z() <= 0.0f ? 100.0f : 0.0f; });
+  std::vector<ViewRecord> views(3);
+  const double yaw[3] = {-0.5236, 0.0, 0.5236};  // -30, 0, +30 deg
+  for (int i = 0; i < 3; ++i)
+    views[i].camera = look_at_camera(3.0 * Eigen::Vector3d(std::sin(yaw[i]), 0.0, std::cos(yaw[i])),
+                                     Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitY(), 30.0, 64, 64);
+  std::vector<TriangulatedPoint> start(2);
+  start[0].position = {-0.03, 0.0, -0.05};  // 0.03 inside the side, 0.05 behind the front
+  start[1].position = {-0.5, 0.0, -0.02};   // 0.02 behind the front, far from the side
+  for (TriangulatedPoint& p : start) p.ok = true, p.inliers = {0, 1, 2};
+  std::vector<TriangulatedPoint> nearest = start, along = start;
+  ASSERT_EQ(snap_to_surface(s, views, 0.1, 1.0f, nearest, -1, -1, 0.0, true), 2);
+  ASSERT_EQ(snap_to_surface(s, views, 0.1, 1.0f, along, -1, -1), 2);
+  EXPECT_NEAR(nearest[0].position.x(), 0.0, 1e-5);
+  EXPECT_NEAR(nearest[0].position.y(), 0.0, 1e-9);
+  EXPECT_NEAR(nearest[0].position.z(), -0.05, 1e-9);
+  EXPECT_NEAR(nearest[0].sigma, 0.03, 1e-5);  // the move is added to the point's uncertainty
+  EXPECT_NEAR(along[0].position.x(), -0.03, 1e-9);
+  EXPECT_NEAR(along[0].position.z(), 0.0, 1e-5);
+  EXPECT_NEAR(along[0].sigma, 0.05, 1e-5);
+  for (const auto* p : {&nearest[1], &along[1]}) {
+    EXPECT_NEAR(p->position.x(), -0.5, 1e-9);
+    EXPECT_NEAR(p->position.z(), 0.0, 1e-5);
+  }
 }
 
 }  // namespace
