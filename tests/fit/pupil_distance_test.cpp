@@ -22,8 +22,12 @@ IrisMeasurement at(int eye, const Eigen::Vector3d& centre, double iris_units = 0
 // A spread in depth (z) is not along the eyes' line and does not count.
 TEST(PupilDistance, MeanCentresAndTheirSigma) {
   const std::vector<IrisMeasurement> ms = {
-      at(+1, {0.29, 0.0, 0.0}), at(+1, {0.30, 0.0, 0.05}), at(+1, {0.31, 0.0, -0.05}),
-      at(-1, {-0.32, 0.0, 0.0}), at(-1, {-0.32, 0.0, 0.02}), at(-1, {-0.32, 0.0, -0.02}),
+      at(+1, {0.29, 0.0, 0.0}),
+      at(+1, {0.30, 0.0, 0.05}),
+      at(+1, {0.31, 0.0, -0.05}),
+      at(-1, {-0.32, 0.0, 0.0}),
+      at(-1, {-0.32, 0.0, 0.02}),
+      at(-1, {-0.32, 0.0, -0.02}),
       at(-1, {5.0, 5.0, 5.0}, 0.06, false)};  // a view whose limbus was not found: ignored
   const PupilDistance p = pupil_distance(ms);
   ASSERT_TRUE(p.ok) << p.why;
