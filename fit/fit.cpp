@@ -204,11 +204,10 @@ void estimate_head(FitRun& run) {
   require_points(r.points);
   r.head = estimate_head_frame(p, valid, run.mean_face);
   if (o.snap_to_skin) {
-    std::vector<TriangulatedPoint> corners = r.points;
-    for (int k = 0; k < lm::kCount; ++k) corners[k].ok &= k == lm::kEyeOuterL || k == lm::kEyeOuterR;
+    std::vector<TriangulatedPoint> corners = {r.points[lm::kEyeOuterL], r.points[lm::kEyeOuterR]};
     snap_to_surface(run.source, r.views, o.snap_reach_mm / r.head.mm_per_unit, run.surface, corners, -1, -1,
                     0.0, true);
-    r.corner_skin_l = corners[lm::kEyeOuterL].position, r.corner_skin_r = corners[lm::kEyeOuterR].position;
+    r.corner_skin_l = corners[0].position, r.corner_skin_r = corners[1].position;
     snap_to_surface(run.source, r.views, o.snap_reach_mm / r.head.mm_per_unit, run.surface, r.points,
                     lm::kTempleR, o.cast_contour ? lm::kTempleL : -1);
     r.head = estimate_head_frame(positions(r.points), valid, run.mean_face);

@@ -5,9 +5,11 @@
 #pragma once
 #include <chrono>
 #include <cstdint>
+#include <filesystem>
 #include <string>
 
 #include "service/job_metrics.h"
+#include "service/job_store.h"
 #include "service/server_identity.h"
 
 namespace lorgnette::service {
@@ -29,6 +31,10 @@ struct LeaseSettings {
     return std::chrono::duration<double>(lease_seconds / 6.0);
   }
 };
+
+// The worker's progress.json in its capture folder into the record (stage, percent, message), as
+// both executors report it; a folder without one leaves the record as it was.
+void refresh_progress(CaptureRecord& r, const std::filesystem::path& capture_folder);
 
 class Executor {
  public:

@@ -9,7 +9,6 @@
 #include <filesystem>
 
 #include "service/job_runner.h"
-#include "service/progress.h"
 
 namespace fs = std::filesystem;
 
@@ -51,14 +50,6 @@ int LocalExecutor::reconcile() {
   return n;
 }
 
-void LocalExecutor::refresh(CaptureRecord& r) const {
-  if (auto p = read_progress(fs::path(folder(r.id)) / "progress.json")) {
-    r.stage = p->stage;
-    r.percent = p->percent;
-    r.message = p->message;
-  }
-}
-
 // Records the stage that ended when a worker moved on from it (or finished the job with it).
 void LocalExecutor::follow_stage(Worker& w, const std::string& stage, bool job_finished) {
   const auto now = std::chrono::steady_clock::now();
@@ -71,7 +62,7 @@ void LocalExecutor::finish(Worker& w, const ChildEnd& end) {
   auto rec = store_.get(w.id);
   if (!rec) return;  // deleted meanwhile
   CaptureRecord r = *rec;
-  refresh(r);
+  refresh_progress(r, folder(r.id));
   const bool finished = end.exited && end.code == int(JobOutcome::Finished);
   follow_stage(w, r.stage, finished);
   std::string cause;
@@ -123,7 +114,7 @@ void LocalExecutor::follow_workers() {
       continue;
     }
     CaptureRecord r = *rec;
-    refresh(r);
+    refresh_progress(r, folder(r.id));
     follow_stage(*it->second, r.stage, false);
     if (r.stage != rec->stage || r.percent != rec->percent || r.message != rec->message)
       store_.update_owned(r, options_.lease.owner.instance);

@@ -67,8 +67,7 @@ class LocalExecutor final : public Executor {
   };
   void finish(Worker& w, const ChildEnd& end);
   void follow_stage(Worker& w, const std::string& stage, bool job_finished);
-  void refresh(CaptureRecord& r) const;  // the worker's progress.json into the record
-  int requeue_adopted();                 // store_.adopt(), each back to the queue
+  int requeue_adopted();  // store_.adopt(), each back to the queue
   void follow_workers();
   std::string folder(const std::string& id) const;
 

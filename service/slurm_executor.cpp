@@ -116,14 +116,6 @@ std::string SlurmExecutor::folder(const std::string& id) const {
   return (fs::path(options_.data_dir) / "captures" / id).string();
 }
 
-void SlurmExecutor::refresh(CaptureRecord& r) const {
-  if (auto p = read_progress(fs::path(folder(r.id)) / "progress.json")) {
-    r.stage = p->stage;
-    r.percent = p->percent;
-    r.message = p->message;
-  }
-}
-
 std::string SlurmExecutor::active_job_named(const std::string& name) const {
   const CommandResult r = run_command(
       {program("squeue"), "--noheader", "--me", "--states=all", "--name=" + name, "--format=%i|%T"},
@@ -248,7 +240,7 @@ void SlurmExecutor::finish(const std::string& id, const std::string& slurm_id,
   auto rec = store_.get(id);
   if (!rec) return;  // deleted meanwhile
   CaptureRecord r = *rec;
-  refresh(r);
+  refresh_progress(r, folder(r.id));
   const auto p = read_progress(fs::path(folder(id)) / "progress.json");
   std::string cause;
   if (p && p->state == "finished") {
@@ -307,7 +299,7 @@ void SlurmExecutor::follow_jobs() {
     }
     if (rec) {
       CaptureRecord r = *rec;
-      refresh(r);
+      refresh_progress(r, folder(r.id));
       if (r.stage != rec->stage || r.percent != rec->percent || r.message != rec->message)
         store_.update_owned(r, options_.lease.owner.instance);
     }

@@ -67,7 +67,6 @@ class SlurmExecutor final : public Executor {
   std::optional<std::map<std::string, std::string>> poll_states();  // Slurm id -> state
   std::string active_job_named(const std::string& name) const;      // its Slurm id, or ""
   void finish(const std::string& id, const std::string& slurm_id, const std::string& slurm_state);
-  void refresh(CaptureRecord& r) const;
   bool take_over(CaptureRecord r);  // an adopted job: re-attached (true) or back to the queue
   int take_over_adopted();          // store_.adopt(), each taken over; returns how many
   void follow_jobs();               // squeue, finished jobs recorded, progress copied

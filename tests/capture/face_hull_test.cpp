@@ -131,7 +131,10 @@ std::vector<Camera> arc(const PlacedHead& h, const std::vector<float>& yaws, flo
   return cams;
 }
 
-nerf::HoleReport holes_of(const PlacedHead& h, const std::vector<Camera>& cams, const Holes& holes) {
+// `hulls`: the regions judged; empty = all of head_solid_hulls().
+nerf::HoleReport holes_of(const PlacedHead& h, const std::vector<Camera>& cams, const Holes& holes,
+                          std::vector<nerf::SolidHull> hulls = {}) {
+  if (hulls.empty()) hulls = head_solid_hulls(h.box);
   nerf::Aabb box;
   for (int a = 0; a < 3; ++a) box.min[a] = float(h.box.min[a]), box.max[a] = float(h.box.max[a]);
   nerf::OccupancyGrid occ;
@@ -139,8 +142,7 @@ nerf::HoleReport holes_of(const PlacedHead& h, const std::vector<Camera>& cams, 
   occ.bits.assign(occ_word_count(occ.res), ~0u);
   nerf::HoleCheckOptions o;
   o.rays_across = 64;
-  return nerf::measure_holes(cams, box, {}, 0.006f, occ, head_density(h, box, holes), head_solid_hulls(h.box),
-                             o);
+  return nerf::measure_holes(cams, box, {}, 0.006f, occ, head_density(h, box, holes), hulls, o);
 }
 
 TEST(FaceHull, WholeHeadsHaveNoHoles) {
@@ -184,16 +186,8 @@ TEST(FaceHull, HolesAtTheSideAndTopOfTheSkullAreCaught) {
     EXPECT_TRUE(r.broken()) << r.summary();
     EXPECT_EQ(r.worst_region(), "skull") << r.summary();
   }
-  nerf::Aabb box;
-  for (int a = 0; a < 3; ++a) box.min[a] = float(h.box.min[a]), box.max[a] = float(h.box.max[a]);
-  nerf::OccupancyGrid occ;
-  occ.res = 8;
-  occ.bits.assign(occ_word_count(occ.res), ~0u);
-  nerf::HoleCheckOptions o;
-  o.rays_across = 64;
   const nerf::HoleReport face_only =
-      nerf::measure_holes(cams, box, {}, 0.006f, occ, head_density(h, box, {0.0f, false, 25.0f, 0.0f}),
-                          {head_solid_hulls(h.box)[0]}, o);
+      holes_of(h, cams, {0.0f, false, 25.0f, 0.0f}, {head_solid_hulls(h.box)[0]});
   EXPECT_FALSE(face_only.broken()) << face_only.summary();
 }
 

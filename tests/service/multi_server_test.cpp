@@ -32,15 +32,6 @@ nlohmann::json status(uint16_t port, const Capture& c) {
   return nlohmann::json::parse(r.body, nullptr, false);
 }
 
-// An MP4's first bytes (accepted by the upload's check), then noise the capture stage refuses.
-std::string broken_mp4() {
-  return std::string(
-             "\0\0\0\x18"
-             "ftypmp42\0\0\0\0mp42isom",
-             24) +
-         std::string(2000, 'x');
-}
-
 // A job that stays running on the server it is started through: its worker waits for the
 // folder's job.lock, which the test holds (returned; closing it lets the worker go on).
 int start_held_job(uint16_t port, const fs::path& data, Capture& c) {

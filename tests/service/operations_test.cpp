@@ -39,15 +39,6 @@ nlohmann::json status(uint16_t port, const Capture& c) {
   return nlohmann::json::parse(r.body, nullptr, false);
 }
 
-// An MP4's first bytes (accepted by the upload's check), then noise the capture stage refuses.
-std::string broken_mp4(size_t bytes = 2000) {
-  return std::string(
-             "\0\0\0\x18"
-             "ftypmp42\0\0\0\0mp42isom",
-             24) +
-         std::string(bytes, 'x');
-}
-
 PromText metrics(uint16_t port) {
   HttpReply m = http_request(port, "GET", "/metrics", kTestAdminToken);
   EXPECT_EQ(m.status, 200) << m.body;

@@ -60,16 +60,6 @@ nlohmann::json status(const Server& s, const Capture& c) {
   return nlohmann::json::parse(r.body);
 }
 
-// The first bytes of an MP4 (an ISO "ftyp" box) followed by noise: accepted by its magic, then
-// refused by the capture's decoder inside the worker.
-std::string broken_mp4() {
-  return std::string(
-             "\0\0\0\x18"
-             "ftypmp42\0\0\0\0mp42isom",
-             24) +
-         std::string(2000, 'x');
-}
-
 bool is_error(const HttpReply& r, int status, const std::string& code) {
   if (r.status != status) return false;
   auto j = nlohmann::json::parse(r.body, nullptr, false);

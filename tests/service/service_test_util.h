@@ -72,4 +72,14 @@ inline fs::path tiny_dataset() {
 }
 #endif
 
+// The first bytes of an MP4 (an ISO "ftyp" box) followed by noise: accepted by the upload's check of
+// its magic, then refused by the capture's decoder inside the worker.
+inline std::string broken_mp4(size_t bytes = 2000) {
+  return std::string(
+             "\0\0\0\x18"
+             "ftypmp42\0\0\0\0mp42isom",
+             24) +
+         std::string(bytes, 'x');
+}
+
 }  // namespace lorgnette::service::test

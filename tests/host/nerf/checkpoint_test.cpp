@@ -59,6 +59,16 @@ TrainOptions options(const std::string& checkpoint, bool room = false) {
   return o;
 }
 
+// A fresh model trained for 3 steps of options(); returns the checkpoint it left at tmp_path(name).
+std::string checkpoint_after_3_steps(Scene& s, const std::string& name) {
+  NerfModel model = s.make_model();
+  const std::string ckpt = tmp_path(name);
+  TrainOptions o = options(ckpt);
+  o.steps = 3;
+  Trainer(model, s.train.views, o, s.sizing.occupancy_mask).run();
+  return ckpt;
+}
+
 std::string read_bytes(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
@@ -143,14 +153,10 @@ TEST(Checkpoint, ARoomModelsStateReadsBackAsWritten) {
 
 TEST(Checkpoint, AnotherDatasetOrOtherSettingsAreRefusedNamingWhatDiffers) {
   Scene s;
-  NerfModel model = s.make_model();
-  const std::string ckpt = tmp_path("mismatch.ckpt");
-  TrainOptions o = options(ckpt);
-  o.steps = 3;
-  Trainer(model, s.train.views, o, s.sizing.occupancy_mask).run();
+  const std::string ckpt = checkpoint_after_3_steps(s, "mismatch.ckpt");
   ASSERT_TRUE(std::filesystem::exists(ckpt));
   try {
-    read_checkpoint(ckpt, {"dataset-b", o.checkpoint_key.settings});
+    read_checkpoint(ckpt, {"dataset-b", options(ckpt).checkpoint_key.settings});
     FAIL() << "another dataset's checkpoint was taken";
   } catch (const CheckpointMismatch& e) {
     EXPECT_NE(std::string(e.what()).find("another dataset"), std::string::npos) << e.what();
@@ -173,11 +179,7 @@ TEST(Checkpoint, AnotherDatasetOrOtherSettingsAreRefusedNamingWhatDiffers) {
 
 TEST(Checkpoint, ATruncatedOrAlteredCheckpointIsRefusedAsCorrupt) {
   Scene s;
-  NerfModel model = s.make_model();
-  const std::string ckpt = tmp_path("corrupt.ckpt");
-  TrainOptions o = options(ckpt);
-  o.steps = 3;
-  Trainer(model, s.train.views, o, s.sizing.occupancy_mask).run();
+  const std::string ckpt = checkpoint_after_3_steps(s, "corrupt.ckpt");
   const std::string good = read_bytes(ckpt);
   CheckpointKey key;
   EXPECT_EQ(parse_checkpoint(good, ckpt, key).step, 3u);
