@@ -92,7 +92,9 @@ std::optional<uint64_t> resumed_at(const std::string& log, uint64_t of) {
 }
 
 TEST(JobRun, AWorkerKilledDuringTrainingLeavesNoModelAndTheRerunResumesAndFinishes) {
-  fs::path job = captured_job(200, "", 64, 2.0);
+  // 600 steps with a checkpoint every 0.5 s: training outlasts several checkpoints even where it
+  // runs fast (200 steps took 1.8 s on a quiet 2-core machine, under a 2 s checkpoint interval).
+  fs::path job = captured_job(600, "", 64, 0.5);
   {
     ChildProcess worker({LGN_CLI_PATH, "job", "run", job.string()}, (job / "killed.log").string());
     // Killed once training has reported progress and written a checkpoint (outside its partial folder).
@@ -111,16 +113,16 @@ TEST(JobRun, AWorkerKilledDuringTrainingLeavesNoModelAndTheRerunResumesAndFinish
   ASSERT_TRUE(fs::exists(job / "train.ckpt"));
   ASSERT_EQ(job_run(job), 0) << read_file(job / "worker.log");
   // The retry took up the training where the checkpoint left it, not at step 0, and trained to the
-  // budget once: the model holds 200 steps and the checkpoint is gone with the finished stage.
+  // budget once: the model holds 600 steps and the checkpoint is gone with the finished stage.
   const std::string log = read_file(job / "worker.log");
-  const std::optional<uint64_t> from = resumed_at(log, 200);
+  const std::optional<uint64_t> from = resumed_at(log, 600);
   ASSERT_TRUE(from.has_value()) << log;
   EXPECT_GT(*from, 0u);
-  EXPECT_LT(*from, 200u);
+  EXPECT_LT(*from, 600u);
   EXPECT_EQ(read_file(job / "killed.log").find("resuming at step"), std::string::npos);
   EXPECT_FALSE(fs::exists(partial_path(job / "model")));
   EXPECT_FALSE(fs::exists(job / "train.ckpt"));
-  EXPECT_EQ(lorgnette::nerf::read_snapshot((job / "model" / "head.lnerf").string()).metadata.steps, 200u);
+  EXPECT_EQ(lorgnette::nerf::read_snapshot((job / "model" / "head.lnerf").string()).metadata.steps, 600u);
   EXPECT_EQ(read_json(job / "progress.json")["state"], "finished");
 }
 

@@ -79,7 +79,9 @@ TEST(LocalExecutor, RunsAQueuedJobToFinished) {
 
 TEST(LocalExecutor, AWorkerKilledDuringTrainingIsRetriedAndFinishes) {
   ExecutorEnv s = make_setup();
-  add_job(s, "job2", 200, JobState::Queued, 2.0);
+  // 600 steps with a checkpoint every 0.5 s: training outlasts several checkpoints even where it
+  // runs fast (200 steps can take under the 2 s of a longer interval).
+  add_job(s, "job2", 600, JobState::Queued, 0.5);
   LocalExecutor ex(*s.store, s.options);
   const fs::path progress = s.data / "captures/job2/progress.json";
   ASSERT_TRUE(wait_for(
@@ -104,7 +106,7 @@ TEST(LocalExecutor, AWorkerKilledDuringTrainingIsRetriedAndFinishes) {
       << read_file(s.data / "captures/job2/worker.log");
   EXPECT_EQ(s.store->get("job2")->attempts, 2);
   auto snap = lorgnette::nerf::read_snapshot((s.data / "captures/job2/model/head.lnerf").string());
-  EXPECT_EQ(snap.metadata.steps, 200u);  // one whole training, not two halves
+  EXPECT_EQ(snap.metadata.steps, 600u);  // one whole training, not two halves
   // The retry resumed from the training checkpoint the killed worker left (both attempts append to
   // worker.log), so no step was trained twice; the checkpoint went with the finished stage.
   const std::string log = read_file(s.data / "captures/job2/worker.log");
