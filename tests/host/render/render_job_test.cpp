@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -136,4 +137,52 @@ TEST(RenderJob, FullDiskIsAnErrorAndLeavesNoEmptyFrames) {
   }
   for (const auto& e : fs::directory_iterator(disk.path()))
     EXPECT_EQ(e.path().filename(), "filler") << "left behind: " << e.path();
+}
+
+// A disk that fills during the job, after the first view was written: the folders the job created
+// (-o renders/today, neither there before) are removed with the view in them, so no empty or
+// half-filled folder looks like a result; in a folder the user already had, the job's own files go
+// and the user's file stays.
+TEST(RenderJob, ADiskThatFillsMidJobLeavesNothingOfTheJob) {
+  lgn_test::ScopedTmpfs disk(fs::path(LORGNETTE_TEST_TMP) / "render_job_fills", 1024 * 1024);
+  LGN_SKIP_UNLESS_MOUNTED(disk);
+  cl::Runtime rt;
+  AnalyticField field(rt, analytic_head_min, analytic_head_max, analytic_head_primitives(), 1u << 14);
+  VolumeScene scene;
+  scene.aabb_min = analytic_head_min;
+  scene.aabb_max = analytic_head_max;
+  scene.step = 1.0f / 64.0f;
+  scene.field = &field;
+  Marcher marcher(rt);
+  OrbitSpec spec;
+  spec.views = 3;
+  spec.width = spec.height = 24;
+  RenderJob job;
+  job.cameras = orbit_cameras(spec);
+  job.video = false;
+  int views = 0;
+  auto fill_after_first = [&](const Camera& c, const lorgnette::SurfaceBuffers* s) {
+    if (++views == 2) disk.fill();  // the first view's files are written by now
+    return marcher.render(scene, c, s, job.options);
+  };
+  const fs::path user = disk.path() / "mine";
+  fs::create_directories(user);
+  write(user / "notes.txt", "the user's\n");
+  for (const fs::path& out : {disk.path() / "renders" / "today", user}) {
+    fs::remove(disk.path() / "filler");
+    views = 0;
+    job.out_dir = out.string();
+    try {
+      run_render_job(job, fill_after_first);
+      FAIL() << "writing onto a full disk must fail";
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find("No space left on device"), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(views, 2) << "the first view was written before the disk filled";
+  }
+  std::vector<std::string> left;
+  for (const auto& e : fs::recursive_directory_iterator(disk.path()))
+    left.push_back(fs::relative(e.path(), disk.path()).string());
+  std::sort(left.begin(), left.end());
+  EXPECT_EQ(left, (std::vector<std::string>{"filler", "mine", "mine/notes.txt"}));
 }
