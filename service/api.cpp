@@ -60,9 +60,10 @@ ApiResponse Api::handle(const ApiRequest& request, BodySource& body) {
   try {
     r = route(request, body);
   } catch (const ApiError& e) {
-    r = json_response(e.status, {{"error", {{"code", e.code}, {"message", without_server_paths(e.what())}}}});
+    r = json_response(e.status, {{"error", {{"code", e.code}, {"message", e.what()}}}});
   } catch (const std::exception& e) {
-    spdlog::error("{} {}: {}", request.method, request.target, e.what());  // the server's log keeps the paths
+    // Not one of the API's own errors: it may name a server path, which only the server's log keeps.
+    spdlog::error("{} {}: {}", request.method, request.target, e.what());
     r = json_response(500, {{"error", {{"code", "internal"}, {"message", without_server_paths(e.what())}}}});
   }
   std::lock_guard<std::mutex> lock(metrics_mutex_);

@@ -213,4 +213,6 @@ TEST(ShopArtifacts, TheJobsJsonNamesNoServerPath) {
       EXPECT_EQ(s.find(fs::absolute(shop.data).string()), std::string::npos) << s;
     }
   }
+  // The API's own errors keep the URLs they point the client to.
+  EXPECT_NE(shop.get("/api/nope").body.find("under /api/v1"), std::string::npos);
 }
