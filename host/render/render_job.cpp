@@ -176,7 +176,11 @@ nlohmann::json run_render_job(
   double samples = 0, rays = 0;
   Progress progress("render", double(n), "views");
   for (size_t i = 0; i < n; ++i) {
-    if (interrupted()) throw std::runtime_error("interrupted: the views rendered so far are removed");
+    if (interrupted()) {
+      // A stop asked for keeps the whole views written so far (docs/input-limits.md); an error does not.
+      if (i > 0) outputs.keep();
+      throw std::runtime_error("interrupted: the frames written so far are complete files");
+    }
     const Camera& cam = job.cameras[i];
     lorgnette::SurfaceBuffers surf;
     double surface_ms = 0;

@@ -73,8 +73,8 @@ std::filesystem::path nearest_existing_folder(const std::filesystem::path& path)
 // folder the user may already keep other files in), undone unless the command finishes. The
 // constructor creates `dir` and any missing parents; without keep(), the destructor removes the
 // folders it created, or, when `dir` was already there, those of `names` that were not there before.
-// A full disk or Ctrl-C so never leaves an empty or half-filled folder that looks like a result, and
-// nothing the user had is removed (a file `--force` overwrote is already gone).
+// A full disk so never leaves an empty or half-filled folder that looks like a result, and nothing
+// the user had is removed (a file `--force` overwrote is already gone).
 class NewOutputs {
  public:
   NewOutputs(const std::filesystem::path& dir, const std::vector<std::string>& names);

@@ -10,6 +10,7 @@
 #include <fstream>
 
 #include "host/render/analytic_field.h"
+#include "host/util/interrupt.h"
 #include "tests/common/scoped_tmpfs.h"
 
 using namespace lorgnette;
@@ -185,4 +186,39 @@ TEST(RenderJob, ADiskThatFillsMidJobLeavesNothingOfTheJob) {
     left.push_back(fs::relative(e.path(), disk.path()).string());
   std::sort(left.begin(), left.end());
   EXPECT_EQ(left, (std::vector<std::string>{"filler", "mine", "mine/notes.txt"}));
+}
+
+// A stop asked for (Ctrl-C, SIGTERM) keeps the whole views written before it (docs/input-limits.md);
+// a stop before the first view leaves no folder.
+TEST(RenderJob, AStopKeepsTheWholeViewsWrittenAndNoEmptyFolder) {
+  cl::Runtime rt;
+  AnalyticField field(rt, analytic_head_min, analytic_head_max, analytic_head_primitives(), 1u << 14);
+  VolumeScene scene;
+  scene.aabb_min = analytic_head_min;
+  scene.aabb_max = analytic_head_max;
+  scene.step = 1.0f / 64.0f;
+  scene.field = &field;
+  Marcher marcher(rt);
+  OrbitSpec spec;
+  spec.views = 3;
+  spec.width = spec.height = 24;
+  RenderJob job;
+  job.cameras = orbit_cameras(spec);
+  job.video = false;
+  const fs::path root = tmp_dir("stop");
+  job.out_dir = (root / "renders").string();
+  auto stop_after_first = [&](const Camera& c, const lorgnette::SurfaceBuffers* s) {
+    request_interrupt();  // seen before the next view
+    return marcher.render(scene, c, s, job.options);
+  };
+  EXPECT_THROW(run_render_job(job, stop_after_first), std::runtime_error);
+  clear_interrupt();
+  EXPECT_TRUE(fs::exists(root / "renders" / "frame_0000.png"));
+  EXPECT_TRUE(fs::exists(root / "renders" / "depth_0000.exr"));
+  EXPECT_FALSE(fs::exists(root / "renders" / "frame_0001.png"));
+  job.out_dir = (root / "none").string();
+  request_interrupt();
+  EXPECT_THROW(run_render_job(job, stop_after_first), std::runtime_error);
+  clear_interrupt();
+  EXPECT_FALSE(fs::exists(root / "none"));
 }
