@@ -13,7 +13,9 @@ std::atomic<int> g_signals{0};
 
 extern "C" void on_signal(int) {
   if (g_signals.fetch_add(1) >= 1) _exit(130);
-  const char msg[] = "\ninterrupted: finishing the current step and saving (Ctrl-C again to abort)\n";
+  // One notice for every command: each stops at its own next safe point and then says what it kept
+  // (train: the model so far and its checkpoint; render: the whole frames written; the others: nothing).
+  const char msg[] = "\ninterrupted: stopping at the next safe point (Ctrl-C again to abort at once)\n";
   ssize_t ignored = write(2, msg, sizeof(msg) - 1);
   (void)ignored;
 }
