@@ -213,8 +213,8 @@ void measure_card_in_capture(const std::string& dataset_dir, CaptureReport& repo
   }
   spdlog::info("capture: {}", r.scale.message);
   if (r.ignore_frames > 0)
-    spdlog::info("capture: the card and its fingers are left out of training in {} frames ({})", r.ignore_frames,
-                 dataset::kIgnoreRegionsFile);
+    spdlog::info("capture: the card and its fingers are left out of training in {} frames ({})",
+                 r.ignore_frames, dataset::kIgnoreRegionsFile);
 }
 
 nlohmann::json CaptureReport::coverage_json() const {

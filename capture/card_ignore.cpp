@@ -18,8 +18,10 @@ using V3 = Eigen::Vector3d;
 
 // The card's side lengths in millimetres along its corner order: (corner 0 -> 1, corner 1 -> 2).
 std::pair<double, double> card_sides_mm(const std::array<V3, 4>& c) {
-  const bool first_long = (c[1] - c[0]).norm() + (c[3] - c[2]).norm() > (c[2] - c[1]).norm() + (c[0] - c[3]).norm();
-  return first_long ? std::make_pair(kCardWidthMm, kCardHeightMm) : std::make_pair(kCardHeightMm, kCardWidthMm);
+  const bool first_long =
+      (c[1] - c[0]).norm() + (c[3] - c[2]).norm() > (c[2] - c[1]).norm() + (c[0] - c[3]).norm();
+  return first_long ? std::make_pair(kCardWidthMm, kCardHeightMm)
+                    : std::make_pair(kCardHeightMm, kCardWidthMm);
 }
 
 // A frame's own corners (card order) grown by `margin` mm through the homography from the card's
@@ -32,7 +34,10 @@ dataset::IgnorePolygon grown_from_corners(const std::array<V2, 4>& corners, std:
   for (int k = 0; k < 4; ++k) image[k] = cv::Point2f(float(corners[k].x()), float(corners[k].y()));
   const cv::Mat h = cv::getPerspectiveTransform(card, image);
   const float m = float(margin);
-  std::vector<cv::Point2f> grown = {{-m, -m}, {float(a) + m, -m}, {float(a) + m, float(b) + m}, {-m, float(b) + m}},
+  std::vector<cv::Point2f> grown = {{-m, -m},
+                                    {float(a) + m, -m},
+                                    {float(a) + m, float(b) + m},
+                                    {-m, float(b) + m}},
                            out;
   cv::perspectiveTransform(grown, out, h);
   dataset::IgnorePolygon poly;
@@ -108,14 +113,16 @@ bool shows_card(const cv::Mat& grey, const CardView& v, const CardScale& card, c
   for (const V2& p : uv)
     if (p.x() < 0 || p.y() < 0 || p.x() > v.camera.width || p.y() > v.camera.height) return false;
   const double likeness = ncc(card_patch(grey, v.camera, uv, sides), reference);
-  spdlog::debug("card: frame '{}' outside the measured ones: likeness {:.2f} to the card's face", v.name, likeness);
+  spdlog::debug("card: frame '{}' outside the measured ones: likeness {:.2f} to the card's face", v.name,
+                likeness);
   return likeness >= options.min_likeness;
 }
 
 }  // namespace
 
 std::vector<dataset::FrameIgnore> card_ignore_regions(const std::vector<CardView>& views,
-                                                      const std::vector<cv::Mat>& greys, const CardScale& card,
+                                                      const std::vector<cv::Mat>& greys,
+                                                      const CardScale& card,
                                                       const CardIgnoreOptions& options) {
   std::vector<dataset::FrameIgnore> regions;
   if (!card.found || card.frame_names.empty()) return regions;
@@ -129,7 +136,8 @@ std::vector<dataset::FrameIgnore> card_ignore_regions(const std::vector<CardView
     if (it == seen.end()) continue;
     last = i, first = first < 0 ? i : first;
     if (!greys.empty())
-      measured.push_back(card_patch(greys[size_t(i)], views[size_t(i)].camera, card.frame_corners[it->second], sides));
+      measured.push_back(
+          card_patch(greys[size_t(i)], views[size_t(i)].camera, card.frame_corners[it->second], sides));
   }
   const cv::Mat reference = measured.empty() ? cv::Mat() : reference_patch(measured);
   for (int i = 0; i < int(views.size()); ++i) {

@@ -38,7 +38,8 @@ struct CardIgnoreOptions {
 // outside the measured ones are not searched); card: a found card. Frames without a region are not
 // listed.
 std::vector<dataset::FrameIgnore> card_ignore_regions(const std::vector<CardView>& views,
-                                                      const std::vector<cv::Mat>& greys, const CardScale& card,
+                                                      const std::vector<cv::Mat>& greys,
+                                                      const CardScale& card,
                                                       const CardIgnoreOptions& options = {});
 
 }  // namespace lorgnette::capture

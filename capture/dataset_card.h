@@ -3,7 +3,8 @@
 // agree (capture/card_scale.h), and scale.json (host/dataset/metric_scale.h) written when it was,
 // with ignore_regions.json (the card and its fingers in the frames that show it, capture/card_ignore.h)
 // for training to leave out; files left by an earlier measurement are removed when this one finds
-// no card, so the dataset never claims a scale or hides pixels its frames do not call for. Also runs on synth outputs and other posed datasets.
+// no card, so the dataset never claims a scale or hides pixels its frames do not call for. Also runs on synth
+// outputs and other posed datasets.
 #pragma once
 #include <string>
 

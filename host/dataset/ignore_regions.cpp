@@ -20,7 +20,8 @@ constexpr int kFormatVersion = 1;
 IgnorePolygon parse_polygon(const nlohmann::json& j) {
   IgnorePolygon poly;
   for (const auto& v : j.get<std::vector<std::vector<float>>>()) {
-    if (v.size() != 2) throw std::runtime_error(fmt::format("a vertex has {} numbers, not 2 (x, y)", v.size()));
+    if (v.size() != 2)
+      throw std::runtime_error(fmt::format("a vertex has {} numbers, not 2 (x, y)", v.size()));
     poly.emplace_back(v[0], v[1]);
   }
   return poly;
@@ -44,24 +45,27 @@ FrameIgnore parse_frame(const nlohmann::json& j) {
 }  // namespace
 
 void check_ignore_regions(const IgnoreRegions& r, const std::string& where) {
-  if (r.source.empty()) throw std::runtime_error(fmt::format("{}: source must name what the regions hide", where));
+  if (r.source.empty())
+    throw std::runtime_error(fmt::format("{}: source must name what the regions hide", where));
   if (!(std::isfinite(r.margin_mm) && r.margin_mm >= 0))
-    throw std::runtime_error(fmt::format("{}: margin_mm must be a number >= 0, found {}", where, r.margin_mm));
+    throw std::runtime_error(
+        fmt::format("{}: margin_mm must be a number >= 0, found {}", where, r.margin_mm));
   std::set<std::string> names;
   for (const FrameIgnore& f : r.frames) {
     if (f.name.empty()) throw std::runtime_error(fmt::format("{}: a frame has an empty name", where));
     if (!names.insert(f.name).second)
       throw std::runtime_error(fmt::format("{}: frame '{}' is listed twice", where, f.name));
     if (f.width <= 0 || f.height <= 0)
-      throw std::runtime_error(
-          fmt::format("{}: frame '{}' has image size {}x{}; both must be positive", where, f.name, f.width, f.height));
+      throw std::runtime_error(fmt::format("{}: frame '{}' has image size {}x{}; both must be positive",
+                                           where, f.name, f.width, f.height));
     for (const IgnorePolygon& p : f.polygons) {
       if (p.size() < 3)
-        throw std::runtime_error(
-            fmt::format("{}: frame '{}' has a polygon of {} vertices; at least 3 are needed", where, f.name, p.size()));
+        throw std::runtime_error(fmt::format(
+            "{}: frame '{}' has a polygon of {} vertices; at least 3 are needed", where, f.name, p.size()));
       for (const auto& v : p)
         if (!v.allFinite())
-          throw std::runtime_error(fmt::format("{}: frame '{}' has a vertex that is not a finite number", where, f.name));
+          throw std::runtime_error(
+              fmt::format("{}: frame '{}' has a vertex that is not a finite number", where, f.name));
     }
   }
 }
@@ -76,7 +80,8 @@ void write_ignore_regions(const std::string& dataset_dir, const IgnoreRegions& r
   }
   const nlohmann::json j = {
       {"version", kFormatVersion}, {"source", r.source}, {"margin_mm", r.margin_mm}, {"frames", frames}};
-  write_text_file_atomic((std::filesystem::path(dataset_dir) / kIgnoreRegionsFile).string(), j.dump(1) + "\n");
+  write_text_file_atomic((std::filesystem::path(dataset_dir) / kIgnoreRegionsFile).string(),
+                         j.dump(1) + "\n");
 }
 
 std::optional<IgnoreRegions> read_ignore_regions(const std::string& dataset_dir) {
@@ -86,7 +91,9 @@ std::optional<IgnoreRegions> read_ignore_regions(const std::string& dataset_dir)
   const std::string advice =
       "fix it, run `lorgnette capture --card-only` on the dataset again, or delete it (training then uses "
       "every pixel of every frame)";
-  auto bad = [&](const std::string& what) { return std::runtime_error(fmt::format("{} {}; {}", where, what, advice)); };
+  auto bad = [&](const std::string& what) {
+    return std::runtime_error(fmt::format("{} {}; {}", where, what, advice));
+  };
   std::ifstream in(p);
   if (!in) throw bad("cannot be read");
   const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);

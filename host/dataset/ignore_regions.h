@@ -21,8 +21,8 @@ inline constexpr const char* kIgnoreRegionsFile = "ignore_regions.json";
 using IgnorePolygon = std::vector<Eigen::Vector2f>;  // >= 3 vertices, continuous pixels
 
 struct FrameIgnore {
-  std::string name;      // the frame's name (its image's file stem, dataset.h Frame::name)
-  int width = 0;         // the image size the polygons are in
+  std::string name;  // the frame's name (its image's file stem, dataset.h Frame::name)
+  int width = 0;     // the image size the polygons are in
   int height = 0;
   std::vector<IgnorePolygon> polygons;
 };

@@ -63,7 +63,7 @@ std::vector<std::vector<std::pair<int, int>>> ignored_spans(const std::vector<Ig
 KeptPixels kept_pixel_runs(const std::vector<std::pair<int, int>>& sizes,
                            const std::vector<const std::vector<IgnorePolygon>*>& ignore) {
   KeptPixels k;
-  uint64_t base = 0, run_start = 0;  // global index of the view's first pixel; of the open kept run
+  uint64_t base = 0, run_start = 0;     // global index of the view's first pixel; of the open kept run
   auto close_run = [&](uint64_t end) {  // the kept pixels [run_start, end) become a run
     if (end <= run_start) return;
     k.runs.push_back(uint32_t(k.kept));

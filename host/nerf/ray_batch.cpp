@@ -70,7 +70,8 @@ const std::vector<uint32_t>& RayBatch::count(const SampleParams& p, const Device
   cl::Runtime& rt = model_.runtime();
   if (p.n_rays > 0) {
     count_k_
-        .args(p, views.camera_buffer(), views.offsets(), views.pixels(), views.kept_runs(), model_.occupancy_bits(), counts_dev_)
+        .args(p, views.camera_buffer(), views.offsets(), views.pixels(), views.kept_runs(),
+              model_.occupancy_bits(), counts_dev_)
         .launch(rt, p.n_rays, ray_group(rt));
   }
   counts_ = counts_dev_.read(rt, p.n_rays);
@@ -107,8 +108,8 @@ uint32_t RayBatch::write(SampleParams p, const DeviceViews& views, uint32_t begi
   p.ray_end = end;
   p.end_on_device = 0;
   write_k_
-      .args(p, views.camera_buffer(), views.offsets(), views.pixels(), views.kept_runs(), model_.occupancy_bits(), sub_offsets_,
-            batch_info_, pos_, dir_, ray_info_)
+      .args(p, views.camera_buffer(), views.offsets(), views.pixels(), views.kept_runs(),
+            model_.occupancy_bits(), sub_offsets_, batch_info_, pos_, dir_, ray_info_)
       .launch(rt, n, ray_group(rt));
   return written_samples_;
 }
@@ -127,13 +128,14 @@ RayBatch::DeviceBatch RayBatch::sample_on_device(SampleParams p, const DeviceVie
   p.end_on_device = 1;
   if (p.n_rays > 0) {
     count_k_
-        .args(p, views.camera_buffer(), views.offsets(), views.pixels(), views.kept_runs(), model_.occupancy_bits(), counts_dev_)
+        .args(p, views.camera_buffer(), views.offsets(), views.pixels(), views.kept_runs(),
+              model_.occupancy_bits(), counts_dev_)
         .launch(rt, p.n_rays, ray_group(rt));
     const size_t group = scan_group(rt);
     offsets_k_.args(p, counts_dev_, sub_offsets_, batch_info_).launch(rt, group, group);
     write_k_
-        .args(p, views.camera_buffer(), views.offsets(), views.pixels(), views.kept_runs(), model_.occupancy_bits(),
-              sub_offsets_, batch_info_, pos_, dir_, ray_info_)
+        .args(p, views.camera_buffer(), views.offsets(), views.pixels(), views.kept_runs(),
+              model_.occupancy_bits(), sub_offsets_, batch_info_, pos_, dir_, ray_info_)
         .launch(rt, p.n_rays, ray_group(rt));
   }
   uint32_t info[BATCH_INFO_UINTS];

@@ -34,7 +34,8 @@ std::string dataset_fingerprint(const dataset::Dataset& ds) {
   for (const auto& f : ds.frames)
     for (const auto& poly : f.ignore)
       for (const auto& v : poly)
-        for (char c : std::to_string(v.x()) + "," + std::to_string(v.y())) h = (h ^ uint8_t(c)) * 1099511628211ull;
+        for (char c : std::to_string(v.x()) + "," + std::to_string(v.y()))
+          h = (h ^ uint8_t(c)) * 1099511628211ull;
   return fmt::format("{:016x}", h);
 }
 

@@ -145,7 +145,8 @@ __kernel void sample_count(const SampleParams p, __global const Camera* cams, __
   uint ray = get_global_id(0);
   if (ray >= p.n_rays) return;
   RaySetup r;
-  counts[ray] = setup_ray(&p, cams, offsets, pixels, runs, ray, &r) ? march_ray(&p, occ, &r, 0, 0u, 0, 0) : 0u;
+  counts[ray] =
+      setup_ray(&p, cams, offsets, pixels, runs, ray, &r) ? march_ray(&p, occ, &r, 0, 0u, 0, 0) : 0u;
 }
 
 // Exclusive prefix sum of counts[0, n_rays) into ray_offsets, and the batch record (train_types.h):

@@ -118,10 +118,12 @@ TEST(IgnoreRegionsFile, BadFilesAreRefusedWithWhatToDo) {
   write(R"({"version": 1, "source": "card", "frames": [{"name": "f_1", "width": 32, "height": 24,
             "polygons": [[[1, 2, 3], [3, 4], [5, 6]]]}]})");
   EXPECT_HAS(load_error(dir), "3 numbers, not 2");
-  write(R"({"version": 1, "source": "card", "frames": [{"name": "f_1", "width": 32, "height": 24, "polygons": []},
+  write(
+      R"({"version": 1, "source": "card", "frames": [{"name": "f_1", "width": 32, "height": 24, "polygons": []},
             {"name": "f_1", "width": 32, "height": 24, "polygons": []}]})");
   EXPECT_HAS(load_error(dir), "listed twice");
-  write(R"({"version": 1, "source": "card", "frames": [{"name": "g_7", "width": 32, "height": 24, "polygons": []}]})");
+  write(
+      R"({"version": 1, "source": "card", "frames": [{"name": "g_7", "width": 32, "height": 24, "polygons": []}]})");
   EXPECT_HAS(load_error(dir), "names frame 'g_7', which the dataset does not list");
   write(R"({"version": 1, "source": "card", "frames": [{"name": "f_0", "width": 32, "height": 32,
             "polygons": [[[1, 2], [3, 4], [5, 9]]]}]})");
