@@ -8,6 +8,7 @@
 #include <opencv2/imgproc.hpp>
 #include <optional>
 
+#include "capture/card_fingers.h"
 #include "fit/camera_math.h"
 
 namespace lorgnette::capture {
@@ -45,18 +46,12 @@ dataset::IgnorePolygon grown_from_corners(const std::array<V2, 4>& corners, std:
   return poly;
 }
 
-// The triangulated card grown by `margin_units` in its plane (each corner moved out along both of its
-// edges), projected into `cam`; nothing when a corner lies behind the camera.
-std::optional<dataset::IgnorePolygon> grown_projection(const Camera& cam, const std::array<V3, 4>& c,
-                                                       double margin_units) {
-  dataset::IgnorePolygon poly;
-  for (int k = 0; k < 4; ++k) {
-    const V3 out = (c[k] - c[(k + 1) % 4]).normalized() + (c[k] - c[(k + 3) % 4]).normalized();
-    V2 uv;
-    if (!fit::camera_project(cam, c[k] + margin_units * out, &uv)) return std::nullopt;
-    poly.emplace_back(float(uv.x()), float(uv.y()));
-  }
-  return poly;
+// The triangulated card's corners in `cam`'s pixels; nothing when one lies behind the camera.
+std::optional<std::array<V2, 4>> projected_corners(const Camera& cam, const std::array<V3, 4>& c) {
+  std::array<V2, 4> uv;
+  for (int k = 0; k < 4; ++k)
+    if (!fit::camera_project(cam, c[size_t(k)], &uv[size_t(k)])) return std::nullopt;
+  return uv;
 }
 
 // The card's face in `grey` (the frame's image at any size) resampled onto the card's millimetres at
@@ -107,9 +102,9 @@ cv::Mat reference_patch(const std::vector<cv::Mat>& patches) {
 // options.min_likeness. A frame whose card lies behind its camera or outside its image does not.
 bool shows_card(const cv::Mat& grey, const CardView& v, const CardScale& card, const cv::Mat& reference,
                 std::pair<double, double> sides, const CardIgnoreOptions& options) {
-  std::array<V2, 4> uv;
-  for (int k = 0; k < 4; ++k)
-    if (!fit::camera_project(v.camera, card.corners[size_t(k)], &uv[size_t(k)])) return false;
+  const auto projected = projected_corners(v.camera, card.corners);
+  if (!projected) return false;
+  const std::array<V2, 4>& uv = *projected;
   for (const V2& p : uv)
     if (p.x() < 0 || p.y() < 0 || p.x() > v.camera.width || p.y() > v.camera.height) return false;
   const double likeness = ncc(card_patch(grey, v.camera, uv, sides), reference);
@@ -142,19 +137,20 @@ std::vector<dataset::FrameIgnore> card_ignore_regions(const std::vector<CardView
   const cv::Mat reference = measured.empty() ? cv::Mat() : reference_patch(measured);
   for (int i = 0; i < int(views.size()); ++i) {
     const CardView& v = views[size_t(i)];
+    std::optional<std::array<V2, 4>> corners;
+    if (auto it = seen.find(v.name); it != seen.end())
+      corners = card.frame_corners[it->second];
+    else if ((first < i && i < last) ||
+             (!reference.empty() && shows_card(greys[size_t(i)], v, card, reference, sides, options)))
+      corners = projected_corners(v.camera, card.corners);
+    if (!corners) continue;
     dataset::FrameIgnore f{v.name, int(v.camera.width), int(v.camera.height), {}};
-    if (auto it = seen.find(v.name); it != seen.end()) {
-      f.polygons.push_back(grown_from_corners(card.frame_corners[it->second], sides, options.margin_mm));
-      regions.push_back(std::move(f));
-      continue;
-    }
-    const bool between = first < i && i < last;
-    if (!between && (reference.empty() || !shows_card(greys[size_t(i)], v, card, reference, sides, options)))
-      continue;
-    if (auto p = grown_projection(v.camera, card.corners, options.margin_mm / card.mm_per_unit)) {
-      f.polygons.push_back(*p);
-      regions.push_back(std::move(f));
-    }
+    f.polygons.push_back(grown_from_corners(*corners, sides, options.margin_mm));
+    if (!greys.empty())
+      for (auto& strip : finger_strips(greys[size_t(i)], f.width, f.height, *corners, sides, options.fingers))
+        f.polygons.push_back(std::move(strip));
+    spdlog::debug("card: frame '{}' ignores the card and {} finger strips", v.name, f.polygons.size() - 1);
+    regions.push_back(std::move(f));
   }
   return regions;
 }
