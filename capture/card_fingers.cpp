@@ -40,7 +40,8 @@ cv::Mat card_plane(const cv::Mat& grey, int width, int height, const Eigen::Matr
   for (int r = 0; r < 3; ++r)
     for (int c = 0; c < 3; ++c) mcv.at<double>(r, c) = m(r, c);
   cv::Mat out;
-  const cv::Size size(int(std::ceil(sides.first)) + 2 * kBorderMm, int(std::ceil(sides.second)) + 2 * kBorderMm);
+  const cv::Size size(int(std::ceil(sides.first)) + 2 * kBorderMm,
+                      int(std::ceil(sides.second)) + 2 * kBorderMm);
   cv::warpPerspective(grey, out, mcv, size, cv::INTER_LINEAR | cv::WARP_INVERSE_MAP, cv::BORDER_REPLICATE);
   out.convertTo(out, CV_32F);
   return out;
@@ -53,8 +54,8 @@ struct Edge {
 
 std::array<Edge, 4> card_edges(std::pair<double, double> s) {
   const auto [a, b] = s;
-  return {Edge{{0, 0}, {1, 0}, {0, 1}, a}, Edge{{a, 0}, {0, 1}, {-1, 0}, b}, Edge{{a, b}, {-1, 0}, {0, -1}, a},
-          Edge{{0, b}, {0, -1}, {1, 0}, b}};
+  return {Edge{{0, 0}, {1, 0}, {0, 1}, a}, Edge{{a, 0}, {0, 1}, {-1, 0}, b},
+          Edge{{a, b}, {-1, 0}, {0, -1}, a}, Edge{{0, b}, {0, -1}, {1, 0}, b}};
 }
 
 struct Place {
@@ -124,7 +125,8 @@ std::vector<dataset::IgnorePolygon> finger_strips(const cv::Mat& grey, int width
     // A finger is on both sides of the edge (no step) and is not the card (its inside differs from the
     // card's usual inside); a pale wall beside a pale card is the first only.
     const auto covered = [&](size_t i) {
-      return s[i].step < options.covered_step * step && std::abs(s[i].inside - inside) > options.covered_step * step;
+      return s[i].step < options.covered_step * step &&
+             std::abs(s[i].inside - inside) > options.covered_step * step;
     };
     size_t n_covered = 0;
     for (size_t i = 0; i < s.size(); ++i) n_covered += covered(i);
