@@ -4,6 +4,8 @@
 #include <cmath>
 
 #include "capture/head_volume.h"
+#include "fit/landmark_ids.h"
+#include "fit/mean_face.h"
 
 namespace lorgnette::capture {
 namespace {
@@ -13,6 +15,24 @@ namespace {
 constexpr int kContourFirst = 2, kContourLast = 14, kInnerFirst = 17, kCount = 68;
 
 nerf::Vec3f to_vec3f(const Eigen::Vector3d& p) { return {float(p.x()), float(p.y()), float(p.z())}; }
+
+// The jaw contour in the scene, from the mean face posed by the box's head frame. A contour landmark is
+// where the face's outline meets what lies behind it in a photo, so every photo sees a different line
+// on the skin, and rays that graze a convex face meet in front of it: triangulated, the contour of a
+// +-50 deg arc lies 20-45 mm in front of the jaw, and a view turned 30 deg sees it beside the face, in
+// the air. The mean face's contour (fit/mean_face.h) lies on an average jaw; it is placed as the head
+// box's anchor is (the eye corners' centroid at the inner corners' depth) at the head frame's scale.
+std::vector<Eigen::Vector3d> mean_face_contour(const fit::HeadBox& box) {
+  const fit::Face68& mean = fit::builtin_mean_face();
+  Eigen::Vector3d anchor = Eigen::Vector3d::Zero();
+  for (int k : {fit::lm::kEyeOuterR, fit::lm::kEyeInnerR, fit::lm::kEyeInnerL, fit::lm::kEyeOuterL})
+    anchor += 0.25 * mean[size_t(k)];
+  anchor.z() = 0.5 * (mean[fit::lm::kEyeInnerR].z() + mean[fit::lm::kEyeInnerL].z());
+  std::vector<Eigen::Vector3d> contour;
+  for (int k = kContourFirst; k <= kContourLast; ++k)
+    contour.push_back(box.anchor + box.axes * ((mean[size_t(k)] - anchor) / box.head.mm_per_unit));
+  return contour;
+}
 
 }  // namespace
 
@@ -24,10 +44,12 @@ std::vector<nerf::SolidHull> head_solid_hulls(const fit::HeadBox& box, const Nec
   nerf::SolidHull face;
   face.name = "face";
   face.facing = to_vec3f(box.head.d_fwd);
-  for (int k = kContourFirst; k < kCount; ++k)
-    if ((k <= kContourLast || k >= kInnerFirst) && box.landmark_ok[size_t(k)])
-      face.points.push_back(to_vec3f(box.landmarks[size_t(k)]));
-  if (face.points.size() >= 3) hulls.push_back(face);
+  for (int k = kInnerFirst; k < kCount; ++k)
+    if (box.landmark_ok[size_t(k)]) face.points.push_back(to_vec3f(box.landmarks[size_t(k)]));
+  if (face.points.size() >= 3) {
+    for (const Eigen::Vector3d& p : mean_face_contour(box)) face.points.push_back(to_vec3f(p));
+    hulls.push_back(face);
+  }
   // The certain interior's parts (head_solid_core_mm's order: behind the face, the neck's core, the
   // skull), each a convex solid inside the head, seen from any side.
   const nerf::SubjectVolume core = head_solid_core(box, neck);

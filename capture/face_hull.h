@@ -23,8 +23,9 @@ struct NeckCoreMm {
   double radius = 20.0, behind_eyes = 90.0, top_below_eyes = 130.0, bottom_below_eyes = 155.0;
 };
 
-// The regions training checks for holes: the face hull (the jaw contour from below the ears round
-// the chin, 2-14, and the inner points 17-67 that triangulated; facing the head's forward axis,
+// The regions training checks for holes: the face hull (the inner points 17-67 that triangulated,
+// and the jaw contour from below the ears round the chin, 2-14, of the mean face posed by the head
+// frame, since a triangulated contour lies in front of the jaw; facing the head's forward axis,
 // judged from views within 50 deg of it) and the parts of the head's certain interior
 // (head_solid_core: "cheeks and jaw" behind the face, the "neck" core, the "skull"), each a convex
 // solid seen from any side, so a hole at the side or the top of the head is judged too; empty when the

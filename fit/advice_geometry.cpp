@@ -115,7 +115,10 @@ AdviceInputs advice_inputs(const GlassesInput& g, const Placement& p, const Advi
   in.lens_height_mm = f.lens_height_mm;
   in.temple_length_mm = f.temple_length_mm;
   auto canon = [&](const Eigen::Vector3d& q) { return canonical_at_true_size(p, g.ref.g_c, mpu, q); };
-  in.pupil_above_centre_mm = 0.5 * (canon(h.eye_l).y() + canon(h.eye_r).y()) - f.lens_centre_y_mm;
+  const Eigen::Vector3d& pupil_l = h.limbus ? h.pupil_l : h.eye_l;
+  const Eigen::Vector3d& pupil_r = h.limbus ? h.pupil_r : h.eye_r;
+  in.pupil_above_centre_mm = 0.5 * (canon(pupil_l).y() + canon(pupil_r).y()) - f.lens_centre_y_mm;
+  if (!h.limbus) in.why_pupils_from_landmarks = h.why_no_limbus.empty() ? "no limbus found" : h.why_no_limbus;
   if (g.ref.has_hinges)
     in.hinge_to_ear_mm =
         0.5 * ((g.ref.hinge_l - canon(h.ear_l)).norm() + (g.ref.hinge_r - canon(h.ear_r)).norm());

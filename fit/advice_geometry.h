@@ -9,13 +9,17 @@
 //   - hinge to ear: each hinge to its ear rest, averaged over the sides, in a straight line: a temple
 //     runs straight back from its hinge over the ear's root (where the helix meets the head, the
 //     rest), and the length printed on it adds the drop bent down behind the ear (fit_advice.h);
-//   - the pupils' height above the lens' centre line: the eye centres (each the mean of its six
-//     landmarks) in the frame's canonical axes;
+//   - the pupils' height above the lens' centre line, in the frame's canonical axes: the limbus
+//     centres (pupil_distance.h) when both eyes' were found; the pupil is centred in the limbus to
+//     a fraction of a mm. Else the eye centres, each the mean of its six landmarks (lids and
+//     corners), which lie up to ~5 mm above or below the pupil (the lids are not symmetric about
+//     it), and the rule says so;
 //   - the nose's width where the pads rest: the width of the head's solid cross-section at the lens'
 //     centre height, `pad_depth_mm` behind the nose's front there (pads rest on the nose's sides a few
 //     mm behind its ridge).
 #pragma once
 #include <Eigen/Core>
+#include <string>
 
 #include "fit/fit_advice.h"
 #include "fit/glasses_input.h"
@@ -29,6 +33,11 @@ struct AdviceHead {
   Eigen::Vector3d corner_l, corner_r;          // the outer eye corners (landmarks 45 and 36)
   double mm_per_unit = 0.0;
   bool approximate = false;  // the scale is the mean face's
+  // The limbus centres (scene) when `limbus`; else `why_no_limbus` (closed eyes, no iris views) and
+  // the pupils' height comes from eye_l / eye_r.
+  bool limbus = false;
+  Eigen::Vector3d pupil_l = Eigen::Vector3d::Zero(), pupil_r = Eigen::Vector3d::Zero();
+  std::string why_no_limbus;
 };
 
 struct NoseProbeOptions {

@@ -395,6 +395,15 @@ void measure_scale(FitRun& run) {
 
 HeadProbe make_head_probe(const FitRun& run);
 
+// Why the lens height cannot take the limbus centres (empty when it can).
+std::string why_no_limbus(const FitRun& run) {
+  const FitResult& r = run.r;
+  if (r.pupils.ok) return "";
+  if (!run.opt.scale.irises) return "the irises were not measured";
+  if (r.iris_measurements.empty() && !r.iris.why.empty()) return r.iris.why;
+  return r.pupils.why;
+}
+
 // The fit advice (fit_advice.h) for the frame at true size as it rests on the head.
 void advise(FitRun& run) {
   StageTimer t{run.r, "advice", run.opt};
@@ -411,7 +420,11 @@ void advise(FitRun& run) {
                r.corner_skin_l.isZero() ? P[lm::kEyeOuterL].position : r.corner_skin_l,
                r.corner_skin_r.isZero() ? P[lm::kEyeOuterR].position : r.corner_skin_r,
                r.head.mm_per_unit,
-               r.scale.source == ScaleSource::kMeanFace};
+               r.scale.source == ScaleSource::kMeanFace,
+               r.pupils.ok,
+               r.pupils.left,
+               r.pupils.right,
+               why_no_limbus(run)};
   const PlaceInputs points{
       r.f_c, r.ears.f_l, r.ears.f_r, P[lm::kTempleL].position, P[lm::kTempleR].position, r.head.mm_per_unit};
   const bool rest = run.opt.place.refine_contact && !run.glasses.frame_points.empty();

@@ -88,9 +88,13 @@ FitAdvice fit_advice(const AdviceInputs& in) {
     a.rules.push_back(not_judged("temple_length", in.why_no_hinges.empty()
                                                       ? "the frame's temple length is unknown"
                                                       : in.why_no_hinges));
-  if (in.lens_height_mm > 0)
+  if (in.lens_height_mm > 0) {
     a.rules.push_back(lens_height_rule(in.pupil_above_centre_mm, in.lens_height_mm));
-  else
+    if (!in.why_pupils_from_landmarks.empty())
+      a.rules.back().text +=
+          fmt::format(" (pupils from the eyes' landmarks, which can lie 5 mm off them: {})",
+                      in.why_pupils_from_landmarks);
+  } else
     a.rules.push_back(not_judged("lens_height", "the frame has no lenses"));
   if (a.approximate)
     for (AdviceRule& r : a.rules)

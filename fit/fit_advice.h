@@ -10,6 +10,8 @@
 //   - temple length: from the hinge to the top of the ear plus a bend (the drop) of 25-40 mm behind it;
 //   - lens height: the pupil at or a little above the lens' horizontal centre line: from 2 mm below
 //     it to 6 mm above it (below: the lens sits too high; above: the lower rim crosses the view).
+//     The pupils are the limbus centres; when those were not found, the eyes' landmark means, which
+//     can lie 5 mm off the pupil (over half the band), so the rule's text says so.
 // A rule whose inputs are missing is "not judged" with the reason. With the mean face's scale every
 // head size is approximate, and the advice says so.
 #pragma once
@@ -54,6 +56,8 @@ struct AdviceInputs {
   double lens_height_mm = 0, pupil_above_centre_mm = 0;
   std::string why_no_nose, why_no_hinges, why_no_temples;
   bool approximate = false;
+  // Set when the pupils are the eyes' landmark means, not the limbus centres: why (the rule says so).
+  std::string why_pupils_from_landmarks;
 };
 
 // Every rule whose inputs are there; the others "not judged" saying why.

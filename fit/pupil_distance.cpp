@@ -33,13 +33,25 @@ double centre_sigma(const std::vector<IrisMeasurement>& ms, const EyeCentre& e, 
   return std::max(se, floor_share * e.iris_units);
 }
 
+// Why `eye` (+1 left, -1 right) has no limbus: closed in every view that measured it (the lids hide
+// the limbus: the views' own reason), or none found.
+std::string why_no_limbus(const std::vector<IrisMeasurement>& ms, int eye) {
+  const char* name = eye > 0 ? "left" : "right";
+  int views = 0, closed = 0;
+  std::string closed_why;
+  for (const IrisMeasurement& m : ms)
+    if (m.eye == eye) ++views, closed += m.closed, closed_why = m.closed ? m.edges.why : closed_why;
+  if (views > 0 && closed == views) return fmt::format("the {} eye is closed ({})", name, closed_why);
+  return fmt::format("no limbus found in the {} eye's views", name);
+}
+
 }  // namespace
 
 PupilDistance pupil_distance(const std::vector<IrisMeasurement>& ms, const PupilDistanceOptions& o) {
   PupilDistance p;
   const EyeCentre l = eye_centre(ms, +1), r = eye_centre(ms, -1);
   if (!l.n || !r.n) {
-    p.why = fmt::format("no limbus found in the {} eye's views", !l.n ? "left" : "right");
+    p.why = why_no_limbus(ms, !l.n ? +1 : -1);
     return p;
   }
   p.left = l.mean, p.right = r.mean;

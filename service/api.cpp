@@ -10,6 +10,7 @@
 
 #include "host/util/image_io.h"
 #include "service/api_error.h"
+#include "service/client_json.h"
 #include "service/job_folder.h"
 #include "service/progress.h"
 #include "service/tokens.h"
@@ -61,8 +62,9 @@ ApiResponse Api::handle(const ApiRequest& request, BodySource& body) {
   } catch (const ApiError& e) {
     r = json_response(e.status, {{"error", {{"code", e.code}, {"message", e.what()}}}});
   } catch (const std::exception& e) {
+    // Not one of the API's own errors: it may name a server path, which only the server's log keeps.
     spdlog::error("{} {}: {}", request.method, request.target, e.what());
-    r = json_response(500, {{"error", {{"code", "internal"}, {"message", e.what()}}}});
+    r = json_response(500, {{"error", {{"code", "internal"}, {"message", without_server_paths(e.what())}}}});
   }
   std::lock_guard<std::mutex> lock(metrics_mutex_);
   ++responses_by_status_[std::to_string(r.status)];
@@ -176,7 +178,7 @@ ApiResponse Api::status(const CaptureRecord& rec) {
                       {"state", to_string(rec.state)},
                       {"stage", rec.stage},
                       {"progress", rec.percent},
-                      {"message", rec.message},
+                      {"message", without_server_paths(rec.message)},
                       {"attempts", rec.attempts},
                       {"upload", rec.upload_kind},
                       {"created_unix", rec.created_unix},
@@ -186,11 +188,11 @@ ApiResponse Api::status(const CaptureRecord& rec) {
                       {"artifacts", nlohmann::json::object()}};
   const auto p = read_progress(JobFolder{capture_dir(rec.id)}.progress());
   if (p && rec.state == JobState::Running && p->eta_seconds >= 0) j["eta_seconds"] = p->eta_seconds;
-  if (p && rec.state == JobState::Finished) j["artifacts"] = p->artifacts;
+  if (p && rec.state == JobState::Finished) j["artifacts"] = client_artifacts(p->artifacts);
   // Fitting frames added since it finished: the last finished artifacts, and the frames to come.
   const auto before =
       rec.state == JobState::Finished ? std::nullopt : read_progress(tryon_snapshot(capture_dir(rec.id)));
-  if (before) j["artifacts"] = before->artifacts;
+  if (before) j["artifacts"] = client_artifacts(before->artifacts);
   return json_response(200, j);
 }
 

@@ -11,6 +11,9 @@
 //   - bridge: the nose's width where the pads rest, measured by the advice's own probe
 //     (advice_geometry.h) on the exact head mesh instead of the NeRF's density;
 //   - lens_height: the head's pupils (landmarks pupil_l/r) above the placed lenses' centre line.
+//     A row `lens_height_landmarks` judges the same fit with the pupils taken as the eyes' landmark
+//     means (each eye's six dlib points), the product's stand-in when no limbus is found, against the
+//     same truth: the two rows compare the two sources on identical placements.
 // One CSV row per frame and rule, with the true difference's distance to the band's nearest edge (the
 // issue's criterion: every frame >= 4 mm from a boundary must agree). SOURCE `nerf` fits the trained
 // model as the product does; `mesh` fits the head's exact mesh (lit as in the dataset) in the model's
@@ -85,7 +88,7 @@ AdviceRule true_rule(const AdviceRule& product, const GlassesInput& g, const Fit
   if (product.name == "temple_length" && g.ref.has_hinges)
     return temple_length_rule(f.temple_length_mm, 0.5 * ((g.ref.hinge_l - canon(t.ear_l)).norm() +
                                                          (g.ref.hinge_r - canon(t.ear_r)).norm()));
-  if (product.name == "lens_height")
+  if (product.name == "lens_height" || product.name == "lens_height_landmarks")
     return lens_height_rule(0.5 * (canon(t.pupil_l).y() + canon(t.pupil_r).y()) - f.lens_centre_y_mm,
                             f.lens_height_mm);
   if (product.name == "bridge" && f.bridge_mm > 0) {
@@ -97,6 +100,15 @@ AdviceRule true_rule(const AdviceRule& product, const GlassesInput& g, const Fit
     return not_judged("bridge", why);
   }
   return not_judged(product.name, "no ground truth");
+}
+
+// The mean of one eye's six triangulated landmarks from `first` (36: right eye, 42: left).
+Eigen::Vector3d landmark_mean(const std::vector<TriangulatedPoint>& P, int first) {
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();
+  int n = 0;
+  for (int k = first; k < first + 6; ++k)
+    if (P[k].ok) c += P[k].position, ++n;
+  return n ? Eigen::Vector3d(c / n) : P[first].position;
 }
 
 // How far the true difference lies from the band's nearest edge (mm).
@@ -142,8 +154,18 @@ std::vector<std::string> rows_for(const std::string& frame, const std::string& m
         s ? "left" : "right", d.x(), d.y(), d.z(),
         (canon(s ? t.ear_l : t.ear_r) - (s ? g.ref.hinge_l : g.ref.hinge_r)).norm());
   }
+  std::vector<AdviceRule> rules = r.advice.rules;
+  for (const AdviceRule& a : r.advice.rules)
+    if (a.name == "lens_height" && a.judged()) {
+      AdviceRule m =
+          lens_height_rule(0.5 * (canon(landmark_mean(P, 42)).y() + canon(landmark_mean(P, 36)).y()) -
+                               g.sizes.lens_centre_y_mm,
+                           g.sizes.lens_height_mm);
+      m.name = "lens_height_landmarks";
+      rules.push_back(m);
+    }
   std::vector<std::string> rows;
-  for (const AdviceRule& a : r.advice.rules) {
+  for (const AdviceRule& a : rules) {
     const AdviceRule tr = true_rule(a, g, r, t, mesh);
     const bool both = a.judged() && tr.judged();
     rows.push_back(fmt::format(

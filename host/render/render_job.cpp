@@ -18,6 +18,7 @@
 #include "host/util/bounds.h"
 #include "host/util/interrupt.h"
 #include "host/util/name_list.h"
+#include "host/util/output_folder.h"
 #include "host/util/progress.h"
 
 namespace lorgnette::render {
@@ -145,6 +146,16 @@ std::vector<size_t> sheet_indices(size_t n, size_t k) {
   for (size_t i = 0; i < std::min(n, k); ++i) idx.push_back(n <= k ? i : i * n / k);
   return idx;
 }
+
+// The orbit's MP4 writer, or none (one view, or no video asked for).
+std::unique_ptr<dataset::Mp4Writer> open_video(const RenderJob& job, const fs::path& dir) {
+  if (!job.video || job.cameras.size() < 2) return nullptr;
+  dataset::VideoOptions vo;
+  vo.fps = job.fps;
+  vo.background = job.options.background;
+  return std::make_unique<dataset::Mp4Writer>((dir / "orbit.mp4").string(), int(job.cameras[0].width),
+                                              int(job.cameras[0].height), vo);
+}
 }  // namespace
 
 nlohmann::json run_render_job(
@@ -152,26 +163,24 @@ nlohmann::json run_render_job(
     const std::function<RenderResult(const Camera&, const lorgnette::SurfaceBuffers*)>& render) {
   if (job.cameras.empty()) throw std::invalid_argument("render: no camera to render");
   check_outputs_free(job.out_dir, render_job_outputs(job), job.force);
-  fs::create_directories(job.out_dir);
+  // Declared first, so it is undone last: a failed job leaves no folder or file of its own.
+  NewOutputs outputs(job.out_dir, render_job_outputs(job));
   const fs::path dir(job.out_dir);
   const size_t n = job.cameras.size();
   std::vector<size_t> sheet = sheet_indices(n, 16);
   std::vector<Image> sheet_images;
   std::vector<std::string> sheet_labels;
-  std::unique_ptr<dataset::Mp4Writer> video;
-  if (job.video && n > 1) {
-    dataset::VideoOptions vo;
-    vo.fps = job.fps;
-    vo.background = job.options.background;
-    video = std::make_unique<dataset::Mp4Writer>((dir / "orbit.mp4").string(), int(job.cameras[0].width),
-                                                 int(job.cameras[0].height), vo);
-  }
+  std::unique_ptr<dataset::Mp4Writer> video = open_video(job, dir);
   nlohmann::json frames = nlohmann::json::array();
   std::vector<double> ms;
   double samples = 0, rays = 0;
   Progress progress("render", double(n), "views");
   for (size_t i = 0; i < n; ++i) {
-    if (interrupted()) throw std::runtime_error("interrupted: the frames written so far are complete files");
+    if (interrupted()) {
+      // A stop asked for keeps the whole views written so far (docs/input-limits.md); an error does not.
+      if (i > 0) outputs.keep();
+      throw std::runtime_error("interrupted: the frames written so far are complete files");
+    }
     const Camera& cam = job.cameras[i];
     lorgnette::SurfaceBuffers surf;
     double surface_ms = 0;
@@ -223,6 +232,7 @@ nlohmann::json run_render_job(
   std::sort(ms.begin(), ms.end());
   out["median_march_ms"] = ms[ms.size() / 2];
   write_text_file_atomic((dir / "render.json").string(), out.dump(2) + "\n");
+  outputs.keep();
   return out;
 }
 

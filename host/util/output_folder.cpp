@@ -157,4 +157,41 @@ void refuse_output_onto_input(const std::string& output, const std::vector<std::
   }
 }
 
+fs::path nearest_existing_folder(const fs::path& path) {
+  std::error_code ec;
+  fs::path p = path.lexically_normal();
+  while (!p.empty() && !fs::exists(fs::symlink_status(p, ec))) p = p.parent_path();
+  return p.empty() ? fs::path(".") : p;
+}
+
+NewOutputs::NewOutputs(const fs::path& dir, const std::vector<std::string>& names) {
+  std::error_code ec;
+  fs::path p = fs::absolute(dir).lexically_normal();
+  if (p.filename().empty()) p = p.parent_path();
+  if (fs::exists(fs::symlink_status(p, ec))) {
+    for (const auto& n : names)
+      if (!fs::exists(fs::symlink_status(p / n, ec))) added_.push_back(p / n);
+  } else {
+    while (p.has_parent_path() && p.parent_path() != p &&
+           !fs::exists(fs::symlink_status(p.parent_path(), ec)))
+      p = p.parent_path();
+    created_ = p;
+  }
+  fs::create_directories(dir);
+}
+
+NewOutputs::~NewOutputs() {
+  if (keep_) return;
+  auto warn = [](const fs::path& p, const std::error_code& ec) {
+    if (ec) spdlog::warn("could not remove the unfinished output '{}': {}", p.string(), ec.message());
+  };
+  std::error_code ec;
+  if (!created_.empty()) {
+    fs::remove_all(created_, ec);
+    warn(created_, ec);
+    return;
+  }
+  for (const auto& f : added_) fs::remove(f, ec), warn(f, ec);
+}
+
 }  // namespace lorgnette

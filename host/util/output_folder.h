@@ -65,4 +65,28 @@ class StagedOutput {
   bool force_ = false, replaces_ = false, committed_ = false;
 };
 
+// The folder nearest `path` that exists: `path` itself, or the closest of its parents (the working
+// directory for a relative path with none).
+std::filesystem::path nearest_existing_folder(const std::filesystem::path& path);
+
+// The files a command writes straight into a folder (not staged: `render -o DIR` adds frames to a
+// folder the user may already keep other files in), undone unless the command finishes. The
+// constructor creates `dir` and any missing parents; without keep(), the destructor removes the
+// folders it created, or, when `dir` was already there, those of `names` that were not there before.
+// A full disk so never leaves an empty or half-filled folder that looks like a result, and nothing
+// the user had is removed (a file `--force` overwrote is already gone).
+class NewOutputs {
+ public:
+  NewOutputs(const std::filesystem::path& dir, const std::vector<std::string>& names);
+  ~NewOutputs();
+  NewOutputs(const NewOutputs&) = delete;
+  NewOutputs& operator=(const NewOutputs&) = delete;
+  void keep() { keep_ = true; }
+
+ private:
+  std::filesystem::path created_;             // the topmost folder this made ("": none)
+  std::vector<std::filesystem::path> added_;  // in a folder that was there: the files new to it
+  bool keep_ = false;
+};
+
 }  // namespace lorgnette

@@ -56,6 +56,18 @@ TEST(IrisHead, PaintedIrisesOfTheProceduralHead) {
     const PupilDistance pd = pupil_distance(ms);
     ASSERT_TRUE(pd.ok) << pd.why;
     EXPECT_NEAR(pd.units * kMmPerUnit, head.params.eye_distance, 0.2) << "seed " << seed;
+    // The limbus centres are the lens-height rule's pupils (fit_advice.h): their height (the head's up
+    // is +y) within the same 0.2 mm of the painted pupils' (the head's landmarks pupil_l/r); the eyes'
+    // landmark means, the rule's fallback, are printed beside them.
+    for (int side : {+1, -1}) {
+      const Eigen::Vector3d limbus = (side > 0 ? pd.left : pd.right) * kMmPerUnit;
+      const Eigen::Vector3f pupil = head.landmarks.at(side > 0 ? "pupil_l" : "pupil_r");
+      const EyeContour eye = contour(head, side > 0 ? 42 : 36);
+      double lids = 0.0;
+      for (const Eigen::Vector3d& p : eye) lids += p.y() * kMmPerUnit / 6.0;
+      EXPECT_NEAR(limbus.y(), pupil.y(), 0.2) << "seed " << seed << " eye " << side << ": landmark mean "
+                                              << lids - pupil.y() << " mm off the pupil's height";
+    }
   }
 }
 

@@ -46,6 +46,13 @@ TEST(PupilDistance, RefusedWithoutBothEyes) {
   EXPECT_FALSE(p.ok);
   EXPECT_NE(p.why.find("left"), std::string::npos) << p.why;
   EXPECT_FALSE(pupil_distance({}).ok);
+  // An eye closed in every view: said so with the views' reason (the lens height then says it too).
+  IrisMeasurement shut = at(+1, {0.3, 0, 0}, 0.06, false);
+  shut.closed = true;
+  shut.edges.why = "lid opening 0.167 of the eye's width < 0.18";
+  p = pupil_distance({shut, shut, at(-1, {-0.3, 0, 0})});
+  EXPECT_FALSE(p.ok);
+  EXPECT_EQ(p.why, "the left eye is closed (lid opening 0.167 of the eye's width < 0.18)");
 }
 
 }  // namespace

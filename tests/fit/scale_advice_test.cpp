@@ -235,6 +235,37 @@ TEST(AdviceGeometry, InputsFromAKnownHead) {
   EXPECT_NEAR(t.off_by_mm, 25.0 - (120.0 - std::hypot(100.0, 6.0)), 1e-9);
 }
 
+// The lens height takes the limbus centres when the fit found them, else the eyes' landmark means and
+// says so. The known head's landmark means sit 7 and 5 mm up (canonical), its limbus centres 4.5 and
+// 3.5 mm lower (the landmark means lay up to 4.9 mm off the painted pupils on the synthetic room
+// capture r2_s2), the lenses' centre line 5 mm up: 1 mm above it from the landmarks (good), 3 mm below
+// it from the limbus (1 mm beyond the band's -2: too high). Exact up to rounding (1e-9 mm).
+TEST(AdviceGeometry, LensHeightFromTheLimbusCentresElseTheLandmarks) {
+  WedgeNose w;
+  GlassesInput g;
+  g.sizes = {135.0, 52.0, 40.0, 5.0, 12.5, 140.0};
+  AdviceHead h = w.known_head();
+  h.limbus = true;
+  h.pupil_l = w.scene({31.5, 2.5, -12});
+  h.pupil_r = w.scene({-31.5, 1.5, -12});
+  AdviceInputs in = advice_inputs(g, w.placement, h, {}, 1.0f);
+  EXPECT_NEAR(in.pupil_above_centre_mm, 2.0 - 5.0, 1e-9);
+  EXPECT_TRUE(in.why_pupils_from_landmarks.empty()) << in.why_pupils_from_landmarks;
+  AdviceRule r = fit_advice(in).rules[3];
+  EXPECT_EQ(r.verdict, "too high");
+  EXPECT_NEAR(r.off_by_mm, 1.0, 1e-9);
+  EXPECT_EQ(r.text.find("landmarks"), std::string::npos) << r.text;
+  // No limbus (closed eyes): the landmark means, and the rule says where its pupils came from.
+  h.limbus = false;
+  h.why_no_limbus = "no limbus found in the left eye's views";
+  in = advice_inputs(g, w.placement, h, {}, 1.0f);
+  EXPECT_NEAR(in.pupil_above_centre_mm, 6.0 - 5.0, 1e-9);
+  r = fit_advice(in).rules[3];
+  EXPECT_EQ(r.verdict, "good");
+  EXPECT_NE(r.text.find("pupils from the eyes' landmarks"), std::string::npos) << r.text;
+  EXPECT_NE(r.text.find(h.why_no_limbus), std::string::npos) << r.text;
+}
+
 // No head beside the temples (only the nose wedge), or a probe that starts inside: no width, why said,
 // and the frame-width rule is not judged.
 TEST(AdviceGeometry, TempleWidthWithoutAHeadSideIsNotJudged) {

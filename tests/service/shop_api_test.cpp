@@ -2,10 +2,13 @@
 // (the upload page records or picks a video), and a finished job's artifacts are served behind the
 // capture's own token only, byte for byte, while every path that is not one the job listed (".."
 // escapes, encoded dots, absolute paths, the model, the upload, another capture's file) gets the
-// same 404 and none of the file's bytes.
+// same 404 and none of the file's bytes. The job's JSON names no path on the server.
 #include <gtest/gtest.h>
 
+#include <cstring>
+
 #include "service/api.h"
+#include "service/client_json.h"
 #include "service/job_folder.h"
 #include "service/local_executor.h"
 #include "service/progress.h"
@@ -131,4 +134,85 @@ TEST(ShopArtifacts, AJobNotFinishedHasNoFilesYet) {
   ApiResponse r = shop.get("/api/v1/captures/" + id + "/artifacts/fits/round.glb/view_00.jpg", token);
   EXPECT_EQ(r.status, 409);
   EXPECT_NE(r.body.find("not_finished"), std::string::npos);
+}
+
+// Absolute paths in a worker's text reach the client as the file's name; capture-relative paths,
+// fractions and URLs are left as they are.
+TEST(ClientJson, TextLosesItsServerPaths) {
+  EXPECT_EQ(without_server_paths("cannot load mesh '/srv/shop/catalogue/a b.glb': not a valid glTF"),
+            "cannot load mesh 'a b.glb': not a valid glTF");
+  EXPECT_EQ(without_server_paths("catalogue /srv/shop/catalogue/ is not a directory"),
+            "catalogue catalogue is not a directory");
+  EXPECT_EQ(without_server_paths("/data/captures/x/upload/video.mp4: No space left on device (/tmp/t.png)."),
+            "video.mp4: No space left on device (t.png).");
+  EXPECT_EQ(without_server_paths("path=\"/var/lib/l/jobs.sqlite\" [/etc/x]"), "path=\"jobs.sqlite\" [x]");
+  for (const std::string kept :
+       {"fits/round.glb/view_00.jpg", "frame 1/3", "see http://host/api/v1", "a / b", "ends with /", ""})
+    EXPECT_EQ(without_server_paths(kept), kept);
+}
+
+namespace {
+// Every string in `j` (keys and values), recursively.
+void strings_of(const nlohmann::json& j, std::vector<std::string>& out) {
+  if (j.is_string()) out.push_back(j.get<std::string>());
+  if (j.is_object())
+    for (const auto& [k, v] : j.items()) out.push_back(k), strings_of(v, out);
+  if (j.is_array())
+    for (const auto& v : j) strings_of(v, out);
+}
+
+// True when some word of `s` starts with '/' (an absolute path).
+bool names_an_absolute_path(const std::string& s) {
+  for (size_t i = 0; i < s.size(); ++i)
+    if (s[i] == '/' && (i == 0 || std::strchr(" '\"([=", s[i - 1]))) return true;
+  return false;
+}
+}  // namespace
+
+// A finished job whose catalogue had a damaged frame and a failed job whose message names its upload,
+// both as the worker writes them (absolute server paths in the text): their JSON lists only what the
+// client fetches (preview, views, fits) and why a frame is unavailable, with no absolute path, not
+// the server's folders, nor the model or dataset it never serves.
+TEST(ShopArtifacts, TheJobsJsonNamesNoServerPath) {
+  Shop shop(test_dir("service_shop"));
+  const auto [id, token] = shop.finished_capture("view");
+  const fs::path catalogue = fs::absolute(shop.data / "catalogue");
+  const JobFolder f{shop.data / "captures" / id};
+  Progress p = *read_progress(f.progress());
+  p.artifacts["dataset"] = "dataset/transforms.json";
+  p.artifacts["unavailable"] = {
+      {"a-broken.glb", "cannot load mesh '" + (catalogue / "a-broken.glb").string() + "': not a valid glTF"}};
+  write_progress(f.progress(), p);
+  auto rec = *shop.store->get(id);
+  rec.message = "fitted 1 frame of " + catalogue.string();
+  shop.store->update(rec);
+  const auto [failed_id, failed_token] = shop.finished_capture("view");
+  auto failed = *shop.store->get(failed_id);
+  failed.state = JobState::Failed;
+  failed.message = "cannot read '" +
+                   fs::absolute(shop.data / "captures" / failed_id / "upload" / "video.mp4").string() +
+                   "': not a video";
+  shop.store->update(failed);
+
+  const nlohmann::json done = nlohmann::json::parse(shop.get("/api/v1/captures/" + id, token).body);
+  const nlohmann::json bad =
+      nlohmann::json::parse(shop.get("/api/v1/captures/" + failed_id, failed_token).body);
+  EXPECT_EQ(done["artifacts"]["preview"], "fits/round.glb/view_00.jpg");
+  EXPECT_EQ(done["artifacts"]["views"]["round.glb"][0], "fits/round.glb/view_00.jpg");
+  EXPECT_EQ(done["artifacts"]["unavailable"]["a-broken.glb"],
+            "cannot load mesh 'a-broken.glb': not a valid glTF");
+  EXPECT_FALSE(done["artifacts"].contains("model"));
+  EXPECT_FALSE(done["artifacts"].contains("dataset"));
+  EXPECT_EQ(done["message"], "fitted 1 frame of catalogue");
+  EXPECT_EQ(bad["message"], "cannot read 'video.mp4': not a video");
+  for (const nlohmann::json* j : {&done, &bad}) {
+    std::vector<std::string> all;
+    strings_of(*j, all);
+    for (const std::string& s : all) {
+      EXPECT_FALSE(names_an_absolute_path(s)) << s;
+      EXPECT_EQ(s.find(fs::absolute(shop.data).string()), std::string::npos) << s;
+    }
+  }
+  // The API's own errors keep the URLs they point the client to.
+  EXPECT_NE(shop.get("/api/nope").body.find("under /api/v1"), std::string::npos);
 }

@@ -178,6 +178,7 @@ TEST(TryOnJob, AnUnfittableFrameIsUnavailableAndAFrameAddedLaterIsFittedWhenAske
   EXPECT_EQ(first["artifacts"]["preview"], first["artifacts"]["views"]["round.glb"][0]);  // the first fitted
   const std::string why = first["artifacts"]["unavailable"].value("a-broken.glb", "");
   EXPECT_NE(why.find("not a valid or supported glTF file"), std::string::npos) << first.dump(2);
+  EXPECT_EQ(first.dump().find(catalogue.string()), std::string::npos) << first.dump(2);  // a server path
   EXPECT_FALSE(first["artifacts"]["fits"].contains("a-broken.glb"));
   EXPECT_FALSE(fs::exists(data / "captures" / id / "fits" / "a-broken.glb"));
   const fs::path view0 = data / "captures" / id / "fits" / "round.glb" / "view_00.jpg";

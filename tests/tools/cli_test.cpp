@@ -391,3 +391,25 @@ TEST(Cli, GlassesPreviewOnAFullDiskIsAnError) {
   EXPECT_CONTAINS(r.err, "No space left on device");
   EXPECT_FALSE(fs::exists(d / "full" / "other.glb"));
 }
+
+// `render -o DIR` onto a full disk or into a read-only folder: a clear error before the model is
+// loaded (the dummy model is never read), exit 1, and no DIR left behind (an empty folder would look
+// like a render that produced nothing). A disk that fills later is render_job_test's.
+TEST(Cli, RenderOnAFullDiskLeavesNoFolder) {
+  fs::path d = test_dir();
+  write_file(d / "model.lnerf", "not a model");
+  lgn_test::ScopedTmpfs full(d / "full", 64 * 1024);
+  LGN_SKIP_UNLESS_MOUNTED(full);
+  full.fill();
+  CliResult r = cli(d, "render model.lnerf --orbit 4 -o full/renders");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_CONTAINS(r.err, "No space left on device");
+  EXPECT_CONTAINS(r.err, "-o full/renders");
+  EXPECT_FALSE(fs::exists(d / "full" / "renders"));
+  lgn_test::ScopedTmpfs read_only(d / "ro", 64 * 1024, true);
+  LGN_SKIP_UNLESS_MOUNTED(read_only);
+  r = cli(d, "render model.lnerf --orbit 4 -o ro/renders");
+  EXPECT_EQ(r.status, 1);
+  EXPECT_CONTAINS(r.err, "Read-only file system");
+  EXPECT_FALSE(fs::exists(d / "ro" / "renders"));
+}

@@ -20,6 +20,8 @@
 #include "host/render/renderer.h"
 #include "host/render/view_plan.h"
 #include "host/util/bounds.h"
+#include "host/util/file_write.h"
+#include "host/util/output_folder.h"
 #include "mesh/placed_glasses.h"
 #include "tools/lorgnette/command.h"
 
@@ -90,6 +92,8 @@ void run(RenderArgs& a, GlobalOptions& global) {
     planned.video = !a.no_video;
     planned.cameras.resize(orbit ? a.orbit.views : 1);
     render::check_outputs_free(a.out, render::render_job_outputs(planned), a.force);
+    // A read-only folder or a full disk is found now, not after the model loaded and a view rendered.
+    check_writable_folder(nearest_existing_folder(a.out).string(), fmt::format("the renders (-o {})", a.out));
   }
   cl::Runtime rt(global.runtime());
   nerf::NerfModel model = nerf::NerfModel::load(rt, a.model);

@@ -4,11 +4,13 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 
 #include "host/render/analytic_field.h"
+#include "host/util/interrupt.h"
 #include "tests/common/scoped_tmpfs.h"
 
 using namespace lorgnette;
@@ -136,4 +138,87 @@ TEST(RenderJob, FullDiskIsAnErrorAndLeavesNoEmptyFrames) {
   }
   for (const auto& e : fs::directory_iterator(disk.path()))
     EXPECT_EQ(e.path().filename(), "filler") << "left behind: " << e.path();
+}
+
+// A disk that fills during the job, after the first view was written: the folders the job created
+// (-o renders/today, neither there before) are removed with the view in them, so no empty or
+// half-filled folder looks like a result; in a folder the user already had, the job's own files go
+// and the user's file stays.
+TEST(RenderJob, ADiskThatFillsMidJobLeavesNothingOfTheJob) {
+  lgn_test::ScopedTmpfs disk(fs::path(LORGNETTE_TEST_TMP) / "render_job_fills", 1024 * 1024);
+  LGN_SKIP_UNLESS_MOUNTED(disk);
+  cl::Runtime rt;
+  AnalyticField field(rt, analytic_head_min, analytic_head_max, analytic_head_primitives(), 1u << 14);
+  VolumeScene scene;
+  scene.aabb_min = analytic_head_min;
+  scene.aabb_max = analytic_head_max;
+  scene.step = 1.0f / 64.0f;
+  scene.field = &field;
+  Marcher marcher(rt);
+  OrbitSpec spec;
+  spec.views = 3;
+  spec.width = spec.height = 24;
+  RenderJob job;
+  job.cameras = orbit_cameras(spec);
+  job.video = false;
+  int views = 0;
+  auto fill_after_first = [&](const Camera& c, const lorgnette::SurfaceBuffers* s) {
+    if (++views == 2) disk.fill();  // the first view's files are written by now
+    return marcher.render(scene, c, s, job.options);
+  };
+  const fs::path user = disk.path() / "mine";
+  fs::create_directories(user);
+  write(user / "notes.txt", "the user's\n");
+  for (const fs::path& out : {disk.path() / "renders" / "today", user}) {
+    fs::remove(disk.path() / "filler");
+    views = 0;
+    job.out_dir = out.string();
+    try {
+      run_render_job(job, fill_after_first);
+      FAIL() << "writing onto a full disk must fail";
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find("No space left on device"), std::string::npos) << e.what();
+    }
+    EXPECT_EQ(views, 2) << "the first view was written before the disk filled";
+  }
+  std::vector<std::string> left;
+  for (const auto& e : fs::recursive_directory_iterator(disk.path()))
+    left.push_back(fs::relative(e.path(), disk.path()).string());
+  std::sort(left.begin(), left.end());
+  EXPECT_EQ(left, (std::vector<std::string>{"filler", "mine", "mine/notes.txt"}));
+}
+
+// A stop asked for (Ctrl-C, SIGTERM) keeps the whole views written before it (docs/input-limits.md);
+// a stop before the first view leaves no folder.
+TEST(RenderJob, AStopKeepsTheWholeViewsWrittenAndNoEmptyFolder) {
+  cl::Runtime rt;
+  AnalyticField field(rt, analytic_head_min, analytic_head_max, analytic_head_primitives(), 1u << 14);
+  VolumeScene scene;
+  scene.aabb_min = analytic_head_min;
+  scene.aabb_max = analytic_head_max;
+  scene.step = 1.0f / 64.0f;
+  scene.field = &field;
+  Marcher marcher(rt);
+  OrbitSpec spec;
+  spec.views = 3;
+  spec.width = spec.height = 24;
+  RenderJob job;
+  job.cameras = orbit_cameras(spec);
+  job.video = false;
+  const fs::path root = tmp_dir("stop");
+  job.out_dir = (root / "renders").string();
+  auto stop_after_first = [&](const Camera& c, const lorgnette::SurfaceBuffers* s) {
+    request_interrupt();  // seen before the next view
+    return marcher.render(scene, c, s, job.options);
+  };
+  EXPECT_THROW(run_render_job(job, stop_after_first), std::runtime_error);
+  clear_interrupt();
+  EXPECT_TRUE(fs::exists(root / "renders" / "frame_0000.png"));
+  EXPECT_TRUE(fs::exists(root / "renders" / "depth_0000.exr"));
+  EXPECT_FALSE(fs::exists(root / "renders" / "frame_0001.png"));
+  job.out_dir = (root / "none").string();
+  request_interrupt();
+  EXPECT_THROW(run_render_job(job, stop_after_first), std::runtime_error);
+  clear_interrupt();
+  EXPECT_FALSE(fs::exists(root / "none"));
 }
