@@ -207,8 +207,14 @@ void measure_card_in_capture(const std::string& dataset_dir, CaptureReport& repo
     report.card["mm_per_unit_uncertainty"] = r.scale.uncertainty;
     report.card["frames"] = r.scale.frames;
     report.card["scale_file"] = (fs::path(dataset_dir) / dataset::kScaleFile).string();
+    report.card["ignore_frames"] = r.ignore_frames;
+    if (r.ignore_frames > 0)
+      report.card["ignore_file"] = (fs::path(dataset_dir) / dataset::kIgnoreRegionsFile).string();
   }
   spdlog::info("capture: {}", r.scale.message);
+  if (r.ignore_frames > 0)
+    spdlog::info("capture: the card and its fingers are left out of training in {} frames ({})",
+                 r.ignore_frames, dataset::kIgnoreRegionsFile);
 }
 
 nlohmann::json CaptureReport::coverage_json() const {

@@ -238,7 +238,10 @@ CardScale measure_card_scale(const std::vector<CardView>& views, const CardScale
   r.corners = card;
   const auto e = edge_lengths(card);
   for (int k = 0; k < 4; ++k) r.edges_mm[k] = e[k] * r.mm_per_unit;
-  for (const auto& ob : obs) r.frame_names.push_back(views[size_t(ob.view)].name);
+  for (const auto& ob : obs) {
+    r.frame_names.push_back(views[size_t(ob.view)].name);
+    r.frame_corners.push_back(ob.corners);
+  }
   r.message = fmt::format(
       "card in {} frames: {:.3f} +- {:.3f} mm per unit (edges {:.2f}, {:.2f}, {:.2f}, {:.2f} mm)", n,
       r.mm_per_unit, r.uncertainty, r.edges_mm[0], r.edges_mm[1], r.edges_mm[2], r.edges_mm[3]);

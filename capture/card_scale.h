@@ -43,6 +43,8 @@ struct CardScale {
   std::array<Eigen::Vector3d, 4> corners{};     // dataset frame, in the order of the first frame's quad
   std::array<double, 4> edges_mm{};             // the four edges at the measured scale
   std::vector<std::string> frame_names;
+  // Per frame_names entry: the card's corners seen in that frame, in the order of `corners`.
+  std::vector<std::array<Eigen::Vector2d, 4>> frame_corners;
 };
 
 CardScale measure_card_scale(const std::vector<CardView>& views, const CardScaleOptions& options = {});

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <set>
 #include <stdexcept>
 
 #include "host/dataset/frame_image.h"
@@ -138,7 +139,9 @@ bool wanted(const LoadOptions& o, Split s) {
 }
 
 // Parses every json, assigns holdout for single-file datasets, validates poses over all frames.
-std::vector<FrameSpec> collect_frames(const Source& src, Dataset& ds, const LoadOptions& opt) {
+// `listed`: the names (file stems) of every frame the parsed json files list.
+std::vector<FrameSpec> collect_frames(const Source& src, Dataset& ds, const LoadOptions& opt,
+                                      std::set<std::string>& listed) {
   std::vector<FrameSpec> all;
   for (const auto& [file, split] : src.files) {
     if (src.format == "nerf-synthetic" && !wanted(opt, split)) continue;
@@ -162,6 +165,7 @@ std::vector<FrameSpec> collect_frames(const Source& src, Dataset& ds, const Load
         ds.has_applied_transform = true;
       }
     }
+    for (const auto& f : frames) listed.insert(fs::path(f.file_path).stem().string());
     all.insert(all.end(), frames.begin(), frames.end());
   }
   detail::check_not_degenerate(all);
@@ -348,6 +352,36 @@ LoadOptions within_image_budget(const std::vector<FrameSpec>& specs, const LoadO
   return shrunk;
 }
 
+// The ignore regions of the loaded frames (ignore_regions.h), scaled to their loaded size. `listed`:
+// the names of every frame of the json files read; `whole`: those were all of the dataset's files,
+// so a name outside them means the file belongs to another dataset.
+void attach_ignore_regions(Dataset& ds, const std::set<std::string>& listed, bool whole) {
+  const std::optional<IgnoreRegions> regions = read_ignore_regions(ds.root);
+  if (!regions) return;
+  const std::string file = (fs::path(ds.root) / kIgnoreRegionsFile).string();
+  size_t frames = 0;
+  for (const FrameIgnore& fi : regions->frames) {
+    if (whole && !listed.count(fi.name))
+      throw std::runtime_error(fmt::format(
+          "'{}' names frame '{}', which the dataset does not list: it belongs to another capture; run "
+          "`lorgnette capture --card-only {}` again or delete it",
+          file, fi.name, ds.root));
+    for (Frame& f : ds.frames) {
+      if (f.name != fi.name) continue;
+      const double aspect = double(fi.width) / fi.height, loaded = double(f.camera.width) / f.camera.height;
+      if (std::abs(aspect / loaded - 1.0) > 0.01)
+        throw std::runtime_error(fmt::format(
+            "'{}': frame '{}' has regions drawn on a {}x{} image but its image is {}x{} (another shape): "
+            "run `lorgnette capture --card-only {}` again or delete the file",
+            file, fi.name, fi.width, fi.height, f.camera.width, f.camera.height, ds.root));
+      f.ignore = scale_polygons(fi.polygons, fi.width, fi.height, int(f.camera.width), int(f.camera.height));
+      frames += f.ignore.empty() ? 0 : 1;
+    }
+  }
+  spdlog::info("dataset: ignore regions ({}) in {} of {} loaded frames", regions->source, frames,
+               ds.frames.size());
+}
+
 }  // namespace
 
 Dataset load_dataset(const std::string& path, const LoadOptions& options) {
@@ -360,7 +394,8 @@ Dataset load_dataset(const std::string& path, const LoadOptions& options) {
   Dataset ds;
   ds.root = src.root;
   ds.format = src.format;
-  auto specs = limit_frames(collect_frames(src, ds, options), options.max_frames);
+  std::set<std::string> listed;
+  auto specs = limit_frames(collect_frames(src, ds, options, listed), options.max_frames);
   if (specs.empty())
     throw std::runtime_error(
         fmt::format("dataset '{}' has no frames to load for the requested splits", ds.root));
@@ -368,6 +403,7 @@ Dataset load_dataset(const std::string& path, const LoadOptions& options) {
   ds.frames.reserve(specs.size());
   for (const auto& spec : specs) ds.frames.push_back(load_frame(spec, sized, &ds.has_alpha));
   read_ground_truth(ds);
+  attach_ignore_regions(ds, listed, src.format == "transforms" || options.splits.empty());
   size_t bytes = 0;
   for (const Frame& f : ds.frames) bytes += f.image.pixels.size() * sizeof(float);
   spdlog::info("dataset '{}' ({}): {} frames, {}x{}{}, {:.0f} MB of images", ds.root, ds.format,

@@ -19,6 +19,9 @@
 //   is coverage, 0 = background, 8-bit v / 255, 0/1 masks as binary) multiplies its alpha, so the
 //   subject is separated by the mattes as with RGBA images (has_alpha is set; train then needs no
 //   room model). A missing mask or one of another size than its image is an error.
+// - Ignore regions (ignore_regions.json beside the json, ignore_regions.h): each listed frame's
+//   polygons, scaled to its loaded size, in Frame::ignore. A name that matches no frame of the json
+//   (all splits) is an error: the file belongs to another dataset.
 // - Downscaling resizes images with area averaging and scales intrinsics by the exact per-axis size
 //   ratio (new_w / w, new_h / h), which keeps the pixel-centre convention of camera_types.h.
 #pragma once
@@ -30,6 +33,7 @@
 #include <vector>
 
 #include "common/camera_types.h"
+#include "host/dataset/ignore_regions.h"
 #include "host/util/image_io.h"
 
 namespace lorgnette::dataset {
@@ -70,6 +74,9 @@ struct Frame {
   Split split = Split::Train;
   Camera camera{};  // intrinsics already scaled to the loaded image size
   Image image;      // width x height x 4, linear RGBA; empty when !LoadOptions::load_images
+  // Regions of this frame training leaves out (ignore_regions.h), in the loaded image's pixels;
+  // empty for most frames.
+  std::vector<IgnorePolygon> ignore;
 };
 
 struct Dataset {

@@ -29,7 +29,8 @@ SampleParams sample_params_for(const NerfModel& model, const DeviceViews& views)
   p.occ_res = model.occupancy_resolution();
   p.max_samples = std::min(model.max_samples_per_ray(), model.field().max_batch());
   p.n_images = views.count();
-  p.total_pixels = static_cast<uint32_t>(views.total_pixels());
+  p.total_pixels = static_cast<uint32_t>(views.sampled_pixels());
+  p.n_runs = views.run_count();
   p.stride = model.field().max_batch();
   return p;
 }
@@ -69,7 +70,8 @@ const std::vector<uint32_t>& RayBatch::count(const SampleParams& p, const Device
   cl::Runtime& rt = model_.runtime();
   if (p.n_rays > 0) {
     count_k_
-        .args(p, views.camera_buffer(), views.offsets(), views.pixels(), model_.occupancy_bits(), counts_dev_)
+        .args(p, views.camera_buffer(), views.offsets(), views.pixels(), views.kept_runs(),
+              model_.occupancy_bits(), counts_dev_)
         .launch(rt, p.n_rays, ray_group(rt));
   }
   counts_ = counts_dev_.read(rt, p.n_rays);
@@ -106,8 +108,8 @@ uint32_t RayBatch::write(SampleParams p, const DeviceViews& views, uint32_t begi
   p.ray_end = end;
   p.end_on_device = 0;
   write_k_
-      .args(p, views.camera_buffer(), views.offsets(), views.pixels(), model_.occupancy_bits(), sub_offsets_,
-            batch_info_, pos_, dir_, ray_info_)
+      .args(p, views.camera_buffer(), views.offsets(), views.pixels(), views.kept_runs(),
+            model_.occupancy_bits(), sub_offsets_, batch_info_, pos_, dir_, ray_info_)
       .launch(rt, n, ray_group(rt));
   return written_samples_;
 }
@@ -126,13 +128,14 @@ RayBatch::DeviceBatch RayBatch::sample_on_device(SampleParams p, const DeviceVie
   p.end_on_device = 1;
   if (p.n_rays > 0) {
     count_k_
-        .args(p, views.camera_buffer(), views.offsets(), views.pixels(), model_.occupancy_bits(), counts_dev_)
+        .args(p, views.camera_buffer(), views.offsets(), views.pixels(), views.kept_runs(),
+              model_.occupancy_bits(), counts_dev_)
         .launch(rt, p.n_rays, ray_group(rt));
     const size_t group = scan_group(rt);
     offsets_k_.args(p, counts_dev_, sub_offsets_, batch_info_).launch(rt, group, group);
     write_k_
-        .args(p, views.camera_buffer(), views.offsets(), views.pixels(), model_.occupancy_bits(),
-              sub_offsets_, batch_info_, pos_, dir_, ray_info_)
+        .args(p, views.camera_buffer(), views.offsets(), views.pixels(), views.kept_runs(),
+              model_.occupancy_bits(), sub_offsets_, batch_info_, pos_, dir_, ray_info_)
         .launch(rt, p.n_rays, ray_group(rt));
   }
   uint32_t info[BATCH_INFO_UINTS];

@@ -16,7 +16,8 @@ namespace lorgnette::nerf {
 
 std::vector<View> training_views(const dataset::Dataset& ds) {
   std::vector<View> views;
-  for (const dataset::Frame* f : ds.split(dataset::Split::Train)) views.push_back({f->camera, &f->image});
+  for (const dataset::Frame* f : ds.split(dataset::Split::Train))
+    views.push_back({f->camera, &f->image, f->ignore.empty() ? nullptr : &f->ignore});
   if (views.empty())
     throw std::runtime_error("'" + ds.root +
                              "' has no training frames: check the dataset's frame list and splits");
@@ -28,6 +29,13 @@ std::string dataset_fingerprint(const dataset::Dataset& ds) {
   for (const auto& f : ds.frames)
     for (char c : f.image_path + std::to_string(f.camera.c2w[3]) + std::to_string(f.camera.fx))
       h = (h ^ uint8_t(c)) * 1099511628211ull;
+  // A frame's ignore regions change which pixels train, so a checkpoint of other regions is another
+  // training; frames without any hash as before.
+  for (const auto& f : ds.frames)
+    for (const auto& poly : f.ignore)
+      for (const auto& v : poly)
+        for (char c : std::to_string(v.x()) + "," + std::to_string(v.y()))
+          h = (h ^ uint8_t(c)) * 1099511628211ull;
   return fmt::format("{:016x}", h);
 }
 

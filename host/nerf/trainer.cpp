@@ -87,6 +87,11 @@ Trainer::Trainer(NerfModel& model, const std::vector<View>& views, const TrainOp
     throw std::invalid_argument("training needs a limit: give --steps N or --seconds S");
   cl::Runtime& rt = model.runtime();
   views_ = std::make_unique<DeviceViews>(rt, views, true);
+  if (views_->ignored_pixels() > 0)
+    spdlog::info(
+        "training leaves out {} of its {} pixels ({:.2f} %: the views' ignore regions, e.g. a held card)",
+        views_->ignored_pixels(), views_->total_pixels(),
+        100.0 * double(views_->ignored_pixels()) / double(views_->total_pixels()));
   uint32_t batch = model.field().max_batch();
   batch_ = std::make_unique<RayBatch>(model, batch);
   if (!occupancy_mask.empty()) {

@@ -45,6 +45,24 @@ DeviceViews::DeviceViews(cl::Runtime& rt, const std::vector<View>& views, bool w
   } else {
     pixels_ = cl::Buffer<float>(rt, 4);
   }
+  upload_kept_runs(rt, views, with_pixels);
+}
+
+void DeviceViews::upload_kept_runs(cl::Runtime& rt, const std::vector<View>& views, bool with_pixels) {
+  KeptPixels kept;
+  if (with_pixels) {
+    std::vector<std::pair<int, int>> sizes;
+    std::vector<const std::vector<IgnorePolygon>*> ignore;
+    for (const View& v : views) {
+      sizes.emplace_back(int(v.camera.width), int(v.camera.height));
+      ignore.push_back(v.ignore);
+    }
+    kept = kept_pixel_runs(sizes, ignore);
+  }
+  sampled_pixels_ = kept.kept;
+  ignored_pixels_ = kept.ignored;
+  run_count_ = uint32_t(kept.runs.size() / 2);
+  kept_runs_ = kept.runs.empty() ? cl::Buffer<uint32_t>(rt, 2) : cl::Buffer<uint32_t>(rt, kept.runs);
 }
 
 }  // namespace lorgnette::nerf

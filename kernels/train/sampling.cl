@@ -5,7 +5,8 @@
 // compacted order is the ray order whatever the scheduling.
 //
 // Rays: SAMPLE_MODE_TRAIN picks pixels uniformly over all training images (counter-based RNG on
-// seed, iteration, ray), jitters them inside the pixel and composites the RGBA target onto a
+// seed, iteration, ray) but those in ignore regions (drawn over the kept pixels, mapped through
+// their runs), jitters them inside the pixel and composites the RGBA target onto a
 // random background colour (instant-ngp's trick, so transparency is learnt); SAMPLE_MODE_VIEW takes
 // consecutive pixel centres of one camera. Samples are `step` apart from a (jittered) start, only
 // inside the AABB and only in occupied cells; empty cells are jumped over to the next sample
@@ -34,6 +35,20 @@ uint find_image(__global const uint* offsets, uint n_images, uint pixel) {
   return lo;
 }
 
+// Global pixel of kept index k: runs holds n_runs pairs (first kept index, first global pixel), sorted;
+// the run holding k is the last whose first kept index is <= k.
+uint kept_to_global(__global const uint* runs, uint n_runs, uint k) {
+  uint lo = 0, hi = n_runs;  // runs[2 lo] <= k < runs[2 hi]
+  while (hi - lo > 1u) {
+    uint mid = (lo + hi) / 2u;
+    if (runs[2u * mid] <= k)
+      lo = mid;
+    else
+      hi = mid;
+  }
+  return runs[2u * lo + 1u] + (k - runs[2u * lo]);
+}
+
 // Clips the ray to the AABB; returns 0 when it misses.
 int clip_aabb(const SampleParams* p, RaySetup* r, float t_min) {
   float t0 = t_min, t1 = 3.0e38f;
@@ -54,12 +69,13 @@ int clip_aabb(const SampleParams* p, RaySetup* r, float t_min) {
 }
 
 int setup_ray(const SampleParams* p, __global const Camera* cams, __global const uint* offsets,
-              __global const float* pixels, uint ray, RaySetup* r) {
+              __global const float* pixels, __global const uint* runs, uint ray, RaySetup* r) {
   Camera cam;
   float u, v, jitter;
   if (p->mode == SAMPLE_MODE_TRAIN) {
     uint h = lgn_hash3(p->seed, p->iteration, ray * 8u);
     uint global_pixel = (uint)(((ulong)h * (ulong)p->total_pixels) >> 32);
+    if (p->n_runs > 0u) global_pixel = kept_to_global(runs, p->n_runs, global_pixel);
     r->image = find_image(offsets, p->n_images, global_pixel);
     r->pixel = global_pixel - offsets[r->image];
     cam = cams[r->image];
@@ -124,11 +140,13 @@ uint march_ray(const SampleParams* p, __global const uint* occ, const RaySetup* 
 }
 
 __kernel void sample_count(const SampleParams p, __global const Camera* cams, __global const uint* offsets,
-                           __global const float* pixels, __global const uint* occ, __global uint* counts) {
+                           __global const float* pixels, __global const uint* runs, __global const uint* occ,
+                           __global uint* counts) {
   uint ray = get_global_id(0);
   if (ray >= p.n_rays) return;
   RaySetup r;
-  counts[ray] = setup_ray(&p, cams, offsets, pixels, ray, &r) ? march_ray(&p, occ, &r, 0, 0u, 0, 0) : 0u;
+  counts[ray] =
+      setup_ray(&p, cams, offsets, pixels, runs, ray, &r) ? march_ray(&p, occ, &r, 0, 0u, 0, 0) : 0u;
 }
 
 // Exclusive prefix sum of counts[0, n_rays) into ray_offsets, and the batch record (train_types.h):
@@ -183,14 +201,14 @@ __kernel void sample_offsets(const SampleParams p, __global const uint* counts, 
 // offsets come relative to ray_begin; ray_info gets RAY_INFO_FLOATS floats per ray (target rgb,
 // background rgb, pixel, image).
 __kernel void sample_write(const SampleParams p, __global const Camera* cams, __global const uint* offsets,
-                           __global const float* pixels, __global const uint* occ,
+                           __global const float* pixels, __global const uint* runs, __global const uint* occ,
                            __global const uint* ray_offsets, __global const uint* batch_info,
                            __global float* pos, __global float* dir, __global float* ray_info) {
   uint ray = p.ray_begin + get_global_id(0);
   if (ray >= p.ray_end || (p.end_on_device && ray >= batch_info[BATCH_INFO_RAYS])) return;
   uint local_ray = ray - p.ray_begin;
   RaySetup r;
-  if (setup_ray(&p, cams, offsets, pixels, ray, &r))
+  if (setup_ray(&p, cams, offsets, pixels, runs, ray, &r))
     march_ray(&p, occ, &r, 1, ray_offsets[local_ray], pos, dir);
   __global float* info = ray_info + RAY_INFO_FLOATS * local_ray;
   for (int c = 0; c < 3; ++c) {

@@ -23,7 +23,7 @@ typedef struct SampleParams {
   lgn_uint camera;       // view mode: camera index
   lgn_uint first_pixel;  // view mode: pixel index of ray 0
   lgn_uint n_images;
-  lgn_uint total_pixels;  // train mode: pixels over all images
+  lgn_uint total_pixels;  // train mode: pixels drawn from (all, or the kept ones when n_runs > 0)
   lgn_uint seed;
   lgn_uint iteration;  // training step: selects the random stream
   lgn_uint stride;     // SoA stride of the per-sample arrays (Field::max_batch)
@@ -32,8 +32,12 @@ typedef struct SampleParams {
   // write pass: 1 = the rays also end at batch_info[BATCH_INFO_RAYS] (sample_offsets' fit, computed
   // on the device; ray_begin must be 0); 0 = ray_end alone.
   lgn_uint end_on_device;
+  // train mode: runs of kept pixels (host/nerf/kept_pixels.h; pairs of kept index, global pixel) that
+  // map a drawn index to its pixel, leaving the views' ignore regions out; 0 = every pixel is kept.
+  lgn_uint n_runs;
+  lgn_uint pad0, pad1, pad2;
 } SampleParams;
-LGN_STATIC_ASSERT(sizeof(SampleParams) == 112, "SampleParams layout is shared with OpenCL");
+LGN_STATIC_ASSERT(sizeof(SampleParams) == 128, "SampleParams layout is shared with OpenCL");
 
 // The batch record sample_offsets writes (uints): the leading rays whose samples fit the batch, their
 // samples, the samples of all counted rays, and (written by loss_sum, float bits) the summed loss.

@@ -57,7 +57,8 @@ void add_capture(CLI::App& app, GlobalOptions& global) {
   cmd->add_flag("--no-card", *no_card, "do not look for a held ID-1 card (the dataset's millimetres)");
   cmd->add_flag("--card-only", *card_only,
                 "INPUT is a posed dataset (transforms.json and images, e.g. a synth output): only "
-                "measure the held card and write INPUT/scale.json (no -o)");
+                "measure the held card and write INPUT/scale.json and INPUT/ignore_regions.json (the "
+                "card and its fingers, left out of training) (no -o)");
   cmd->add_flag("--force", opt->force, "replace an earlier capture in the output folder");
   cmd->add_flag("--json", *json, "print the capture report as one JSON object on stdout");
   cmd->callback([opt, json, no_blur, no_blink, no_head_box, no_card, card_only] {
