@@ -284,8 +284,11 @@ TEST(Room, WindowBehindTheHeadBacklightsIt) {
   // The head against the window, and its outline's light against the face's centre.
   ASSERT_LT(top, h / 3);
   const int head_rows = (h - top) / 4;
-  for (int x = 0; x < w; ++x)
-    if (lit.matte.at(x, top, 0) > 0.5f) EXPECT_TRUE(top >= 3 && is_window(x, top - 3)) << "above the head";
+  for (int x = 0; x < w; ++x) {
+    if (lit.matte.at(x, top, 0) > 0.5f) {
+      EXPECT_TRUE(top >= 3 && is_window(x, top - 3)) << "above the head";
+    }
+  }
   for (int y = top; y < top + head_rows; ++y) {
     int x0 = w, x1 = -1;
     for (int x = 0; x < w; ++x)
