@@ -25,6 +25,23 @@ std::string tmp_dir(const std::string& name) {
   return p.string();
 }
 void write(const std::string& path, const std::string& text) { std::ofstream(path) << text; }
+
+// The analytic head marched at `step`: the render function the jobs below run.
+struct HeadRender {
+  cl::Runtime rt;
+  AnalyticField field{rt, analytic_head_min, analytic_head_max, analytic_head_primitives(), 1u << 14};
+  VolumeScene scene;
+  Marcher marcher{rt};
+  explicit HeadRender(float step) {
+    scene.aabb_min = analytic_head_min;
+    scene.aabb_max = analytic_head_max;
+    scene.step = step;
+    scene.field = &field;
+  }
+  RenderResult render(const Camera& c, const lorgnette::SurfaceBuffers* s, const RenderOptions& o) {
+    return marcher.render(scene, c, s, o);
+  }
+};
 }  // namespace
 
 TEST(RenderJob, ParsesSizesAndRefusesBadOnes) {
@@ -75,14 +92,7 @@ TEST(RenderJob, OutputImagesAreStraightAlphaOrOpaqueRgb) {
 // End to end on the analytic head: a 3-view orbit writes every output, and a second run into the
 // same directory is refused (then allowed with force).
 TEST(RenderJob, OrbitWritesFramesDepthVideoSheetAndSummary) {
-  cl::Runtime rt;
-  AnalyticField field(rt, analytic_head_min, analytic_head_max, analytic_head_primitives(), 1u << 14);
-  VolumeScene scene;
-  scene.aabb_min = analytic_head_min;
-  scene.aabb_max = analytic_head_max;
-  scene.step = 1.0f / 128.0f;
-  scene.field = &field;
-  Marcher marcher(rt);
+  HeadRender head(1.0f / 128.0f);
   OrbitSpec spec;
   spec.center = {0.0f, -0.15f, 0.05f};
   spec.half_extent = {0.6f, 0.75f, 0.65f};
@@ -93,7 +103,7 @@ TEST(RenderJob, OrbitWritesFramesDepthVideoSheetAndSummary) {
   job.cameras = orbit_cameras(spec);
   job.out_dir = tmp_dir("orbit");
   auto render = [&](const Camera& c, const lorgnette::SurfaceBuffers* s) {
-    return marcher.render(scene, c, s, job.options);
+    return head.render(c, s, job.options);
   };
   nlohmann::json out = run_render_job(job, render);
   EXPECT_EQ(out["views"], 3);
@@ -114,14 +124,7 @@ TEST(RenderJob, FullDiskIsAnErrorAndLeavesNoEmptyFrames) {
   lgn_test::ScopedTmpfs disk(fs::path(LORGNETTE_TEST_TMP) / "render_job_full_disk", 64 * 1024);
   LGN_SKIP_UNLESS_MOUNTED(disk);
   disk.fill();
-  cl::Runtime rt;
-  AnalyticField field(rt, analytic_head_min, analytic_head_max, analytic_head_primitives(), 1u << 14);
-  VolumeScene scene;
-  scene.aabb_min = analytic_head_min;
-  scene.aabb_max = analytic_head_max;
-  scene.step = 1.0f / 64.0f;
-  scene.field = &field;
-  Marcher marcher(rt);
+  HeadRender head(1.0f / 64.0f);
   OrbitSpec spec;
   spec.views = 2;
   spec.width = spec.height = 24;
@@ -130,7 +133,7 @@ TEST(RenderJob, FullDiskIsAnErrorAndLeavesNoEmptyFrames) {
   job.out_dir = disk.path().string();
   try {
     run_render_job(job, [&](const Camera& c, const lorgnette::SurfaceBuffers* s) {
-      return marcher.render(scene, c, s, job.options);
+      return head.render(c, s, job.options);
     });
     FAIL() << "writing onto a full disk must fail";
   } catch (const std::runtime_error& e) {
@@ -147,14 +150,7 @@ TEST(RenderJob, FullDiskIsAnErrorAndLeavesNoEmptyFrames) {
 TEST(RenderJob, ADiskThatFillsMidJobLeavesNothingOfTheJob) {
   lgn_test::ScopedTmpfs disk(fs::path(LORGNETTE_TEST_TMP) / "render_job_fills", 1024 * 1024);
   LGN_SKIP_UNLESS_MOUNTED(disk);
-  cl::Runtime rt;
-  AnalyticField field(rt, analytic_head_min, analytic_head_max, analytic_head_primitives(), 1u << 14);
-  VolumeScene scene;
-  scene.aabb_min = analytic_head_min;
-  scene.aabb_max = analytic_head_max;
-  scene.step = 1.0f / 64.0f;
-  scene.field = &field;
-  Marcher marcher(rt);
+  HeadRender head(1.0f / 64.0f);
   OrbitSpec spec;
   spec.views = 3;
   spec.width = spec.height = 24;
@@ -164,7 +160,7 @@ TEST(RenderJob, ADiskThatFillsMidJobLeavesNothingOfTheJob) {
   int views = 0;
   auto fill_after_first = [&](const Camera& c, const lorgnette::SurfaceBuffers* s) {
     if (++views == 2) disk.fill();  // the first view's files are written by now
-    return marcher.render(scene, c, s, job.options);
+    return head.render(c, s, job.options);
   };
   const fs::path user = disk.path() / "mine";
   fs::create_directories(user);
@@ -191,14 +187,7 @@ TEST(RenderJob, ADiskThatFillsMidJobLeavesNothingOfTheJob) {
 // A stop asked for (Ctrl-C, SIGTERM) keeps the whole views written before it (docs/input-limits.md);
 // a stop before the first view leaves no folder.
 TEST(RenderJob, AStopKeepsTheWholeViewsWrittenAndNoEmptyFolder) {
-  cl::Runtime rt;
-  AnalyticField field(rt, analytic_head_min, analytic_head_max, analytic_head_primitives(), 1u << 14);
-  VolumeScene scene;
-  scene.aabb_min = analytic_head_min;
-  scene.aabb_max = analytic_head_max;
-  scene.step = 1.0f / 64.0f;
-  scene.field = &field;
-  Marcher marcher(rt);
+  HeadRender head(1.0f / 64.0f);
   OrbitSpec spec;
   spec.views = 3;
   spec.width = spec.height = 24;
@@ -209,7 +198,7 @@ TEST(RenderJob, AStopKeepsTheWholeViewsWrittenAndNoEmptyFolder) {
   job.out_dir = (root / "renders").string();
   auto stop_after_first = [&](const Camera& c, const lorgnette::SurfaceBuffers* s) {
     request_interrupt();  // seen before the next view
-    return marcher.render(scene, c, s, job.options);
+    return head.render(c, s, job.options);
   };
   EXPECT_THROW(run_render_job(job, stop_after_first), std::runtime_error);
   clear_interrupt();
