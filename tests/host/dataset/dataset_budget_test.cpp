@@ -7,6 +7,7 @@
 #include <filesystem>
 
 #include "host/dataset/dataset.h"
+#include "tests/host/dataset/ring_dataset.h"
 
 using namespace lorgnette;
 using namespace lorgnette::dataset;
@@ -18,25 +19,8 @@ constexpr int kW = 160, kH = 120, kFrames = 4;
 
 // A dataset of kFrames grey RGB frames of kW x kH on a ring of cameras.
 fs::path make_dataset() {
-  fs::path dir = fs::path(LORGNETTE_TEST_TMP) / "dataset_budget";
-  fs::remove_all(dir);
-  fs::create_directories(dir / "images");
-  std::vector<Camera> cams;
-  std::vector<std::string> files;
-  for (int i = 0; i < kFrames; ++i) {
-    Camera c{};
-    c.fx = c.fy = 200.0f, c.cx = 80.0f, c.cy = 60.0f, c.width = kW, c.height = kH;
-    const double a = 0.3 * i;
-    Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
-    m.topLeftCorner<3, 3>() << std::cos(a), 0, std::sin(a), 0, 1, 0, -std::sin(a), 0, std::cos(a);
-    m.block<3, 1>(0, 3) << 3 * std::sin(a), 0.0, 3 * std::cos(a);
-    set_camera_pose(c, m);
-    cams.push_back(c);
-    files.push_back("images/f_" + std::to_string(i) + ".png");
-    write_image((dir / files.back()).string(), Image(kW, kH, 3, 0.5f));
-  }
-  write_transforms_json(dir.string(), cams, files);
-  return dir;
+  return lorgnette::testing::write_ring_dataset(fs::path(LORGNETTE_TEST_TMP) / "dataset_budget", kFrames, kW,
+                                                kH, 200.0f, 0.3);
 }
 
 uint64_t image_bytes(const Dataset& ds) {

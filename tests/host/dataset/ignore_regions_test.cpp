@@ -11,6 +11,8 @@
 #include <fstream>
 
 #include "host/dataset/dataset.h"
+#include "tests/common/text_and_errors.h"
+#include "tests/host/dataset/ring_dataset.h"
 
 namespace lorgnette::dataset {
 namespace {
@@ -20,25 +22,8 @@ constexpr int kW = 32, kH = 24;
 
 // Three frames f_0..f_2 of kW x kH on a ring around the origin.
 fs::path make_dataset(const std::string& name) {
-  fs::path dir = fs::path(LORGNETTE_TEST_TMP) / "ignore_regions" / name;
-  fs::remove_all(dir);
-  fs::create_directories(dir / "images");
-  std::vector<Camera> cams;
-  std::vector<std::string> files;
-  for (int i = 0; i < 3; ++i) {
-    Camera c{};
-    c.fx = c.fy = 30.0f, c.cx = kW / 2.0f, c.cy = kH / 2.0f, c.width = kW, c.height = kH;
-    const double a = 0.4 * i;
-    Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
-    m.topLeftCorner<3, 3>() << std::cos(a), 0, std::sin(a), 0, 1, 0, -std::sin(a), 0, std::cos(a);
-    m.block<3, 1>(0, 3) << 3 * std::sin(a), 0.0, 3 * std::cos(a);
-    set_camera_pose(c, m);
-    cams.push_back(c);
-    files.push_back("images/f_" + std::to_string(i) + ".png");
-    write_image((dir / files.back()).string(), Image(kW, kH, 3, 0.5f));
-  }
-  write_transforms_json(dir.string(), cams, files);
-  return dir;
+  return lorgnette::testing::write_ring_dataset(fs::path(LORGNETTE_TEST_TMP) / "ignore_regions" / name, 3, kW,
+                                                kH, 30.0f, 0.4);
 }
 
 IgnoreRegions sample_regions() {
@@ -51,12 +36,7 @@ IgnoreRegions sample_regions() {
 }
 
 std::string load_error(const fs::path& dir) {
-  try {
-    load_dataset(dir.string());
-  } catch (const std::runtime_error& e) {
-    return e.what();
-  }
-  return "";
+  return lorgnette::testing::error_of([&] { load_dataset(dir.string()); });
 }
 
 #define EXPECT_HAS(text, part) EXPECT_NE((text).find(part), std::string::npos) << (text)
