@@ -36,13 +36,16 @@
 #include "capture/subject_box.h"
 #include "fit/camera_math.h"
 #include "host/field/density_at.h"
+#include "host/nerf/background_field.h"
 #include "host/nerf/model.h"
 #include "host/nerf/snapshot.h"
 #include "host/nerf/subject_cut.h"
+#include "host/render/hole_eval.h"
 #include "host/render/matte_eval.h"
 #include "host/util/chart.h"
 #include "host/util/image_io.h"
 #include "synth/matte.h"
+#include "train/render.h"
 
 namespace fs = std::filesystem;
 using namespace lorgnette;
@@ -64,6 +67,13 @@ struct LeakSplit {
   double subject = 0.0;  // the judged subject pixels among the marched rays
   std::array<double, 4> zone{0, 0, 0, 0};
   std::map<std::pair<int, int>, std::array<double, 4>> yz;  // 20 mm bins of (y, z): leak by zone
+  // Holes (host/render/hole_eval.h: the head's interior, opacity < 0.5) by the zone of the true
+  // surface point each interior ray hits (from the true depth), with the room-explained gate the
+  // ray's pixel reads (train/render.h) against the plain wall's colour in its row (the mean of the
+  // row's room pixels: a room model that learned the wall exactly). Per zone: interior rays, holes,
+  // the gate summed over each; and interior rays and holes per 20 mm of head-frame height.
+  std::array<double, 4> interior{0, 0, 0, 0}, holes{0, 0, 0, 0}, gate{0, 0, 0, 0}, hole_gate{0, 0, 0, 0};
+  std::map<int, std::array<double, 2>> holes_y;
 };
 
 struct Case {
@@ -148,6 +158,37 @@ void write_view(const std::string& path, const Grid& g, const fit::HeadBox& b, c
   write_image(path, img);
 }
 
+// The interior rays of one held-out view for LeakSplit's holes (see there): for each marched pixel in
+// the head's interior, the zone and 20 mm height bin of its true surface point and its gate.
+void interior_rays(const dataset::Frame& fr, const Image& matte, const Image& depth, const LeakSplit& leak,
+                   int stride, std::vector<int>* zone, std::vector<int>* y_bin, std::vector<float>* gate) {
+  const int w = int(fr.camera.width) / stride, h = int(fr.camera.height) / stride;
+  const std::vector<uint8_t> interior = render::head_interior_mask(matte);
+  std::vector<std::array<float, 3>> wall(size_t(matte.height), {0, 0, 0});
+  for (int py = 0; py < matte.height; ++py) {
+    double sum[3] = {0, 0, 0}, n = 0;
+    for (int px = 0; px < matte.width; ++px)
+      if (matte.at(px, py, 0) < 0.01f) {
+        for (int c = 0; c < 3; ++c) sum[c] += fr.image.at(px, py, c);
+        n += 1;
+      }
+    for (int c = 0; c < 3; ++c) wall[py][c] = n > 0 ? float(sum[c] / n) : (py > 0 ? wall[py - 1][c] : 0.0f);
+  }
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const int px = x * stride + stride / 2, py = y * stride + stride / 2;
+      if (!interior[size_t(py) * matte.width + px] || !std::isfinite(depth.at(px, py, 0))) continue;
+      const fit::Ray r = fit::camera_ray(fr.camera, {px + 0.5, py + 0.5});
+      const Eigen::Vector3d p = r.origin + double(depth.at(px, py, 0)) * r.dir;
+      const size_t i = size_t(y) * w + x;
+      (*zone)[i] = leak.zone_of(p);
+      (*y_bin)[i] = int(std::floor(leak.height_depth(p)[0] / 20.0));
+      const float target[3] = {fr.image.at(px, py, 0), fr.image.at(px, py, 1), fr.image.at(px, py, 2)};
+      (*gate)[i] =
+          render_ray_room_gate(target, wall[py].data(), nerf::BackgroundOptions{}.room_clear_tolerance);
+    }
+}
+
 // What the held-out views see: each view's rays (every `stride`-th pixel) marched through the model's
 // box at its step, the field's density queried at the samples in occupied cells, and each sample's
 // compositing weight (T * alpha) added to its region. Returns the mean weight per ray in each region
@@ -180,6 +221,10 @@ std::array<double, 3> seen_opacity(cl::Runtime& rt, nerf::NerfModel& model, cons
       if (it != leak->mattes.end()) matte = &it->second.first, depth = &it->second.second;
     }
     std::vector<float> room(size_t(w) * h, 0.0f);  // 1 - matte per judged ray
+    // Interior rays: the zone and height of their true surface point and their pixel's gate; -1 else.
+    std::vector<int> hole_zone(size_t(w) * h, -1), hole_y(size_t(w) * h, 0);
+    std::vector<float> hole_gate(size_t(w) * h, 0.0f);
+    if (matte) interior_rays(*fr, *matte, *depth, *leak, stride, &hole_zone, &hole_y, &hole_gate);
     if (matte)
       for (int y = 0; y < h; ++y)
         for (int x = 0; x < w; ++x) {
@@ -245,6 +290,13 @@ std::array<double, 3> seen_opacity(cl::Runtime& rt, nerf::NerfModel& model, cons
         leak->yz[{s.y_bin, s.z_bin}][s.zone] += wgt * room[s.ray];
       }
       T[s.ray] *= 1.0f - a;
+    }
+    for (int i = 0; i < w * h; ++i) {
+      if (hole_zone[i] < 0) continue;
+      const bool hole = T[i] > 0.5f;
+      leak->interior[hole_zone[i]] += 1, leak->holes[hole_zone[i]] += hole;
+      leak->gate[hole_zone[i]] += hole_gate[i], leak->hole_gate[hole_zone[i]] += hole ? hole_gate[i] : 0.0f;
+      leak->holes_y[hole_y[i]][0] += 1, leak->holes_y[hole_y[i]][1] += hole;
     }
     Image img(w, h, 3);
     const float tint[3][3] = {{0.25f, 0.25f, 0.25f}, {0.9f, 0.1f, 0.1f}, {0.1f, 0.3f, 0.95f}};
@@ -362,6 +414,15 @@ static int run(int argc, char** argv) {
           "{}: leak {:.2f} % of the subject's area: keep {:.2f}, core {:.2f}, lean {:.2f}, outside {:.2f}",
           cs.name, k * (leak.zone[0] + leak.zone[1] + leak.zone[2] + leak.zone[3]), k * leak.zone[0],
           k * leak.zone[1], k * leak.zone[2], k * leak.zone[3]);
+      for (int z = 0; z < 4; ++z)
+        spdlog::info(
+            "{}: interior rays on {:>7}: {:5.0f}, holes {:5.0f} ({:5.1f} %), gate mean {:.2f} (holes {:.2f})",
+            cs.name, kZoneNames[z], leak.interior[z], leak.holes[z],
+            100.0 * leak.holes[z] / std::max(leak.interior[z], 1.0),
+            leak.gate[z] / std::max(leak.interior[z], 1.0), leak.hole_gate[z] / std::max(leak.holes[z], 1.0));
+      for (const auto& [bin, v] : leak.holes_y)
+        spdlog::info("{}: head-frame height {:4} mm: {:4.0f} interior rays, {:4.0f} holes", cs.name, bin * 20,
+                     v[0], v[1]);
       for (int z = 0; z < 4; ++z)
         leak_rows.push_back({cs.name, kZoneNames[z], fmt::format("{:.4f}", k * leak.zone[z])});
       for (const auto& [bin, v] : leak.yz)

@@ -73,6 +73,12 @@ struct BackgroundOptions {
   // the head volume's rim). 0 = off.
   float room_clear = 1.0f;
   float room_clear_tolerance = 0.05f;
+  // The clearing's gate closes as far as the subject explains the pixel better than the room alone
+  // (kernels/train/render.h render_ray_clear_gate): fully where the ray's render lies this much
+  // (RMS sRGB) nearer the pixel than the room's colour. Hair of the wall's colour, shaded strand by
+  // strand, and a pale face's shading before a wall of its colour carry what the flat room lacks;
+  // the haze that paints the room's own colour does not. 0 = off (the room gate alone).
+  float subject_explains = 0.0f;
   // subject->keep is where the clearing does not apply (the binary prior does): the part of the
   // subject that the room model's own surfaces lie right behind (a head's neck, with the body below
   // the box in the room model), where the room can match the subject's colour without the subject

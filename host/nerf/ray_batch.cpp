@@ -188,6 +188,7 @@ LossParams RayBatch::loss_params(uint32_t loss_kind, bool forward_only, float mi
   lp.opacity_prior = priors.weight;
   lp.room_clear = priors.room_clear;
   lp.room_clear_tolerance = priors.room_clear_tolerance;
+  lp.subject_explains = priors.subject_explains;
   lp.zone_res = priors.zones ? priors.zone_res : 0u;
   lp.lean_gate = priors.zones ? priors.lean_gate : 0.0f;
   lp.solid_pull = priors.zones ? priors.solid_pull : 0.0f;

@@ -31,7 +31,8 @@ struct RayPriors {
   const cl::Buffer<uint32_t>* zones = nullptr;
   uint32_t zone_res = 0;
   float lean_gate = 0.0f;
-  float solid_pull = 0.0f;  // the solid cells' pull towards an opaque ray (the zones' third bitfield)
+  float solid_pull = 0.0f;        // the solid cells' pull towards an opaque ray (the zones' third bitfield)
+  float subject_explains = 0.0f;  // the gate's margin for what the subject explains (render_ray_clear_gate)
 };
 
 class RayBatch {

@@ -31,6 +31,7 @@ json room_json(const BackgroundOptions& r) {
           {"opacity_prior_ramp", r.opacity_prior_ramp},
           {"room_clear", r.room_clear},
           {"room_clear_tolerance", r.room_clear_tolerance},
+          {"subject_explains", r.subject_explains},
           {"lean_gate", r.lean_gate},
           {"solid_pull", r.solid_pull},
           {"subject_zones", r.subject.has_value()}};

@@ -34,6 +34,7 @@ void validate_room(const BackgroundOptions& r) {
   check_bound(b::kOpacityPrior, r.opacity_prior);
   check_bound(b::kRoomClear, r.room_clear);
   check_bound(b::kRoomClearTolerance, r.room_clear_tolerance);
+  check_bound(b::kSubjectExplains, r.subject_explains);
   check_bound(b::kLeanGate, r.lean_gate);
   check_bound(b::kSolidPull, r.solid_pull);
 }

@@ -139,6 +139,7 @@ RayPriors Trainer::opacity_prior() const {
   p.weight = float(b.opacity_prior * std::clamp((double(step_) - b.opacity_prior_start) / ramp, 0.0, 1.0));
   p.room_clear = b.room_clear;
   p.room_clear_tolerance = b.room_clear_tolerance;
+  p.subject_explains = b.subject_explains;
   if (zone_res_)
     p.zones = &zones_, p.zone_res = zone_res_, p.lean_gate = b.lean_gate, p.solid_pull = b.solid_pull;
   return p;

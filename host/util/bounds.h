@@ -90,6 +90,7 @@ inline constexpr Bound kHairMm{"--hair", "hair_mm", 0, 300,
 inline constexpr Bound kOpacityPrior{"--opacity-prior", "", 0, 1, "weight of the room model's opacity prior"};
 inline constexpr Bound kRoomClear{"--room-clear", "", 0, 100, "room clearing weight"};
 inline constexpr Bound kRoomClearTolerance{"--room-clear-tolerance", "", 0.001, 1, "RMS sRGB difference"};
+inline constexpr Bound kSubjectExplains{"--subject-explains", "", 0, 1, "RMS sRGB margin"};
 inline constexpr Bound kLeanGate{"--lean-gate", "", 0, 1, "clearing gate beyond the bare head"};
 inline constexpr Bound kSolidPull{"--solid-pull", "", 0, 100, "pull towards opaque in the head's interior"};
 

@@ -24,7 +24,9 @@ __kernel void render_loss(const LossParams p, __global const uint* ray_offsets,
   ray_loss[ray] = render_ray_loss(color, target, p.loss_kind, p.grad_scale, dC);
   render_ray_backward(sigma, rgb, p.stride, first, count, used, p.step, color, dC, dsigma, drgb);
   if (p.opacity_prior > 0.0f) {
-    const float gate = p.room_clear > 0.0f ? render_ray_room_gate(target, bg, p.room_clear_tolerance) : 0.0f;
+    const float gate = p.room_clear > 0.0f ? render_ray_clear_gate(target, bg, color, p.room_clear_tolerance,
+                                                                   p.subject_explains)
+                                           : 0.0f;
     if (p.zone_res > 0u)
       render_ray_opacity_prior_zones(first, count, used, p.step, color, p.opacity_prior, p.room_clear, gate,
                                      p.lean_gate, p.solid_pull, 3.0f * p.grad_scale, pos, p.stride, zone_bits,

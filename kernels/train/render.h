@@ -126,16 +126,38 @@ LGN_INLINE void render_ray_backward(LGN_GLOBAL const float* sigma, LGN_GLOBAL co
   }
 }
 
+// RMS over the channels of the sRGB difference between two linear colours.
+LGN_INLINE float render_ray_srgb_rms(const float* a, const float* b) {
+  float e2 = 0.0f;
+  for (int c = 0; c < 3; ++c) {
+    const float d = lgn_srgb_encode(a[c]) - lgn_srgb_encode(b[c]);
+    e2 += d * d;
+  }
+  return sqrt(e2 / 3.0f);
+}
+
 // The room gate g of the prior above: 1 where the room colour `bg` (linear) equals the pixel
 // `target` (linear), falling linearly to 0 at an RMS sRGB difference of `tolerance` (0: no gate).
 LGN_INLINE float render_ray_room_gate(const float* target, const float* bg, float tolerance) {
   if (!(tolerance > 0.0f)) return 0.0f;
-  float e2 = 0.0f;
-  for (int c = 0; c < 3; ++c) {
-    const float d = lgn_srgb_encode(bg[c]) - lgn_srgb_encode(target[c]);
-    e2 += d * d;
-  }
-  return fmin(fmax(1.0f - sqrt(e2 / 3.0f) / tolerance, 0.0f), 1.0f);
+  return fmin(fmax(1.0f - render_ray_srgb_rms(bg, target) / tolerance, 0.0f), 1.0f);
+}
+
+// The same gate, closed as far as the subject explains the pixel better than the room alone: the
+// ray's render `color` (the subject composited over the room) nearer the pixel than `bg` by d (RMS
+// sRGB) scales the gate by 1 - d / `margin` (0 at d >= margin; margin 0: the room gate alone). The
+// clearing's premise is that the subject's opacity explains nothing the room does not; a subject
+// whose own colour carries what the flat room lacks (hair strands shaded about the wall's colour, a
+// face's shading and highlight before a wall of its colour) earns the ray, while a haze that paints
+// the room's own colour (d about 0) is cleared as before. A ray left transparent renders the room's
+// colour (d = 0), so the rule keeps a subject that formed and fills no hole that the colour loss
+// does not fill. The gate is a weight, not differentiated (as the room gate).
+LGN_INLINE float render_ray_clear_gate(const float* target, const float* bg, const float* color,
+                                       float tolerance, float margin) {
+  const float g = render_ray_room_gate(target, bg, tolerance);
+  if (!(margin > 0.0f) || !(g > 0.0f)) return g;
+  const float d = render_ray_srgb_rms(bg, target) - render_ray_srgb_rms(color, target);
+  return g * fmin(fmax(1.0f - d / margin, 0.0f), 1.0f);
 }
 
 // Adds the opacity prior's gradient (weight * ((1 - g) a (1 - a) + clear g a) per ray, times

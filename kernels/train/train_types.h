@@ -71,7 +71,10 @@ typedef struct LossParams {
   lgn_uint zone_res;
   float lean_gate;
   float solid_pull;  // the "solid" zone's pull towards an opaque ray, relative to opacity_prior
-  lgn_uint pad0, pad1, pad2;
+  // The RMS sRGB margin by which the subject's render nearer the pixel than the room's colour
+  // closes the clearing's gate (render_ray_clear_gate; 0 = the room gate alone).
+  float subject_explains;
+  lgn_uint pad1, pad2;
 } LossParams;
 LGN_STATIC_ASSERT(sizeof(LossParams) == 64, "LossParams layout is shared with OpenCL");
 

@@ -123,6 +123,10 @@ void add_train(CLI::App& app, GlobalOptions& global) {
   cmd->add_option("--room-clear-tolerance", a->settings.room.room_clear_tolerance,
                   "RMS sRGB difference between the room's colour and the pixel at which --room-clear stops")
       ->capture_default_str();
+  cmd->add_option("--subject-explains", a->settings.room.subject_explains,
+                  "with the room model: the clearing stops where the subject's render is this much (RMS "
+                  "sRGB) nearer the pixel than the room's colour alone (0 = off)")
+      ->capture_default_str();
   cmd->add_option("--lean-gate", a->settings.room.lean_gate,
                   "with the room model and a head box: in the head volume beyond the bare head, the "
                   "clearing's gate is at least this (1: always clear there; 0 = off)")
