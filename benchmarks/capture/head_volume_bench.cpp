@@ -32,6 +32,7 @@
 #include <functional>
 #include <map>
 
+#include "capture/face_hull.h"
 #include "capture/head_volume.h"
 #include "capture/subject_box.h"
 #include "fit/camera_math.h"
@@ -74,7 +75,13 @@ struct LeakSplit {
   // the gate summed over each; and interior rays and holes per 20 mm of head-frame height.
   std::array<double, 4> interior{0, 0, 0, 0}, holes{0, 0, 0, 0}, gate{0, 0, 0, 0}, hole_gate{0, 0, 0, 0};
   std::map<int, std::array<double, 2>> holes_y;
+  // The head's certain interior grown by kGrowthMm (training's crossing test: a ray that crosses it
+  // gets no clearing): per growth, the interior rays, holes and the leak (seen opacity on room rays)
+  // whose rays cross it.
+  std::vector<nerf::SubjectVolume> grown_solid;
+  std::array<double, 6> cross_interior{}, cross_holes{}, cross_leak{};
 };
+constexpr double kGrowthMm[6] = {0, 5, 10, 15, 20, 30};
 
 struct Case {
   std::string name, model, data;
@@ -234,6 +241,7 @@ std::array<double, 3> seen_opacity(cl::Runtime& rt, nerf::NerfModel& model, cons
           room[size_t(y) * w + x] = 1.0f - m, leak->subject += m >= 0.5f;
         }
     std::vector<Sample> samples;
+    std::vector<int> crossing(size_t(w) * h, 99);
     for (int y = 0; y < h; ++y)
       for (int x = 0; x < w; ++x) {
         fit::Ray r = fit::camera_ray(fr->camera, {(x + 0.5) * stride, (y + 0.5) * stride});
@@ -245,8 +253,20 @@ std::array<double, 3> seen_opacity(cl::Runtime& rt, nerf::NerfModel& model, cons
           double inv = 1.0 / r.dir[a], ta = (bb.min[a] - o[a]) * inv, tb = (bb.max[a] - o[a]) * inv;
           t0 = std::max(t0, std::min(ta, tb)), t1 = std::min(t1, std::max(ta, tb));
         }
+        int growth = 99;  // the smallest growth of the certain interior this ray crosses
         for (double t = t0 + 0.5 * step; t < t1; t += step) {
           Eigen::Vector3d p = o + t * r.dir;
+          if (matte && !leak->grown_solid.empty()) {
+            const Eigen::Vector3d pg =
+                (p - Eigen::Vector3d(model.normalisation.offset[0], model.normalisation.offset[1],
+                                     model.normalisation.offset[2])) /
+                model.normalisation.scale;
+            for (int g = 0; g < std::min(growth, 6); ++g)
+              if (leak->grown_solid[g].contains(vec(pg))) {
+                growth = g;
+                break;
+              }
+          }
           nerf::Vec3f q;
           for (int a = 0; a < 3; ++a)
             q[a] = std::clamp(float((p[a] - bb.min[a]) / bb.extent(a)), 0.0f, 0.999999f);
@@ -274,6 +294,7 @@ std::array<double, 3> seen_opacity(cl::Runtime& rt, nerf::NerfModel& model, cons
           }
           samples.push_back(s);
         }
+        if (matte) crossing[size_t(y) * w + x] = growth;
       }
     std::vector<nerf::Vec3f> points(samples.size());
     for (size_t i = 0; i < samples.size(); ++i) points[i] = samples[i].q;
@@ -297,7 +318,12 @@ std::array<double, 3> seen_opacity(cl::Runtime& rt, nerf::NerfModel& model, cons
       leak->interior[hole_zone[i]] += 1, leak->holes[hole_zone[i]] += hole;
       leak->gate[hole_zone[i]] += hole_gate[i], leak->hole_gate[hole_zone[i]] += hole ? hole_gate[i] : 0.0f;
       leak->holes_y[hole_y[i]][0] += 1, leak->holes_y[hole_y[i]][1] += hole;
+      for (int g = crossing[i]; g < 6; ++g) leak->cross_interior[g] += 1, leak->cross_holes[g] += hole;
     }
+    if (matte)
+      for (int i = 0; i < w * h; ++i)
+        for (int g = crossing[i]; g < 6 && room[i] > 0.0f; ++g)
+          leak->cross_leak[g] += (per_ray[i][0] + per_ray[i][1] + per_ray[i][2]) * room[i];
     Image img(w, h, 3);
     const float tint[3][3] = {{0.25f, 0.25f, 0.25f}, {0.9f, 0.1f, 0.1f}, {0.1f, 0.3f, 0.95f}};
     for (int i = 0; i < w * h; ++i) {
@@ -397,6 +423,11 @@ static int run(int argc, char** argv) {
       leak.mattes.emplace(stem, std::make_pair(synth::read_matte(cs.data + "/" + files.matte),
                                                read_image(cs.data + "/" + files.depth)));
     const nerf::SubjectVolume keep = capture::head_clear_keep(b), core = capture::head_clear_core(b);
+    for (double g : kGrowthMm) {
+      nerf::SubjectVolume v = capture::head_solid_core(b);
+      for (nerf::OrientedShape& part : v.parts) part = part.grown(float(g / b.head.mm_per_unit));
+      leak.grown_solid.push_back(v);
+    }
     leak.zone_of = [&](const Eigen::Vector3d& p) {
       const nerf::Vec3f v = vec(p);
       return keep.contains(v) ? kKeep : core.contains(v) ? kCore : head.contains(v) ? kLean : kOutside;
@@ -420,6 +451,13 @@ static int run(int argc, char** argv) {
             cs.name, kZoneNames[z], leak.interior[z], leak.holes[z],
             100.0 * leak.holes[z] / std::max(leak.interior[z], 1.0),
             leak.gate[z] / std::max(leak.interior[z], 1.0), leak.hole_gate[z] / std::max(leak.holes[z], 1.0));
+      for (int g = 0; g < 6; ++g)
+        spdlog::info(
+            "{}: rays crossing the certain interior grown by {:2.0f} mm: {:5.0f} interior rays, {:4.0f} "
+            "holes of {:4.0f}; {:.2f} % leak of {:.2f}",
+            cs.name, kGrowthMm[g], leak.cross_interior[g], leak.cross_holes[g],
+            leak.holes[0] + leak.holes[1] + leak.holes[2] + leak.holes[3], k * leak.cross_leak[g],
+            k * (leak.zone[0] + leak.zone[1] + leak.zone[2] + leak.zone[3]));
       for (const auto& [bin, v] : leak.holes_y)
         spdlog::info("{}: head-frame height {:4} mm: {:4.0f} interior rays, {:4.0f} holes", cs.name, bin * 20,
                      v[0], v[1]);

@@ -97,6 +97,11 @@ struct BackgroundOptions {
   // occupied. Colour cannot tell a pale face from a pale wall behind it; the geometry can
   // (docs/room-training.md, "A whole subject"). 0 = off (the clearing as everywhere else).
   float solid_pull = 1.0f;
+  // How far beyond the certain interior (mm, towards the skin) a ray counts as crossing it: the
+  // interior lies 4-20 mm inside any adult head's skin, so a ray that grazes the top of the skull
+  // through its hair passes over it, and there the clearing takes hair or skin of the wall's colour.
+  // The pull stays in the interior itself. 0 = the interior alone.
+  float solid_reach_mm = 0.0f;
 };
 
 class BackgroundField {

@@ -107,6 +107,8 @@ struct SubjectZones {
   // through it ends in the subject, so the room-explained clearing never applies to such a ray and
   // the prior pulls it to opaque there (BackgroundOptions::solid_pull); its cells stay occupied.
   SubjectVolume solid;
+  // Millimetres per scene unit of these volumes (0: unknown), for growths given in millimetres.
+  float mm_per_unit = 0.0f;
 };
 
 // The occupancy mask of `volume` over `box` at res^3 cells (occ_word_count(res) words, the grid's

@@ -34,6 +34,7 @@ json room_json(const BackgroundOptions& r) {
           {"subject_explains", r.subject_explains},
           {"lean_gate", r.lean_gate},
           {"solid_pull", r.solid_pull},
+          {"solid_reach_mm", r.solid_reach_mm},
           {"subject_zones", r.subject.has_value()}};
 }
 

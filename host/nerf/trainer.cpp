@@ -33,6 +33,15 @@ std::vector<uint32_t> solid_cells(const SubjectVolume& solid, const Aabb& box, u
   return bits;
 }
 
+// The subject's certain interior grown by `mm` towards its skin, where the prior's zones judge whether a
+// ray crosses it (render.h, the "reach" field); the interior itself without a scale or a growth.
+SubjectVolume solid_reach(const SubjectZones& z, float mm) {
+  SubjectVolume v = z.solid;
+  if (!(mm > 0.0f) || !(z.mm_per_unit > 0.0f)) return v;
+  for (OrientedShape& part : v.parts) part = part.grown(mm / z.mm_per_unit);
+  return v;
+}
+
 // The opacity prior's zones (RayPriors): the subject's keep cells, then the lean cells (outside its
 // core, not kept, and allowed by the subject's permanent occupancy mask when it has one, which holds
 // its volume); empty when neither applies.
@@ -43,10 +52,12 @@ std::vector<uint32_t> prior_zones(const BackgroundOptions& b, const NerfModel& m
   const bool solid = b.solid_pull > 0.0f && b.subject && !b.subject->solid.empty();
   if (!keep && !lean && !solid) return {};
   const uint32_t res = model.occupancy_resolution(), words = occ_word_count(res);
-  std::vector<uint32_t> zones(3 * size_t(words), 0u);
+  std::vector<uint32_t> zones(4 * size_t(words), 0u);
   if (solid) {
     const std::vector<uint32_t> s = solid_cells(b.subject->solid, model.aabb(), res);
     std::copy(s.begin(), s.end(), zones.begin() + 2 * words);
+    const std::vector<uint32_t> r = solid_cells(solid_reach(*b.subject, b.solid_reach_mm), model.aabb(), res);
+    for (uint32_t w = 0; w < words; ++w) zones[3 * words + w] = r[w] | s[w];
   }
   if (keep) {
     const std::vector<uint32_t> k = volume_occupancy_mask(b.subject->keep, model.aabb(), res);
@@ -62,7 +73,10 @@ std::vector<uint32_t> prior_zones(const BackgroundOptions& b, const NerfModel& m
       "(gate >= {:.2f}: the volume beyond the bare head), {} are the subject's certain interior",
       mask_count({zones.begin(), zones.begin() + words}),
       mask_count({zones.begin() + words, zones.begin() + 2 * words}), b.lean_gate,
-      mask_count({zones.begin() + 2 * words, zones.end()}));
+      mask_count({zones.begin() + 2 * words, zones.begin() + 3 * words}));
+  if (solid && b.solid_reach_mm > 0.0f)
+    spdlog::info("rays within {:.0f} mm of the certain interior are the subject's ({} cells)",
+                 b.solid_reach_mm, mask_count({zones.begin() + 3 * words, zones.end()}));
   return zones;
 }
 

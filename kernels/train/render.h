@@ -178,7 +178,7 @@ LGN_INLINE float render_ray_opacity_prior(lgn_uint first, lgn_uint used, float s
   return weight * ((1.0f - gate) * a * (1.0f - a) + clear * gate * a);
 }
 
-// The same with prior zones: three bitfields of `res`^3 cells over the model's box, one after the other
+// The same with prior zones: four bitfields of `res`^3 cells over the model's box, one after the other
 // (occ_word_count(res) words each; positions `pos` SoA with `stride`, normalised to the box). Samples
 // in the first field's cells ("keep") get the binary prior's gradient (gate 0): where the room
 // model's own subject-coloured surface lies right behind the subject (the body below a head box,
@@ -195,6 +195,9 @@ LGN_INLINE float render_ray_opacity_prior(lgn_uint first, lgn_uint used, float s
 // weight towards an opaque ray, which fills a hole there that the colour loss cannot tell from the
 // wall. The crossing is judged over all `count` samples of the ray, not only the `used` ones in
 // front of its opaque surface: a ray that the skin makes opaque before the interior still crosses it.
+// The fourth field ("reach", holding the third) is where that crossing is judged: the interior grown
+// towards the skin (BackgroundOptions::solid_reach_mm), so a ray that passes over the top of the
+// skull through its hair, short of the interior, is the subject's too; the pull stays in the interior.
 LGN_INLINE void render_ray_opacity_prior_zones(lgn_uint first, lgn_uint count, lgn_uint used, float step,
                                                const float* color, float weight, float clear, float gate,
                                                float lean_gate, float solid_pull, float ray_scale,
@@ -203,10 +206,11 @@ LGN_INLINE void render_ray_opacity_prior_zones(lgn_uint first, lgn_uint count, l
                                                LGN_GLOBAL float* dsigma) {
   LGN_GLOBAL const lgn_uint* lean_bits = zone_bits + occ_word_count(res);
   LGN_GLOBAL const lgn_uint* solid_bits = zone_bits + 2u * occ_word_count(res);
+  LGN_GLOBAL const lgn_uint* reach_bits = zone_bits + 3u * occ_word_count(res);
   int crosses = 0;
   for (lgn_uint k = 0; k < count && !crosses; ++k) {
     const lgn_uint i = first + k;
-    crosses = occ_test(solid_bits, res, pos[i], pos[stride + i], pos[2u * stride + i]);
+    crosses = occ_test(reach_bits, res, pos[i], pos[stride + i], pos[2u * stride + i]);
   }
   const float a = color[3], T = 1.0f - a;
   const float binary = render_ray_opacity_prior_dlda(a, weight, clear, 0.0f, ray_scale);

@@ -136,6 +136,10 @@ void add_train(CLI::App& app, GlobalOptions& global) {
                   "subject's (no clearing), and that interior is pulled opaque with this many times the "
                   "opacity prior's weight (0 = off)")
       ->capture_default_str();
+  cmd->add_option("--solid-reach", a->settings.room.solid_reach_mm,
+                  "with the room model and a head box: a ray that passes within this many mm of the head's "
+                  "certain interior counts as crossing it (no clearing; the pull stays in the interior)")
+      ->capture_default_str();
   cmd->add_option("--aabb-scale", a->settings.aabb_scale,
                   "box size factor for datasets without alpha, 0.01..128 (default: dataset)");
   // Every number's range is checked by nerf::validate (host/util/bounds.h), with the same message

@@ -22,33 +22,38 @@ constexpr float kInterior = 0.2f;  // the certain interior: a sphere about the b
 
 float linear(float s) { return s <= 0.04045f ? s / 12.92f : std::pow((s + 0.055f) / 1.055f, 2.4f); }
 
-// Zone bitfields (keep, lean, solid): only the interior, so the hair lies in the core (the ray's gate).
-std::vector<uint32_t> interior_zones() {
-  std::vector<uint32_t> bits(3 * occ_word_count(kRes), 0u);
+// Zone bitfields (keep, lean, solid, reach): the interior, and where a ray counts as crossing it (the
+// interior grown to radius `reach`); the hair lies in the core (the ray's gate).
+std::vector<uint32_t> interior_zones(float reach = kInterior) {
+  std::vector<uint32_t> bits(4 * occ_word_count(kRes), 0u);
   for (uint32_t c = 0; c < kRes * kRes * kRes; ++c) {
     const float x = (float(c % kRes) + 0.5f) / kRes - 0.5f, y = (float(c / kRes % kRes) + 0.5f) / kRes - 0.5f,
                 z = (float(c / (kRes * kRes)) + 0.5f) / kRes - 0.5f;
-    if (x * x + y * y + z * z < kInterior * kInterior)
-      bits[2 * occ_word_count(kRes) + (c >> 5)] |= 1u << (c & 31u);
+    const float r2 = x * x + y * y + z * z;
+    for (uint32_t field : {2u, 3u})
+      if (r2 < (field == 2u ? kInterior * kInterior : reach * reach))
+        bits[field * occ_word_count(kRes) + (c >> 5)] |= 1u << (c & 31u);
   }
   return bits;
 }
 
-// A ray along z at height y = 0.5 + 0.3 (above the interior) with a slab z in [0.3, 0.4) of optical
-// depth `tau` and colour `rgb` (linear) at every sample.
+// A ray along z at height `y` (0.8: 0.3 above the interior's centre, 0.1 above the interior) with a slab z in
+// [0.3, 0.4) of optical depth `tau` and colour `rgb` (linear) at every sample.
 struct Ray {
   std::vector<float> pos, sigma, rgb;
 };
-Ray slab(float tau, const float* rgb) {
+Ray slab(float tau, const float* rgb, float y = 0.8f) {
   Ray r;
   r.pos.resize(3 * kSamples);
   r.sigma.assign(kSamples, 0.0f);
   r.rgb.resize(3 * kSamples);
-  auto in_slab = [](uint32_t k) { return (float(k) + 0.5f) * kStep > 0.3f && (float(k) + 0.5f) * kStep < 0.4f; };
+  auto in_slab = [](uint32_t k) {
+    return (float(k) + 0.5f) * kStep > 0.3f && (float(k) + 0.5f) * kStep < 0.4f;
+  };
   uint32_t n = 0;
   for (uint32_t k = 0; k < kSamples; ++k) n += in_slab(k);
   for (uint32_t k = 0; k < kSamples; ++k) {
-    r.pos[k] = 0.5f, r.pos[kSamples + k] = 0.8f, r.pos[2 * kSamples + k] = (float(k) + 0.5f) * kStep;
+    r.pos[k] = 0.5f, r.pos[kSamples + k] = y, r.pos[2 * kSamples + k] = (float(k) + 0.5f) * kStep;
     for (int c = 0; c < 3; ++c) r.rgb[c * kSamples + k] = rgb[c];
     if (in_slab(k)) r.sigma[k] = tau / (float(n) * kStep);
   }
@@ -63,20 +68,21 @@ float opacity(const Ray& r) {
 
 // `steps` of descent on the densities with the loss kernel's gradient: the colour loss (the pixel
 // `pixel` over the room's colour `wall`) and the zones' prior with the gate of render_ray_clear_gate
-// at `margin` (0: the room gate alone). Returns the ray's final opacity.
-float train(Ray r, const float* pixel, const float* wall, float margin, int steps) {
-  const std::vector<uint32_t> zones = interior_zones();
+// at `margin` (0: the room gate alone), with `zones`. Returns the ray's final opacity.
+float train(Ray r, const float* pixel, const float* wall, float margin, int steps,
+            const std::vector<uint32_t>& zones = interior_zones()) {
   for (int it = 0; it < steps; ++it) {
     float color[4], dC[3];
     std::vector<float> dsigma(kSamples, 0.0f), drgb(3 * kSamples, 0.0f);
-    const uint32_t used = render_ray_forward(r.sigma.data(), r.rgb.data(), kSamples, 0, kSamples, kStep, 1e-4f,
-                                             wall, color);
+    const uint32_t used =
+        render_ray_forward(r.sigma.data(), r.rgb.data(), kSamples, 0, kSamples, kStep, 1e-4f, wall, color);
     render_ray_loss(color, pixel, LOSS_L2_SRGB, 1.0f / 3.0f, dC);
     render_ray_backward(r.sigma.data(), r.rgb.data(), kSamples, 0, kSamples, used, kStep, color, dC,
                         dsigma.data(), drgb.data());
     const float gate = render_ray_clear_gate(pixel, wall, color, kTolerance, margin);
     render_ray_opacity_prior_zones(0, kSamples, used, kStep, color, kWeight, kClear, gate, kLeanGate,
-                                   kSolidPull, 1.0f, r.pos.data(), kSamples, zones.data(), kRes, dsigma.data());
+                                   kSolidPull, 1.0f, r.pos.data(), kSamples, zones.data(), kRes,
+                                   dsigma.data());
     for (uint32_t k = 0; k < kSamples; ++k) r.sigma[k] = std::fmax(0.0f, r.sigma[k] - 2e4f * dsigma[k]);
   }
   return opacity(r);
@@ -121,6 +127,21 @@ TEST(ClearGate, HairShadedAboutTheWallsColourStaysAndTheWallsHazeClears) {
   EXPECT_GT(train(hair, kStrand, kWall, 0.02f, 2000), 0.9f) << "the hair the subject explains stays";
   EXPECT_LT(train(haze, kWall, kWall, 0.02f, 2000), 0.05f) << "the wall's haze clears";
   EXPECT_LT(train(haze, kWall, kWall, 0.0f, 2000), 0.05f);
+}
+
+// The crossing judged within a reach of the interior (render.h's "reach" field,
+// BackgroundOptions::solid_reach_mm): the hair's ray passes 0.1 above the interior, so the clearing
+// takes it with the interior alone and leaves it to the binary prior within a reach of 0.12; a haze
+// 0.22 above the interior, beyond that reach, still clears. The pull stays in the interior itself,
+// so the reach adds no density where the ray does not already hold some.
+TEST(ClearGate, ARayWithinTheReachOfTheInteriorIsTheSubjects) {
+  const std::vector<uint32_t> reach = interior_zones(kInterior + 0.12f);
+  const Ray hair = slab(-std::log(0.1f), kStrand), haze = slab(-std::log(0.6f), kWall, 0.92f);
+  const Ray empty = slab(0.0f, kStrand);
+  EXPECT_LT(train(hair, kStrand, kWall, 0.0f, 2000), 0.5f) << "the interior alone: cleared";
+  EXPECT_GT(train(hair, kStrand, kWall, 0.0f, 2000, reach), 0.9f) << "within the reach: the subject's";
+  EXPECT_LT(train(haze, kWall, kWall, 0.0f, 2000, reach), 0.05f) << "beyond the reach: cleared";
+  EXPECT_EQ(train(empty, kWall, kWall, 0.0f, 2000, reach), 0.0f) << "no density added outside the interior";
 }
 
 }  // namespace

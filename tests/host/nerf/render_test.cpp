@@ -248,7 +248,7 @@ TEST(Render, PriorZonesPickTheGatePerSample) {
   Rays r = random_rays(200, 9);
   const float step = 0.015f, weight = 0.25f, clear = 3.0f, tolerance = 0.4f, lean_gate = 0.6f;
   const uint32_t res = 4, words = occ_word_count(res);
-  std::vector<uint32_t> zones(3 * words, 0u);  // keep, lean; no solid cells (solid_prior_test.cpp)
+  std::vector<uint32_t> zones(4 * words, 0u);  // keep, lean; no solid or reach cells (solid_prior_test.cpp)
   std::mt19937 gen(3);
   for (uint32_t c = 0; c < res * res * res; ++c)
     for (uint32_t z = 0; z < 2; ++z)

@@ -17,14 +17,14 @@ constexpr float kStep = 1.0f / kSamples;
 constexpr float kWeight = 0.03f, kClear = 1.0f, kGate = 1.0f, kLeanGate = 1.0f, kScale = 1.0f;
 constexpr float kHead = 0.35f, kInterior = 0.2f;  // radii about the box's centre
 
-// Zone bitfields (keep, lean, solid) with the cells whose centre lies in the interior as solid.
+// Zone bitfields (keep, lean, solid, reach) with the cells whose centre lies in the interior as solid.
 std::vector<uint32_t> interior_zones() {
-  std::vector<uint32_t> bits(3 * occ_word_count(kRes), 0u);
+  std::vector<uint32_t> bits(4 * occ_word_count(kRes), 0u);
   for (uint32_t c = 0; c < kRes * kRes * kRes; ++c) {
     const float x = (float(c % kRes) + 0.5f) / kRes - 0.5f, y = (float(c / kRes % kRes) + 0.5f) / kRes - 0.5f,
                 z = (float(c / (kRes * kRes)) + 0.5f) / kRes - 0.5f;
     if (x * x + y * y + z * z < kInterior * kInterior)
-      bits[2 * occ_word_count(kRes) + (c >> 5)] |= 1u << (c & 31u);
+      for (uint32_t field : {2u, 3u}) bits[field * occ_word_count(kRes) + (c >> 5)] |= 1u << (c & 31u);
   }
   return bits;
 }
@@ -71,7 +71,7 @@ float descend(Ray r, float solid_pull, const std::vector<uint32_t>& zones, int s
 // beside the interior, through the skin only, keeps the clearing (the edge of the head is where the
 // evidence is ambiguous; the rule claims no more than the interior it is given).
 TEST(SolidPrior, AHoleOnARayThroughTheInteriorFillsWhereTheClearingEmptiedIt) {
-  const std::vector<uint32_t> zones = interior_zones(), none(3 * occ_word_count(kRes), 0u);
+  const std::vector<uint32_t> zones = interior_zones(), none(4 * occ_word_count(kRes), 0u);
   const float skin = -std::log(0.8f) / (2.0f * 0.05f);  // skin 0.05 thick: ~0.2 opacity per crossing
   const Ray centre = ray_at(0.5f, 0.52f, skin), edge = ray_at(0.5f + 0.3f, 0.5f, skin);
   ASSERT_GT(opacity(centre), 0.1f);
