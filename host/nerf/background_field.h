@@ -97,11 +97,14 @@ struct BackgroundOptions {
   // occupied. Colour cannot tell a pale face from a pale wall behind it; the geometry can
   // (docs/room-training.md, "A whole subject"). 0 = off (the clearing as everywhere else).
   float solid_pull = 1.0f;
-  // How far beyond the certain interior (mm, towards the skin) a ray counts as crossing it: the
-  // interior lies 4-20 mm inside any adult head's skin, so a ray that grazes the top of the skull
-  // through its hair passes over it, and there the clearing takes hair or skin of the wall's colour.
-  // The pull stays in the interior itself. 0 = the interior alone.
-  float solid_reach_mm = 0.0f;
+  // How far beyond the certain interior (mm, towards the skin) a ray counts as crossing it. The
+  // interior lies 4-20 mm inside the skin (12 mm below a p1 adult skull's top, 10 mm inside its
+  // sides), so a ray that grazes the top of the skull through its hair passes over it, and the
+  // clearing took hair and skin of the wall's colour there (docs/room-training.md, "The interior's
+  // reach"). Within 15 mm a ray lies in the skin or its hair for most heads and at most about 10 mm
+  // beside the skin where the interior comes nearest it: the head's edge, where haze is the lesser
+  // flaw. The pull stays in the interior itself. 0 = the interior alone.
+  float solid_reach_mm = 15.0f;
 };
 
 class BackgroundField {

@@ -74,7 +74,7 @@ std::vector<uint32_t> prior_zones(const BackgroundOptions& b, const NerfModel& m
       mask_count({zones.begin(), zones.begin() + words}),
       mask_count({zones.begin() + words, zones.begin() + 2 * words}), b.lean_gate,
       mask_count({zones.begin() + 2 * words, zones.begin() + 3 * words}));
-  if (solid && b.solid_reach_mm > 0.0f)
+  if (solid && b.solid_reach_mm > 0.0f && b.subject->mm_per_unit > 0.0f)
     spdlog::info("rays within {:.0f} mm of the certain interior are the subject's ({} cells)",
                  b.solid_reach_mm, mask_count({zones.begin() + 3 * words, zones.end()}));
   return zones;
