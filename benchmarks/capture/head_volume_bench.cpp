@@ -21,6 +21,11 @@
 // split by the room clearing's zone its samples lie in (capture/head_volume.h: keep = the neck below
 // the chin, core = the bare head, lean = the rest of the head volume, outside = beyond it) and located
 // in 20 mm bins of head-frame height and depth: head_volume_leak.csv and head_volume_leak_yz.csv.
+// The holes (host/render/hole_eval.h: the head's interior under 0.5 opacity) are logged by the zone
+// of the true surface point each interior ray hits (from the true depth), with the room-explained
+// gate its pixel reads against the plain wall's colour in its row, per 20 mm of head-frame height,
+// and for rays that cross the head's certain interior grown by 0-30 mm (training's crossing test,
+// BackgroundOptions::solid_reach_mm) with the leak those rays carry.
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
