@@ -125,7 +125,7 @@ void summarise(FitResult& r, const FitOptions& opt) {
   // cannot clear them, or needs more spread than a worn frame takes (input_checks.h).
   r.checks.push_back(check_front_penetration(r.contact.refined, r.contact.front_penetration_mm,
                                              opt.place.front_tolerance_mm));
-  r.checks.push_back(check_temple_spread(r.temples));
+  r.checks.push_back(check_temple_spread(r.temples, !r.ear_roots.from_density()));
   for (const InputCheck& c : r.checks)
     if (!c.passed) {
       r.ok = false;
