@@ -19,7 +19,8 @@ std::vector<bool> clear_at(const DensityFn& density, float threshold, const Poin
   std::vector<Eigen::Vector3f> q;
   std::vector<size_t> owner;
   for (size_t j = 0; j < which.size(); ++j)
-    for (const auto& p : sets[which[j]]) q.push_back((p + double(k[j]) * step).cast<float>()), owner.push_back(j);
+    for (const auto& p : sets[which[j]])
+      q.push_back((p + double(k[j]) * step).cast<float>()), owner.push_back(j);
   const std::vector<float> sigma = density(q);
   if (sigma.size() != q.size())
     throw std::runtime_error(
@@ -35,16 +36,18 @@ std::vector<bool> clear_at(const DensityFn& density, float threshold, const Poin
 std::vector<double> clearing_shifts_mm(const DensityFn& density, float threshold, const PointSets& sets,
                                        const Eigen::Vector3d& mm_fwd, double step_mm, double max_shift_mm) {
   if (!(step_mm > 0.0) || !(max_shift_mm >= step_mm))
-    throw std::runtime_error(fmt::format("clearing shifts: need 0 < step ({} mm) <= range ({} mm)", step_mm,
-                                         max_shift_mm));
+    throw std::runtime_error(
+        fmt::format("clearing shifts: need 0 < step ({} mm) <= range ({} mm)", step_mm, max_shift_mm));
   std::vector<double> out(sets.size(), -kInf);
   if (sets.empty()) return out;
   const int kmax = int(std::floor(max_shift_mm / step_mm + 1e-9));
   const Eigen::Vector3d step = step_mm * mm_fwd;
   std::vector<size_t> all(sets.size());
   for (size_t i = 0; i < all.size(); ++i) all[i] = i;
-  const std::vector<bool> far_back = clear_at(density, threshold, sets, all, std::vector<int>(all.size(), -kmax), step);
-  const std::vector<bool> far_out = clear_at(density, threshold, sets, all, std::vector<int>(all.size(), kmax), step);
+  const std::vector<bool> far_back =
+      clear_at(density, threshold, sets, all, std::vector<int>(all.size(), -kmax), step);
+  const std::vector<bool> far_out =
+      clear_at(density, threshold, sets, all, std::vector<int>(all.size(), kmax), step);
   std::vector<int> lo(sets.size(), -kmax), hi(sets.size(), kmax);  // lo: inside, hi: clear
   std::vector<size_t> active;
   for (size_t i = 0; i < sets.size(); ++i) {

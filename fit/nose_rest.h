@@ -11,13 +11,14 @@
 // u and its lower rims tilt out from the face (about 0.6 deg per mm of rise with the ears 100 mm
 // behind the bridge), as a frame pushed up the nose does.
 //
-// The rule: at each height u above Eq. 4's (0, rise_step_mm, ... max_rise_mm) the front rests at the smallest forward shift at which it clears the head, s(u); its bridge alone (the
-// front's samples within bridge_radius_mm of g_c) would rest at n(u). The gap s(u) - n(u) is how far
-// the bridge floats in front of the nose because something else holds the frame (0: the bridge holds
-// it). The frame rests at the lowest height whose gap is within rest_tolerance_mm of the smallest gap
-// over all heights: gravity keeps a frame as low as it can rest on its bridge. A frame that rests on
-// its bridge at Eq. 4's height (gap within the tolerance there) stays there, and so does one whose
-// bridge never meets the nose (a frame with pads: its gaps are alike at every height).
+// The rule: at each height u above Eq. 4's (0, rise_step_mm, ... max_rise_mm) the front rests at the smallest
+// forward shift at which it clears the head, s(u); its bridge alone (the front's samples within
+// bridge_radius_mm of g_c) would rest at n(u). The gap s(u) - n(u) is how far the bridge floats in front of
+// the nose because something else holds the frame (0: the bridge holds it). The frame rests at the lowest
+// height whose gap is within rest_tolerance_mm of the smallest gap over all heights: gravity keeps a frame as
+// low as it can rest on its bridge. A frame that rests on its bridge at Eq. 4's height (gap within the
+// tolerance there) stays there, and so does one whose bridge never meets the nose (a frame with pads: its
+// gaps are alike at every height).
 #pragma once
 #include <Eigen/Core>
 #include <limits>
@@ -38,8 +39,8 @@ std::vector<double> clearing_shifts_mm(const DensityFn& density, float threshold
                                        const Eigen::Vector3d& mm_fwd, double step_mm, double max_shift_mm);
 
 struct NoseRest {
-  double rise_mm = 0.0;  // chosen height above Eq. 4's
-  size_t chosen = 0;     // its index in the profile
+  double rise_mm = 0.0;                                         // chosen height above Eq. 4's
+  size_t chosen = 0;                                            // its index in the profile
   std::vector<double> heights_mm, shifts_mm, bridge_shifts_mm;  // the profile: u, s(u), n(u)
   // s(u) - n(u); +infinity where the front cannot clear or its bridge meets nothing.
   double gap_mm(size_t i) const;

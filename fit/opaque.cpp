@@ -11,8 +11,8 @@ DensityFn density_behind_opacity(const HeadProbe& head, DensityFn value) {
   const double step = kOpacityStepMm / head.mm_per_unit;
   const int n = int(std::lround(kOpacityReachMm / kOpacityStepMm));
   const double needed = -std::log(1.0 - kHeadOpacity);  // the optical depth of that opacity
-  return [density = head.density, value = std::move(value), axis = head.axis_point, up = head.d_up, solid, step,
-          n, needed](const std::vector<Eigen::Vector3f>& points) {
+  return [density = head.density, value = std::move(value), axis = head.axis_point, up = head.d_up, solid,
+          step, n, needed](const std::vector<Eigen::Vector3f>& points) {
     std::vector<float> sigma = value(points);
     std::vector<Eigen::Vector3f> line;
     std::vector<size_t> who;
@@ -21,7 +21,8 @@ DensityFn density_behind_opacity(const HeadProbe& head, DensityFn value) {
       Eigen::Vector3d r = points[i].cast<double>() - axis;
       r -= r.dot(up) * up;  // horizontal, from the axis out through the point
       const Eigen::Vector3d out = r.norm() > 1e-12 ? r.normalized() : Eigen::Vector3d(up.unitOrthogonal());
-      for (int k = 0; k < n; ++k) line.push_back((points[i].cast<double>() + (k + 0.5) * step * out).cast<float>());
+      for (int k = 0; k < n; ++k)
+        line.push_back((points[i].cast<double>() + (k + 0.5) * step * out).cast<float>());
       who.push_back(i);
     }
     if (who.empty()) return sigma;

@@ -31,7 +31,8 @@ struct Nose {
       for (size_t i = 0; i < p.size(); ++i) {
         const double x = p[i].x(), y = p[i].y(), z = p[i].z();
         const bool face = z < kEyesZ;
-        const bool nose = y > -45.0 && y < 20.0 && std::abs(x) < 0.5 * (w0 - k * y) && z < kJut * std::max(0.0, -y);
+        const bool nose =
+            y > -45.0 && y < 20.0 && std::abs(x) < 0.5 * (w0 - k * y) && z < kJut * std::max(0.0, -y);
         s[i] = face || nose ? 100.0f : 0.0f;
       }
       return s;

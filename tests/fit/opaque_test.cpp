@@ -53,7 +53,8 @@ double spread_deg(const HeadProbe& head) {
 TEST(Opaque, SemiTransparentHazeIsNotAHead) {
   HeadProbe hazy = probe(0.028f);
   // Point by point: the closed form's 18.1 deg (atan2(90, 70) - acos(94.5 / hypot(70, 90))), failed.
-  const double needed = (std::atan2(90.0, kHx) - std::acos((kShell - 0.5) / std::hypot(kHx, 90.0))) * 180.0 / M_PI;
+  const double needed =
+      (std::atan2(90.0, kHx) - std::acos((kShell - 0.5) / std::hypot(kHx, 90.0))) * 180.0 / M_PI;
   EXPECT_NEAR(-spread_deg(hazy), needed + 0.125, 0.135);
   // Behind 0.5 opacity only: the ball alone, which the rigid temples clear.
   hazy.density = density_behind_opacity(hazy, hazy.density);
@@ -72,7 +73,8 @@ TEST(Opaque, TheSkinLiesWhereItsOpacityReachesAHalf) {
   HeadProbe h = probe(0.028f);
   const DensityFn f = density_behind_opacity(h, h.density);
   std::vector<Eigen::Vector3f> pts;
-  for (double d : {60.0, 65.0, 70.0, 80.0, 91.0, 100.0}) pts.push_back((kCentre + Eigen::Vector3d(d, 0, 0)).cast<float>());
+  for (double d : {60.0, 65.0, 70.0, 80.0, 91.0, 100.0})
+    pts.push_back((kCentre + Eigen::Vector3d(d, 0, 0)).cast<float>());
   const std::vector<float> s = f(pts);
   EXPECT_GT(s[0], 1.0f);  // inside the ball
   EXPECT_GT(s[1], 1.0f);  // 1 mm under its surface: the ball's own opacity lies outside it
