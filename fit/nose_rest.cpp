@@ -31,6 +31,21 @@ std::vector<bool> clear_at(const DensityFn& density, float threshold, const Poin
   return clear;
 }
 
+// The lowest height whose front clears within `tolerance` of where the bridge rests on the nose at
+// Eq. 4's height (`bridge0`); else Eq. 4's own when its front clears there; else (it cannot clear at
+// Eq. 4's height) the lowest height within `tolerance` of the front's least-forward rest.
+size_t choose_height(const std::vector<double>& shifts, double bridge0, double tolerance) {
+  if (std::isfinite(bridge0))
+    for (size_t j = 0; j < shifts.size(); ++j)
+      if (shifts[j] <= bridge0 + tolerance) return j;
+  if (std::isfinite(shifts.front())) return 0;
+  const double least = *std::min_element(shifts.begin(), shifts.end());
+  if (!std::isfinite(least)) return 0;
+  for (size_t j = 0; j < shifts.size(); ++j)
+    if (shifts[j] <= least + tolerance) return j;
+  return 0;
+}
+
 }  // namespace
 
 std::vector<double> clearing_shifts_mm(const DensityFn& density, float threshold, const PointSets& sets,
@@ -75,12 +90,6 @@ std::vector<double> clearing_shifts_mm(const DensityFn& density, float threshold
   return out;
 }
 
-double NoseRest::gap_mm(size_t i) const {
-  if (i >= shifts_mm.size() || !std::isfinite(shifts_mm[i]) || !std::isfinite(bridge_shifts_mm[i]))
-    return kInf;
-  return shifts_mm[i] - bridge_shifts_mm[i];
-}
-
 NoseRest nose_rest(const HeadProbe& head, const std::vector<double>& heights_mm, const PointSets& front,
                    const PointSets& bridge, const Eigen::Vector3d& mm_fwd) {
   const ContactOptions& o = head.contact;
@@ -92,15 +101,8 @@ NoseRest nose_rest(const HeadProbe& head, const std::vector<double>& heights_mm,
   const float thr = o.density_threshold;
   rest.shifts_mm = clearing_shifts_mm(head.density, thr, front, mm_fwd, o.step_mm, o.max_shift_mm);
   rest.bridge_shifts_mm = clearing_shifts_mm(head.density, thr, bridge, mm_fwd, o.step_mm, o.max_shift_mm);
-  double least = kInf;
-  for (size_t j = 0; j < heights_mm.size(); ++j) least = std::min(least, rest.gap_mm(j));
-  if (!std::isfinite(least)) return rest;  // the bridge meets nothing, or nothing clears: Eq. 4's height
-  for (size_t j = 0; j < heights_mm.size(); ++j)
-    if (rest.gap_mm(j) <= least + o.rest_tolerance_mm) {
-      rest.rise_mm = heights_mm[j];
-      rest.chosen = j;
-      break;
-    }
+  rest.chosen = choose_height(rest.shifts_mm, rest.bridge_shifts_mm.front(), o.rest_tolerance_mm);
+  rest.rise_mm = heights_mm[rest.chosen];
   return rest;
 }
 

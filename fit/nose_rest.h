@@ -7,18 +7,23 @@
 // that: it floats the frame in front of the face until the rims clear the nose's sides (both real
 // captures: 15 mm, the search's whole range, with the front still inside).
 //
-// The frame rides up about the axis through the ears, on which its temples rest: its bridge rises by
-// u and its lower rims tilt out from the face (about 0.6 deg per mm of rise with the ears 100 mm
-// behind the bridge), as a frame pushed up the nose does.
+// The frame rides straight up, along the head's up square to d_fwd, and keeps Eq. 5's rotation. A
+// worn frame also tilts about its ear rests as it rides (~0.6 deg per mm, the ears 100 mm behind the
+// bridge), but the ride's height on a NeRF differs from the exact mesh's by up to 5 mm (room capture
+// r1_s1: 8.0-9.5 against 4.5 mm), which as a tilt turned the frame 6.3 deg off the ground truth's
+// rotation where the straight ride keeps Eq. 5's 1.9 deg.
 //
-// The rule: at each height u above Eq. 4's (0, rise_step_mm, ... max_rise_mm) the front rests at the smallest
-// forward shift at which it clears the head, s(u); its bridge alone (the front's samples within
-// bridge_radius_mm of g_c) would rest at n(u). The gap s(u) - n(u) is how far the bridge floats in front of
-// the nose because something else holds the frame (0: the bridge holds it). The frame rests at the lowest
-// height whose gap is within rest_tolerance_mm of the smallest gap over all heights: gravity keeps a frame as
-// low as it can rest on its bridge. A frame that rests on its bridge at Eq. 4's height (gap within the
-// tolerance there) stays there, and so does one whose bridge never meets the nose (a frame with pads: its
-// gaps are alike at every height).
+// The rule: at each height u above Eq. 4's (0, rise_step_mm, ... max_rise_mm) the front rests at
+// the smallest forward shift at which it clears the head, s(u); the bridge alone (the front's samples
+// within bridge_radius_mm of g_c) rests on the nose at Eq. 4's height at n(0). The frame rests at the
+// lowest height whose front rests within rest_tolerance_mm of n(0): where the front can sit as close
+// to the face as the bridge does on the nose (gravity keeps a frame as low as it can rest). A frame
+// whose front rests there at Eq. 4's height stays there; so does one whose bridge meets nothing there
+// (a frame on pads) or whose front never comes that close but clears at Eq. 4's height. A front that
+// cannot clear the head at Eq. 4's height at all rides to the lowest height within the tolerance of
+// its least-forward rest. (Asking the bridge to touch the nose at each height instead rode a NeRF of
+// room capture r1_s1 11.0 mm against its exact mesh's 4.5 mm: higher up, the nose recedes towards
+// the nasion under the bridge, and a NeRF's cheeks hold the front off it.)
 #pragma once
 #include <Eigen/Core>
 #include <limits>
@@ -41,13 +46,11 @@ std::vector<double> clearing_shifts_mm(const DensityFn& density, float threshold
 struct NoseRest {
   double rise_mm = 0.0;                                         // chosen height above Eq. 4's
   size_t chosen = 0;                                            // its index in the profile
-  std::vector<double> heights_mm, shifts_mm, bridge_shifts_mm;  // the profile: u, s(u), n(u)
-  // s(u) - n(u); +infinity where the front cannot clear or its bridge meets nothing.
-  double gap_mm(size_t i) const;
+  std::vector<double> heights_mm, shifts_mm, bridge_shifts_mm;  // the profile: u, s(u), n(u) (logged)
 };
 
 // The rule above. Per height u in `heights_mm` (ascending, the first 0): the front's scene samples
-// and its bridge's as the frame stands raised by u (place.cpp turns it about the ears).
+// and its bridge's as the frame stands raised by u.
 NoseRest nose_rest(const HeadProbe& head, const std::vector<double>& heights_mm, const PointSets& front,
                    const PointSets& bridge, const Eigen::Vector3d& mm_fwd);
 

@@ -5,7 +5,6 @@
 #include <spdlog/spdlog.h>
 
 #include <Eigen/Dense>
-#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -175,23 +174,8 @@ double slide_mm(const DensityFn& density, const std::vector<Eigen::Vector3d>& fr
   return s < -opt.max_shift_mm ? 0.0 : s + opt.step_mm;  // the last position without contact
 }
 
-// The frame turned about the axis through the ears (its temples rest there) so that its bridge g_c
-// (the canonical origin, at `bridge`) rises by u scene units along `up`: a rigid scene transform.
-Eigen::Matrix4d raise_about_ears(const HeadProbe& head, const Eigen::Vector3d& bridge,
-                                 const Eigen::Vector3d& fwd, const Eigen::Vector3d& up, double u) {
-  const Eigen::Vector3d v = bridge - head.axis_point;
-  const double f = v.dot(fwd), h = v.dot(up), rho = std::hypot(f, h);
-  Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
-  if (!(f > 0.0) || !(rho > 0.0)) return m;
-  const double theta = std::asin(std::clamp((h + u) / rho, -1.0, 1.0)) - std::asin(h / rho);
-  const Eigen::Matrix3d r = Eigen::AngleAxisd(theta, fwd.cross(up).normalized()).toRotationMatrix();
-  m.block<3, 3>(0, 0) = r;
-  m.block<3, 1>(0, 3) = head.axis_point - r * head.axis_point;
-  return m;
-}
-
-// The frame raised to where its front rests on its bridge (nose_rest.h), turned about the ears;
-// identity when it rests at Eq. 4's height. `fwd`, `up`: the head's axes, square to each other.
+// The frame raised along `up` to where its front rests on its bridge (nose_rest.h), as a scene
+// transform; identity when it rests at Eq. 4's height. `fwd`, `up`: the head's axes, square to each other.
 Eigen::Matrix4d rest_on_nose(const HeadProbe& head, const Eigen::Matrix4d& transform,
                              const std::vector<Eigen::Vector3d>& front_canon, const Eigen::Vector3d& fwd,
                              const Eigen::Vector3d& up, double* rise) {
@@ -205,10 +189,10 @@ Eigen::Matrix4d rest_on_nose(const HeadProbe& head, const Eigen::Matrix4d& trans
   std::vector<double> heights;
   std::vector<Eigen::Matrix4d> raise;
   PointSets front, bridge;
-  const Eigen::Vector3d g_c = transform.block<3, 1>(0, 3);
   for (int j = 0; j <= int(std::floor(o.max_rise_mm / o.rise_step_mm + 1e-9)); ++j) {
     heights.push_back(j * o.rise_step_mm);
-    raise.push_back(raise_about_ears(head, g_c, fwd, up, heights.back() / head.mm_per_unit));
+    raise.push_back(Eigen::Matrix4d::Identity());
+    raise.back().block<3, 1>(0, 3) = heights.back() / head.mm_per_unit * up;
     front.push_back(transform_points(raise.back() * transform, front_c));
     bridge.push_back(transform_points(raise.back() * transform, bridge_c));
   }
@@ -218,10 +202,10 @@ Eigen::Matrix4d rest_on_nose(const HeadProbe& head, const Eigen::Matrix4d& trans
                   rest.heights_mm[j], rest.shifts_mm[j], rest.bridge_shifts_mm[j]);
   if (rest.rise_mm > 0.0)
     spdlog::info(
-        "fit: the frame rides {:.1f} mm up the nose: lower, its rims meet the nose's sides before its "
-        "bridge meets the nose (the bridge {:.2f} mm in front of the nose at Eq. 4's height, {:.2f} mm "
-        "there)",
-        rest.rise_mm, rest.gap_mm(0), rest.gap_mm(rest.chosen));
+        "fit: the frame rides {:.1f} mm up the nose: at Eq. 4's height its rims meet the nose's sides and "
+        "hold its front {:.2f} mm in front of where its bridge rests on the nose; {:.2f} mm there",
+        rest.rise_mm, rest.shifts_mm.front() - rest.bridge_shifts_mm.front(),
+        rest.shifts_mm[rest.chosen] - rest.bridge_shifts_mm.front());
   *rise = rest.rise_mm;
   return raise[rest.chosen];
 }
@@ -238,13 +222,12 @@ ContactResult refine_contact(Placement& placement, const HeadProbe& head, const 
     if (p.z() >= opt.tip_z_mm) body_canon.push_back(p);
   }
   res.penetration_before_mm = penetration_depth_mm(head, transform_points(placement.transform, body_canon));
-  // The head's up, square to d_fwd: the ride changes the height and the tilt alone.
+  // The head's up, square to d_fwd: the ride changes the height alone.
   const Eigen::Vector3d fwd = d_fwd.normalized();
   const Eigen::Vector3d up = (head.d_up - head.d_up.dot(fwd) * fwd).normalized();
   if (up.allFinite()) {
     const Eigen::Matrix4d raise = rest_on_nose(head, placement.transform, front_canon, fwd, up, &res.rise_mm);
     placement.transform = raise * placement.transform;
-    placement.rotation = raise.block<3, 3>(0, 0) * placement.rotation;
   }
   const auto front = transform_points(placement.transform, front_canon);
   const Eigen::Vector3d unit = fwd / head.mm_per_unit;  // one mm along d_fwd, scene units
