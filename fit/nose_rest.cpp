@@ -31,13 +31,13 @@ std::vector<bool> clear_at(const DensityFn& density, float threshold, const Poin
   return clear;
 }
 
-// The lowest height whose front clears within `tolerance` of where the bridge rests on the nose at
-// Eq. 4's height (`bridge0`); else Eq. 4's own when its front clears there; else (it cannot clear at
-// Eq. 4's height) the lowest height within `tolerance` of the front's least-forward rest.
-size_t choose_height(const std::vector<double>& shifts, double bridge0, double tolerance) {
-  if (std::isfinite(bridge0))
-    for (size_t j = 0; j < shifts.size(); ++j)
-      if (shifts[j] <= bridge0 + tolerance) return j;
+// The lowest height at which the front rests on its bridge: it clears within `tolerance` of where
+// the bridge alone rests on the nose, there or at Eq. 4's height; else Eq. 4's height when the front
+// clears there; else (it cannot clear at Eq. 4's height) the lowest height within `tolerance` of the
+// front's least-forward rest.
+size_t choose_height(const std::vector<double>& shifts, const std::vector<double>& bridge, double tolerance) {
+  for (size_t j = 0; j < shifts.size(); ++j)
+    if (shifts[j] <= std::max(bridge[j], bridge.front()) + tolerance) return j;
   if (std::isfinite(shifts.front())) return 0;
   const double least = *std::min_element(shifts.begin(), shifts.end());
   if (!std::isfinite(least)) return 0;
@@ -101,7 +101,7 @@ NoseRest nose_rest(const HeadProbe& head, const std::vector<double>& heights_mm,
   const float thr = o.density_threshold;
   rest.shifts_mm = clearing_shifts_mm(head.density, thr, front, mm_fwd, o.step_mm, o.max_shift_mm);
   rest.bridge_shifts_mm = clearing_shifts_mm(head.density, thr, bridge, mm_fwd, o.step_mm, o.max_shift_mm);
-  rest.chosen = choose_height(rest.shifts_mm, rest.bridge_shifts_mm.front(), o.rest_tolerance_mm);
+  rest.chosen = choose_height(rest.shifts_mm, rest.bridge_shifts_mm, o.rest_tolerance_mm);
   rest.rise_mm = heights_mm[rest.chosen];
   return rest;
 }

@@ -15,15 +15,15 @@
 //
 // The rule: at each height u above Eq. 4's (0, rise_step_mm, ... max_rise_mm) the front rests at
 // the smallest forward shift at which it clears the head, s(u); the bridge alone (the front's samples
-// within bridge_radius_mm of g_c) rests on the nose at Eq. 4's height at n(0). The frame rests at the
-// lowest height whose front rests within rest_tolerance_mm of n(0): where the front can sit as close
-// to the face as the bridge does on the nose (gravity keeps a frame as low as it can rest). A frame
-// whose front rests there at Eq. 4's height stays there; so does one whose bridge meets nothing there
-// (a frame on pads) or whose front never comes that close but clears at Eq. 4's height. A front that
-// cannot clear the head at Eq. 4's height at all rides to the lowest height within the tolerance of
-// its least-forward rest. (Asking the bridge to touch the nose at each height instead rode a NeRF of
-// room capture r1_s1 11.0 mm against its exact mesh's 4.5 mm: higher up, the nose recedes towards
-// the nasion under the bridge, and a NeRF's cheeks hold the front off it.)
+// within bridge_radius_mm of g_c) at n(u). The frame rests at the lowest height at which it rests on
+// its bridge: s(u) within rest_tolerance_mm of the bridge's own rest there, n(u), or of its rest on
+// the nose at Eq. 4's height, n(0) (higher up, the nose recedes towards the nasion under the bridge,
+// and a NeRF's cheeks can hold the front off it there: asking for n(u) alone rode a NeRF of room
+// capture r1_s1 11.0 mm against its exact mesh's 4.5 mm; n(0) alone rode room capture r2_s2 to the
+// 12 mm limit, its front 3.25 mm out). Gravity keeps a frame as low as it can rest on its bridge. A
+// frame that rests on its bridge at Eq. 4's height stays there, and so does one that never does but
+// clears there (a frame on pads); one that cannot clear the head at Eq. 4's height at all rides to
+// the lowest height within the tolerance of its least-forward rest.
 #pragma once
 #include <Eigen/Core>
 #include <limits>

@@ -84,7 +84,7 @@ TEST(NoseRest, SlideAloneCannotClearANoseWiderThanTheBridge) {
 TEST(NoseRest, TheFrameRidesUpToWhereTheNoseIsAsWideAsItsBridge) {
   const Nose nose;
   Placement p;
-  const ContactResult r = rest(head(nose, 12.0), &p);
+  const ContactResult r = rest(head(nose, ContactOptions{}.max_rise_mm), &p);
   const double truth = -kRimLow + nose.y18();  // 5.75 mm
   // The first height on the 0.5 mm grid at or above the truth, resting on its bridge (the nose's
   // front at the bridge's depth) with nothing inside the face.
@@ -102,7 +102,7 @@ TEST(NoseRest, TheFrameRidesUpToWhereTheNoseIsAsWideAsItsBridge) {
 
 TEST(NoseRest, ANoseNarrowerThanTheBridgeKeepsEqFoursHeight) {
   // 16.7 mm at the rims' lowest points: the frame rests on its bridge where Eq. 4 put it.
-  const ContactResult r = rest(head(Nose{14.0, 0.1}, 12.0));
+  const ContactResult r = rest(head(Nose{14.0, 0.1}, ContactOptions{}.max_rise_mm));
   EXPECT_EQ(r.rise_mm, 0.0);
   EXPECT_NEAR(r.shift_mm, 0.0, 0.25);
   EXPECT_EQ(r.front_penetration_mm, 0.0);
