@@ -1,7 +1,8 @@
 // Haze is not a head (#41). A NeRF leaves haze around a real capture: room haze beside the head, the
 // soft sides of a frontal capture that saw them only at grazing angles. Haze can be denser than the
 // contact's solid threshold point by point (place.h) and yet hide little of what lies behind it; a
-// temple probed against it spreads as if the head were 190 mm wide (in2n-face's left temple: 15.5 deg).
+// temple probed against it spreads as if the head were wider than any head (#41: 20 and 16.5 deg on a
+// selfie whose temples lay on room haze).
 // The fit's other surfaces are already read where a ray's opacity reaches 0.5 (the nose point, the
 // temples, fit.h): the head is what a render shows as solid. So here: a dense point is part of the
 // head only when the opacity in front of it, seen from outside along the horizontal line from the
