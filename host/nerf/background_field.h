@@ -62,10 +62,15 @@ struct BackgroundOptions {
   // model behind it, a ray through the subject should be opaque and one past it clear, so the
   // semi-transparent fringe and haze the colour loss alone leaves is pushed to 0 or 1. 0 = off.
   // 0.03 clears the faint haze outside the outline; much stronger costs IoU and face quality. It
-  // ramps in linearly over `opacity_prior_ramp` steps after step `opacity_prior_start` (the
-  // occupancy grid's warm-up): from step 0 it would push the still transparent subject to clear.
+  // and the clearing below ramp in linearly over `opacity_prior_ramp` steps after step
+  // `opacity_prior_start` (opacity_prior_share). Not from step 0: it would push the still
+  // transparent subject of the first steps to clear. Not after the occupancy grid's warm-up (256
+  // steps): in the warm-up the subject paints the wall around the head as haze before the room model
+  // has learnt it, and the clearing pulls the ray's opacity, whose gradient vanishes once the haze
+  // is opaque, so it must act while the haze is still partly transparent
+  // (docs/room-training.md, "The opacity prior and the room-explained clearing").
   float opacity_prior = 0.03f;
-  uint32_t opacity_prior_start = 256, opacity_prior_ramp = 256;
+  uint32_t opacity_prior_start = 128, opacity_prior_ramp = 256;
   // Room-explained clearing (kernels/train/render.h): on a ray whose pixel the room model's colour
   // already matches (RMS sRGB difference under `room_clear_tolerance`, a linear gate), the prior
   // pulls the subject's opacity to 0 with `room_clear` x its weight instead of pushing it to 0 or 1,
@@ -92,6 +97,10 @@ struct BackgroundOptions {
   // (docs/room-training.md, "A whole subject"). 0 = off (the clearing as everywhere else).
   float solid_pull = 1.0f;
 };
+
+// The share of the opacity prior's weight (and the clearing's) at training step `step`: 0 until
+// `opacity_prior_start`, rising linearly to 1 over `opacity_prior_ramp` steps.
+float opacity_prior_share(const BackgroundOptions& options, uint64_t step);
 
 class BackgroundField {
  public:

@@ -116,6 +116,10 @@ void add_train(CLI::App& app, GlobalOptions& global) {
          "--opacity-prior", a->settings.room.opacity_prior,
          "with the room model: weight of the prior that pushes each ray's opacity to 0 or 1 (0 = off)")
       ->capture_default_str();
+  cmd->add_option("--prior-start", a->settings.room.opacity_prior_start,
+                  "with the room model: the step from which the opacity prior and the room-explained "
+                  "clearing ramp in (over 256 steps)")
+      ->capture_default_str();
   cmd->add_option("--room-clear", a->settings.room.room_clear,
                   "with the room model: where the room's colour matches the pixel, pull the subject's "
                   "opacity to 0 with this many times the opacity prior's weight (0 = off)")
