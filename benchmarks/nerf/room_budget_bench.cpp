@@ -27,7 +27,7 @@
 //       subject's batch), room_spd=N (room steps per box diagonal), room_spread=0|1 (the room's batch
 //       spread evenly over the step's rays), prior=X (weight of the binary-opacity prior on the
 //       subject's rays; 0 = off), prior_start=N and prior_ramp=N (the step it ramps in from, and over
-//       how many steps), keep=0 (no keep zone: the clearing applies in the neck too).
+//       how many steps), keep=0|1 (BackgroundOptions::keep_neck).
 // Each arm is planned as `train` plans it (nerf::plan_training: automatic sizing from the landmark
 // head box, a room capture's table cap, the head volume and its clearing zones, 2^16 samples per
 // step); unset keys keep `train`'s defaults.
@@ -77,7 +77,7 @@ struct ArmSpec {
   std::optional<bool> room_spread;
   std::optional<float> prior;                       // the binary-opacity prior's weight
   std::optional<uint32_t> prior_start, prior_ramp;  // the step it ramps in from, over this many steps
-  bool keep = true;  // the clearing zones' keep zone (false: the clearing applies there too)
+  std::optional<bool> keep;  // BackgroundOptions::keep_neck
 };
 
 ArmSpec parse_arm(const std::string& arg) {
@@ -116,7 +116,7 @@ ArmSpec parse_arm(const std::string& arg) {
     } else if (k == "prior_ramp") {
       a.prior_ramp = uint32_t(std::stoul(v));
     } else if (k == "keep") {
-      a.keep = v != "0";
+      a.keep = v != "0";  // keep=0|1
     } else {
       throw std::runtime_error(
           "--arm " + arg + ": unknown key '" + k +
@@ -328,7 +328,7 @@ int main(int argc, char** argv) {
       if (a.prior) bo.opacity_prior = *a.prior;
       if (a.prior_start) bo.opacity_prior_start = *a.prior_start;
       if (a.prior_ramp) bo.opacity_prior_ramp = *a.prior_ramp;
-      if (!a.keep && j.subject) j.subject->keep = {};  // plan_training hands j.subject to the room
+      if (a.keep) bo.keep_neck = *a.keep;
       plans.push_back(nerf::plan_training(rt, ds, views, j));
       a.steps = plans.back().train.steps;
       if (a.steps % every)

@@ -78,16 +78,20 @@ struct BackgroundOptions {
   // the head volume's rim). 0 = off.
   float room_clear = 1.0f;
   float room_clear_tolerance = 0.05f;
-  // subject->keep is where the clearing does not apply (the binary prior does): the part of the
-  // subject that the room model's own surfaces lie right behind (a head's neck, with the body below
-  // the box in the room model), where the room can match the subject's colour without the subject
-  // being a backdrop.
+  // subject->keep is where the clearing does not apply (the binary prior does) when `keep_neck`: the
+  // part of the subject that the room model's own surfaces lie right behind (a head's neck, with the
+  // body below the box in the room model), where the room can match the subject's colour without the
+  // subject being a backdrop. Beside the neck the keep zone holds the wall as a haze that nothing
+  // clears (half of the pale captures' leak), and off it clears; but before a wall of the skin's
+  // colour the neck's sides then go too, so it is on by default: a hole in the subject is worse
+  // than haze beside it (docs/room-training.md, "Zones").
   // subject->core is the bare head (skull, face and neck without the hair margins). In the
   // subject's volume outside it (hair margins, nape) the clearing's gate is at least `lean_gate`
   // whether the room explains the pixel yet or not: side views see that space against the wall,
   // the room model, trained there only through the haze, never learns it, and the binary prior
   // would make the haze solid. Hair there stays where its colour differs from the room's. 0 = off.
   float lean_gate = 1.0f;
+  bool keep_neck = true;
   // The subject's certain interior (subject->solid: behind a face's skin, in the skull, a neck's
   // core). The room model holds only what lies beyond the subject's volume, so a ray that crosses the
   // interior ends in the subject before the wall and the room cannot explain it, whatever its colour

@@ -38,7 +38,7 @@ std::vector<uint32_t> solid_cells(const SubjectVolume& solid, const Aabb& box, u
 // its volume); empty when neither applies.
 std::vector<uint32_t> prior_zones(const BackgroundOptions& b, const NerfModel& model,
                                   const std::vector<uint32_t>& allowed) {
-  const bool keep = b.room_clear > 0.0f && b.subject && !b.subject->keep.empty();
+  const bool keep = b.keep_neck && b.room_clear > 0.0f && b.subject && !b.subject->keep.empty();
   const bool lean = b.room_clear > 0.0f && b.lean_gate > 0.0f && b.subject && !b.subject->core.empty();
   const bool solid = b.solid_pull > 0.0f && b.subject && !b.subject->solid.empty();
   if (!keep && !lean && !solid) return {};
