@@ -77,7 +77,7 @@ struct ArmSpec {
   std::optional<bool> room_spread;
   std::optional<float> prior;                       // the binary-opacity prior's weight
   std::optional<uint32_t> prior_start, prior_ramp;  // the step it ramps in from, over this many steps
-  std::optional<bool> keep;  // BackgroundOptions::keep_neck
+  std::optional<bool> keep;                         // BackgroundOptions::keep_neck
 };
 
 ArmSpec parse_arm(const std::string& arg) {
