@@ -82,9 +82,10 @@ struct BackgroundOptions {
   // part of the subject that the room model's own surfaces lie right behind (a head's neck, with the
   // body below the box in the room model), where the room can match the subject's colour without the
   // subject being a backdrop. Beside the neck the keep zone holds the wall as a haze that nothing
-  // clears (half of the pale captures' leak), and off it clears; but before a wall of the skin's
-  // colour the neck's sides then go too, so it is on by default: a hole in the subject is worse
-  // than haze beside it (docs/room-training.md, "Zones").
+  // clears (most of the pale captures' leak), and off it clears, but so does the neck below the jaw
+  // (the room's body behind it explains it), before an off-white wall as before a wall of the skin's
+  // colour: a hole in the subject is worse than haze beside it (docs/room-training.md, "Zones").
+  // Off only for measurement (bench_room_budget's keep=0).
   // subject->core is the bare head (skull, face and neck without the hair margins). In the
   // subject's volume outside it (hair margins, nape) the clearing's gate is at least `lean_gate`
   // whether the room explains the pixel yet or not: side views see that space against the wall,

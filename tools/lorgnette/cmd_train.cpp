@@ -131,10 +131,6 @@ void add_train(CLI::App& app, GlobalOptions& global) {
                   "with the room model and a head box: in the head volume beyond the bare head, the "
                   "clearing's gate is at least this (1: always clear there; 0 = off)")
       ->capture_default_str();
-  cmd->add_option("--keep-neck", a->settings.room.keep_neck,
-                  "with the room model and a head box: 1 = no room-explained clearing in the neck below the "
-                  "chin (the binary prior only there)")
-      ->capture_default_str();
   cmd->add_option("--solid-pull", a->settings.room.solid_pull,
                   "with the room model and a head box: rays through the head's certain interior are the "
                   "subject's (no clearing), and that interior is pulled opaque with this many times the "
