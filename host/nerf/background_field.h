@@ -63,14 +63,15 @@ struct BackgroundOptions {
   // semi-transparent fringe and haze the colour loss alone leaves is pushed to 0 or 1. 0 = off.
   // 0.03 clears the faint haze outside the outline; much stronger costs IoU and face quality. It
   // and the clearing below ramp in linearly over `opacity_prior_ramp` steps after step
-  // `opacity_prior_start` (opacity_prior_share). Not from step 0: it would push the still
-  // transparent subject of the first steps to clear. Not after the occupancy grid's warm-up (256
-  // steps): in the warm-up the subject paints the wall around the head as haze before the room model
-  // has learnt it, and the clearing pulls the ray's opacity, whose gradient vanishes once the haze
-  // is opaque, so it must act while the haze is still partly transparent
-  // (docs/room-training.md, "The opacity prior and the room-explained clearing").
+  // `opacity_prior_start` (opacity_prior_share; train --prior-start). Not from step 0: it would push
+  // the still transparent subject of the first steps to clear. The default waits for the end of the
+  // occupancy grid's warm-up. Earlier (128), the clearing meets the haze of the wall's colour that the
+  // subject paints around the head in the warm-up while it is still partly transparent (the clearing
+  // pulls the ray's opacity, whose gradient vanishes once the haze is opaque): the leak before a
+  // plain wall falls by a quarter or more, but the dark head before a dark wall gets more holes, so
+  // it is an option (docs/room-training.md, "The opacity prior and the room-explained clearing").
   float opacity_prior = 0.03f;
-  uint32_t opacity_prior_start = 128, opacity_prior_ramp = 256;
+  uint32_t opacity_prior_start = 256, opacity_prior_ramp = 256;
   // Room-explained clearing (kernels/train/render.h): on a ray whose pixel the room model's colour
   // already matches (RMS sRGB difference under `room_clear_tolerance`, a linear gate), the prior
   // pulls the subject's opacity to 0 with `room_clear` x its weight instead of pushing it to 0 or 1,
