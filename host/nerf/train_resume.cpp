@@ -32,7 +32,6 @@ json room_json(const BackgroundOptions& r) {
           {"room_clear", r.room_clear},
           {"room_clear_tolerance", r.room_clear_tolerance},
           {"lean_gate", r.lean_gate},
-          {"keep_neck", r.keep_neck},
           {"solid_pull", r.solid_pull},
           {"subject_zones", r.subject.has_value()}};
 }
