@@ -36,6 +36,7 @@ void validate_room(const BackgroundOptions& r) {
   check_bound(b::kRoomClearTolerance, r.room_clear_tolerance);
   check_bound(b::kLeanGate, r.lean_gate);
   check_bound(b::kSolidPull, r.solid_pull);
+  check_bound(b::kPriorStart, r.opacity_prior_start);
 }
 
 }  // namespace
