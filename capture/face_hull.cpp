@@ -24,10 +24,7 @@ nerf::Vec3f to_vec3f(const Eigen::Vector3d& p) { return {float(p.x()), float(p.y
 // box's anchor is (the eye corners' centroid at the inner corners' depth) at the head frame's scale.
 std::vector<Eigen::Vector3d> mean_face_contour(const fit::HeadBox& box) {
   const fit::Face68& mean = fit::builtin_mean_face();
-  Eigen::Vector3d anchor = Eigen::Vector3d::Zero();
-  for (int k : {fit::lm::kEyeOuterR, fit::lm::kEyeInnerR, fit::lm::kEyeInnerL, fit::lm::kEyeOuterL})
-    anchor += 0.25 * mean[size_t(k)];
-  anchor.z() = 0.5 * (mean[fit::lm::kEyeInnerR].z() + mean[fit::lm::kEyeInnerL].z());
+  const Eigen::Vector3d anchor = fit::face_anchor(mean);
   std::vector<Eigen::Vector3d> contour;
   for (int k = kContourFirst; k <= kContourLast; ++k)
     contour.push_back(box.anchor + box.axes * ((mean[size_t(k)] - anchor) / box.head.mm_per_unit));

@@ -19,6 +19,7 @@
 #include "fit/front_search.h"
 #include "fit/landmark_ids.h"
 #include "fit/mean_face.h"
+#include "fit/opaque.h"
 #include "fit/surface_landmarks.h"
 
 namespace lorgnette::fit {
@@ -124,7 +125,7 @@ void summarise(FitResult& r, const FitOptions& opt) {
   // cannot clear them, or needs more spread than a worn frame takes (input_checks.h).
   r.checks.push_back(check_front_penetration(r.contact.refined, r.contact.front_penetration_mm,
                                              opt.place.front_tolerance_mm));
-  r.checks.push_back(check_temple_spread(r.temples));
+  r.checks.push_back(check_temple_spread(r.temples, !r.ear_roots.from_density()));
   for (const InputCheck& c : r.checks)
     if (!c.passed) {
       r.ok = false;
@@ -517,19 +518,21 @@ void rest_on_skin(FitRun& run, const HeadProbe& head, const char* stage = "conta
 }
 
 // The head as the temples meet it: hair removed (hair.h) when the source has colour and the nose
-// line gives the skin's tone; else `head` itself.
+// line gives the skin's tone, and haze that does not hide what lies behind it removed (opaque.h) when
+// the source's surfaces are soft (a NeRF; exact meshes are neither hazy nor soft).
 HeadProbe temple_probe(FitRun& run, const HeadProbe& head) {
   FitResult& r = run.r;
-  if (!run.opt.hair.enabled) return head;
-  if (!face_skin(run)) {
-    spdlog::info("fit: no skin colour from this head (a source without colour): hair counts as solid");
-    return head;
-  }
-  spdlog::info(
-      "fit: skin luminance {:.3f} from {} nose-line points; the temples ignore dense volume below {:.3f}",
-      r.skin->luminance, r.skin->samples, run.opt.hair.max_luminance_ratio * r.skin->luminance);
   HeadProbe skin = head;
-  skin.density = density_without_hair(head, run.colour, *r.skin, run.opt.hair);
+  if (run.opt.hair.enabled && face_skin(run)) {
+    spdlog::info(
+        "fit: skin luminance {:.3f} from {} nose-line points; the temples ignore dense volume below {:.3f}",
+        r.skin->luminance, r.skin->samples, run.opt.hair.max_luminance_ratio * r.skin->luminance);
+    skin.density = density_without_hair(head, run.colour, *r.skin, run.opt.hair);
+  } else if (run.opt.hair.enabled) {
+    spdlog::info("fit: no skin colour from this head (a source without colour): hair counts as solid");
+  }
+  if (run.opt.place.opaque_head && !run.source.hard_surface())
+    skin.density = density_behind_opacity(head, skin.density);
   return skin;
 }
 

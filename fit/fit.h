@@ -87,6 +87,8 @@ struct PlaceOptions {  // "place", "contact"
   // front penetration at 1x, 4 mm and 0 mm at 5x; the quick demo head: 12.75 -> 10.5 mm slide.
   float solid_factor = 5.0f;
   double max_penetration_mm = 0.5;  // the temples' allowed depth (their spread search clears to it)
+  // The temples meet only what lies behind 0.5 opacity seen from outside (opaque.h): haze is not a head.
+  bool opaque_head = true;
   // ok = false when the front still reaches deeper into the face after refinement (input_checks.h).
   double front_tolerance_mm = kFrontToleranceMm;
 };

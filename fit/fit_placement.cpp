@@ -26,6 +26,7 @@ PlacementFile make_placement_file(const FitResult& r, const std::string& glasses
   p.views_total = int(r.views.size());
   p.penetration_mm = r.contact.penetration_mm;
   p.contact_shift_mm = r.contact.shift_mm;
+  p.contact_rise_mm = r.contact.rise_mm;
   p.front_penetration_mm = r.contact.front_penetration_mm;
   p.tip_penetration_mm = r.contact.tip_penetration_mm;
   p.seconds = r.seconds;

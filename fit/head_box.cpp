@@ -152,18 +152,14 @@ HeadBox estimate_head_box(const std::vector<PosedPhoto>& photos, const HeadBoxOp
   // Anchor: the outer-corner midpoint at eye level, at the inner corners' depth. From the triangulated
   // corners: their centroid, moved forward by the mean face's offset between the two depths.
   Face68 mean = mean_face_or_builtin(opt.mean_face_path);
-  const int corners[4] = {lm::kEyeOuterR, lm::kEyeInnerR, lm::kEyeInnerL, lm::kEyeOuterL};
-  Eigen::Vector3d centroid = Eigen::Vector3d::Zero(), mean_centroid = Eigen::Vector3d::Zero();
-  for (int k : corners) {
+  for (int k : {lm::kEyeOuterR, lm::kEyeInnerR, lm::kEyeInnerL, lm::kEyeOuterL})
     if (!pts[k].ok)
       throw std::runtime_error(
           fmt::format("head box: eye corner landmark {} was not triangulated "
                       "({}): {}",
                       k, pts[k].why, kWhatToDo));
-    centroid += 0.25 * pts[k].position, mean_centroid += 0.25 * mean[k];
-  }
-  double inner_z = 0.5 * (mean[lm::kEyeInnerR].z() + mean[lm::kEyeInnerL].z());
-  Eigen::Vector3d anchor = centroid + head.d_fwd * ((inner_z - mean_centroid.z()) / head.mm_per_unit);
+  const double forward_mm = face_anchor(mean).z() - eye_corners_centroid(mean).z();
+  Eigen::Vector3d anchor = eye_corners_centroid(p) + head.d_fwd * (forward_mm / head.mm_per_unit);
   HeadBox box = head_box_from_frame(head, anchor, opt.extents);
   box.photos_tried = tried;
   box.faces_found = found;

@@ -19,6 +19,16 @@ struct ContactSearchOptions {
   // Frame points with canonical z above this form the "front". fit_glasses raises it to where the
   // temple spread takes over when the glasses have hinges.
   double front_z_mm = -25.0;
+  // The frame rides up the nose (nose_rest.h) at most this far above Eq. 4's height. Where the rule
+  // finds a frame resting on its bridge, the rides were 2-7.5 mm (four card captures, in2n-face);
+  // higher, the front's upper rims meet the brows (card capture r2_s2 "rested" at 11 mm with its upper
+  // inner rims on them, the lenses then too high), and a frame is not worn on its brows. 0: off.
+  double max_rise_mm = 8.0;
+  double rise_step_mm = 0.5;      // resolution of the height
+  double bridge_radius_mm = 4.0;  // front samples this near g_c are the bridge (its underside: g_c)
+  // A bridge this near the nose counts as resting on it: the NeRF's skin lies within ~1 mm of the
+  // true surface and the skin yields ~0.5 mm under a frame (kFrontToleranceMm, input_checks.h).
+  double rest_tolerance_mm = 1.5;
 };
 
 // The search plus what the head and the glasses fix: the density that counts as solid and where the

@@ -113,7 +113,7 @@ InputCheck check_landmarks_solid(const DensityFn& density, const std::vector<Cam
   return c;
 }
 
-InputCheck check_temple_spread(const TempleFitResult& t) {
+InputCheck check_temple_spread(const TempleFitResult& t, bool ears_estimated) {
   InputCheck c;
   c.name = "temple_spread";
   c.limit = kMaxWornSpreadDeg;
@@ -125,9 +125,12 @@ InputCheck check_temple_spread(const TempleFitResult& t) {
     c.reason = fmt::format(
         "the temples would have to spread {:.2f} / {:.2f} deg (left / right) to clear the head, more than "
         "the {:.0f} deg a worn frame bends: the head is wider there than any head, so what the temples "
-        "meet is haze beside it, not the head. Film again with the ears in view, turning from one ear to "
-        "the other, with your own glasses off and the hair behind the ears",
-        t.left.spread_deg, t.right.spread_deg, kMaxWornSpreadDeg);
+        "meet is not where a worn temple rests: {}. Film again with the ears in view, turning from one ear "
+        "to the other, with your own glasses off and the hair behind the ears",
+        t.left.spread_deg, t.right.spread_deg, kMaxWornSpreadDeg,
+        ears_estimated ? "the ears' rests were not found on the head, and a temple turned onto the "
+                         "estimate (20-40 mm behind the ear) passes through the ear itself, or haze beside it"
+                       : "haze beside the head");
   return c;
 }
 

@@ -46,7 +46,9 @@ constexpr double kEmptyLandmarkShare = 0.1;
 // ear rest, ~100 mm behind the hinge, 26 mm outwards per side: a 52-18 frame (hinges ~69 mm from the
 // middle) then clears a head 190 mm wide at the ears, wider than the p99 adult head (170 mm, ANSUR
 // II) with 10 mm of hair each side. A head that needs more is wider than any head: what the temples
-// meet there is room haze beside it, not the head (#41: 20 and 16.5 deg on a selfie with holes).
+// meet there is not where a worn temple rests - room haze beside the head (#41: 20 and 16.5 deg on a
+// selfie with holes), or the ear's pinna when the frame is turned onto Eq. 2-3's ears (in2n-face's
+// left temple: skin-bright, 0.7-0.98 opaque within 4 mm, 73-85 mm behind the hinge).
 constexpr double kMaxWornSpreadDeg = 15.0;
 
 // How far the frame's front (rims, bridge, pads) may reach into the face before the fit fails: the
@@ -79,8 +81,10 @@ InputCheck check_nose_skin(const ColourFn& colour, const std::vector<Eigen::Vect
 InputCheck check_landmarks_solid(const DensityFn& density, const std::vector<Camera>& cameras,
                                  const std::vector<TriangulatedPoint>& points, double mm_per_unit);
 
-// The temples' spread against kMaxWornSpreadDeg (unchecked without a temple fit).
-InputCheck check_temple_spread(const TempleFitResult& temples);
+// The temples' spread against kMaxWornSpreadDeg (unchecked without a temple fit). `ears_estimated`:
+// the frame was turned onto Eq. 2-3's ears (the ears' rests not found on the head), which lie 20-40 mm
+// behind the ear, so a temple can pass through the ear itself; the reason then says so.
+InputCheck check_temple_spread(const TempleFitResult& temples, bool ears_estimated = false);
 
 // The front's penetration after the contact search against `tolerance_mm` (unchecked when the
 // contact was not refined).

@@ -38,4 +38,16 @@ Face68 mean_face_or_builtin(const std::string& path) {
   return path.empty() ? builtin_mean_face() : load_mean_face(path);
 }
 
+Eigen::Vector3d eye_corners_centroid(const Face68& face) {
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();
+  for (int k : {lm::kEyeOuterR, lm::kEyeInnerR, lm::kEyeInnerL, lm::kEyeOuterL}) c += 0.25 * face[size_t(k)];
+  return c;
+}
+
+Eigen::Vector3d face_anchor(const Face68& face) {
+  Eigen::Vector3d a = eye_corners_centroid(face);
+  a.z() = 0.5 * (face[size_t(lm::kEyeInnerR)].z() + face[size_t(lm::kEyeInnerL)].z());
+  return a;
+}
+
 }  // namespace lorgnette::fit

@@ -22,4 +22,11 @@ Face68 load_mean_face(const std::string& path);
 // `path` empty: the built-in mean face; otherwise the file (load_mean_face).
 Face68 mean_face_or_builtin(const std::string& path);
 
+// The centroid of a face's four eye corners (dlib 36, 39, 42, 45).
+Eigen::Vector3d eye_corners_centroid(const Face68& face);
+
+// The head box's anchor on a face (head_box.h): the eye corners' centroid moved to the inner corners'
+// depth, a point between the eyes that a frontal and a turned photo both see well.
+Eigen::Vector3d face_anchor(const Face68& face);
+
 }  // namespace lorgnette::fit

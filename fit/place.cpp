@@ -9,6 +9,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "fit/nose_rest.h"
+
 namespace lorgnette::fit {
 
 Eigen::Matrix3d kabsch(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b,
@@ -154,6 +156,62 @@ double penetration_depth_mm(const HeadProbe& head, const std::vector<Eigen::Vect
   return std::min(deepest, probes * opt.step_mm);  // still inside at the last probe: that far at least
 }
 
+namespace {
+
+// The slide along d_fwd (`unit`: one mm, scene units): outwards until the front clears, or inwards
+// until it first touches; 0 when it touches nothing within range (Eq. 4's depth stays).
+double slide_mm(const DensityFn& density, const std::vector<Eigen::Vector3d>& front,
+                const Eigen::Vector3d& unit, float thr, const ContactOptions& opt) {
+  if (count_inside(density, front, Eigen::Vector3d::Zero(), thr) > 0) {
+    double shift = opt.step_mm;
+    for (; shift <= opt.max_shift_mm; shift += opt.step_mm)
+      if (count_inside(density, front, shift * unit, thr) == 0) break;
+    return std::min(shift, opt.max_shift_mm);
+  }
+  double s = -opt.step_mm;
+  for (; s >= -opt.max_shift_mm; s -= opt.step_mm)
+    if (count_inside(density, front, s * unit, thr) > 0) break;
+  return s < -opt.max_shift_mm ? 0.0 : s + opt.step_mm;  // the last position without contact
+}
+
+// The frame raised along `up` to where its front rests on its bridge (nose_rest.h), as a scene
+// transform; identity when it rests at Eq. 4's height. `fwd`, `up`: the head's axes, square to each other.
+Eigen::Matrix4d rest_on_nose(const HeadProbe& head, const Eigen::Matrix4d& transform,
+                             const std::vector<Eigen::Vector3d>& front_canon, const Eigen::Vector3d& fwd,
+                             const Eigen::Vector3d& up, double* rise) {
+  const ContactOptions& o = head.contact;
+  std::vector<Eigen::Vector3d> front_c, bridge_c;
+  for (const auto& p : front_canon) (p.norm() <= o.bridge_radius_mm ? bridge_c : front_c).push_back(p);
+  front_c.insert(front_c.end(), bridge_c.begin(), bridge_c.end());
+  *rise = 0.0;
+  if (!(o.max_rise_mm > 0.0) || !(o.rise_step_mm > 0.0) || bridge_c.empty())
+    return Eigen::Matrix4d::Identity();
+  std::vector<double> heights;
+  std::vector<Eigen::Matrix4d> raise;
+  PointSets front, bridge;
+  for (int j = 0; j <= int(std::floor(o.max_rise_mm / o.rise_step_mm + 1e-9)); ++j) {
+    heights.push_back(j * o.rise_step_mm);
+    raise.push_back(Eigen::Matrix4d::Identity());
+    raise.back().block<3, 1>(0, 3) = heights.back() / head.mm_per_unit * up;
+    front.push_back(transform_points(raise.back() * transform, front_c));
+    bridge.push_back(transform_points(raise.back() * transform, bridge_c));
+  }
+  const NoseRest rest = nose_rest(head, heights, front, bridge, fwd / head.mm_per_unit);
+  for (size_t j = 0; j < rest.heights_mm.size(); ++j)
+    spdlog::debug("fit: nose rest {:+.1f} mm up: front clears at {:+.2f} mm, bridge at {:+.2f} mm",
+                  rest.heights_mm[j], rest.shifts_mm[j], rest.bridge_shifts_mm[j]);
+  if (rest.rise_mm > 0.0)
+    spdlog::info(
+        "fit: the frame rides {:.1f} mm up the nose: at Eq. 4's height its rims meet the nose's sides and "
+        "hold its front {:.2f} mm in front of where its bridge rests on the nose; {:.2f} mm there",
+        rest.rise_mm, rest.shifts_mm.front() - rest.bridge_shifts_mm.front(),
+        rest.shifts_mm[rest.chosen] - rest.bridge_shifts_mm.front());
+  *rise = rest.rise_mm;
+  return raise[rest.chosen];
+}
+
+}  // namespace
+
 ContactResult refine_contact(Placement& placement, const HeadProbe& head, const Eigen::Vector3d& d_fwd) {
   ContactResult res;
   const ContactOptions& opt = head.contact;
@@ -164,23 +222,18 @@ ContactResult refine_contact(Placement& placement, const HeadProbe& head, const 
     if (p.z() >= opt.tip_z_mm) body_canon.push_back(p);
   }
   res.penetration_before_mm = penetration_depth_mm(head, transform_points(placement.transform, body_canon));
-  auto front = transform_points(placement.transform, front_canon);
-  const Eigen::Vector3d unit = d_fwd.normalized() / head.mm_per_unit;  // one mm along d_fwd, scene units
-  const float thr = opt.density_threshold;
-  const DensityFn& density = head.density;
-  double shift = 0.0;
-  if (count_inside(density, front, Eigen::Vector3d::Zero(), thr) > 0) {
-    for (shift = opt.step_mm; shift <= opt.max_shift_mm; shift += opt.step_mm)
-      if (count_inside(density, front, shift * unit, thr) == 0) break;
-    shift = std::min(shift, opt.max_shift_mm);
-  } else {
-    double s = -opt.step_mm;
-    for (; s >= -opt.max_shift_mm; s -= opt.step_mm)
-      if (count_inside(density, front, s * unit, thr) > 0) break;
-    shift = s + opt.step_mm;                 // the last position without contact: resting on the skin
-    if (s < -opt.max_shift_mm) shift = 0.0;  // nothing to rest on within range: keep Eq. 4
+  // The head's up, square to d_fwd: the ride changes the height alone.
+  const Eigen::Vector3d fwd = d_fwd.normalized();
+  const Eigen::Vector3d up = (head.d_up - head.d_up.dot(fwd) * fwd).normalized();
+  if (up.allFinite()) {
+    const Eigen::Matrix4d raise = rest_on_nose(head, placement.transform, front_canon, fwd, up, &res.rise_mm);
+    placement.transform = raise * placement.transform;
   }
-  if (shift > 0.0) log_blocking_points(density, front, front_canon, (shift - opt.step_mm) * unit, thr);
+  const auto front = transform_points(placement.transform, front_canon);
+  const Eigen::Vector3d unit = fwd / head.mm_per_unit;  // one mm along d_fwd, scene units
+  const float thr = opt.density_threshold;
+  const double shift = slide_mm(head.density, front, unit, thr, opt);
+  if (shift > 0.0) log_blocking_points(head.density, front, front_canon, (shift - opt.step_mm) * unit, thr);
   placement.transform.block<3, 1>(0, 3) += shift * unit;
   res.shift_mm = shift;
   res.refined = true;

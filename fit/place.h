@@ -49,7 +49,8 @@ struct PlaceInputs {
 Placement place_glasses(const GlassesRefPoints& g, const PlaceInputs& in, ScalePolicy policy);
 
 struct ContactResult {
-  double shift_mm = 0.0;                                     // applied along d_fwd (+ = away from the face)
+  double shift_mm = 0.0;  // applied along d_fwd (+ = away from the face)
+  double rise_mm = 0.0;   // applied along the head's up: the frame rode up the nose (nose_rest.h)
   double penetration_before_mm = 0.0, penetration_mm = 0.0;  // deepest front/arm point inside the head
   double tip_penetration_mm = 0.0;    // deepest temple-tip point (behind the ear rests)
   double front_penetration_mm = 0.0;  // deepest point of the front (rims, bridge, pads) alone
@@ -76,8 +77,9 @@ double penetration_depth_mm(const HeadProbe& head, const std::vector<Eigen::Vect
 void measure_contact(ContactResult& res, const Placement& placement, const HeadProbe& head,
                      const std::vector<Eigen::Vector3d>& deformed = {});
 
-// Slides `placement` along d_fwd: outwards until the front clears the head, or inwards until it first
-// touches (nose pads resting on the skin).
+// Raises `placement` along the head's up to where its front rests on its bridge (nose_rest.h), then
+// slides it along d_fwd: outwards until the front clears the head, or inwards until it first touches
+// (the bridge or the pads resting on the skin).
 ContactResult refine_contact(Placement& placement, const HeadProbe& head, const Eigen::Vector3d& d_fwd);
 
 }  // namespace lorgnette::fit

@@ -168,6 +168,7 @@ nlohmann::json to_json(const PlacementFile& p) {
               {"views_total", p.views_total},
               {"penetration_mm", p.penetration_mm},
               {"contact_shift_mm", p.contact_shift_mm},
+              {"contact_rise_mm", p.contact_rise_mm},
               {"front_penetration_mm", p.front_penetration_mm},
               {"tip_penetration_mm", p.tip_penetration_mm},
               {"seconds", seconds},
@@ -322,6 +323,7 @@ PlacementFile placement_from_json(const nlohmann::json& j) {
   p.views_total = j.contains("views_total") ? whole_number(j["views_total"], "views_total") : 0;
   p.penetration_mm = optional_field<double>(j, "penetration_mm", 0.0);
   p.contact_shift_mm = optional_field<double>(j, "contact_shift_mm", 0.0);
+  p.contact_rise_mm = optional_field<double>(j, "contact_rise_mm", 0.0);
   p.front_penetration_mm = optional_field<double>(j, "front_penetration_mm", 0.0);
   p.tip_penetration_mm = optional_field<double>(j, "tip_penetration_mm", 0.0);
   const nlohmann::json secs = optional_field<nlohmann::json>(j, "seconds", nlohmann::json::object());

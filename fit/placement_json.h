@@ -59,6 +59,7 @@ struct PlacementFile {
   std::map<std::string, double> residuals_px;
   int views_used = 0, views_total = 0;
   double penetration_mm = 0.0, contact_shift_mm = 0.0, front_penetration_mm = 0.0, tip_penetration_mm = 0.0;
+  double contact_rise_mm = 0.0;  // how far the frame rode up the nose (fit/nose_rest.h)
   std::vector<std::pair<std::string, double>> seconds;
   std::vector<std::string> warnings;
   bool ok = false;

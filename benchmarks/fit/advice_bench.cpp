@@ -154,6 +154,29 @@ std::vector<std::string> rows_for(const std::string& frame, const std::string& m
         s ? "left" : "right", d.x(), d.y(), d.z(),
         (canon(s ? t.ear_l : t.ear_r) - (s ? g.ref.hinge_l : g.ref.hinge_r)).norm());
   }
+  {  // The width at the temples with the true eye corners and ear rests put in, one at a time, and on
+     // the exact mesh: which input the width's error comes from (the fit's placement is kept).
+    NerfViewSource nerf(m, prior_from_transforms(dataset + "/transforms.json", m));
+    ViewSource& src = on_mesh ? static_cast<ViewSource&>(mesh) : nerf;
+    const DensityFn fit_density = [&src](const std::vector<Eigen::Vector3f>& q) { return src.density(q); };
+    const DensityFn mesh_density = [&mesh](const std::vector<Eigen::Vector3f>& q) { return mesh.density(q); };
+    AdviceHead h;
+    h.mm_per_unit = t.mm_per_unit;
+    auto width = [&](const DensityFn& d, float thr, const Eigen::Vector3d& cl, const Eigen::Vector3d& cr,
+                     const Eigen::Vector3d& el, const Eigen::Vector3d& er) {
+      h.corner_l = cl, h.corner_r = cr, h.ear_l = el, h.ear_r = er;
+      std::string why;
+      return temple_width_mm(d, thr, r.advice_placement, g.ref.g_c, h, {}, &why);
+    };
+    const float thr = src.surface_density();
+    std::cerr << fmt::format(
+        "width at the temples (true {:.2f}): true corners and rests {:.2f} on the fit's density, {:.2f} on "
+        "the "
+        "mesh; the fit's corners with the true rests {:.2f}\n",
+        t.face_width_mm, width(fit_density, thr, t.corner_l, t.corner_r, t.ear_l, t.ear_r),
+        width(mesh_density, 1.0f, t.corner_l, t.corner_r, t.ear_l, t.ear_r),
+        width(fit_density, thr, r.corner_skin_l, r.corner_skin_r, t.ear_l, t.ear_r));
+  }
   std::vector<AdviceRule> rules = r.advice.rules;
   for (const AdviceRule& a : r.advice.rules)
     if (a.name == "lens_height" && a.judged()) {

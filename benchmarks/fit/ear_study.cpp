@@ -8,9 +8,11 @@
 // grid (near-side views only, as the fit casts them); and draws each ear from the side with the points.
 // Usage: ear_study OUT_DIR --case NAME MODEL.lnerf DATASET [--case ...] [--alpha A]
 // Writes OUT_DIR/ear_points.csv, ear_gt_sets.csv (the ground truth's rule on other view sets), ear_views.csv,
-// ear_same_frame.csv (the ear search from the ground truth's frame on the mesh's and the NeRF's density),
-// ear_profiles.csv with OUT_DIR/<case>_ear_profile_{l,r}.png (its rays' heights at the mesh's rest depth)
-// and OUT_DIR/<case>_ear_{l,r}.png.
+// ear_same_frame.csv (the ear search on the mesh's and the NeRF's density from one frame: the ground
+// truth's, then that of the fit on the NeRF at the true scale, whose landmarks the product's search hangs
+// its window from), ear_profiles.csv (its rays' heights at every depth of the window) with
+// OUT_DIR/<case>_ear_profile_{l,r}[_nerf_fit].png (at the mesh's rest depth) and
+// OUT_DIR/<case>_ear_{l,r}.png.
 #include <fmt/format.h>
 #include <spdlog/cfg/env.h>
 
@@ -202,60 +204,99 @@ int main(int argc, char** argv) {
       NerfViewSource nerf(model, prior);
       const DensityFn on_mesh = [&](const std::vector<Eigen::Vector3f>& p) { return mesh->density(p); };
       const DensityFn on_nerf = [&](const std::vector<Eigen::Vector3f>& p) { return nerf.density(p); };
-      std::cout << fmt::format("   the ear search from the ground truth's frame (mm in its head frame):\n");
-      for (int side : {+1, -1}) {
-        const int k = side > 0 ? lm::kTempleL : lm::kTempleR, e = side > 0 ? lm::kEyeOuterL : lm::kEyeOuterR;
-        const EarRootInputs in{gt.points[k],  gt.points[e], gt.head.d_eye,      gt.head.d_up,
-                               gt.head.d_fwd, side,         gt.head.mm_per_unit};
-        // The NeRF at the rays' default opacity and at 0.5 (the level before 28 Nov): a NeRF's soft ear
-        // top is met deeper at the higher level (ear_root.h). Then the rays' heights across the side at
-        // the mesh's rest depth (the mesh goes first): what the search reads there.
-        const double level = base.head.ear_root.rays.opacity;
-        std::optional<double> mesh_rest_depth;
-        std::vector<ChartSeries> series;
-        for (auto [what, fn, opacity] :
-             {std::tuple<std::string, const DensityFn*, double>{"mesh", &on_mesh, level},
-              {fmt::format("nerf at opacity {:.2f}", level), &on_nerf, level},
-              {"nerf at opacity 0.50", &on_nerf, 0.5}}) {  // (no commas: the CSVs' fields)
-          EarRootOptions o = base.head.ear_root;
-          o.rays.opacity = opacity;
-          const std::vector<EarRootSide> lines = find_ear_root_lines(*fn, in, o);
-          if (fn == &on_mesh && lines.front().found) mesh_rest_depth = lines.front().depth_mm;
-          for (const EarRootSide& line : lines) {
-            if (!line.found) {
-              std::cout << fmt::format("   {} {}: {}\n", side > 0 ? "l" : "r", what, line.why);
-              continue;
-            }
+      // And from the frame of the fit on the NeRF (at the true scale, as a card's): what the product's
+      // search reads on the NeRF, and what it would read on the mesh from the same landmarks.
+      FitOptions on_true_scale = base;
+      if (truth.contains("mm_per_unit"))
+        on_true_scale.scale.card =
+            CaptureScale{"card", truth["mm_per_unit"].get<double>() / model.normalisation.scale, 0.0};
+      const FitResult nerf_fit = fit_glasses(nerf, ref_only, on_true_scale);
+      std::vector<V3> nerf_points;
+      for (const auto& p : nerf_fit.points) nerf_points.push_back(p.position);
+      auto deg = [](const V3& a, const V3& b) {
+        return std::acos(std::clamp(a.dot(b), -1.0, 1.0)) * 180 / M_PI;
+      };
+      std::cout << fmt::format(
+          "   the NeRF fit: temples l {} r {}, outer eye corners l {} r {}; its d_up {:.2f} deg and d_fwd "
+          "{:.2f} "
+          "deg from the ground truth's, {:.2f} mm per unit (ground truth {:.2f})\n",
+          str(H(nerf_points[lm::kTempleL])), str(H(nerf_points[lm::kTempleR])),
+          str(H(nerf_points[lm::kEyeOuterL])), str(H(nerf_points[lm::kEyeOuterR])),
+          deg(nerf_fit.head.d_up, gt.head.d_up), deg(nerf_fit.head.d_fwd, gt.head.d_fwd),
+          nerf_fit.head.mm_per_unit, gt.head.mm_per_unit);
+      struct SearchFrame {
+        std::string name, suffix;
+        const std::vector<V3>* points;
+        const HeadFrame* head;
+      };
+      for (const SearchFrame& sf :
+           {SearchFrame{"the ground truth's", "", &gt.points, &gt.head},
+            SearchFrame{"the NeRF fit's", " from the nerf fit", &nerf_points, &nerf_fit.head}})
+        for (int side : {+1, -1}) {
+          const int k = side > 0 ? lm::kTempleL : lm::kTempleR,
+                    e = side > 0 ? lm::kEyeOuterL : lm::kEyeOuterR;
+          if (side > 0)
             std::cout << fmt::format(
-                "   {} {}: rest {} height {:+.1f} depth {:+.1f} ({:+.0f}..{:+.0f}, {} depths, {} on the top) "
-                "lateral {:+.1f}, {:.0f} deg\n",
-                side > 0 ? "l" : "r", what, str(H(line.point)), line.height_mm, line.depth_mm, line.back_mm,
-                line.front_mm, line.slices, line.plateau, line.lateral_mm, line.bend_deg);
-            same_frame_csv.push_back(
-                {c.name, side > 0 ? "l" : "r", what, fmt::format("{:.2f}", line.height_mm),
-                 fmt::format("{:.2f}", line.depth_mm), fmt::format("{:.2f}", line.lateral_mm),
-                 fmt::format("{:.0f}", line.back_mm), fmt::format("{:.0f}", line.front_mm),
-                 std::to_string(line.slices), fmt::format("{:.1f}", line.bend_deg)});
+                "   the ear search from {} frame (mm in the ground truth's head frame):\n", sf.name);
+          const EarRootInputs in{(*sf.points)[k],     (*sf.points)[e], sf.head->d_eye,
+                                 sf.head->d_up,       sf.head->d_fwd,  side,
+                                 sf.head->mm_per_unit};
+          // The NeRF at the rays' default opacity and at 0.5 (the level before 28 Nov): a NeRF's soft ear
+          // top is met deeper at the higher level (ear_root.h). Then the rays' heights across the side at
+          // the mesh's rest depth (the mesh goes first): what the search reads there.
+          const double level = base.head.ear_root.rays.opacity;
+          std::optional<double> mesh_rest_depth;
+          std::vector<ChartSeries> series;
+          for (auto [what, fn, opacity] :
+               {std::tuple<std::string, const DensityFn*, double>{"mesh" + sf.suffix, &on_mesh, level},
+                {fmt::format("nerf at opacity {:.2f}{}", level, sf.suffix), &on_nerf, level},
+                {"nerf at opacity 0.50" + sf.suffix, &on_nerf, 0.5}}) {  // (no commas: the CSVs' fields)
+            EarRootOptions o = base.head.ear_root;
+            o.rays.opacity = opacity;
+            const std::vector<EarRootSide> lines = find_ear_root_lines(*fn, in, o);
+            if (fn == &on_mesh && lines.front().found) mesh_rest_depth = lines.front().depth_mm;
+            for (const EarRootSide& line : lines) {
+              if (!line.found) {
+                std::cout << fmt::format("   {} {}: {}\n", side > 0 ? "l" : "r", what, line.why);
+                continue;
+              }
+              std::cout << fmt::format(
+                  "   {} {}: rest {} height {:+.1f} depth {:+.1f} ({:+.0f}..{:+.0f}, {} depths, {} on the "
+                  "top) "
+                  "lateral {:+.1f}, {:.0f} deg\n",
+                  side > 0 ? "l" : "r", what, str(H(line.point)), line.height_mm, line.depth_mm, line.back_mm,
+                  line.front_mm, line.slices, line.plateau, line.lateral_mm, line.bend_deg);
+              same_frame_csv.push_back(
+                  {c.name, side > 0 ? "l" : "r", what, fmt::format("{:.2f}", line.height_mm),
+                   fmt::format("{:.2f}", line.depth_mm), fmt::format("{:.2f}", line.lateral_mm),
+                   fmt::format("{:.0f}", line.back_mm), fmt::format("{:.0f}", line.front_mm),
+                   std::to_string(line.slices), fmt::format("{:.1f}", line.bend_deg)});
+            }
+            // Every depth of the window into the CSV (what the search reads at each), the mesh's rest
+            // depth into the chart.
+            const std::vector<double> depths =
+                ear_grid(-o.rays.back_mm, o.rays.front_mm, o.rays.depth_step_mm);
+            ChartSeries cs{what, {}, {}};
+            for (const EarRootProfile& p : ear_root_profiles(*fn, in, o, depths))
+              for (size_t j = 0; j < p.lateral_mm.size(); ++j) {
+                if (std::isnan(p.height_mm[j])) continue;
+                if (mesh_rest_depth && std::abs(p.depth_mm - *mesh_rest_depth) < 1e-6)
+                  cs.x.push_back(p.lateral_mm[j]), cs.y.push_back(p.height_mm[j]);
+                profile_csv.push_back({c.name, side > 0 ? "l" : "r", what, fmt::format("{:.0f}", p.depth_mm),
+                                       fmt::format("{:.1f}", p.lateral_mm[j]),
+                                       fmt::format("{:.2f}", p.height_mm[j])});
+              }
+            if (!mesh_rest_depth) continue;
+            series.push_back(std::move(cs));
           }
-          if (!mesh_rest_depth) continue;
-          const EarRootProfile p = ear_root_profiles(*fn, in, o, {*mesh_rest_depth}).front();
-          ChartSeries cs{what, {}, {}};
-          for (size_t j = 0; j < p.lateral_mm.size(); ++j) {
-            if (std::isnan(p.height_mm[j])) continue;
-            cs.x.push_back(p.lateral_mm[j]), cs.y.push_back(p.height_mm[j]);
-            profile_csv.push_back({c.name, side > 0 ? "l" : "r", what, fmt::format("{:.0f}", p.depth_mm),
-                                   fmt::format("{:.1f}", p.lateral_mm[j]),
-                                   fmt::format("{:.2f}", p.height_mm[j])});
-          }
-          series.push_back(std::move(cs));
+          if (mesh_rest_depth)
+            write_chart(fmt::format("{}/{}_ear_profile_{}{}.png", out, c.name, side > 0 ? "l" : "r",
+                                    sf.suffix.empty() ? "" : "_nerf_fit"),
+                        {fmt::format("{} {}, {:+.0f} mm from the temple: the ear search's rays", c.name,
+                                     side > 0 ? "left" : "right", *mesh_rest_depth),
+                         "mm outwards from the temple", "mm above the eye corner"},
+                        series);
         }
-        if (mesh_rest_depth)
-          write_chart(fmt::format("{}/{}_ear_profile_{}.png", out, c.name, side > 0 ? "l" : "r"),
-                      {fmt::format("{} {}, {:+.0f} mm from the temple: the ear search's rays", c.name,
-                                   side > 0 ? "left" : "right", *mesh_rest_depth),
-                       "mm outwards from the temple", "mm above the eye corner"},
-                      series);
-      }
     }
     // The temple hit per view of a yaw x pitch grid, exact cast, near-side views as the fit uses.
     LandmarkDetector det(base.detection.detector);

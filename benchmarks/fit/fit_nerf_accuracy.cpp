@@ -85,6 +85,7 @@ struct Row {
   // ear's root): the ears, and the frame's turn from the placement that the true nose point and those
   // rests give (NaN where the dataset has none). ears_from: density / mirrored / eq23.
   double ear_l_anat_mm = NAN, ear_r_anat_mm = NAN, rotation_anat_deg = NAN;
+  double ear_l_anat_fwd_mm = NAN, ear_r_anat_fwd_mm = NAN;  // of which along the head's d_fwd
   std::string ears_from;
 };
 
@@ -125,6 +126,8 @@ Row run_fit(const std::function<FitResult()>& fit, const GlassesInput& g, const 
       const double mm = gt.head.mm_per_unit;
       row.ear_l_anat_mm = (r.ears.f_l - anat.ear_l).norm() * mm;
       row.ear_r_anat_mm = (r.ears.f_r - anat.ear_r).norm() * mm;
+      row.ear_l_anat_fwd_mm = (r.ears.f_l - anat.ear_l).dot(gt.head.d_fwd.normalized()) * mm;
+      row.ear_r_anat_fwd_mm = (r.ears.f_r - anat.ear_r).dot(gt.head.d_fwd.normalized()) * mm;
       PlaceInputs truth{gt.f_c, anat.ear_l, anat.ear_r, gt.points[lm::kTempleL], gt.points[lm::kTempleR], mm};
       const Placement p = place_glasses(g.ref, truth, r.scale_policy);
       row.rotation_anat_deg =
@@ -215,7 +218,9 @@ void write_rows(const std::string& out, const std::vector<Row>& rows) {
                    e(r.ear_l_up_mm, "{:.2f}"),
                    e(r.ear_l_fwd_mm, "{:.2f}"),
                    e(r.ear_r_up_mm, "{:.2f}"),
-                   e(r.ear_r_fwd_mm, "{:.2f}")});
+                   e(r.ear_r_fwd_mm, "{:.2f}"),
+                   e(r.ear_l_anat_fwd_mm, "{:.2f}"),
+                   e(r.ear_r_anat_fwd_mm, "{:.2f}")});
   }
   write_csv(out + "/fit_nerf.csv",
             {"case",
@@ -255,7 +260,9 @@ void write_rows(const std::string& out, const std::vector<Row>& rows) {
              "ear_l_up_mm",
              "ear_l_fwd_mm",
              "ear_r_up_mm",
-             "ear_r_fwd_mm"},
+             "ear_r_fwd_mm",
+             "ear_l_anat_fwd_mm",
+             "ear_r_anat_fwd_mm"},
             csv);
   write_charts(out, rows);
 }

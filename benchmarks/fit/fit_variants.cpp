@@ -66,6 +66,10 @@ const std::vector<Variant>& all_variants() {
        [](FitOptions& o) { o = fit_options(FitSettings{}), o.landmarks.contour.opacity = 0.25; }, 1.5f},
       {"default_o10",
        [](FitOptions& o) { o = fit_options(FitSettings{}), o.landmarks.contour.opacity = 0.1; }, 1.5f},
+      // The ear window 55 mm deep instead of 35 (ear_rays.h): holds an ear root whose temple landmark was
+      // cast 20 mm forward, but ends the rests of blurred roots further back (docs/fit.md, "The ears").
+      {"default_ear55",
+       [](FitOptions& o) { o = fit_options(FitSettings{}), o.head.ear_root.rays.back_mm = 55.0; }, 1.5f},
       {"default_before",  // the defaults before the temples at one depth and the nose at opacity 0.25
        [](FitOptions& o) {
          o = fit_options(FitSettings{}), o.landmarks.temple_depth.enabled = false, o.head.nose_opacity = 0.0;

@@ -20,13 +20,14 @@
 // as `train` saves them.
 //
 // Usage: bench_room_budget DATASET OUT_DIR --arm NAME:KEY=VALUE,... [--arm ...] [--every 100]
-//        [--seed 1337] [--views N] [--save]
+//        [--seed 1337] [--views N] [--save] [--save-every]
 // Keys: bg=on|off (room model; default on), steps=N|default (default 1200; `default`: the budget
 //       `train` gives this arm's size, train_budget.h), table=LOG2 (hash table),
 //       finest=N (finest grid), levels=N, room_batch=X (room model's samples per step relative to the
 //       subject's batch), room_spd=N (room steps per box diagonal), room_spread=0|1 (the room's batch
 //       spread evenly over the step's rays), prior=X (weight of the binary-opacity prior on the
-//       subject's rays; 0 = off).
+//       subject's rays; 0 = off), prior_start=N and prior_ramp=N (the step it ramps in from, and over
+//       how many steps), keep=0|1 (BackgroundOptions::keep_neck).
 // Each arm is planned as `train` plans it (nerf::plan_training: automatic sizing from the landmark
 // head box, a room capture's table cap, the head volume and its clearing zones, 2^16 samples per
 // step); unset keys keep `train`'s defaults.
@@ -35,7 +36,9 @@
 // room_budget_steps.png (face PSNR against training seconds and against steps; `covered` where the
 // dataset has true mattes, else `core`). --save: each arm's model after its last step as
 // OUT_DIR/<arm>.lnerf, with the room model the subject region applied as `train` saves it (to score
-// the arms' mattes with bench_room_matte on a synthetic room capture).
+// the arms' mattes with bench_room_matte on a synthetic room capture). --save-every: also after every
+// chunk, as OUT_DIR/<arm>_step<N>.lnerf (the subject region applied to a copy, training goes on
+// unchanged), to see when in training something forms (head_volume_bench on each).
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -72,7 +75,9 @@ struct ArmSpec {
   std::optional<uint32_t> table, finest, levels, room_spd;
   float room_batch = 0.0f;  // 0: BackgroundOptions' default
   std::optional<bool> room_spread;
-  std::optional<float> prior;  // the binary-opacity prior's weight
+  std::optional<float> prior;                       // the binary-opacity prior's weight
+  std::optional<uint32_t> prior_start, prior_ramp;  // the step it ramps in from, over this many steps
+  std::optional<bool> keep;                         // BackgroundOptions::keep_neck
 };
 
 ArmSpec parse_arm(const std::string& arg) {
@@ -106,10 +111,17 @@ ArmSpec parse_arm(const std::string& arg) {
       a.room_batch = std::stof(v);
     } else if (k == "prior") {
       a.prior = std::stof(v);
+    } else if (k == "prior_start") {
+      a.prior_start = uint32_t(std::stoul(v));
+    } else if (k == "prior_ramp") {
+      a.prior_ramp = uint32_t(std::stoul(v));
+    } else if (k == "keep") {
+      a.keep = v != "0";  // keep=0|1
     } else {
       throw std::runtime_error(
           "--arm " + arg + ": unknown key '" + k +
-          "' (bg, steps, table, finest, levels, room_batch, room_spd, room_spread, prior)");
+          "' (bg, steps, table, finest, levels, room_batch, room_spd, room_spread, prior, prior_start, "
+          "prior_ramp, keep)");
     }
   }
   return a;
@@ -234,6 +246,18 @@ FacePsnr face_psnr(nerf::NerfModel& model, bool region, const std::vector<HeldOu
   return out;
 }
 
+// Saves `model` to `path` as `train` would (the subject's connected region when `region`), leaving the
+// model's own occupancy as it was so that training goes on unchanged.
+void save_with_region(nerf::NerfModel& model, bool region, const std::string& path) {
+  const nerf::OccupancyGrid saved = model.occupancy();
+  if (region) {
+    nerf::OccupancyGrid g = saved;
+    if (nerf::keep_central_region(g).found) model.set_occupancy(std::move(g));
+  }
+  model.save(path);
+  model.set_occupancy(saved);
+}
+
 // Charts of the `shown` region's PSNR.
 void write_charts(const std::string& out, const std::vector<Arm>& arms, Region shown) {
   std::vector<ChartSeries> s1, s2;
@@ -250,7 +274,7 @@ int main(int argc, char** argv) {
   if (argc < 4) {
     std::cerr
         << "usage: bench_room_budget DATASET OUT_DIR --arm NAME:KEY=VALUE,... [--arm ...] [--every 100] "
-           "[--seed 1337] [--views N] [--save]\n";
+           "[--seed 1337] [--views N] [--save] [--save-every]\n";
     return 2;
   }
   try {
@@ -258,7 +282,7 @@ int main(int argc, char** argv) {
     uint64_t every = 100;
     uint32_t seed = 1337;
     size_t max_views = 0;
-    bool save = false;
+    bool save = false, save_every = false;
     std::vector<ArmSpec> specs;
     for (int i = 3; i < argc; ++i) {
       if (std::strcmp(argv[i], "--arm") == 0 && i + 1 < argc)
@@ -271,6 +295,8 @@ int main(int argc, char** argv) {
         max_views = std::stoull(argv[++i]);
       else if (std::strcmp(argv[i], "--save") == 0)
         save = true;
+      else if (std::strcmp(argv[i], "--save-every") == 0)
+        save_every = true;
       else
         return std::cerr << "unknown argument " << argv[i] << "\n", 2;
     }
@@ -300,6 +326,9 @@ int main(int argc, char** argv) {
       if (a.room_spd) bo.steps_per_diagonal = *a.room_spd;
       if (a.room_spread) bo.spread_over_rays = *a.room_spread;
       if (a.prior) bo.opacity_prior = *a.prior;
+      if (a.prior_start) bo.opacity_prior_start = *a.prior_start;
+      if (a.prior_ramp) bo.opacity_prior_ramp = *a.prior_ramp;
+      if (a.keep) bo.keep_neck = *a.keep;
       plans.push_back(nerf::plan_training(rt, ds, views, j));
       a.steps = plans.back().train.steps;
       if (a.steps % every)
@@ -379,6 +408,9 @@ int main(int argc, char** argv) {
                         std::to_string(a.trainer->rays_done()), fmt::format("{:.3f}", psnr.db[kFace]),
                         fmt::format("{:.3f}", psnr.db[kInner]), fmt::format("{:.3f}", psnr.db[kCovered]),
                         fmt::format("{:.3f}", psnr.db[kCore])});
+        if (save_every)
+          save_with_region(*a.model, a.spec.background,
+                           out + "/" + a.spec.name + "_step" + std::to_string(at) + ".lnerf");
         a.by_seconds.x.push_back(a.seconds), a.by_seconds.y.push_back(psnr.db[shown]);
         a.by_steps.x.push_back(double(at)), a.by_steps.y.push_back(psnr.db[shown]);
       }

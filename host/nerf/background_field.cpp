@@ -52,6 +52,11 @@ std::vector<uint32_t> room_mask(const Aabb& room, Aabb subject, float margin, ui
 
 }  // namespace
 
+float opacity_prior_share(const BackgroundOptions& o, uint64_t step) {
+  const double ramp = std::max<double>(1.0, o.opacity_prior_ramp);
+  return float(std::clamp((double(step) - double(o.opacity_prior_start)) / ramp, 0.0, 1.0));
+}
+
 BackgroundField::BackgroundField(cl::Runtime& rt, const NerfModel& subject, const DeviceViews& views,
                                  const BackgroundOptions& options, uint32_t max_batch, uint32_t seed)
     : options_(options) {

@@ -62,8 +62,14 @@ struct BackgroundOptions {
   // model behind it, a ray through the subject should be opaque and one past it clear, so the
   // semi-transparent fringe and haze the colour loss alone leaves is pushed to 0 or 1. 0 = off.
   // 0.03 clears the faint haze outside the outline; much stronger costs IoU and face quality. It
-  // ramps in linearly over `opacity_prior_ramp` steps after step `opacity_prior_start` (the
-  // occupancy grid's warm-up): from step 0 it would push the still transparent subject to clear.
+  // and the clearing below ramp in linearly over `opacity_prior_ramp` steps after step
+  // `opacity_prior_start` (opacity_prior_share; train --prior-start). Not from step 0: it would push
+  // the still transparent subject of the first steps to clear. The default waits for the end of the
+  // occupancy grid's warm-up. Earlier (128), the clearing meets the haze of the wall's colour that the
+  // subject paints around the head in the warm-up while it is still partly transparent (the clearing
+  // pulls the ray's opacity, whose gradient vanishes once the haze is opaque): the leak before a
+  // plain wall falls by a quarter or more, but the dark head before a dark wall gets more holes, so
+  // it is an option (docs/room-training.md, "The opacity prior and the room-explained clearing").
   float opacity_prior = 0.03f;
   uint32_t opacity_prior_start = 256, opacity_prior_ramp = 256;
   // Room-explained clearing (kernels/train/render.h): on a ray whose pixel the room model's colour
@@ -79,16 +85,21 @@ struct BackgroundOptions {
   // strand, and a pale face's shading before a wall of its colour carry what the flat room lacks;
   // the haze that paints the room's own colour does not. 0 = off (the room gate alone).
   float subject_explains = 0.0f;
-  // subject->keep is where the clearing does not apply (the binary prior does): the part of the
-  // subject that the room model's own surfaces lie right behind (a head's neck, with the body below
-  // the box in the room model), where the room can match the subject's colour without the subject
-  // being a backdrop.
+  // subject->keep is where the clearing does not apply (the binary prior does) when `keep_neck`: the
+  // part of the subject that the room model's own surfaces lie right behind (a head's neck, with the
+  // body below the box in the room model), where the room can match the subject's colour without the
+  // subject being a backdrop. Beside the neck the keep zone holds the wall as a haze that nothing
+  // clears (most of the pale captures' leak), and off it clears, but so does the neck below the jaw
+  // (the room's body behind it explains it), before an off-white wall as before a wall of the skin's
+  // colour: a hole in the subject is worse than haze beside it (docs/room-training.md, "Zones").
+  // Off only for measurement (bench_room_budget's keep=0).
   // subject->core is the bare head (skull, face and neck without the hair margins). In the
   // subject's volume outside it (hair margins, nape) the clearing's gate is at least `lean_gate`
   // whether the room explains the pixel yet or not: side views see that space against the wall,
   // the room model, trained there only through the haze, never learns it, and the binary prior
   // would make the haze solid. Hair there stays where its colour differs from the room's. 0 = off.
   float lean_gate = 1.0f;
+  bool keep_neck = true;
   // The subject's certain interior (subject->solid: behind a face's skin, in the skull, a neck's
   // core). The room model holds only what lies beyond the subject's volume, so a ray that crosses the
   // interior ends in the subject before the wall and the room cannot explain it, whatever its colour
@@ -106,6 +117,10 @@ struct BackgroundOptions {
   // flaw. The pull stays in the interior itself. 0 = the interior alone.
   float solid_reach_mm = 15.0f;
 };
+
+// The share of the opacity prior's weight (and the clearing's) at training step `step`: 0 until
+// `opacity_prior_start`, rising linearly to 1 over `opacity_prior_ramp` steps.
+float opacity_prior_share(const BackgroundOptions& options, uint64_t step);
 
 class BackgroundField {
  public:

@@ -47,7 +47,7 @@ SubjectVolume solid_reach(const SubjectZones& z, float mm) {
 // its volume); empty when neither applies.
 std::vector<uint32_t> prior_zones(const BackgroundOptions& b, const NerfModel& model,
                                   const std::vector<uint32_t>& allowed) {
-  const bool keep = b.room_clear > 0.0f && b.subject && !b.subject->keep.empty();
+  const bool keep = b.keep_neck && b.room_clear > 0.0f && b.subject && !b.subject->keep.empty();
   const bool lean = b.room_clear > 0.0f && b.lean_gate > 0.0f && b.subject && !b.subject->core.empty();
   const bool solid = b.solid_pull > 0.0f && b.subject && !b.subject->solid.empty();
   if (!keep && !lean && !solid) return {};
@@ -148,9 +148,8 @@ double Trainer::run_fraction(double elapsed) const {
 RayPriors Trainer::opacity_prior() const {
   const BackgroundOptions& b = options_.background;
   if (!background_ || !(b.opacity_prior > 0.0f)) return {};
-  const double ramp = std::max<double>(1.0, b.opacity_prior_ramp);
   RayPriors p;
-  p.weight = float(b.opacity_prior * std::clamp((double(step_) - b.opacity_prior_start) / ramp, 0.0, 1.0));
+  p.weight = b.opacity_prior * opacity_prior_share(b, step_);
   p.room_clear = b.room_clear;
   p.room_clear_tolerance = b.room_clear_tolerance;
   p.subject_explains = b.subject_explains;

@@ -94,6 +94,7 @@ inline constexpr Bound kSubjectExplains{"--subject-explains", "", 0, 1, "RMS sRG
 inline constexpr Bound kSolidReach{"--solid-reach", "", 0, 100, "reach beyond the certain interior"};
 inline constexpr Bound kLeanGate{"--lean-gate", "", 0, 1, "clearing gate beyond the bare head"};
 inline constexpr Bound kSolidPull{"--solid-pull", "", 0, 100, "pull towards opaque in the head's interior"};
+inline constexpr Bound kPriorStart{"--prior-start", "", 0, 1000000, "step the opacity prior ramps in from"};
 
 // `render` (Python: Model.render(), Model.orbit()) and the renders the demo and the viewer make.
 inline constexpr Bound kSpp{"--spp", "spp", 1, 64, "NeRF rays per pixel"};

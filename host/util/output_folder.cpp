@@ -164,34 +164,63 @@ fs::path nearest_existing_folder(const fs::path& path) {
   return p.empty() ? fs::path(".") : p;
 }
 
-NewOutputs::NewOutputs(const fs::path& dir, const std::vector<std::string>& names) {
+NewOutputs::NewOutputs(const fs::path& dir, const std::vector<std::string>& names) : names_(names) {
   std::error_code ec;
   fs::path p = fs::absolute(dir).lexically_normal();
   if (p.filename().empty()) p = p.parent_path();
-  if (fs::exists(fs::symlink_status(p, ec))) {
-    for (const auto& n : names)
-      if (!fs::exists(fs::symlink_status(p / n, ec))) added_.push_back(p / n);
-  } else {
+  dir_ = p;
+  if (!fs::exists(fs::symlink_status(p, ec))) {
     while (p.has_parent_path() && p.parent_path() != p &&
            !fs::exists(fs::symlink_status(p.parent_path(), ec)))
       p = p.parent_path();
     created_ = p;
+    fs::create_directories(dir);
+    return;
   }
-  fs::create_directories(dir);
+  for (const auto& n : names)
+    if (fs::exists(fs::symlink_status(dir_ / n, ec))) moved_.push_back(n);
+  if (moved_.empty()) return;
+  aside_ = dir_ / fmt::format(".lorgnette-replaced-{}", getpid());
+  std::vector<std::string> to_move;
+  to_move.swap(moved_);
+  try {
+    fs::create_directory(aside_);
+    for (const auto& n : to_move) fs::rename(dir_ / n, aside_ / n), moved_.push_back(n);
+  } catch (...) {
+    put_back();
+    throw;
+  }
+}
+
+void NewOutputs::put_back() {
+  std::error_code ec;
+  for (const auto& n : moved_)
+    if (!fs::exists(fs::symlink_status(dir_ / n, ec))) {
+      fs::rename(aside_ / n, dir_ / n, ec);
+      if (ec) spdlog::warn("could not put '{}' back from '{}': {}", n, aside_.string(), ec.message());
+    }
+  if (aside_.empty()) return;
+  if (keep_)
+    fs::remove_all(aside_, ec);
+  else
+    fs::remove(aside_, ec);  // only when empty: a file that could not go back stays in it
+  if (ec) spdlog::warn("could not remove '{}': {}", aside_.string(), ec.message());
 }
 
 NewOutputs::~NewOutputs() {
-  if (keep_) return;
-  auto warn = [](const fs::path& p, const std::error_code& ec) {
-    if (ec) spdlog::warn("could not remove the unfinished output '{}': {}", p.string(), ec.message());
-  };
   std::error_code ec;
-  if (!created_.empty()) {
+  if (!keep_ && !created_.empty()) {
     fs::remove_all(created_, ec);
-    warn(created_, ec);
+    if (ec) spdlog::warn("could not remove the unfinished output '{}': {}", created_.string(), ec.message());
     return;
   }
-  for (const auto& f : added_) fs::remove(f, ec), warn(f, ec);
+  if (!keep_)
+    for (const auto& n : names_) {
+      fs::remove(dir_ / n, ec);
+      if (ec)
+        spdlog::warn("could not remove the unfinished output '{}': {}", (dir_ / n).string(), ec.message());
+    }
+  put_back();
 }
 
 }  // namespace lorgnette

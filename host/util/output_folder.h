@@ -71,10 +71,13 @@ std::filesystem::path nearest_existing_folder(const std::filesystem::path& path)
 
 // The files a command writes straight into a folder (not staged: `render -o DIR` adds frames to a
 // folder the user may already keep other files in), undone unless the command finishes. The
-// constructor creates `dir` and any missing parents; without keep(), the destructor removes the
-// folders it created, or, when `dir` was already there, those of `names` that were not there before.
-// A full disk so never leaves an empty or half-filled folder that looks like a result, and nothing
-// the user had is removed (a file `--force` overwrote is already gone).
+// constructor creates `dir` and any missing parents, and moves those of `names` that are already
+// there (an earlier render that --force replaces) into a hidden folder in `dir`
+// (".lorgnette-replaced-PID"). Without keep(), the destructor removes the folders it created, or the
+// files of `names` and puts the moved files back: a full disk or an error never leaves an empty or
+// half-filled folder that looks like a result, nor half of an earlier result replaced. With keep()
+// (the command finished, or stopped with whole files), the moved files it wrote again are deleted
+// and the others put back. Killed outright, the earlier files stay in the hidden folder.
 class NewOutputs {
  public:
   NewOutputs(const std::filesystem::path& dir, const std::vector<std::string>& names);
@@ -84,8 +87,11 @@ class NewOutputs {
   void keep() { keep_ = true; }
 
  private:
-  std::filesystem::path created_;             // the topmost folder this made ("": none)
-  std::vector<std::filesystem::path> added_;  // in a folder that was there: the files new to it
+  void put_back();  // the moved-aside files whose names are free again, then the hidden folder
+
+  std::filesystem::path created_;           // the topmost folder this made ("": none)
+  std::filesystem::path dir_, aside_;       // the folder; where replaced files wait ("": none)
+  std::vector<std::string> names_, moved_;  // the command's files; those moved aside
   bool keep_ = false;
 };
 

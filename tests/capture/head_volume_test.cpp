@@ -21,15 +21,6 @@ namespace {
 
 nerf::Vec3f vec(const Eigen::Vector3d& p) { return {float(p.x()), float(p.y()), float(p.z())}; }
 
-// The mean face's anchor as the volumes use it: its eye corners' centroid at the inner corners' depth.
-Eigen::Vector3d mean_face_anchor(const fit::Face68& face) {
-  Eigen::Vector3d anchor = Eigen::Vector3d::Zero();
-  for (int k : {fit::lm::kEyeOuterR, fit::lm::kEyeInnerR, fit::lm::kEyeInnerL, fit::lm::kEyeOuterL})
-    anchor += 0.25 * face[k];
-  anchor.z() = 0.5 * (face[fit::lm::kEyeInnerR].z() + face[fit::lm::kEyeInnerL].z());
-  return anchor;
-}
-
 // The head box of a procedural subject from its true head frame (rotated by `rot` in the scene),
 // anchored as fit::estimate_head_box anchors it (the eye corners' centroid, at the inner corners'
 // depth), and the subject's vertices in that scene.
@@ -92,11 +83,7 @@ TEST(HeadVolume, MeanFaceInsideWithMargin) {
   const fit::Face68& face = fit::builtin_mean_face();
   ASSERT_EQ(face.size(), 68u);
   // The mean face is in mm about its own origin; move it so its eye anchor is the volume's origin.
-  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
-  for (int k : {fit::lm::kEyeOuterR, fit::lm::kEyeInnerR, fit::lm::kEyeInnerL, fit::lm::kEyeOuterL})
-    centroid += 0.25 * face[k];
-  Eigen::Vector3d anchor = centroid;
-  anchor.z() = 0.5 * (face[fit::lm::kEyeInnerR].z() + face[fit::lm::kEyeInnerL].z());
+  const Eigen::Vector3d anchor = fit::face_anchor(face);
   for (int k = 0; k < 68; ++k)
     for (int a = 0; a < 3; ++a)
       for (double d : {-10.0, 10.0}) {
@@ -159,10 +146,7 @@ TEST(HeadVolume, ClearKeepIsTheNeckBelowTheChin) {
   EXPECT_FALSE(in(0, -bottom - 5, 0));    // below the box: the room's
   // Every mean-face landmark (its eye anchor at the origin, as above) lies above the keep zone.
   const fit::Face68& face = fit::builtin_mean_face();
-  Eigen::Vector3d anchor = Eigen::Vector3d::Zero();
-  for (int k : {fit::lm::kEyeOuterR, fit::lm::kEyeInnerR, fit::lm::kEyeInnerL, fit::lm::kEyeOuterL})
-    anchor += 0.25 * face[k];
-  anchor.z() = 0.5 * (face[fit::lm::kEyeInnerR].z() + face[fit::lm::kEyeInnerL].z());
+  const Eigen::Vector3d anchor = fit::face_anchor(face);
   for (int k = 0; k < 68; ++k) {
     const Eigen::Vector3d p = face[k] - anchor;
     EXPECT_FALSE(in(p.x(), p.y(), p.z())) << "landmark " << k;
@@ -181,7 +165,7 @@ TEST(HeadVolume, ClearCoreIsTheBareHead) {
   };
   // The mean face about the volumes' anchor.
   const fit::Face68& face = fit::builtin_mean_face();
-  const Eigen::Vector3d anchor = mean_face_anchor(face);
+  const Eigen::Vector3d anchor = fit::face_anchor(face);
   int core_points = 0, lean_points = 0;
   for (double x = -300; x <= 300; x += 10)
     for (double y = -300; y <= 300; y += 10)
@@ -357,7 +341,7 @@ TEST(HeadVolume, CutRimIsTheVolumesTopEdge) {
         Eigen::Vector3d(-half, 40, -90), Eigen::Vector3d(0, 40, e.glabella_ahead_mm)})
     EXPECT_FALSE(in(rim, p.x(), p.y(), p.z())) << p.transpose();
   const fit::Face68& face = fit::builtin_mean_face();
-  const Eigen::Vector3d anchor = mean_face_anchor(face);
+  const Eigen::Vector3d anchor = fit::face_anchor(face);
   for (int k = 0; k < 68; ++k) {
     const Eigen::Vector3d p = face[k] - anchor;
     EXPECT_FALSE(in(rim, p.x(), p.y(), p.z())) << "landmark " << k;

@@ -126,6 +126,11 @@ TEST(InputChecks, TempleSpreadWithinWhatAWornFrameBends) {
   EXPECT_EQ(c.value, 20.0);
   EXPECT_EQ(c.limit, kMaxWornSpreadDeg);
   EXPECT_NE(c.reason.find("20.00 / 16.50 deg"), std::string::npos) << c.reason;
+  EXPECT_NE(c.reason.find("haze beside the head"), std::string::npos) << c.reason;
+  // Turned onto Eq. 2-3's ears, the reason names the ear a temple may pass through.
+  const InputCheck estimated = check_temple_spread(t, true);
+  EXPECT_FALSE(estimated.passed);
+  EXPECT_NE(estimated.reason.find("passes through the ear itself"), std::string::npos) << estimated.reason;
 }
 
 TEST(InputChecks, FrontWithinItsToleranceIsNotFailed) {

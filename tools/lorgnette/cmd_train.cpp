@@ -72,6 +72,42 @@ void run_train(TrainArgs& a, GlobalOptions& global) {
                  out.budget, s.output);
 }
 
+// The room model's options, starting at BackgroundOptions' defaults, which --help shows.
+void add_room_options(CLI::App* cmd, nerf::BackgroundOptions& room) {
+  cmd->add_option(
+         "--opacity-prior", room.opacity_prior,
+         "with the room model: weight of the prior that pushes each ray's opacity to 0 or 1 (0 = off)")
+      ->capture_default_str();
+  cmd->add_option("--prior-start", room.opacity_prior_start,
+                  "with the room model: the step from which the opacity prior and the room-explained "
+                  "clearing ramp in (over 256 steps)")
+      ->capture_default_str();
+  cmd->add_option("--room-clear", room.room_clear,
+                  "with the room model: where the room's colour matches the pixel, pull the subject's "
+                  "opacity to 0 with this many times the opacity prior's weight (0 = off)")
+      ->capture_default_str();
+  cmd->add_option("--room-clear-tolerance", room.room_clear_tolerance,
+                  "RMS sRGB difference between the room's colour and the pixel at which --room-clear stops")
+      ->capture_default_str();
+  cmd->add_option("--subject-explains", room.subject_explains,
+                  "with the room model: the clearing stops where the subject's render is this much (RMS "
+                  "sRGB) nearer the pixel than the room's colour alone (0 = off)")
+      ->capture_default_str();
+  cmd->add_option("--lean-gate", room.lean_gate,
+                  "with the room model and a head box: in the head volume beyond the bare head, the "
+                  "clearing's gate is at least this (1: always clear there; 0 = off)")
+      ->capture_default_str();
+  cmd->add_option("--solid-pull", room.solid_pull,
+                  "with the room model and a head box: rays through the head's certain interior are the "
+                  "subject's (no clearing), and that interior is pulled opaque with this many times the "
+                  "opacity prior's weight (0 = off)")
+      ->capture_default_str();
+  cmd->add_option("--solid-reach", room.solid_reach_mm,
+                  "with the room model and a head box: a ray that passes within this many mm of the head's "
+                  "certain interior counts as crossing it (no clearing; the pull stays in the interior)")
+      ->capture_default_str();
+}
+
 void add_train(CLI::App& app, GlobalOptions& global) {
   auto* cmd = app.add_subcommand("train", "train a NeRF on a dataset (transforms.json or NeRF-synthetic)");
   auto a = std::make_shared<TrainArgs>();
@@ -111,35 +147,7 @@ void add_train(CLI::App& app, GlobalOptions& global) {
                   "room model behind the subject, then keep the subject's connected region: auto (mask-less "
                   "datasets with a subject box), on or off")
       ->check(CLI::IsMember({"auto", "on", "off"}));
-  // The room model's options start at BackgroundOptions' defaults, which --help shows.
-  cmd->add_option(
-         "--opacity-prior", a->settings.room.opacity_prior,
-         "with the room model: weight of the prior that pushes each ray's opacity to 0 or 1 (0 = off)")
-      ->capture_default_str();
-  cmd->add_option("--room-clear", a->settings.room.room_clear,
-                  "with the room model: where the room's colour matches the pixel, pull the subject's "
-                  "opacity to 0 with this many times the opacity prior's weight (0 = off)")
-      ->capture_default_str();
-  cmd->add_option("--room-clear-tolerance", a->settings.room.room_clear_tolerance,
-                  "RMS sRGB difference between the room's colour and the pixel at which --room-clear stops")
-      ->capture_default_str();
-  cmd->add_option("--subject-explains", a->settings.room.subject_explains,
-                  "with the room model: the clearing stops where the subject's render is this much (RMS "
-                  "sRGB) nearer the pixel than the room's colour alone (0 = off)")
-      ->capture_default_str();
-  cmd->add_option("--lean-gate", a->settings.room.lean_gate,
-                  "with the room model and a head box: in the head volume beyond the bare head, the "
-                  "clearing's gate is at least this (1: always clear there; 0 = off)")
-      ->capture_default_str();
-  cmd->add_option("--solid-pull", a->settings.room.solid_pull,
-                  "with the room model and a head box: rays through the head's certain interior are the "
-                  "subject's (no clearing), and that interior is pulled opaque with this many times the "
-                  "opacity prior's weight (0 = off)")
-      ->capture_default_str();
-  cmd->add_option("--solid-reach", a->settings.room.solid_reach_mm,
-                  "with the room model and a head box: a ray that passes within this many mm of the head's "
-                  "certain interior counts as crossing it (no clearing; the pull stays in the interior)")
-      ->capture_default_str();
+  add_room_options(cmd, a->settings.room);
   cmd->add_option("--aabb-scale", a->settings.aabb_scale,
                   "box size factor for datasets without alpha, 0.01..128 (default: dataset)");
   // Every number's range is checked by nerf::validate (host/util/bounds.h), with the same message

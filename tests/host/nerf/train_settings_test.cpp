@@ -42,6 +42,9 @@ TEST(TrainSettings, OutOfRangeNumbersAreRefusedNamingFlagAndArgument) {
   s.room.opacity_prior = std::numeric_limits<float>::quiet_NaN();
   EXPECT_HAS(range_error([&] { validate(s); }), "--opacity-prior");
   s = {};
+  s.room.opacity_prior_start = 2000000;
+  EXPECT_HAS(range_error([&] { validate(s); }), "--prior-start");
+  s = {};
   s.steps = 10, s.seconds = 5.0;
   EXPECT_THROW(validate(s), std::invalid_argument);
   s = {};

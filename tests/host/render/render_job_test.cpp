@@ -8,6 +8,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 
 #include "host/render/analytic_field.h"
 #include "host/util/interrupt.h"
@@ -182,6 +183,43 @@ TEST(RenderJob, ADiskThatFillsMidJobLeavesNothingOfTheJob) {
     left.push_back(fs::relative(e.path(), disk.path()).string());
   std::sort(left.begin(), left.end());
   EXPECT_EQ(left, (std::vector<std::string>{"filler", "mine", "mine/notes.txt"}));
+}
+
+// --force over an earlier render: a job that fails after its first view puts every earlier file back
+// as it was (none half replaced) and leaves no hidden folder; a job that finishes replaces them all.
+TEST(RenderJob, AFailedForcedRenderPutsTheEarlierFilesBack) {
+  HeadRender head(1.0f / 64.0f);
+  OrbitSpec spec;
+  spec.views = 3;
+  spec.width = spec.height = 24;
+  RenderJob job;
+  job.cameras = orbit_cameras(spec);
+  job.video = false;
+  job.force = true;
+  job.out_dir = tmp_dir("force_fail");
+  const std::vector<std::string> names = render_job_outputs(job);
+  for (const auto& n : names) write(job.out_dir + "/" + n, "earlier " + n);
+  write(job.out_dir + "/notes.txt", "the user's");
+  int views = 0;
+  auto fail_second = [&](const Camera& c, const lorgnette::SurfaceBuffers* s) {
+    if (++views == 2) throw std::runtime_error("the device was lost");
+    return head.render(c, s, job.options);
+  };
+  EXPECT_THROW(run_render_job(job, fail_second), std::runtime_error);
+  auto text = [&](const std::string& n) {
+    std::ifstream f(job.out_dir + "/" + n);
+    return std::string(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
+  };
+  for (const auto& n : names) EXPECT_EQ(text(n), "earlier " + n);
+  EXPECT_EQ(text("notes.txt"), "the user's");
+  size_t entries = std::distance(fs::directory_iterator(job.out_dir), fs::directory_iterator());
+  EXPECT_EQ(entries, names.size() + 1) << "no hidden folder is left";
+  run_render_job(job, [&](const Camera& c, const lorgnette::SurfaceBuffers* s) {
+    return head.render(c, s, job.options);
+  });
+  EXPECT_EQ(read_image(job.out_dir + "/frame_0002.png").width, 24);
+  entries = std::distance(fs::directory_iterator(job.out_dir), fs::directory_iterator());
+  EXPECT_EQ(entries, names.size() + 1);
 }
 
 // A stop asked for (Ctrl-C, SIGTERM) keeps the whole views written before it (docs/input-limits.md);
