@@ -3,17 +3,23 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
+
 namespace lorgnette::fit {
 
-AdviceRule judge(const std::string& name, double d, double low, double high, const std::string& small,
-                 const std::string& large) {
+// The difference is judged at the 0.1 mm the advice prints: sizes read from a mesh carry float
+// rounding (an 18 mm bridge is 18.0000019 mm), and a difference that reads as the band's edge is on it,
+// so no verdict says "too wide by 0.0 mm".
+AdviceRule judge(const std::string& name, double difference, double low, double high,
+                 const std::string& small, const std::string& large) {
   AdviceRule r;
   r.name = name;
-  r.difference_mm = d;
+  r.difference_mm = difference;
   r.low_mm = low;
   r.high_mm = high;
+  const double d = std::round(difference * 10.0) / 10.0;
   r.verdict = d < low ? small : d > high ? large : "good";
-  r.off_by_mm = d < low ? low - d : d > high ? d - high : 0.0;
+  r.off_by_mm = d < low ? low - difference : d > high ? difference - high : 0.0;
   return r;
 }
 

@@ -99,6 +99,12 @@ TEST(FitAdvice, BridgeRule) {
   r = bridge_rule(22.0, 17.0);
   EXPECT_EQ(r.verdict, "too wide");
   EXPECT_NEAR(r.off_by_mm, 3.0, 1e-9);
+  // A mesh's 18 mm bridge read as a float against a 16 mm nose lies on the band's edge, not 0.0 mm
+  // past it; 0.1 mm past it is outside.
+  EXPECT_EQ(bridge_rule(double(18.0f + 2e-6f), 16.0).verdict, "good");
+  r = bridge_rule(18.1, 16.0);
+  EXPECT_EQ(r.verdict, "too wide");
+  EXPECT_NE(r.text.find("too wide by 0.1 mm"), std::string::npos) << r.text;
 }
 
 TEST(FitAdvice, TempleLengthRule) {
