@@ -241,9 +241,9 @@ int main(int argc, char** argv) {
           const EarRootInputs in{(*sf.points)[k],     (*sf.points)[e], sf.head->d_eye,
                                  sf.head->d_up,       sf.head->d_fwd,  side,
                                  sf.head->mm_per_unit};
-          // The NeRF at the rays' default opacity and at 0.5 (the level before 28 Nov): a NeRF's soft ear
-          // top is met deeper at the higher level (ear_root.h). Then the rays' heights across the side at
-          // the mesh's rest depth (the mesh goes first): what the search reads there.
+          // The NeRF at the rays' default opacity and at 0.5 (where a render shows the surface): a NeRF's
+          // soft ear top is met deeper at the higher level (ear_root.h). Then the rays' heights across the
+          // side at the mesh's rest depth (the mesh goes first): what the search reads there.
           const double level = base.head.ear_root.rays.opacity;
           std::optional<double> mesh_rest_depth;
           std::vector<ChartSeries> series;

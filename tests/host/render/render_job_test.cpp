@@ -43,6 +43,17 @@ struct HeadRender {
     return marcher.render(scene, c, s, o);
   }
 };
+
+// Three views of 24 px around the analytic head, without video: the jobs that fail or stop midway.
+RenderJob three_view_job() {
+  OrbitSpec spec;
+  spec.views = 3;
+  spec.width = spec.height = 24;
+  RenderJob job;
+  job.cameras = orbit_cameras(spec);
+  job.video = false;
+  return job;
+}
 }  // namespace
 
 TEST(RenderJob, ParsesSizesAndRefusesBadOnes) {
@@ -152,12 +163,7 @@ TEST(RenderJob, ADiskThatFillsMidJobLeavesNothingOfTheJob) {
   lgn_test::ScopedTmpfs disk(fs::path(LORGNETTE_TEST_TMP) / "render_job_fills", 1024 * 1024);
   LGN_SKIP_UNLESS_MOUNTED(disk);
   HeadRender head(1.0f / 64.0f);
-  OrbitSpec spec;
-  spec.views = 3;
-  spec.width = spec.height = 24;
-  RenderJob job;
-  job.cameras = orbit_cameras(spec);
-  job.video = false;
+  RenderJob job = three_view_job();
   int views = 0;
   auto fill_after_first = [&](const Camera& c, const lorgnette::SurfaceBuffers* s) {
     if (++views == 2) disk.fill();  // the first view's files are written by now
@@ -189,12 +195,7 @@ TEST(RenderJob, ADiskThatFillsMidJobLeavesNothingOfTheJob) {
 // as it was (none half replaced) and leaves no hidden folder; a job that finishes replaces them all.
 TEST(RenderJob, AFailedForcedRenderPutsTheEarlierFilesBack) {
   HeadRender head(1.0f / 64.0f);
-  OrbitSpec spec;
-  spec.views = 3;
-  spec.width = spec.height = 24;
-  RenderJob job;
-  job.cameras = orbit_cameras(spec);
-  job.video = false;
+  RenderJob job = three_view_job();
   job.force = true;
   job.out_dir = tmp_dir("force_fail");
   const std::vector<std::string> names = render_job_outputs(job);
@@ -226,12 +227,7 @@ TEST(RenderJob, AFailedForcedRenderPutsTheEarlierFilesBack) {
 // a stop before the first view leaves no folder.
 TEST(RenderJob, AStopKeepsTheWholeViewsWrittenAndNoEmptyFolder) {
   HeadRender head(1.0f / 64.0f);
-  OrbitSpec spec;
-  spec.views = 3;
-  spec.width = spec.height = 24;
-  RenderJob job;
-  job.cameras = orbit_cameras(spec);
-  job.video = false;
+  RenderJob job = three_view_job();
   const fs::path root = tmp_dir("stop");
   job.out_dir = (root / "renders").string();
   auto stop_after_first = [&](const Camera& c, const lorgnette::SurfaceBuffers* s) {
