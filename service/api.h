@@ -74,7 +74,8 @@ struct ApiOptions {
   int64_t retention_seconds = 30 * 86400;
 };
 
-// The catalogue's frame names that `artifacts` (a job's) neither fits nor lists as unavailable.
+// The catalogue's frame names that `artifacts` (a job's) neither fits nor lists as unavailable with
+// the file that is there now (a frame whose file the shop replaced since it failed is tried again).
 std::vector<std::string> frames_not_fitted(const std::string& catalogue, const nlohmann::json& artifacts);
 // The last finished progress of a job fitting new frames (api_refit.cpp).
 std::filesystem::path tryon_snapshot(const std::filesystem::path& capture_dir);

@@ -23,6 +23,15 @@ bool lists(const nlohmann::json& artifacts, const char* key, const std::string& 
   return artifacts.contains(key) && artifacts[key].is_object() && artifacts[key].contains(frame);
 }
 
+// Whether the frame failed with the file that is in the catalogue now. A job that recorded no hash
+// for it (made before the hashes were kept) counts it as the same file.
+bool failed_with_this_file(const nlohmann::json& artifacts, const viewer::FrameEntry& frame) {
+  if (!lists(artifacts, "unavailable", frame.name)) return false;
+  if (!lists(artifacts, "unavailable_from", frame.name)) return true;
+  const nlohmann::json& was = artifacts["unavailable_from"][frame.name];
+  return !was.is_string() || was.get<std::string>() == frame_file_hash(frame.path);
+}
+
 }  // namespace
 
 std::vector<std::string> frames_not_fitted(const std::string& catalogue, const nlohmann::json& artifacts) {
@@ -35,7 +44,7 @@ std::vector<std::string> frames_not_fitted(const std::string& catalogue, const n
     return out;  // no frames there now (emptied, or the folder is gone): nothing to add
   }
   for (const auto& f : frames)
-    if (!lists(artifacts, "fits", f.name) && !lists(artifacts, "unavailable", f.name)) out.push_back(f.name);
+    if (!lists(artifacts, "fits", f.name) && !failed_with_this_file(artifacts, f)) out.push_back(f.name);
   return out;
 }
 

@@ -27,4 +27,8 @@ struct JobFolder {
 // never "." or ".." (a catalogue file name must not lead a fit outside fits/).
 std::string frame_key(const std::string& frame_name);
 
+// A catalogue frame file's content hash (fit::file_hash), "" when it cannot be read: what a frame
+// that could not be fitted failed with, so that the shop's replacement of the file is tried again.
+std::string frame_file_hash(const std::string& path);
+
 }  // namespace lorgnette::service

@@ -136,14 +136,16 @@ std::optional<std::string> fit_one(const JobFolder& f, const JobSettings& s, cl:
 }
 
 // Every catalogue frame fitted (artifacts "fits", "views", "preview"); frames that cannot be are
-// listed with the reason under "unavailable". The job fails only when no frame fits at all (then
-// the head, not a frame, is the likely cause: e.g. no face found), with the first frame's reason.
+// listed with the reason under "unavailable", and with the hash of the file that failed under
+// "unavailable_from" (the server's own: a frame file the shop replaces is tried again, api.h). The
+// job fails only when no frame fits at all (then the head, not a frame, is the likely cause: e.g. no
+// face found), with the first frame's reason.
 void fit_stage(const JobFolder& f, const JobSettings& s, cl::Runtime& rt, Reporter& r) {
   if (s.catalogue.empty()) return;
   const std::vector<viewer::FrameEntry> frames = viewer::catalogue_from_dir(s.catalogue);
   const std::string model_hash = fit::file_hash(f.model().string());
   nlohmann::json fits = nlohmann::json::object(), views = nlohmann::json::object();
-  nlohmann::json unavailable = nlohmann::json::object();
+  nlohmann::json unavailable = nlohmann::json::object(), unavailable_from = nlohmann::json::object();
   std::string first_error;
   for (size_t i = 0; i < frames.size(); ++i) {
     check_interrupt("a fit");
@@ -151,6 +153,7 @@ void fit_stage(const JobFolder& f, const JobSettings& s, cl::Runtime& rt, Report
     r.update("fit", pct, fmt::format("placing frame {} of {} ({})", i + 1, frames.size(), frames[i].name));
     if (auto error = fit_one(f, s, rt, frames[i], model_hash)) {
       unavailable[frames[i].name] = *error;
+      unavailable_from[frames[i].name] = frame_file_hash(frames[i].path);
       if (first_error.empty()) first_error = *error;
       continue;
     }
@@ -166,6 +169,7 @@ void fit_stage(const JobFolder& f, const JobSettings& s, cl::Runtime& rt, Report
   r.artifacts()["fits"] = fits;
   r.artifacts()["views"] = views;
   r.artifacts()["unavailable"] = unavailable;
+  r.artifacts()["unavailable_from"] = unavailable_from;
 }
 
 // Holds job.lock in the capture folder for the worker's life (flock: released by the kernel when

@@ -182,6 +182,7 @@ TEST(ShopArtifacts, TheJobsJsonNamesNoServerPath) {
   p.artifacts["dataset"] = "dataset/transforms.json";
   p.artifacts["unavailable"] = {
       {"a-broken.glb", "cannot load mesh '" + (catalogue / "a-broken.glb").string() + "': not a valid glTF"}};
+  p.artifacts["unavailable_from"] = {{"a-broken.glb", "fnv1a64:0123456789abcdef"}};
   write_progress(f.progress(), p);
   auto rec = *shop.store->get(id);
   rec.message = "fitted 1 frame of " + catalogue.string();
@@ -201,6 +202,7 @@ TEST(ShopArtifacts, TheJobsJsonNamesNoServerPath) {
   EXPECT_EQ(done["artifacts"]["views"]["round.glb"][0], "fits/round.glb/view_00.jpg");
   EXPECT_EQ(done["artifacts"]["unavailable"]["a-broken.glb"],
             "cannot load mesh 'a-broken.glb': not a valid glTF");
+  EXPECT_FALSE(done["artifacts"].contains("unavailable_from"));  // the server's own record
   EXPECT_FALSE(done["artifacts"].contains("model"));
   EXPECT_FALSE(done["artifacts"].contains("dataset"));
   EXPECT_EQ(done["message"], "fitted 1 frame of catalogue");
@@ -215,4 +217,23 @@ TEST(ShopArtifacts, TheJobsJsonNamesNoServerPath) {
   }
   // The API's own errors keep the URLs they point the client to.
   EXPECT_NE(shop.get("/api/nope").body.find("under /api/v1"), std::string::npos);
+}
+
+// A frame that could not be fitted is not tried again while its file is the one it failed with (each
+// read of the job would queue it again), and is tried again once the shop replaces the file; a job
+// that recorded no hash for it (made before the hashes were kept) keeps it unavailable.
+TEST(ShopArtifacts, AFrameIsTriedAgainWhenTheShopReplacesItsFile) {
+  const fs::path catalogue = test_dir("service_frame_replaced") / "catalogue";
+  fs::create_directories(catalogue);
+  write_file(catalogue / "a-broken.glb", "glTF but not really");
+  write_file(catalogue / "round.glb", "a frame that fitted");
+  nlohmann::json artifacts = {{"fits", {{"round.glb", "fits/round.glb/placement.json"}}},
+                              {"unavailable", {{"a-broken.glb", "not a valid glTF"}}},
+                              {"unavailable_from", {{"a-broken.glb", frame_file_hash((catalogue / "a-broken.glb").string())}}}};
+  EXPECT_TRUE(frames_not_fitted(catalogue.string(), artifacts).empty());
+  write_file(catalogue / "a-broken.glb", "glTF, repaired by the shop");
+  EXPECT_EQ(frames_not_fitted(catalogue.string(), artifacts), std::vector<std::string>{"a-broken.glb"});
+  artifacts.erase("unavailable_from");
+  EXPECT_TRUE(frames_not_fitted(catalogue.string(), artifacts).empty());
+  EXPECT_EQ(frame_file_hash((catalogue / "missing.glb").string()), "");
 }
