@@ -227,9 +227,10 @@ TEST(ShopArtifacts, AFrameIsTriedAgainWhenTheShopReplacesItsFile) {
   fs::create_directories(catalogue);
   write_file(catalogue / "a-broken.glb", "glTF but not really");
   write_file(catalogue / "round.glb", "a frame that fitted");
-  nlohmann::json artifacts = {{"fits", {{"round.glb", "fits/round.glb/placement.json"}}},
-                              {"unavailable", {{"a-broken.glb", "not a valid glTF"}}},
-                              {"unavailable_from", {{"a-broken.glb", frame_file_hash((catalogue / "a-broken.glb").string())}}}};
+  nlohmann::json artifacts = {
+      {"fits", {{"round.glb", "fits/round.glb/placement.json"}}},
+      {"unavailable", {{"a-broken.glb", "not a valid glTF"}}},
+      {"unavailable_from", {{"a-broken.glb", frame_file_hash((catalogue / "a-broken.glb").string())}}}};
   EXPECT_TRUE(frames_not_fitted(catalogue.string(), artifacts).empty());
   write_file(catalogue / "a-broken.glb", "glTF, repaired by the shop");
   EXPECT_EQ(frames_not_fitted(catalogue.string(), artifacts), std::vector<std::string>{"a-broken.glb"});

@@ -182,8 +182,9 @@ TEST(TryOnJob, AnUnfittableFrameIsUnavailableAndAFrameAddedLaterIsFittedWhenAske
   EXPECT_EQ(first.dump().find(catalogue.string()), std::string::npos) << first.dump(2);  // a server path
   EXPECT_FALSE(first["artifacts"]["fits"].contains("a-broken.glb"));
   EXPECT_FALSE(fs::exists(data / "captures" / id / "fits" / "a-broken.glb"));
-  EXPECT_EQ(read_progress(data / "captures" / id / "progress.json")->artifacts["unavailable_from"]["a-broken.glb"],
-            frame_file_hash((catalogue / "a-broken.glb").string()));  // tried again once the file changes
+  EXPECT_EQ(
+      read_progress(data / "captures" / id / "progress.json")->artifacts["unavailable_from"]["a-broken.glb"],
+      frame_file_hash((catalogue / "a-broken.glb").string()));  // tried again once the file changes
   const fs::path view0 = data / "captures" / id / "fits" / "round.glb" / "view_00.jpg";
   const auto round_made = fs::last_write_time(view0);
 
