@@ -20,6 +20,7 @@
 #include "host/util/bounds.h"
 #include "host/util/chart.h"
 #include "host/util/interrupt.h"
+#include "host/util/machine.h"
 #include "host/util/output_folder.h"
 #include "host/util/version.h"
 #include "mesh/glasses.h"
@@ -36,14 +37,17 @@ namespace lorgnette::demo {
 namespace fs = std::filesystem;
 namespace {
 
+// A stage's wall and CPU seconds: the CPU seconds hold on a machine whose cores other programs share.
 class Stopwatch {
  public:
   double seconds() const {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
   }
+  StageTime stage(const char* name) const { return {name, seconds(), process_cpu_seconds() - cpu_start_}; }
 
  private:
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+  double cpu_start_ = process_cpu_seconds();
 };
 
 const OutputOwner kDemoOutput{"demo", "demo output", ""};
@@ -103,7 +107,7 @@ synth::Subject stage_synthesize(Context& c) {
   so.yaw_max_deg = 135.0f;
   so.progress = [](int done, int total) { spdlog::debug("synth view {}/{}", done, total); };
   synth::synthesize_dataset(subject, c.path("dataset"), so);
-  c.report.stages.push_back({"synthesize", sw.seconds()});
+  c.report.stages.push_back(sw.stage("synthesize"));
   c.report.config["subject"] = subject.params;
   return subject;
 }
@@ -131,7 +135,7 @@ nerf::NerfModel stage_train(Context& c, cl::Runtime& rt, dataset::Dataset& ds) {
   write_chart(c.path("training_psnr.png"), {"training batch PSNR (sRGB)", "step", "dB"},
               {{"batch PSNR", x, y}});
   c.report.loss_chart = "training_psnr.png";
-  c.report.stages.push_back({"train", sw.seconds()});
+  c.report.stages.push_back(sw.stage("train"));
   return std::move(out.model);
 }
 
@@ -152,7 +156,7 @@ void stage_evaluate(Context& c, nerf::NerfModel& model, dataset::Dataset& ds) {
     c.report.heldout_images.push_back("heldout/" + entry.path().filename().string());
   std::sort(c.report.heldout_images.begin(), c.report.heldout_images.end());
   spdlog::info("held-out PSNR {:.2f} dB, SSIM {:.3f} over {} views", e.psnr, e.ssim, e.views);
-  c.report.stages.push_back({"evaluate", sw.seconds()});
+  c.report.stages.push_back(sw.stage("evaluate"));
 }
 
 std::string stage_glasses(Context& c) {
@@ -226,7 +230,7 @@ fit::FitResult stage_fit(Context& c, nerf::NerfModel& model, const std::string& 
     gt["pd_error_mm"] = pf.pd_mm - pd;
   }
   c.report.ground_truth = gt;
-  c.report.stages.push_back({"fit", sw.seconds()});
+  c.report.stages.push_back(sw.stage("fit"));
   return std::move(job.fit);
 }
 
@@ -262,7 +266,7 @@ void stage_render(Context& c, cl::Runtime& rt, nerf::NerfModel& model, const std
   Image preview = mesh::render_glasses_preview(g);
   write_image(c.path("glasses_preview.png"), preview);
   c.report.glasses_preview = "glasses_preview.png";
-  c.report.stages.push_back({"render", sw.seconds()});
+  c.report.stages.push_back(sw.stage("render"));
 }
 
 }  // namespace
@@ -302,6 +306,7 @@ DemoReport run_demo(const DemoOptions& options, const cl::RuntimeOptions& runtim
   Context c;
   c.opt = defaults_for(options);
   c.report.version = fmt::format("{} (commit {})", version_string(), git_commit());
+  c.report.machine = machine_info().summary();  // the load before the demo adds its own
   c.report.config = {{"quick", c.opt.quick},
                      {"views", c.opt.views},
                      {"image_size", c.opt.image_size},

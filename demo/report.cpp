@@ -71,18 +71,23 @@ std::string scale_and_advice(const nlohmann::json& fit) {
 }  // namespace
 
 nlohmann::json DemoReport::to_json() const {
-  nlohmann::json seconds = nlohmann::json::object();
-  double total = 0.0;
+  nlohmann::json seconds = nlohmann::json::object(), cpu = nlohmann::json::object();
+  double total = 0.0, cpu_total = 0.0;
   for (const auto& s : stages) {
     seconds[s.name] = s.seconds;
+    cpu[s.name] = s.cpu_seconds;
     total += s.seconds;
+    cpu_total += s.cpu_seconds;
   }
   seconds["total"] = total;
+  cpu["total"] = cpu_total;
   return {{"version", version},
           {"device", device},
+          {"machine", machine},
           {"ok", ok},
           {"message", message},
           {"seconds", seconds},
+          {"cpu_seconds", cpu},
           {"psnr", psnr},
           {"ssim", ssim},
           {"heldout_views", heldout_views},
@@ -104,13 +109,15 @@ nlohmann::json DemoReport::to_json() const {
 }
 
 std::string render_report_html(const DemoReport& r) {
-  std::string stages;
-  double total = 0.0;
+  std::string stages = "<tr><th>stage</th><th>wall</th><th>CPU</th></tr>\n";
+  double total = 0.0, cpu_total = 0.0;
   for (const auto& s : r.stages) {
-    stages += fmt::format("<tr><td>{}</td><td>{:.1f} s</td></tr>\n", escape(s.name), s.seconds);
+    stages += fmt::format("<tr><td>{}</td><td>{:.1f} s</td><td>{:.1f} s</td></tr>\n", escape(s.name),
+                          s.seconds, s.cpu_seconds);
     total += s.seconds;
+    cpu_total += s.cpu_seconds;
   }
-  stages += fmt::format("<tr><th>total</th><th>{:.1f} s</th></tr>\n", total);
+  stages += fmt::format("<tr><th>total</th><th>{:.1f} s</th><th>{:.1f} s</th></tr>\n", total, cpu_total);
   std::string status = r.ok ? "<p class=ok>The fit succeeded.</p>"
                             : fmt::format("<p class=bad>Not complete: {}</p>", escape(r.message));
   std::string video = r.orbit_mp4.empty()
@@ -129,7 +136,7 @@ table{{border-collapse:collapse}}td,th{{padding:2px 12px;text-align:left;border-
 pre{{background:#f6f6f6;padding:8px;overflow:auto;font-size:12px}}</style></head><body>
 <h1>Lorgnette demo</h1>
 {status}
-<p>Device: {device} &middot; Lorgnette {version}</p>
+<p>Device: {device} &middot; Machine: {machine} &middot; Lorgnette {version}</p>
 <h2>Orbit</h2>
 {video}
 {sheet}
@@ -158,11 +165,12 @@ pre{{background:#f6f6f6;padding:8px;overflow:auto;font-size:12px}}</style></head
 </body></html>
 )",
       fmt::arg("status", status), fmt::arg("device", escape(r.device)),
-      fmt::arg("version", escape(r.version)), fmt::arg("video", video), fmt::arg("sheet", sheet),
-      fmt::arg("psnr", r.psnr), fmt::arg("views", r.heldout_views), fmt::arg("ssim", r.ssim),
-      fmt::arg("steps", r.train_steps), fmt::arg("train_s", r.train_seconds),
-      fmt::arg("budget", escape(r.train_budget)), fmt::arg("mb", r.model_mb),
-      fmt::arg("pd", number(r.fit, "pd_mm", "{:.1f}")), fmt::arg("pen", number(r.fit, "penetration_mm")),
+      fmt::arg("machine", escape(r.machine)), fmt::arg("version", escape(r.version)),
+      fmt::arg("video", video), fmt::arg("sheet", sheet), fmt::arg("psnr", r.psnr),
+      fmt::arg("views", r.heldout_views), fmt::arg("ssim", r.ssim), fmt::arg("steps", r.train_steps),
+      fmt::arg("train_s", r.train_seconds), fmt::arg("budget", escape(r.train_budget)),
+      fmt::arg("mb", r.model_mb), fmt::arg("pd", number(r.fit, "pd_mm", "{:.1f}")),
+      fmt::arg("pen", number(r.fit, "penetration_mm")),
       fmt::arg("used", r.fit.is_object() && r.fit.contains("views_used") ? r.fit["views_used"].dump() : "–"),
       fmt::arg("stages", stages), fmt::arg("size_fit", scale_and_advice(r.fit)),
       fmt::arg("loss", r.loss_chart.empty() ? "" : image_row({r.loss_chart}, 640)),

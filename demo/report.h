@@ -1,6 +1,6 @@
-// The demo's report: `report.json` (ARCHITECTURE.md: per-stage seconds, held-out PSNR, the fit's
-// placement fields with ok and pd_mm, device, version) and `report.html`, a page that shows those
-// numbers next to the pictures the demo wrote (orbit video, contact sheet, fit debug views).
+// The demo's report: `report.json` (ARCHITECTURE.md: per-stage wall and CPU seconds, the machine, held-out
+// PSNR, the fit's placement fields with ok and pd_mm, device, version) and `report.html`, a page that shows
+// those numbers next to the pictures the demo wrote (orbit video, contact sheet, fit debug views).
 #pragma once
 #include <nlohmann/json.hpp>
 #include <string>
@@ -10,12 +10,14 @@ namespace lorgnette::demo {
 
 struct StageTime {
   std::string name;
-  double seconds = 0.0;
+  double seconds = 0.0;      // wall
+  double cpu_seconds = 0.0;  // the process's user + system time over all threads (host/util/machine.h)
 };
 
 struct DemoReport {
   std::string version;
   std::string device;
+  std::string machine;  // CPU, logical CPUs, memory and load at the start (MachineInfo::summary)
   std::vector<StageTime> stages;
   double psnr = 0.0, ssim = 0.0;  // held-out views of the synthetic head
   int heldout_views = 0;

@@ -2,10 +2,12 @@
 // PSNR is above a floor; bad output directories and interruption leave nothing passing as complete.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <thread>
 
 #include "demo/pipeline.h"
 #include "demo/report.h"
@@ -46,6 +48,12 @@ TEST(Demo, QuickRunFitsAndReachesThePsnrFloor) {
                         "orbit/contact_sheet.png", "dataset/transforms.json", "frame.glb"})
     EXPECT_TRUE(fs::exists(o.out_dir + "/" + f)) << f;
   EXPECT_EQ(r.stages.size(), 5u);
+  // Each stage's CPU time is the process's own: some for the training, and at most its wall time on
+  // every logical CPU (10 ms for the clocks' reads).
+  const unsigned cpus = std::max(1u, std::thread::hardware_concurrency());
+  for (const auto& s : r.stages) EXPECT_LE(s.cpu_seconds, s.seconds * cpus + 0.01) << s.name;
+  EXPECT_GT(j["cpu_seconds"]["train"].get<double>(), 0.0);
+  EXPECT_NE(j["machine"].get<std::string>().find(" CPUs, "), std::string::npos) << j["machine"];
   // The scale's source and the fit advice (#44) reach the report.
   EXPECT_TRUE(j["fit"]["scale_source"].is_string());
   EXPECT_EQ(j["fit"]["advice"]["rules"].size(), 4u);
@@ -78,6 +86,24 @@ TEST(DemoReport, SizeAndFitSection) {
   EXPECT_NE(demo::render_report_html(r).find("not its real size"), std::string::npos);
   r.fit = nlohmann::json::object();  // a fit that failed: no section
   EXPECT_EQ(demo::render_report_html(r).find("Size and fit"), std::string::npos);
+}
+
+// The stages' wall and CPU seconds with their totals, and the machine, in report.json and the page.
+TEST(DemoReport, StageWallAndCpuSecondsWithTheirTotals) {
+  demo::DemoReport r;
+  r.machine = "Test CPU, 2 CPUs, 23.4 GiB, load 0.21";
+  r.stages = {{"train", 10.0, 18.5}, {"render", 2.0, 3.3}};
+  const nlohmann::json j = r.to_json();
+  EXPECT_EQ(j["machine"], r.machine);
+  EXPECT_DOUBLE_EQ(j["seconds"]["train"].get<double>(), 10.0);
+  EXPECT_DOUBLE_EQ(j["seconds"]["total"].get<double>(), 12.0);
+  EXPECT_DOUBLE_EQ(j["cpu_seconds"]["train"].get<double>(), 18.5);
+  EXPECT_DOUBLE_EQ(j["cpu_seconds"]["render"].get<double>(), 3.3);
+  EXPECT_NEAR(j["cpu_seconds"]["total"].get<double>(), 21.8, 1e-12);
+  const std::string page = demo::render_report_html(r);
+  EXPECT_NE(page.find("<tr><td>train</td><td>10.0 s</td><td>18.5 s</td></tr>"), std::string::npos);
+  EXPECT_NE(page.find("<tr><th>total</th><th>12.0 s</th><th>21.8 s</th></tr>"), std::string::npos);
+  EXPECT_NE(page.find("Machine: Test CPU, 2 CPUs, 23.4 GiB, load 0.21"), std::string::npos);
 }
 
 TEST(Demo, RefusesANonEmptyOutputDirectoryAndChangesNothing) {
