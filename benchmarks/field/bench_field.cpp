@@ -3,7 +3,6 @@
 // training step of the Field (forward + backward + Adam, samples/s) for several batch sizes.
 // Writes field_bench.csv and field_bench.png into --out; prints one line per measurement.
 #include <fmt/format.h>
-#include <sys/resource.h>
 
 #include <CLI/CLI.hpp>
 #include <chrono>
@@ -20,17 +19,12 @@
 #include "host/field/hashgrid.h"
 #include "host/field/mlp.h"
 #include "host/util/chart.h"
+#include "host/util/machine.h"
 
 using namespace lorgnette;
 using namespace lorgnette::field;
 
 namespace {
-
-double process_cpu_seconds() {
-  rusage u{};
-  getrusage(RUSAGE_SELF, &u);
-  return u.ru_utime.tv_sec + u.ru_stime.tv_sec + 1e-6 * (u.ru_utime.tv_usec + u.ru_stime.tv_usec);
-}
 
 // Median wall seconds of `repeat` runs of fn (after one warm-up), each ended by a queue finish,
 // and the mean process CPU seconds per run (PoCL's worker threads included): on a shared machine

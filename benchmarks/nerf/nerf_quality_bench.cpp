@@ -24,18 +24,9 @@
 #include "host/nerf/trainer.h"
 #include "host/render/evaluate.h"
 #include "host/util/chart.h"
+#include "host/util/machine.h"
 
 using namespace lorgnette;
-
-namespace {
-
-double process_cpu_seconds() {
-  timespec t{};
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
-  return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
-}
-
-}  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{"NeRF quality vs training time"};

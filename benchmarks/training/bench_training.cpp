@@ -15,7 +15,6 @@
 #include <fmt/format.h>
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
-#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -34,6 +33,7 @@
 #include "host/nerf/train_job.h"
 #include "host/nerf/trainer.h"
 #include "host/util/chart.h"
+#include "host/util/machine.h"
 
 using namespace lorgnette;
 
@@ -68,12 +68,6 @@ double median(std::vector<double> v) {
   if (v.empty()) return 0.0;
   std::sort(v.begin(), v.end());
   return v[v.size() / 2];
-}
-
-double cpu_seconds() {
-  rusage u{};
-  getrusage(RUSAGE_SELF, &u);
-  return u.ru_utime.tv_sec + u.ru_stime.tv_sec + 1e-6 * (u.ru_utime.tv_usec + u.ru_stime.tv_usec);
 }
 
 struct Options {
@@ -134,12 +128,12 @@ int run_once(const Options& o) {
   for (uint32_t s = 0; s < o.steps; ++s) {
     const uint64_t before = trainer.samples_done();
     cl::LaunchLog log;
-    const double c0 = cpu_seconds();
+    const double c0 = process_cpu_seconds();
     const auto t0 = std::chrono::steady_clock::now();
     trainer.advance();
     rt.finish();
     wall.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
-    cpu.push_back(cpu_seconds() - c0);
+    cpu.push_back(process_cpu_seconds() - c0);
     samples.push_back(double(trainer.samples_done() - before));
     std::map<std::string, double> step_seconds;
     double total = 0;

@@ -41,8 +41,8 @@ TEST(ProcessCpu, CountsTheCpuTimeOfEveryThreadAsThePosixClockDoes) {
 TEST(Machine, DescribesTheCpusMemoryAndLoadTheSystemReports) {
   const MachineInfo m = machine_info();
   EXPECT_EQ(long(m.cpus), sysconf(_SC_NPROCESSORS_ONLN));
-  EXPECT_NEAR(m.memory_gib, double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGE_SIZE)) / double(1ull << 30),
-              1e-9);
+  EXPECT_NEAR(m.memory_gib,
+              double(sysconf(_SC_PHYS_PAGES)) * double(sysconf(_SC_PAGE_SIZE)) / double(1ull << 30), 1e-9);
   EXPECT_GT(m.memory_gib, 0.0);
   EXPECT_FALSE(m.cpu.empty());
   double load[1];
