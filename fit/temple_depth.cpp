@@ -70,6 +70,7 @@ TempleDepthResult balance_temple_depths(ViewSource& source, const std::vector<Vi
   const Eigen::Vector3d fwd = head.d_fwd.normalized();
   out.gap_mm = (left.position - right.position).dot(fwd) * head.mm_per_unit;
   if (!opt.enabled) return out;
+  // Read whatever the gap (two rays), so that the log shows how far good casts lie off the skin.
   out.off_skin_l_mm = off_skin_mm(source, head, left.position, +1, opt.probe_mm);
   out.off_skin_r_mm = off_skin_mm(source, head, right.position, -1, opt.probe_mm);
   if (std::abs(out.gap_mm) <= opt.max_gap_mm) return out;
