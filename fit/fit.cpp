@@ -215,7 +215,7 @@ void estimate_head(FitRun& run) {
   }
   if (!o.cast_contour) return;            // balance_temple_depths reads the casts' view indices
   if (run.source.hard_surface()) return;  // exact surfaces are never soft (temple_depth.h)
-  r.temple_depth = balance_temple_depths(r.views, r.head, o.temple_depth, r.points);
+  r.temple_depth = balance_temple_depths(run.source, r.views, r.head, o.temple_depth, r.points);
   if (r.temple_depth.moved != 0)
     spdlog::info("fit: {}", r.temple_depth.summary());
   else
