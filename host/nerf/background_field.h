@@ -116,6 +116,13 @@ struct BackgroundOptions {
   // beside the skin where the interior comes nearest it: the head's edge, where haze is the lesser
   // flaw. The pull stays in the interior itself. 0 = the interior alone.
   float solid_reach_mm = 15.0f;
+  // The clearing in the neck's keep zone, on rays whose pixel is no colour of the subject's skin
+  // (subject->skin, sampled on the face): its chromaticity lies further than this from every skin
+  // chromaticity (and it is bright enough to judge; kernels/train/render.h render_ray_skin_like).
+  // Such a ray passes no bare neck (a visual-hull argument), so the room's colour explaining it is
+  // not the body behind a neck but the wall beside it: the slab of the wall's colour beside the neck
+  // clears, while a wall of the skin's own colour keeps the binary prior as before. 0 = off.
+  float neck_clear = 0.0f;
 };
 
 // The share of the opacity prior's weight (and the clearing's) at training step `step`: 0 until
