@@ -7,6 +7,7 @@
 #include <optional>
 
 #include "fit/camera_math.h"
+#include "kernels/train/train_types.h"
 
 namespace lorgnette::capture {
 namespace {
@@ -85,6 +86,52 @@ void sample_photo(const fit::HeadBox& box, const fit::PosedPhoto& photo, const S
   }
 }
 
+float nearest(const std::vector<std::array<float, 2>>& refs, const std::array<float, 2>& c) {
+  float best = 1e30f;
+  for (const auto& r : refs) best = std::min(best, std::hypot(c[0] - r[0], c[1] - r[1]));
+  return best;
+}
+
+float median_of(std::vector<float> v) {
+  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+  return v[v.size() / 2];
+}
+
+// Whether each sample lies within max(min_cut, 4 x their median distance) of their median
+// chromaticity: a patch that missed the skin (an eye, a lip, the room behind a landmark misplaced in
+// one photo) lies far from the rest, while a face's own skin varies by about 0.03 (a cheek's blush
+// against the chin).
+std::vector<bool> skin_majority(const std::vector<std::array<float, 2>>& samples, float min_cut) {
+  std::array<float, 2> median{};
+  for (int c = 0; c < 2; ++c) {
+    std::vector<float> v;
+    for (const auto& s : samples) v.push_back(s[c]);
+    median[c] = median_of(v);
+  }
+  std::vector<float> d;
+  for (const auto& s : samples) d.push_back(nearest({median}, s));
+  const float cut = std::max(min_cut, 4.0f * median_of(d));
+  std::vector<bool> out;
+  for (float x : d) out.push_back(x <= cut);
+  return out;
+}
+
+// At most `count` of the samples' chromaticities, the first sample and then each time the one
+// farthest from those chosen, so every sample lies near one: a face's chromaticity varies by region
+// and view (a cheek's blush, the chin's shade) more than one mean says.
+std::vector<std::array<float, 2>> farthest_first(const std::vector<std::array<float, 2>>& samples,
+                                                 size_t count) {
+  std::vector<std::array<float, 2>> refs{samples[0]};
+  while (refs.size() < count) {
+    size_t far = 0;
+    for (size_t k = 1; k < samples.size(); ++k)
+      if (nearest(refs, samples[k]) > nearest(refs, samples[far])) far = k;
+    if (!(nearest(refs, samples[far]) > 0.0f)) break;
+    refs.push_back(samples[far]);
+  }
+  return refs;
+}
+
 }  // namespace
 
 nerf::SkinChroma skin_colours(const fit::HeadBox& box, const std::vector<fit::PosedPhoto>& photos,
@@ -93,32 +140,22 @@ nerf::SkinChroma skin_colours(const fit::HeadBox& box, const std::vector<fit::Po
   if (box.landmarks.empty() || !(box.head.mm_per_unit > 0.0)) return skin;
   std::vector<std::optional<Eigen::Vector3d>> points;
   for (int r = 0; r < 3; ++r) points.push_back(region_point(box, r));
-  std::vector<std::vector<Rgb>> samples(points.size());
-  for (const fit::PosedPhoto& photo : photos) sample_photo(box, photo, options, points, samples);
-  size_t total = 0;
-  for (const auto& s : samples) total += s.size();
-  if (total < size_t(std::max(1, options.min_samples))) return skin;
-  std::vector<float> distances;
+  std::vector<std::vector<Rgb>> by_region(points.size());
+  for (const fit::PosedPhoto& photo : photos) sample_photo(box, photo, options, points, by_region);
+  std::vector<Rgb> all;
+  for (const auto& region : by_region) all.insert(all.end(), region.begin(), region.end());
+  if (all.size() < size_t(std::max(1, options.min_samples))) return skin;
+  std::vector<std::array<float, 2>> chroma;
+  for (const Rgb& x : all) chroma.push_back(chromaticity(x));
+  const std::vector<bool> kept = skin_majority(chroma, float(options.outlier_cut));
+  std::vector<std::array<float, 2>> skin_chroma;
   float darkest = 1e30f;
-  for (const auto& s : samples) {
-    if (s.empty()) continue;
-    Rgb median{};
-    for (int c = 0; c < 3; ++c) {
-      std::vector<float> v;
-      for (const Rgb& x : s) v.push_back(x[c]);
-      std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
-      median[c] = v[v.size() / 2];
-    }
-    const std::array<float, 2> ref = chromaticity(median);
-    skin.chroma.push_back(ref);
-    for (const Rgb& x : s) {
-      const std::array<float, 2> q = chromaticity(x);
-      distances.push_back(std::hypot(q[0] - ref[0], q[1] - ref[1]));
-      darkest = std::min(darkest, luminance(x));
-    }
-  }
-  std::sort(distances.begin(), distances.end());
-  skin.spread = distances[std::min(distances.size() - 1, size_t(0.9 * double(distances.size())))];
+  for (size_t k = 0; k < all.size(); ++k)
+    if (kept[k]) skin_chroma.push_back(chroma[k]), darkest = std::min(darkest, luminance(all[k]));
+  chroma = std::move(skin_chroma);
+  skin.chroma = farthest_first(chroma, SKIN_REFS_MAX);
+  skin.spread = 0.0f;
+  for (const auto& c : chroma) skin.spread = std::max(skin.spread, nearest(skin.chroma, c));
   skin.lum_floor = float(options.dark_share) * darkest;
   return skin;
 }

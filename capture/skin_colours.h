@@ -18,13 +18,16 @@ struct SkinSampleOptions {
   // shadow under the jaw gets the fill light only, commonly a quarter of the key (2 stops), and
   // darker still the chromaticity is noise.
   double dark_share = 0.25;
+  // A sample further than this (or 4 x the samples' median distance, if more) from their median
+  // chromaticity missed the skin; a face's own skin varies by about 0.03 (blush against the chin).
+  double outlier_cut = 0.04;
   int min_samples = 3;  // fewer: no skin colours (the keep zone keeps its binary prior)
 };
 
-// The skin's chromaticity per sampled region (the median colour over the photos that see it), the
-// samples' spread about it and the luminance floor (nerf::SkinChroma); empty when the box has no
-// landmarks or fewer than min_samples patches could be read. Photos without an image in memory are
-// read from their path.
+// Up to SKIN_REFS_MAX of the samples' chromaticities, chosen farthest first so that every sample lies
+// near one, the largest distance of a sample from its nearest chosen one (the spread) and the
+// luminance floor (nerf::SkinChroma); empty when the box has no landmarks or fewer than min_samples
+// patches could be read. Photos without an image in memory are read from their path.
 nerf::SkinChroma skin_colours(const fit::HeadBox& box, const std::vector<fit::PosedPhoto>& photos,
                               const SkinSampleOptions& options = {});
 

@@ -86,7 +86,7 @@ SolidHull ellipsoid_hull(const OrientedShape& ellipsoid, const std::string& name
 // The subject's skin colours, as the loss compares a pixel with them (kernels/train/render.h
 // render_ray_skin_like), sampled on the face at its landmarks in the training photos
 // (capture/skin_colours.h): chromaticities (linear r and g over r + g + b), at most SKIN_REFS_MAX;
-// `spread`, how far the samples of one region lie from its chromaticity (their 90th percentile);
+// `spread`, the largest distance of a sample from its nearest chromaticity here;
 // and the luminance (linear) under which a pixel's chromaticity is too noisy to judge.
 struct SkinChroma {
   std::vector<std::array<float, 2>> chroma;
