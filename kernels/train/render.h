@@ -178,13 +178,22 @@ LGN_INLINE float render_ray_opacity_prior(lgn_uint first, lgn_uint used, float s
   return weight * ((1.0f - gate) * a * (1.0f - a) + clear * gate * a);
 }
 
+// The share of a skin pixel's light that its sheen may be (render_ray_skin_like): skin reflects
+// its own colour from below the surface and the light's colour (white, once the camera has balanced
+// it) from the surface, so a lit neck's chromaticity lies between the face's and the neutral point
+// (dichromatic reflection). 0.3 holds a sheen like the one that moved the dark capture's lit neck
+// 11 % of the way from the face's chromaticity to neutral, and a highlight of up to 30 % of the light;
+// an off-white wall before pale skin lies about 85 % of the way.
+#define SKIN_SHEEN_MAX 0.3f
+
 // 1 when the pixel `target` (linear) may be the subject's bare skin: its chromaticity (r, g over
-// r + g + b) lies within `tolerance` of one of the `count` skin chromaticities `chroma` (pairs), or
-// it is too dark (luminance under `lum_floor`) for its chromaticity to say anything. Chromaticity,
-// not the colour itself, since shading scales the skin's colour (the face in a side light, the
-// shadow under the jaw) but leaves its chromaticity under the one light; a dark pixel counts as
-// skin, since there noise decides its chromaticity. Only a pixel judged "not skin" earns the neck's
-// keep zone the clearing (render_ray_opacity_prior_zones), so every doubt keeps the binary prior.
+// r + g + b) lies within `tolerance` of one of the `count` skin chromaticities `chroma` (pairs), each
+// with up to SKIN_SHEEN_MAX of neutral light mixed in (the segment towards 1/3, 1/3), or it is too
+// dark (luminance under `lum_floor`) for its chromaticity to say anything. Chromaticity, not the
+// colour itself, since shading scales the skin's colour (the face in a side light, the shadow under
+// the jaw) but leaves its chromaticity under the one light; a dark pixel counts as skin, since there
+// noise decides its chromaticity. Only a pixel judged "not skin" earns the neck's keep zone the
+// clearing (render_ray_opacity_prior_zones), so every doubt keeps the binary prior.
 LGN_INLINE int render_ray_skin_like(const float* target, const float* chroma, lgn_uint count, float tolerance,
                                     float lum_floor) {
   const float lum = 0.2126f * target[0] + 0.7152f * target[1] + 0.0722f * target[2];
@@ -192,7 +201,11 @@ LGN_INLINE int render_ray_skin_like(const float* target, const float* chroma, lg
   if (!(lum >= lum_floor) || !(sum > 0.0f)) return 1;
   const float r = target[0] / sum, g = target[1] / sum;
   for (lgn_uint k = 0; k < count; ++k) {
-    const float dr = r - chroma[2u * k], dg = g - chroma[2u * k + 1u];
+    const float cr = chroma[2u * k], cg = chroma[2u * k + 1u];
+    const float sr = SKIN_SHEEN_MAX * (1.0f / 3.0f - cr), sg = SKIN_SHEEN_MAX * (1.0f / 3.0f - cg);
+    const float len2 = sr * sr + sg * sg;
+    const float t = len2 > 0.0f ? fmin(fmax(((r - cr) * sr + (g - cg) * sg) / len2, 0.0f), 1.0f) : 0.0f;
+    const float dr = r - (cr + t * sr), dg = g - (cg + t * sg);
     if (dr * dr + dg * dg <= tolerance * tolerance) return 1;
   }
   return 0;

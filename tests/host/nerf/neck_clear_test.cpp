@@ -112,7 +112,8 @@ TEST(NeckClear, AWallOfTheSkinsColourKeepsTheBinaryPrior) {
 }
 
 // The skin test is on chromaticity and a brightness floor: the skin shaded to a third (the neck in
-// the jaw's shadow) and the skin 3 % off in chromaticity still match within 0.02 + its distance; a
+// the jaw's shadow), the skin 3 % redder and the skin under a sheen of white light still match within
+// 0.02; a
 // pixel darker than the floor is never judged (its chromaticity is noise), whatever its colour; the
 // off-white wall, 0.057 from the skin, does not match, nor does a dark wall of another hue.
 TEST(NeckClear, SkinTestIsShadingInvariantAndLeavesDarkPixelsUnjudged) {
@@ -125,6 +126,10 @@ TEST(NeckClear, SkinTestIsShadingInvariantAndLeavesDarkPixelsUnjudged) {
   EXPECT_TRUE(like(kSkin));
   EXPECT_TRUE(like({kSkin[0] / 3, kSkin[1] / 3, kSkin[2] / 3})) << "shade";
   EXPECT_TRUE(like({kSkin[0] * 1.03f, kSkin[1], kSkin[2] * 0.99f})) << "a slightly redder skin";
+  // A sheen: white light added to the skin's, a quarter of the pixel's (w = sum / 9), moves the
+  // chromaticity a quarter of the way to neutral, 0.017 here, inside SKIN_SHEEN_MAX.
+  const float w = (kSkin[0] + kSkin[1] + kSkin[2]) / 9.0f;
+  EXPECT_TRUE(like({kSkin[0] + w, kSkin[1] + w, kSkin[2] + w})) << "sheen";
   EXPECT_FALSE(like(kOffWhite));
   EXPECT_FALSE(like({0.061f, 0.045f, 0.038f})) << "a dark wall (sRGB 70,60,55), bright enough to judge";
   EXPECT_TRUE(like({0.02f, 0.03f, 0.04f})) << "under the floor: not judged";
