@@ -43,11 +43,20 @@ SubjectVolume solid_reach(const SubjectZones& z, float mm) {
   return v;
 }
 
-// The skin's chromaticities as "r,g" for the log.
-std::vector<std::string> skin_list(const SkinChroma& skin) {
-  std::vector<std::string> out;
-  for (const auto& c : skin.chroma) out.push_back(fmt::format("{:.3f},{:.3f}", c[0], c[1]));
-  return out;
+// What the neck's keep cells clear (BackgroundOptions::neck_clear) with the skin's colours sampled.
+void log_neck_rule(float tolerance, const SkinChroma& skin) {
+  if (skin.chroma.empty()) {
+    spdlog::info("no skin colours could be sampled on the face: the neck's cells keep the binary prior");
+    return;
+  }
+  std::vector<std::string> list;
+  for (const auto& c : skin.chroma) list.push_back(fmt::format("{:.3f},{:.3f}", c[0], c[1]));
+  spdlog::info(
+      "the neck's cells clear rays whose pixel's chromaticity lies over {:.3f} (+ the skin's spread {:.3f}) "
+      "from the skin's {} (r, g: {}, each with up to {:.0f} % of neutral sheen), unless darker than "
+      "luminance {:.4f}",
+      tolerance, skin.spread, skin.chroma.size(), fmt::join(list, " "), 100.0f * SKIN_SHEEN_MAX,
+      skin.lum_floor);
 }
 
 // The opacity prior's zones (RayPriors): the subject's keep cells, then the lean cells (outside its
@@ -82,12 +91,7 @@ std::vector<uint32_t> prior_zones(const BackgroundOptions& b, const NerfModel& m
       mask_count({zones.begin(), zones.begin() + words}),
       mask_count({zones.begin() + words, zones.begin() + 2 * words}), b.lean_gate,
       mask_count({zones.begin() + 2 * words, zones.begin() + 3 * words}));
-  if (keep && b.neck_clear > 0.0f)
-    spdlog::info(
-        "the neck's cells clear rays whose pixel's chromaticity lies over {:.3f} (+ the skin's spread "
-        "{:.3f}) from the skin's {} (r, g: {}), unless darker than luminance {:.4f}",
-        b.neck_clear, b.subject->skin.spread, b.subject->skin.chroma.size(),
-        fmt::join(skin_list(b.subject->skin), " "), b.subject->skin.lum_floor);
+  if (keep && b.neck_clear > 0.0f) log_neck_rule(b.neck_clear, b.subject->skin);
   if (solid && b.solid_reach_mm > 0.0f && b.subject->mm_per_unit > 0.0f)
     spdlog::info("rays within {:.0f} mm of the certain interior are the subject's ({} cells)",
                  b.solid_reach_mm, mask_count({zones.begin() + 3 * words, zones.end()}));

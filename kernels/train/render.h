@@ -178,14 +178,6 @@ LGN_INLINE float render_ray_opacity_prior(lgn_uint first, lgn_uint used, float s
   return weight * ((1.0f - gate) * a * (1.0f - a) + clear * gate * a);
 }
 
-// The share of a skin pixel's light that its sheen may be (render_ray_skin_like): skin reflects
-// its own colour from below the surface and the light's colour (white, once the camera has balanced
-// it) from the surface, so a lit neck's chromaticity lies between the face's and the neutral point
-// (dichromatic reflection). 0.3 holds a sheen like the one that moved the dark capture's lit neck
-// 11 % of the way from the face's chromaticity to neutral, and a highlight of up to 30 % of the light;
-// an off-white wall before pale skin lies about 85 % of the way.
-#define SKIN_SHEEN_MAX 0.3f
-
 // 1 when the pixel `target` (linear) may be the subject's bare skin: its chromaticity (r, g over
 // r + g + b) lies within `tolerance` of one of the `count` skin chromaticities `chroma` (pairs), each
 // with up to SKIN_SHEEN_MAX of neutral light mixed in (the segment towards 1/3, 1/3), or it is too

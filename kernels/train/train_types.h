@@ -56,6 +56,14 @@ LGN_STATIC_ASSERT(sizeof(SampleParams) == 128, "SampleParams layout is shared wi
 // The most skin colours the loss kernel compares a pixel with (LossParams::skin_chroma).
 #define SKIN_REFS_MAX 8u
 
+// The share of a skin pixel's light that its sheen may be (train/render.h render_ray_skin_like): skin
+// reflects its own colour from below the surface and the light's colour (white, once the camera has balanced
+// it) from the surface, so a lit neck's chromaticity lies between the face's and the neutral point
+// (dichromatic reflection). 0.3 holds a sheen like the one that moved the dark capture's lit neck
+// 11 % of the way from the face's chromaticity to neutral, and a highlight of up to 30 % of the light;
+// an off-white wall before pale skin lies about 85 % of the way.
+#define SKIN_SHEEN_MAX 0.3f
+
 typedef struct LossParams {
   lgn_uint n_rays;
   lgn_uint stride;          // SoA stride of the per-sample arrays
