@@ -88,11 +88,11 @@ struct BackgroundOptions {
   // subject->keep is where the clearing does not apply (the binary prior does) when `keep_neck`: the
   // part of the subject that the room model's own surfaces lie right behind (a head's neck, with the
   // body below the box in the room model), where the room can match the subject's colour without the
-  // subject being a backdrop. Beside the neck the keep zone holds the wall as a haze that nothing
-  // clears (most of the pale captures' leak), and off it clears, but so does the neck below the jaw
-  // (the room's body behind it explains it), before an off-white wall as before a wall of the skin's
-  // colour: a hole in the subject is worse than haze beside it (docs/room-training.md, "Zones").
-  // Off only for measurement (bench_room_budget's keep=0).
+  // subject being a backdrop. Off, the haze of the wall's colour beside the neck clears, but so does
+  // the neck below the jaw (the room's body behind it explains it), before an off-white wall as before
+  // a wall of the skin's colour: a hole in the subject is worse than haze beside it
+  // (docs/room-training.md, "Zones"). Off only for measurement (bench_room_budget's keep=0);
+  // `neck_clear` below clears the haze on the rays whose pixel is no skin colour.
   // subject->core is the bare head (skull, face and neck without the hair margins). In the
   // subject's volume outside it (hair margins, nape) the clearing's gate is at least `lean_gate`
   // whether the room explains the pixel yet or not: side views see that space against the wall,
@@ -116,6 +116,18 @@ struct BackgroundOptions {
   // beside the skin where the interior comes nearest it: the head's edge, where haze is the lesser
   // flaw. The pull stays in the interior itself. 0 = the interior alone.
   float solid_reach_mm = 15.0f;
+  // The clearing in the neck's keep zone, on rays whose pixel is no colour of the subject's skin
+  // (subject->skin, sampled on the face): its chromaticity lies further than this from every skin
+  // chromaticity (and it is bright enough to judge; kernels/train/render.h render_ray_skin_like).
+  // Such a ray passes no bare neck (a visual-hull argument), so the room's colour explaining it is
+  // not the body behind a neck but the wall beside it: the slab of the wall's colour beside the neck
+  // clears, while a wall of the skin's own colour keeps the binary prior as before. The samples'
+  // own spread is added, so a capture whose skin varies more widens what counts as skin. 0.02: on
+  // the hard cases an off-white wall lies 0.035 from pale skin's colours (with their sheen), a dark
+  // wall 0.075 from dark skin's, and the skin's samples 0.002-0.007 from one another; the keep zone's
+  // share of the off-white capture's leak fell 7.0 -> 1.4 points with no row's holes rising
+  // (docs/room-training.md, "Zones"). 0 = off.
+  float neck_clear = 0.02f;
 };
 
 // The share of the opacity prior's weight (and the clearing's) at training step `step`: 0 until

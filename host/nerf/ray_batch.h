@@ -11,6 +11,7 @@
 
 #include "host/cl/kernel.h"
 #include "host/nerf/model.h"
+#include "host/nerf/subject_volume.h"
 #include "host/nerf/views.h"
 #include "kernels/train/train_types.h"
 
@@ -33,6 +34,10 @@ struct RayPriors {
   float lean_gate = 0.0f;
   float solid_pull = 0.0f;        // the solid cells' pull towards an opaque ray (the zones' third bitfield)
   float subject_explains = 0.0f;  // the gate's margin for what the subject explains (render_ray_clear_gate)
+  // The skin's colours for the keep cells' clearing (render_ray_skin_like; null = the keep cells'
+  // binary prior alone) and the chromaticity distance within which a pixel matches one.
+  const SkinChroma* skin = nullptr;
+  float skin_tolerance = 0.0f;
 };
 
 class RayBatch {

@@ -83,6 +83,17 @@ struct SolidHull {
 SolidHull ellipsoid_hull(const OrientedShape& ellipsoid, const std::string& name, int rings = 7,
                          int segments = 16);
 
+// The subject's skin colours, as the loss compares a pixel with them (kernels/train/render.h
+// render_ray_skin_like), sampled on the face at its landmarks in the training photos
+// (capture/skin_colours.h): chromaticities (linear r and g over r + g + b), at most SKIN_REFS_MAX;
+// `spread`, the largest distance of a sample from its nearest chromaticity here;
+// and the luminance (linear) under which a pixel's chromaticity is too noisy to judge.
+struct SkinChroma {
+  std::vector<std::array<float, 2>> chroma;
+  float spread = 0.0f;
+  float lum_floor = 0.0f;
+};
+
 // A subject's volume with the zones of the room model's clearing inside it (background_field.h;
 // capture/head_volume.h builds them from a landmark head box). Empty zones do not apply.
 struct SubjectZones {
@@ -109,6 +120,8 @@ struct SubjectZones {
   SubjectVolume solid;
   // Millimetres per scene unit of these volumes (0: unknown), for growths given in millimetres.
   float mm_per_unit = 0.0f;
+  // The skin's colours (none: unknown), for the clearing in `keep` (BackgroundOptions::neck_clear).
+  SkinChroma skin;
 };
 
 // The occupancy mask of `volume` over `box` at res^3 cells (occ_word_count(res) words, the grid's

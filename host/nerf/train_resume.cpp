@@ -35,6 +35,7 @@ json room_json(const BackgroundOptions& r) {
           {"lean_gate", r.lean_gate},
           {"solid_pull", r.solid_pull},
           {"solid_reach_mm", r.solid_reach_mm},
+          {"neck_clear", r.neck_clear},
           {"subject_zones", r.subject.has_value()}};
 }
 

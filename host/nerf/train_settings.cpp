@@ -38,6 +38,7 @@ void validate_room(const BackgroundOptions& r) {
   check_bound(b::kLeanGate, r.lean_gate);
   check_bound(b::kSolidPull, r.solid_pull);
   check_bound(b::kSolidReach, r.solid_reach_mm);
+  check_bound(b::kNeckClear, r.neck_clear);
   check_bound(b::kPriorStart, r.opacity_prior_start);
 }
 

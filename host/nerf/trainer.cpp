@@ -3,6 +3,7 @@
 #include "host/nerf/trainer.h"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
@@ -42,6 +43,22 @@ SubjectVolume solid_reach(const SubjectZones& z, float mm) {
   return v;
 }
 
+// What the neck's keep cells clear (BackgroundOptions::neck_clear) with the skin's colours sampled.
+void log_neck_rule(float tolerance, const SkinChroma& skin) {
+  if (skin.chroma.empty()) {
+    spdlog::info("no skin colours could be sampled on the face: the neck's cells keep the binary prior");
+    return;
+  }
+  std::vector<std::string> list;
+  for (const auto& c : skin.chroma) list.push_back(fmt::format("{:.3f},{:.3f}", c[0], c[1]));
+  spdlog::info(
+      "the neck's cells clear rays whose pixel's chromaticity lies over {:.3f} (+ the skin's spread {:.3f}) "
+      "from the skin's {} (r, g: {}, each with up to {:.0f} % of neutral sheen), unless darker than "
+      "luminance {:.4f}",
+      tolerance, skin.spread, skin.chroma.size(), fmt::join(list, " "), 100.0f * SKIN_SHEEN_MAX,
+      skin.lum_floor);
+}
+
 // The opacity prior's zones (RayPriors): the subject's keep cells, then the lean cells (outside its
 // core, not kept, and allowed by the subject's permanent occupancy mask when it has one, which holds
 // its volume); empty when neither applies.
@@ -74,6 +91,7 @@ std::vector<uint32_t> prior_zones(const BackgroundOptions& b, const NerfModel& m
       mask_count({zones.begin(), zones.begin() + words}),
       mask_count({zones.begin() + words, zones.begin() + 2 * words}), b.lean_gate,
       mask_count({zones.begin() + 2 * words, zones.begin() + 3 * words}));
+  if (keep && b.neck_clear > 0.0f) log_neck_rule(b.neck_clear, b.subject->skin);
   if (solid && b.solid_reach_mm > 0.0f && b.subject->mm_per_unit > 0.0f)
     spdlog::info("rays within {:.0f} mm of the certain interior are the subject's ({} cells)",
                  b.solid_reach_mm, mask_count({zones.begin() + 3 * words, zones.end()}));
@@ -155,6 +173,8 @@ RayPriors Trainer::opacity_prior() const {
   p.subject_explains = b.subject_explains;
   if (zone_res_)
     p.zones = &zones_, p.zone_res = zone_res_, p.lean_gate = b.lean_gate, p.solid_pull = b.solid_pull;
+  if (zone_res_ && b.neck_clear > 0.0f && b.subject && !b.subject->skin.chroma.empty())
+    p.skin = &b.subject->skin, p.skin_tolerance = b.neck_clear + b.subject->skin.spread;
   return p;
 }
 

@@ -92,6 +92,7 @@ inline constexpr Bound kRoomClear{"--room-clear", "", 0, 100, "room clearing wei
 inline constexpr Bound kRoomClearTolerance{"--room-clear-tolerance", "", 0.001, 1, "RMS sRGB difference"};
 inline constexpr Bound kSubjectExplains{"--subject-explains", "", 0, 1, "RMS sRGB margin"};
 inline constexpr Bound kSolidReach{"--solid-reach", "", 0, 100, "reach beyond the certain interior"};
+inline constexpr Bound kNeckClear{"--neck-clear", "", 0, 1, "chromaticity distance from the skin's"};
 inline constexpr Bound kLeanGate{"--lean-gate", "", 0, 1, "clearing gate beyond the bare head"};
 inline constexpr Bound kSolidPull{"--solid-pull", "", 0, 100, "pull towards opaque in the head's interior"};
 inline constexpr Bound kPriorStart{"--prior-start", "", 0, 1000000, "step the opacity prior ramps in from"};

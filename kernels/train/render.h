@@ -178,11 +178,48 @@ LGN_INLINE float render_ray_opacity_prior(lgn_uint first, lgn_uint used, float s
   return weight * ((1.0f - gate) * a * (1.0f - a) + clear * gate * a);
 }
 
+// 1 when the pixel `target` (linear) may be the subject's bare skin: its chromaticity (r, g over
+// r + g + b) lies within `tolerance` of one of the `count` skin chromaticities `chroma` (pairs), each
+// with up to SKIN_SHEEN_MAX of neutral light mixed in (the segment towards 1/3, 1/3), or it is too
+// dark (luminance under `lum_floor`) for its chromaticity to say anything. Chromaticity, not the
+// colour itself, since shading scales the skin's colour (the face in a side light, the shadow under
+// the jaw) but leaves its chromaticity under the one light; a dark pixel counts as skin, since there
+// noise decides its chromaticity. Only a pixel judged "not skin" earns the neck's keep zone the
+// clearing (render_ray_opacity_prior_zones), so every doubt keeps the binary prior.
+LGN_INLINE int render_ray_skin_like(const float* target, const float* chroma, lgn_uint count, float tolerance,
+                                    float lum_floor) {
+  const float lum = 0.2126f * target[0] + 0.7152f * target[1] + 0.0722f * target[2];
+  const float sum = target[0] + target[1] + target[2];
+  if (!(lum >= lum_floor) || !(sum > 0.0f)) return 1;
+  const float r = target[0] / sum, g = target[1] / sum;
+  for (lgn_uint k = 0; k < count; ++k) {
+    const float cr = chroma[2u * k], cg = chroma[2u * k + 1u];
+    const float sr = SKIN_SHEEN_MAX * (1.0f / 3.0f - cr), sg = SKIN_SHEEN_MAX * (1.0f / 3.0f - cg);
+    const float len2 = sr * sr + sg * sg;
+    const float t = len2 > 0.0f ? fmin(fmax(((r - cr) * sr + (g - cg) * sg) / len2, 0.0f), 1.0f) : 0.0f;
+    const float dr = r - (cr + t * sr), dg = g - (cg + t * sg);
+    if (dr * dr + dg * dg <= tolerance * tolerance) return 1;
+  }
+  return 0;
+}
+
+// The gate of the neck's keep cells (render_ray_opacity_prior_zones' keep_gate): the ray's gate
+// where its pixel is no skin colour (render_ray_skin_like over the `count` chromaticities `chroma`),
+// else 0, the binary prior; count 0 (no skin colours known, or the rule off) gives 0 everywhere.
+LGN_INLINE float render_ray_keep_gate(const float* target, float gate, const float* chroma, lgn_uint count,
+                                      float tolerance, float lum_floor) {
+  if (count == 0u || render_ray_skin_like(target, chroma, count, tolerance, lum_floor)) return 0.0f;
+  return gate;
+}
+
 // The same with prior zones: four bitfields of `res`^3 cells over the model's box, one after the other
 // (occ_word_count(res) words each; positions `pos` SoA with `stride`, normalised to the box). Samples
-// in the first field's cells ("keep") get the binary prior's gradient (gate 0): where the room
-// model's own subject-coloured surface lies right behind the subject (the body below a head box,
-// behind the neck) the gate would clear the subject there too. Samples in the second field's cells
+// in the first field's cells ("keep") get the gate `keep_gate`: where the room model's own
+// subject-coloured surface lies right behind the subject (the body below a head box, behind the
+// neck) the ray's gate would clear the subject there too, so the caller passes 0 (the binary prior)
+// unless the pixel is no colour of the subject's skin (render_ray_skin_like): such a ray passes no
+// bare neck (a visual-hull argument), so the room's explaining it is no longer ambiguous. Samples in the
+// second field's cells
 // ("lean", the head volume's margin beyond the bare head) get the gate raised to at least
 // `lean_gate`: there the binary prior no longer makes a haze that the room does not yet explain
 // solid, so matter beyond the head must earn its place through the colour loss. The rest get the
@@ -200,8 +237,8 @@ LGN_INLINE float render_ray_opacity_prior(lgn_uint first, lgn_uint used, float s
 // skull through its hair, short of the interior, is the subject's too; the pull stays in the interior.
 LGN_INLINE void render_ray_opacity_prior_zones(lgn_uint first, lgn_uint count, lgn_uint used, float step,
                                                const float* color, float weight, float clear, float gate,
-                                               float lean_gate, float solid_pull, float ray_scale,
-                                               LGN_GLOBAL const float* pos, lgn_uint stride,
+                                               float keep_gate, float lean_gate, float solid_pull,
+                                               float ray_scale, LGN_GLOBAL const float* pos, lgn_uint stride,
                                                LGN_GLOBAL const lgn_uint* zone_bits, lgn_uint res,
                                                LGN_GLOBAL float* dsigma) {
   LGN_GLOBAL const lgn_uint* lean_bits = zone_bits + occ_word_count(res);
@@ -215,6 +252,7 @@ LGN_INLINE void render_ray_opacity_prior_zones(lgn_uint first, lgn_uint count, l
   const float a = color[3], T = 1.0f - a;
   const float binary = render_ray_opacity_prior_dlda(a, weight, clear, 0.0f, ray_scale);
   const float gated = crosses ? binary : render_ray_opacity_prior_dlda(a, weight, clear, gate, ray_scale);
+  const float keep = crosses ? binary : render_ray_opacity_prior_dlda(a, weight, clear, keep_gate, ray_scale);
   const float lean =
       crosses ? binary : render_ray_opacity_prior_dlda(a, weight, clear, fmax(gate, lean_gate), ray_scale);
   const float solid = -solid_pull * weight * ray_scale;
@@ -222,7 +260,7 @@ LGN_INLINE void render_ray_opacity_prior_zones(lgn_uint first, lgn_uint count, l
     const lgn_uint i = first + k;
     const float x = pos[i], y = pos[stride + i], z = pos[2u * stride + i];
     const float d = occ_test(solid_bits, res, x, y, z)  ? solid
-                    : occ_test(zone_bits, res, x, y, z) ? binary
+                    : occ_test(zone_bits, res, x, y, z) ? keep
                     : occ_test(lean_bits, res, x, y, z) ? lean
                                                         : gated;
     dsigma[i] += step * T * d;

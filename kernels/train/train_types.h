@@ -53,6 +53,17 @@ LGN_STATIC_ASSERT(sizeof(SampleParams) == 128, "SampleParams layout is shared wi
 // pixel index within its image (as float bits), image index (as float bits).
 #define RAY_INFO_FLOATS 8u
 
+// The most skin colours the loss kernel compares a pixel with (LossParams::skin_chroma).
+#define SKIN_REFS_MAX 8u
+
+// The share of a skin pixel's light that its sheen may be (train/render.h render_ray_skin_like): skin
+// reflects its own colour from below the surface and the light's colour (white, once the camera has balanced
+// it) from the surface, so a lit neck's chromaticity lies between the face's and the neutral point
+// (dichromatic reflection). 0.3 holds a sheen like the one that moved the dark capture's lit neck
+// 11 % of the way from the face's chromaticity to neutral, and a highlight of up to 30 % of the light;
+// an off-white wall before pale skin lies about 85 % of the way.
+#define SKIN_SHEEN_MAX 0.3f
+
 typedef struct LossParams {
   lgn_uint n_rays;
   lgn_uint stride;          // SoA stride of the per-sample arrays
@@ -74,9 +85,17 @@ typedef struct LossParams {
   // The RMS sRGB margin by which the subject's render nearer the pixel than the room's colour
   // closes the clearing's gate (render_ray_clear_gate; 0 = the room gate alone).
   float subject_explains;
-  lgn_uint pad1, pad2;
+  // The neck's keep zone takes the clearing on rays whose pixel is no skin colour of the subject
+  // (render_ray_skin_like): the skin's chromaticities (skin_count pairs of linear r/(r+g+b),
+  // g/(r+g+b); 0 = none, the keep zone's binary prior everywhere), the distance within which a pixel
+  // matches one, and the luminance under which its chromaticity is not judged.
+  lgn_uint skin_count;
+  float skin_tolerance;
+  float skin_lum_floor;
+  lgn_uint pad1;
+  float skin_chroma[2 * SKIN_REFS_MAX];
 } LossParams;
-LGN_STATIC_ASSERT(sizeof(LossParams) == 64, "LossParams layout is shared with OpenCL");
+LGN_STATIC_ASSERT(sizeof(LossParams) == 136, "LossParams layout is shared with OpenCL");
 
 typedef struct OccParams {
   lgn_uint res;

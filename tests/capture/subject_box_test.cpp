@@ -6,7 +6,11 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "face_dataset.h"
+#include "kernels/train/render.h"
+#include "synth/head_params.h"
 
 namespace lorgnette::capture {
 namespace {
@@ -92,6 +96,33 @@ TEST(SubjectBox, AutoUsesTheHeadBoxWhenFacesAreFound) {
   const uint64_t allowed = nerf::mask_count(nerf::volume_occupancy_mask(c.zones->volume, box, 32));
   EXPECT_GT(allowed, 32u * 32u * 32u / 4u);
   EXPECT_LT(allowed, 32u * 32u * 32u);
+}
+
+// The head box brings the skin's colours (capture/skin_colours.h), for the neck's clearing: up to 8
+// chromaticities of the cheeks and the chin, each within 0.04 of the procedural skin albedo's (the
+// cheeks' painted blush moves them up to ~0.03 towards red), every sample within 0.02 of one, and the grey
+// background, neutral, matches none (kernels/train/render.h render_ray_skin_like at the tolerance
+// train --neck-clear adds to the spread).
+TEST(SubjectBox, TheHeadBoxCarriesTheSkinsColours) {
+  SubjectBoxChoice c = choose_subject_box(face_dataset(), BoxSource::Auto);
+  ASSERT_EQ(c.source, BoxSource::Head) << c.why;
+  ASSERT_TRUE(c.zones.has_value());
+  const nerf::SkinChroma& skin = c.zones->skin;
+  ASSERT_GE(skin.chroma.size(), 2u);
+  ASSERT_LE(skin.chroma.size(), size_t(SKIN_REFS_MAX));
+  const Eigen::Vector3f albedo = synth::HeadParams{}.skin;
+  const float r = albedo.x() / albedo.sum(), g = albedo.y() / albedo.sum();
+  for (const auto& ref : skin.chroma)
+    EXPECT_LT(std::hypot(ref[0] - r, ref[1] - g), 0.04f) << ref[0] << "," << ref[1];
+  EXPECT_LT(skin.spread, 0.02f);
+  EXPECT_GT(skin.lum_floor, 0.0f);
+  std::vector<float> pairs;
+  for (const auto& ref : skin.chroma) pairs.insert(pairs.end(), {ref[0], ref[1]});
+  const float grey[3] = {0.5f, 0.5f, 0.5f};
+  const uint32_t n = uint32_t(skin.chroma.size());
+  EXPECT_FALSE(render_ray_skin_like(grey, pairs.data(), n, 0.02f + skin.spread, skin.lum_floor));
+  const float shaded[3] = {0.3f * albedo.x(), 0.3f * albedo.y(), 0.3f * albedo.z()};
+  EXPECT_TRUE(render_ray_skin_like(shaded, pairs.data(), n, 0.02f + skin.spread, skin.lum_floor));
 }
 
 // The head box's extents reach the choice (train --hair): more hair makes a taller and wider box,

@@ -36,6 +36,7 @@ TEST(CliBounds, TrainRefusesOutOfRangeNumbersBeforeLoadingAnything) {
   EXPECT_REFUSED(run_cli(d, base + "--step 1e-9"), "--step must be within 1e-06..10000");
   EXPECT_REFUSED(run_cli(d, base + "--lr nan"), "--lr must be within");
   EXPECT_REFUSED(run_cli(d, base + "--hair 5000"), "--hair (Python: hair_mm) must be within 0..300");
+  EXPECT_REFUSED(run_cli(d, base + "--neck-clear -0.1"), "--neck-clear must be within 0..1");
   EXPECT_FALSE(fs::exists(d / "m.lnerf"));
 }
 

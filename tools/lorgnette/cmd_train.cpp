@@ -106,6 +106,11 @@ void add_room_options(CLI::App* cmd, nerf::BackgroundOptions& room) {
                   "with the room model and a head box: a ray that passes within this many mm of the head's "
                   "certain interior counts as crossing it (no clearing; the pull stays in the interior)")
       ->capture_default_str();
+  cmd->add_option("--neck-clear", room.neck_clear,
+                  "with the room model and a head box: in the neck's zone, rays whose pixel's chromaticity "
+                  "lies further than this from every skin colour sampled on the face get the room-explained "
+                  "clearing (0 = off)")
+      ->capture_default_str();
 }
 
 void add_train(CLI::App& app, GlobalOptions& global) {

@@ -52,7 +52,8 @@ struct Out {
 };
 Out run_kernel(Runtime& rt, const Rays& r, float step, uint32_t loss_kind, uint32_t forward_only,
                float opacity_prior = 0.0f, float room_clear = 0.0f, float room_clear_tolerance = 0.0f,
-               const std::vector<uint32_t>& zones = {}, uint32_t zone_res = 0, float lean_gate = 0.0f) {
+               const std::vector<uint32_t>& zones = {}, uint32_t zone_res = 0, float lean_gate = 0.0f,
+               const std::vector<float>& skin_chroma = {}, float skin_tolerance = 0.0f) {
   uint32_t n = uint32_t(r.counts.size());
   Buffer<uint32_t> off(rt, r.offsets), cnt(rt, r.counts);
   Buffer<uint32_t> zone_bits(rt, zones.empty() ? std::vector<uint32_t>{0u} : zones);
@@ -64,6 +65,8 @@ Out run_kernel(Runtime& rt, const Rays& r, float step, uint32_t loss_kind, uint3
   p.opacity_prior = opacity_prior, p.room_clear = room_clear, p.room_clear_tolerance = room_clear_tolerance;
   p.zone_res = zones.empty() ? 0u : zone_res;
   p.lean_gate = lean_gate;
+  p.skin_count = uint32_t(skin_chroma.size() / 2), p.skin_tolerance = skin_tolerance;
+  for (size_t i = 0; i < skin_chroma.size(); ++i) p.skin_chroma[i] = skin_chroma[i];
   Kernel k(rt.program("train/loss.cl"), "render_loss");
   k.args(p, off, cnt, info, sigma, rgb, dsigma, drgb, loss, color, pos, zone_bits).launch(rt, n, 64);
   return {color.read(rt), loss.read(rt), dsigma.read(rt), drgb.read(rt)};
@@ -287,6 +290,44 @@ TEST(Render, PriorZonesPickTheGatePerSample) {
   double lean_vs_gated = 0.0;
   for (uint32_t i = 0; i < r.stride - 5; ++i) lean_vs_gated += std::fabs(lean[i] - gated[i]);
   EXPECT_GT(lean_vs_gated, 1e-3);
+}
+
+// The neck's keep cells with the skin's colours (loss.cl, render_ray_keep_gate): a keep sample gets
+// the ray's gate where the ray's pixel is no skin colour and the binary prior where it may be skin.
+// The kernel sample by sample against the host builds; the skin colours are two of the rays' own
+// pixels, so both cases occur.
+TEST(Render, KeepCellsClearRaysOfNoSkinColour) {
+  Runtime rt({"", "", false});
+  Rays r = random_rays(200, 11);
+  const float step = 0.015f, weight = 0.25f, clear = 3.0f, tolerance = 0.4f, skin_tolerance = 0.08f;
+  const uint32_t res = 4, words = occ_word_count(res);
+  std::vector<uint32_t> zones(4 * words, 0u);
+  for (uint32_t w = 0; w < words; ++w) zones[w] = ~0u;  // every cell keeps
+  std::vector<float> skin;
+  for (uint32_t ray : {3u, 5u}) {
+    const float* px = &r.info[RAY_INFO_FLOATS * ray];
+    const float sum = px[0] + px[1] + px[2];
+    skin.insert(skin.end(), {px[0] / sum, px[1] / sum});
+  }
+  Out out = run_kernel(rt, r, step, LOSS_L2_SRGB, 0, weight, clear, tolerance, zones, res, 0.0f, skin,
+                       skin_tolerance);
+  std::vector<float> want(r.stride, 0.0f), drgb(3 * r.stride, 0.0f);
+  int skin_like = 0, cleared = 0;
+  for (uint32_t ray = 0; ray < 200; ++ray) {
+    const float* info = &r.info[RAY_INFO_FLOATS * ray];
+    const HostRay h = host_ray(r, ray, step, LOSS_L2_SRGB, 1.0f / 600.0f, &want, &drgb);
+    const float gate = render_ray_room_gate(info, info + 3, tolerance);
+    const float keep = render_ray_keep_gate(info, gate, skin.data(), 2, skin_tolerance, 0.0f);
+    if (h.used == 0) continue;
+    skin_like += render_ray_skin_like(info, skin.data(), 2, skin_tolerance, 0.0f);
+    cleared += keep > 0.0f;
+    render_ray_opacity_prior(r.offsets[ray], h.used, step, h.color, weight, clear, keep, 1.0f / 200.0f,
+                             want.data());
+  }
+  for (uint32_t i = 0; i < r.stride - 5; ++i)
+    EXPECT_NEAR(out.dsigma[i], want[i], 1e-4 * std::fabs(want[i]) + 1e-8) << "sample " << i;
+  EXPECT_GT(skin_like, 5) << "some rays' pixels should be skin";
+  EXPECT_GT(cleared, 5) << "some rays of no skin colour should have the gate open";
 }
 
 TEST(Render, KernelMatchesHostReference) {
