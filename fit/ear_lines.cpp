@@ -15,8 +15,8 @@ double slope_deg(const std::vector<double>& h, const std::vector<double>& latera
 
 // The ear's top outside a crease at sample j: from `span` samples out, outwards while each step keeps
 // an ear top's slope, at most `span` samples further.
-std::vector<Eigen::Vector2d> ear_top_of(const std::vector<double>& h, const std::vector<double>& lateral, int j,
-                                        int span, const EarCreaseOptions& o) {
+std::vector<Eigen::Vector2d> ear_top_of(const std::vector<double>& h, const std::vector<double>& lateral,
+                                        int j, int span, const EarCreaseOptions& o) {
   std::vector<Eigen::Vector2d> top{{lateral[j + span], h[j + span]}};
   for (int k = j + span + 1; k < int(h.size()) && k <= j + 2 * span && !std::isnan(h[k]); ++k) {
     const double step = slope_deg(h, lateral, k - 1, k);

@@ -99,7 +99,7 @@ struct EarRootSide {
   // or the one point `bend_span_mm` out where a crease has none), for the caller's look at its colour
   // (hair is not an ear).
   std::vector<std::vector<Eigen::Vector3d>> ear_top;
-  std::string why;                       // when not found: what the window showed
+  std::string why;  // when not found: what the window showed
 };
 
 // The rest on `line` (of `creases` at `depths`), found. `bend_span_mm`: how far outside each crease

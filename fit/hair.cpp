@@ -31,7 +31,8 @@ std::optional<double> ear_top_luminance(const ColourFn& colour,
   if (!colour) return std::nullopt;
   std::vector<Eigen::Vector3f> points, dirs;
   for (const auto& depth : top_per_depth)
-    for (const auto& q : depth) points.push_back(q.cast<float>()), dirs.push_back(-up.normalized().cast<float>());
+    for (const auto& q : depth)
+      points.push_back(q.cast<float>()), dirs.push_back(-up.normalized().cast<float>());
   if (points.empty()) return std::nullopt;
   const std::vector<Eigen::Vector3f> rgb = colour(points, dirs);
   if (rgb.size() != points.size()) return std::nullopt;
