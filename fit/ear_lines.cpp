@@ -7,21 +7,42 @@
 
 namespace lorgnette::fit {
 
+namespace {
+
+double slope_deg(const std::vector<double>& h, const std::vector<double>& lateral, int from, int to) {
+  return std::atan((h[to] - h[from]) / (lateral[to] - lateral[from])) * 180.0 / M_PI;
+}
+
+// The ear's top outside a crease at sample j: from `span` samples out, outwards while each step keeps
+// an ear top's slope, at most `span` samples further.
+std::vector<Eigen::Vector2d> ear_top_of(const std::vector<double>& h, const std::vector<double>& lateral,
+                                        int j, int span, const EarCreaseOptions& o) {
+  std::vector<Eigen::Vector2d> top{{lateral[j + span], h[j + span]}};
+  for (int k = j + span + 1; k < int(h.size()) && k <= j + 2 * span && !std::isnan(h[k]); ++k) {
+    const double step = slope_deg(h, lateral, k - 1, k);
+    if (step < o.outer_slope_deg[0] || step > o.outer_slope_deg[1]) break;
+    top.emplace_back(lateral[k], h[k]);
+  }
+  return top;
+}
+
+}  // namespace
+
 EarCrease find_crease(const std::vector<double>& h, const std::vector<double>& lateral, int span,
                       const EarCreaseOptions& o) {
   const int n = int(h.size());
   EarCrease c;
+  int at = -1;
   for (int j = span; j + span < n; ++j) {
     if (std::isnan(h[j - span]) || std::isnan(h[j]) || std::isnan(h[j + span])) continue;
     if (h[j] < o.lowest_mm || h[j] > o.highest_mm) continue;
-    const double run = lateral[j + span] - lateral[j];
-    const double in = std::atan((h[j] - h[j - span]) / run) * 180.0 / M_PI,
-                 out = std::atan((h[j + span] - h[j]) / run) * 180.0 / M_PI;
+    const double in = slope_deg(h, lateral, j - span, j), out = slope_deg(h, lateral, j, j + span);
     if (in > o.max_inner_slope_deg || out < o.outer_slope_deg[0] || out > o.outer_slope_deg[1]) continue;
     const double bend = out - in;
     if (bend >= o.min_bend_deg && (!c.found || bend > c.bend_deg))
-      c = {true, lateral[j], h[j], bend, h[j + span]};
+      c = {true, lateral[j], h[j], bend, h[j + span], {}}, at = j;
   }
+  if (c.found) c.top = ear_top_of(h, lateral, at, span, o);
   return c;
 }
 
@@ -90,7 +111,9 @@ EarRootSide rest_of_line(const EarCreaseLine& line, const std::vector<EarCrease>
     if (o.depth_window_mm > 0.0 && w > 0.0) weighted_lateral += w * c.lateral_mm, weights += w;
     if (line.smooth[k] >= line.top - o.plateau_mm) {
       lateral_sum += c.lateral_mm, height_sum += c.height_mm;
-      r.ear_top.push_back(frame.point(c.lateral_mm + bend_span_mm, depth, c.top_mm));
+      std::vector<Eigen::Vector3d>& top = r.ear_top.emplace_back();
+      for (const Eigen::Vector2d& t : c.top) top.push_back(frame.point(t.x(), depth, t.y()));
+      if (top.empty()) top.push_back(frame.point(c.lateral_mm + bend_span_mm, depth, c.top_mm));
       r.bend_deg = std::max(r.bend_deg, c.bend_deg);
       ++r.plateau;
     }

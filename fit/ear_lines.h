@@ -50,11 +50,16 @@ struct EarLineOptions {
 };
 
 // One depth's crease: where it lies (mm outwards from the temple, above the eye corner), how sharply
-// the profile bends there, and the ear's top `span` samples outside it.
+// the profile bends there, and the ear's top outside it: its height `span` samples out (`top_mm`), and
+// (lateral, height) at each sample from there outwards while the profile keeps an ear top's slope
+// (`outer_slope_deg` from one sample to the next), at most `span` samples further (`top`). The top's
+// width is where its colour is read: hair hanging over the root covers the top's inner edge, while an
+// ear under hair is dark across it.
 struct EarCrease {
   bool found = false;
   double lateral_mm = 0.0, height_mm = 0.0, bend_deg = 0.0;
   double top_mm = 0.0;
+  std::vector<Eigen::Vector2d> top;
 };
 
 // The crease in one profile, `span` samples either side (NaN heights are misses: all three must hit).
@@ -90,9 +95,11 @@ struct EarRootSide {
   int slices = 0;  // consecutive depths holding the chosen line of creases (or the longest, when too short)
   double back_mm = 0.0, front_mm = 0.0;  // the line's first and last depth (along d_fwd from the temple)
   int plateau = 0;                       // of them, those averaged into the rest's height
-  std::vector<Eigen::Vector3d> ear_top;  // the plateau's ear top just outside each crease (scene), for the
-                                         // caller's look at its colour (hair is not an ear)
-  std::string why;                       // when not found: what the window showed
+  // Per plateau depth, the ear's top outside its crease across the top's width (scene; EarCrease::top,
+  // or the one point `bend_span_mm` out where a crease has none), for the caller's look at its colour
+  // (hair is not an ear).
+  std::vector<std::vector<Eigen::Vector3d>> ear_top;
+  std::string why;  // when not found: what the window showed
 };
 
 // The rest on `line` (of `creases` at `depths`), found. `bend_span_mm`: how far outside each crease

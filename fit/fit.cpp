@@ -268,19 +268,13 @@ void ears_from_density(FitRun& run, const EarInputs& ei) {
   const std::optional<SkinTone> none, &skin = run.opt.hair.enabled ? face_skin(run) : none;
   EarVeto hair_dark = [&](const EarRootSide& s) -> std::string {
     if (!skin || s.ear_top.empty()) return {};
-    std::vector<Eigen::Vector3f> pts, dirs;
-    for (const auto& p : s.ear_top)
-      pts.push_back(p.cast<float>()), dirs.push_back(-r.head.d_up.cast<float>());
-    std::vector<Eigen::Vector3f> rgb = run.colour(pts, dirs);
-    if (rgb.size() != pts.size()) return {};
-    std::vector<double> lum;
-    for (const auto& c : rgb) lum.push_back(luminance(c));
-    std::nth_element(lum.begin(), lum.begin() + lum.size() / 2, lum.end());
-    const double median = lum[lum.size() / 2], darkest = run.opt.hair.max_luminance_ratio * skin->luminance;
-    spdlog::debug("fit: an ear's top at {:.2f} x the skin's luminance", median / skin->luminance);
-    if (median >= darkest) return {};
+    const std::optional<double> median = ear_top_luminance(run.colour, s.ear_top, r.head.d_up);
+    if (!median) return {};
+    const double darkest = run.opt.hair.max_luminance_ratio * skin->luminance;
+    spdlog::debug("fit: an ear's top at {:.2f} x the skin's luminance", *median / skin->luminance);
+    if (*median >= darkest) return {};
     return fmt::format("its top is as dark as hair (luminance {:.3f}, under {:.3f} = {:.2f} x the skin's)",
-                       median, darkest, run.opt.hair.max_luminance_ratio);
+                       *median, darkest, run.opt.hair.max_luminance_ratio);
   };
   r.ear_roots = apply_ear_roots(density, ei, r.head.d_eye, r.head.mm_per_unit, run.opt.head.ear_root, r.ears,
                                 hair_dark);

@@ -25,6 +25,29 @@ std::optional<SkinTone> skin_tone(const ColourFn& colour, const std::vector<Eige
   return t;
 }
 
+std::optional<double> ear_top_luminance(const ColourFn& colour,
+                                        const std::vector<std::vector<Eigen::Vector3d>>& top_per_depth,
+                                        const Eigen::Vector3d& up) {
+  if (!colour) return std::nullopt;
+  std::vector<Eigen::Vector3f> points, dirs;
+  for (const auto& depth : top_per_depth)
+    for (const auto& q : depth)
+      points.push_back(q.cast<float>()), dirs.push_back(-up.normalized().cast<float>());
+  if (points.empty()) return std::nullopt;
+  const std::vector<Eigen::Vector3f> rgb = colour(points, dirs);
+  if (rgb.size() != points.size()) return std::nullopt;
+  std::vector<double> brightest;
+  size_t i = 0;
+  for (const auto& depth : top_per_depth) {
+    if (depth.empty()) continue;
+    double b = 0.0;
+    for (size_t k = 0; k < depth.size(); ++k, ++i) b = std::max(b, luminance(rgb[i]));
+    brightest.push_back(b);
+  }
+  std::nth_element(brightest.begin(), brightest.begin() + brightest.size() / 2, brightest.end());
+  return brightest[brightest.size() / 2];
+}
+
 DensityFn density_without_hair(const HeadProbe& head, ColourFn colour, const SkinTone& skin,
                                const HairOptions& options) {
   const float solid = head.contact.density_threshold;

@@ -44,6 +44,14 @@ double luminance(const Eigen::Vector3f& linear_rgb);
 std::optional<SkinTone> skin_tone(const ColourFn& colour, const std::vector<Eigen::Vector3d>& skin_points,
                                   const Eigen::Vector3d& view_dir);
 
+// An ear's top seen from above (along -`up`): per depth the brightest of its points across the top's
+// width, then the median over the depths (the upper one of an even count). Hair hanging over the
+// ear's root darkens the top's inner edge only, and at some depths; an ear under hair is dark across
+// its top at most depths. nullopt when the source has no colour or there are no points.
+std::optional<double> ear_top_luminance(const ColourFn& colour,
+                                        const std::vector<std::vector<Eigen::Vector3d>>& top_per_depth,
+                                        const Eigen::Vector3d& up);
+
 // `head`'s density with hair removed: a point denser than the probe's contact threshold whose
 // colour, seen horizontally towards the head's vertical axis (from outside, as a temple meets it),
 // has less than max_luminance_ratio x the skin's luminance counts as empty. Colour is queried only

@@ -36,6 +36,29 @@ TEST(EarLines, TheCreaseIsWhereTheSkullsSideTurnsOntoTheEarsTop) {
   EXPECT_NEAR(c.top_mm, 8.0, 1e-12);  // the ear's flat top 3 samples outside
 }
 
+TEST(EarLines, TheEarsTopRunsOutwardsUntilItFallsOff) {
+  const EarCreaseOptions o;
+  // A flat top 3 mm wide past the crease's own span (12 + 3 .. 18 mm), then the ear's outer side
+  // falling at 75 deg: the top holds 15, 16, 17 and 18 mm out, not the outer side.
+  std::vector<double> h = profile(-70.0, 0.0);
+  for (size_t i = 19; i < h.size(); ++i) h[i] = h[18] - (double(i) - 18.0) * std::tan(75.0 * M_PI / 180.0);
+  EarCrease c = find_crease(h, laterals(), 3, o);
+  ASSERT_TRUE(c.found);
+  ASSERT_EQ(c.top.size(), 4u);
+  for (size_t k = 0; k < 4; ++k) EXPECT_EQ(c.top[k], Eigen::Vector2d(15.0 + double(k), 8.0));
+  // Falling off 1 mm past the crease's span: the top is that one point.
+  for (size_t i = 16; i < h.size(); ++i) h[i] = h[15] - (double(i) - 15.0) * std::tan(75.0 * M_PI / 180.0);
+  c = find_crease(h, laterals(), 3, o);
+  ASSERT_TRUE(c.found);
+  ASSERT_EQ(c.top.size(), 1u);
+  EXPECT_EQ(c.top[0], Eigen::Vector2d(15.0, 8.0));
+  // A top that goes on: at most `span` samples past the first.
+  c = find_crease(profile(-70.0, 10.0), laterals(), 3, o);
+  ASSERT_TRUE(c.found);
+  ASSERT_EQ(c.top.size(), 4u);
+  EXPECT_NEAR(c.top.back().y(), 8.0 + 6.0 * std::tan(10.0 * M_PI / 180.0), 1e-12);
+}
+
 TEST(EarLines, NotACrease) {
   const EarCreaseOptions o;
   // Slopes over one sample, so that only the crease's own sample bends: too gentle a bend; an inside
@@ -110,7 +133,8 @@ TEST(EarLines, TheRestLiesBehindTheLinesFrontOnItsTop) {
   EXPECT_NEAR(r.lateral_mm, (1 * 5 + 1 * 6 + 4 * 7 + 4 * 8 + 3.5 * 9 + 3.5 * 10) / 17.0, 1e-12);
   EXPECT_LT((r.point - frame.point(r.lateral_mm, r.depth_mm, r.height_mm)).norm(), 1e-12);
   ASSERT_EQ(r.ear_top.size(), 4u);
-  EXPECT_LT((r.ear_top[0] - frame.point(7 + 3.0, -16, 10)).norm(), 1e-12);
+  ASSERT_EQ(r.ear_top[0].size(), 1u);  // these creases carry no top: the one point 3 mm out
+  EXPECT_LT((r.ear_top[0][0] - frame.point(7 + 3.0, -16, 10)).norm(), 1e-12);
   // Without the weights, the plateau's mean width; a rest further back than the line's back end stops
   // there.
   o.depth_window_mm = 0.0, o.rest_behind_front_mm = 30.0;

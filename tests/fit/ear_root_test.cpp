@@ -9,6 +9,8 @@
 #include <cmath>
 #include <limits>
 
+#include "fit/hair.h"
+
 namespace lorgnette::fit {
 namespace {
 
@@ -486,6 +488,46 @@ TEST(EarRoot, RejectsBadInputs) {
   o.rays.ray_step_mm = 0.0;
   EXPECT_THROW(find_ear_root(head(true, true), {in.t_l, in.e_l, {1, 0, 0}, in.d_up, in.d_fwd, +1, 1.0}, o),
                std::invalid_argument);
+}
+
+// Hair over the ear's root (synth paints its hairline 1-3 mm above the ear's top, and a real head's
+// hair often hangs there): hair-dark within `hair_mm` outside the crease, from 1 mm under the ear's
+// top upwards; skin elsewhere. The hair test must still see the ear's top as skin; an ear whose whole
+// top lies under hair must read as hair.
+TEST(EarRoot, TheHairTestReadsTheEarsTopAcrossItsWidth) {
+  const EarInputs in = inputs();
+  const EarRootOptions o;
+  const EarRootSide l =
+      find_ear_root(head(true, true), {in.t_l, in.e_l, {1, 0, 0}, in.d_up, in.d_fwd, +1, 1.0}, o);
+  ASSERT_TRUE(l.found) << l.why;
+  ASSERT_FALSE(l.ear_top.empty());
+  const Eigen::Vector3f skin(0.6f, 0.4f, 0.3f), hair(0.035f, 0.022f, 0.015f);
+  auto painted = [&](double hair_mm) -> ColourFn {
+    return [=](const std::vector<Eigen::Vector3f>& p, const std::vector<Eigen::Vector3f>&) {
+      std::vector<Eigen::Vector3f> c;
+      for (const auto& q : p)
+        c.push_back(q.y() > kEarTop - 1.0 && q.x() < crease_x(q.z()) + hair_mm ? hair : skin);
+      return c;
+    };
+  };
+  const double darkest = HairOptions{}.max_luminance_ratio * luminance(skin);
+  // Hair 4.5 mm over the top: the one point 3 mm out that the test once read is hair at every depth,
+  // the top beyond it skin.
+  const ColourFn over_root = painted(4.5);
+  for (const auto& depth : l.ear_top) {
+    ASSERT_FALSE(depth.empty());
+    EXPECT_EQ(over_root({depth.front().cast<float>()}, {Eigen::Vector3f(0, -1, 0)})[0], hair);
+  }
+  const std::optional<double> seen = ear_top_luminance(over_root, l.ear_top, in.d_up);
+  ASSERT_TRUE(seen.has_value());
+  EXPECT_NEAR(*seen, luminance(skin), 1e-6);
+  // Hair over the whole top (the ear under it): hair.
+  const std::optional<double> under = ear_top_luminance(painted(30.0), l.ear_top, in.d_up);
+  ASSERT_TRUE(under.has_value());
+  EXPECT_LT(*under, darkest);
+  EXPECT_NEAR(*under, luminance(hair), 1e-6);
+  // No colour: no answer.
+  EXPECT_FALSE(ear_top_luminance(ColourFn{}, l.ear_top, in.d_up).has_value());
 }
 
 }  // namespace
