@@ -44,6 +44,7 @@
 #include "fit/nerf_view_source.h"
 #include "fit_variants.h"
 #include "host/util/chart.h"
+#include "host/util/machine.h"
 #include "subject_mesh.h"
 
 using namespace lorgnette;
@@ -89,21 +90,15 @@ struct Row {
   std::string ears_from;
 };
 
-double cpu_now() {
-  timespec t{};
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
-  return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
-}
-
 // Scores the fit that `fit` runs (with `opt`) against the ground truth (none: timed only).
 Row run_fit(const std::function<FitResult()>& fit, const GlassesInput& g, const GroundTruth* gt_or_none,
             const FitOptions& opt, const Eigen::Vector3d& scene_up, MeshViewSource* mesh = nullptr,
             const Anatomy& anat = {}) {
   Row row;
   try {
-    const double cpu0 = cpu_now();
+    const double cpu0 = process_cpu_seconds();
     FitResult r = fit();
-    row.cpu_seconds = cpu_now() - cpu0;
+    row.cpu_seconds = process_cpu_seconds() - cpu0;
     row.pd_mm = r.head.pd_mm, row.slide_mm = r.contact.shift_mm;
     row.timed_only = gt_or_none == nullptr;
     for (const auto& [name, s] : r.seconds) {

@@ -27,12 +27,11 @@ __kernel void render_loss(const LossParams p, __global const uint* ray_offsets,
     const float gate = p.room_clear > 0.0f ? render_ray_clear_gate(target, bg, color, p.room_clear_tolerance,
                                                                    p.subject_explains)
                                            : 0.0f;
-    const float keep_gate =
-        render_ray_keep_gate(target, gate, p.skin_chroma, p.skin_count, p.skin_tolerance, p.skin_lum_floor);
     if (p.zone_res > 0u)
-      render_ray_opacity_prior_zones(first, count, used, p.step, color, p.opacity_prior, p.room_clear, gate,
-                                     keep_gate, p.lean_gate, p.solid_pull, 3.0f * p.grad_scale, pos, p.stride,
-                                     zone_bits, p.zone_res, dsigma);
+      render_ray_opacity_prior_zones(
+          first, count, used, p.step, color, p.opacity_prior, p.room_clear, gate,
+          render_ray_keep_gate(target, gate, p.skin_chroma, p.skin_count, p.skin_tolerance, p.skin_lum_floor),
+          p.lean_gate, p.solid_pull, 3.0f * p.grad_scale, pos, p.stride, zone_bits, p.zone_res, dsigma);
     else
       render_ray_opacity_prior(first, used, p.step, color, p.opacity_prior, p.room_clear, gate,
                                3.0f * p.grad_scale, dsigma);

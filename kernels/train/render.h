@@ -205,10 +205,12 @@ LGN_INLINE int render_ray_skin_like(const float* target, const float* chroma, lg
 
 // The gate of the neck's keep cells (render_ray_opacity_prior_zones' keep_gate): the ray's gate
 // where its pixel is no skin colour (render_ray_skin_like over the `count` chromaticities `chroma`),
-// else 0, the binary prior; count 0 (no skin colours known, or the rule off) gives 0 everywhere.
+// else 0, the binary prior; count 0 (no skin colours known, or the rule off) gives 0 everywhere. A
+// closed gate needs no skin test (most rays: the room does not explain them).
 LGN_INLINE float render_ray_keep_gate(const float* target, float gate, const float* chroma, lgn_uint count,
                                       float tolerance, float lum_floor) {
-  if (count == 0u || render_ray_skin_like(target, chroma, count, tolerance, lum_floor)) return 0.0f;
+  if (!(gate > 0.0f) || count == 0u || render_ray_skin_like(target, chroma, count, tolerance, lum_floor))
+    return 0.0f;
   return gate;
 }
 
