@@ -83,6 +83,8 @@ BackgroundField::BackgroundField(cl::Runtime& rt, const NerfModel& subject, cons
   model_->set_occupancy(std::move(grid));
   occupancy_ = std::make_unique<OccupancyUpdater>(*model_, OccupancyOptions{}, seed + 7919u, std::move(mask));
   batch_ = std::make_unique<RayBatch>(*model_, model_->field().max_batch());
+  if (options.subject && options.neck_clear > 0.0f)
+    for (const auto& sc : options.subject->skin.chroma) skin_chroma_.push_back(sc[0]), skin_chroma_.push_back(sc[1]);
   const std::array<float, 3> c = subject.aabb().center();
   near_t_ = 3.0e38f;
   for (const Camera& cam : views.cameras()) {
@@ -144,10 +146,11 @@ void BackgroundField::backward(RayBatch& subject, uint32_t loss_kind, const fiel
                                uint32_t step) {
   cl::Runtime& rt = model_->runtime();
   const uint32_t end = written_;
+  std::vector<float> info;
   if (end > 0) {
     std::vector<float> sc = subject.colors();
     std::vector<float> sinfo = subject.ray_info().read(rt, size_t(end) * RAY_INFO_FLOATS);
-    std::vector<float> info = batch_->ray_info().read(rt, size_t(end) * RAY_INFO_FLOATS);
+    info = batch_->ray_info().read(rt, size_t(end) * RAY_INFO_FLOATS);
     const float grad_scale = 1.0f / (3.0f * float(end));
     for (uint32_t r = 0; r < end; ++r) {
       const float* color = &sc[size_t(r) * 4];
@@ -160,7 +163,47 @@ void BackgroundField::backward(RayBatch& subject, uint32_t loss_kind, const fiel
         info[size_t(r) * RAY_INFO_FLOATS + c] = colors_[size_t(r) * 4 + c] - g / (2.0f * grad_scale);
       }
     }
-    batch_->ray_info_mut().write(rt, info);
+  }
+  teach(info, adam, step);
+}
+
+void BackgroundField::train_alone(RayBatch& subject, const std::vector<uint32_t>& subject_counts,
+                                  uint32_t loss_kind, const field::AdamConfig& adam, uint32_t step) {
+  cl::Runtime& rt = model_->runtime();
+  const uint32_t end = written_;
+  std::vector<float> info;
+  if (end > 0) {
+    std::vector<float> sinfo = subject.ray_info().read(rt, size_t(end) * RAY_INFO_FLOATS);
+    info = batch_->ray_info().read(rt, size_t(end) * RAY_INFO_FLOATS);
+    const float grad_scale = 1.0f / (3.0f * float(end));
+    for (uint32_t r = 0; r < end; ++r) {
+      // A ray without subject samples renders the room's colour alone (T = 1): the subject's loss
+      // with the room's colour for the composite. A ray through the subject's volume, or one whose
+      // pixel may be skin, keeps its target at the room's own colour: no gradient.
+      const float* color = &colors_[size_t(r) * 4];
+      const float* target = &sinfo[size_t(r) * RAY_INFO_FLOATS];
+      float dC[3] = {0.0f, 0.0f, 0.0f};
+      if (r < subject_counts.size() && subject_counts[r] == 0 && !skin_like(target))
+        render_ray_loss(color, target, loss_kind, grad_scale, dC);
+      for (int c = 0; c < 3; ++c) {
+        const float g = std::isfinite(dC[c]) ? dC[c] : 0.0f;
+        info[size_t(r) * RAY_INFO_FLOATS + c] = color[c] - g / (2.0f * grad_scale);
+      }
+    }
+  }
+  teach(info, adam, step);
+}
+
+bool BackgroundField::skin_like(const float* pixel) const {
+  if (skin_chroma_.empty()) return false;
+  const SkinChroma& skin = options_.subject->skin;
+  return render_ray_skin_like(pixel, skin_chroma_.data(), uint32_t(skin_chroma_.size() / 2),
+                              options_.neck_clear + skin.spread, skin.lum_floor) != 0;
+}
+
+void BackgroundField::teach(std::vector<float>& info, const field::AdamConfig& adam, uint32_t step) {
+  if (written_ > 0) {
+    batch_->ray_info_mut().write(model_->runtime(), info);
     batch_->render(LOSS_L2_LINEAR, false);
     if (batch_->written_samples() > 0) {
       model_->field().backward(batch_->dsigma(), batch_->drgb(), batch_->written_samples());

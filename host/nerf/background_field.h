@@ -128,6 +128,16 @@ struct BackgroundOptions {
   // share of the off-white capture's leak fell 7.0 -> 1.4 points with no row's holes rising
   // (docs/room-training.md, "Zones"). 0 = off.
   float neck_clear = 0.02f;
+  // Steps the room model trains alone before the subject's first, on the rays that miss the
+  // subject's volume (no subject sample: their pixel is the room's for certain) and whose pixel is no
+  // colour of the subject's skin, each teaching the room its pixel; the other rays teach it nothing. Trained side by side from step 0, the
+  // subject's fine grid paints the wall around the head faster than the coarse room learns it (a haze
+  // the binary prior then keeps), and the room may take a head's colour where the head has not formed
+  // yet. A room that already explains the skin's own colour (a wall of that colour) keeps the colour
+  // loss from forming the head where its shading matches the wall (an ear before a wall of its
+  // colour), so such pixels wait for the subject (docs/room-training.md, "The room model first").
+  // 0 = off.
+  uint32_t room_first = 0;
 };
 
 // The share of the opacity prior's weight (and the clearing's) at training step `step`: 0 until
@@ -161,8 +171,21 @@ class BackgroundField {
   // After the subject batch's render(): back-propagates T_subject * dL/dC into the room model and
   // takes its Adam step (lr: the subject's current learning rate), then its occupancy update.
   void backward(RayBatch& subject, uint32_t loss_kind, const field::AdamConfig& adam, uint32_t step);
+  // After render_backgrounds() without the subject's render: one step of the room model alone
+  // (BackgroundOptions::room_first) on the written rays whose subject_counts[r] is 0, each taught
+  // its pixel (subject.ray_info()'s target) as a subject-free ray is; the other rays teach nothing.
+  void train_alone(RayBatch& subject, const std::vector<uint32_t>& subject_counts, uint32_t loss_kind,
+                   const field::AdamConfig& adam, uint32_t step);
 
  private:
+  // Whether a pixel (linear RGB) may be the subject's skin, as the neck's keep zone judges it
+  // (kernels/train/render.h render_ray_skin_like with the skin's colours and neck_clear's tolerance);
+  // false when no skin colours are known.
+  bool skin_like(const float* pixel) const;
+  // Sets the room's per-ray targets from `info` (its ray_info with the targets rewritten), then
+  // back-propagates, takes the Adam step and the occupancy update.
+  void teach(std::vector<float>& info, const field::AdamConfig& adam, uint32_t step);
+
   BackgroundOptions options_;
   std::unique_ptr<NerfModel> model_;
   std::unique_ptr<RayBatch> batch_;
@@ -172,6 +195,7 @@ class BackgroundField {
   uint32_t written_ = 0;
   uint64_t samples_ = 0;
   std::vector<float> colors_;  // room colour + opacity per written ray
+  std::vector<float> skin_chroma_;  // the subject's skin chromaticities (r, g pairs) for skin_like()
 };
 
 }  // namespace lorgnette::nerf

@@ -111,6 +111,10 @@ void add_room_options(CLI::App* cmd, nerf::BackgroundOptions& room) {
                   "lies further than this from every skin colour sampled on the face get the room-explained "
                   "clearing (0 = off)")
       ->capture_default_str();
+  cmd->add_option("--room-first", room.room_first,
+                  "with the room model: steps the room model trains alone first, on the rays that miss the "
+                  "subject's volume (0 = off)")
+      ->capture_default_str();
 }
 
 void add_train(CLI::App& app, GlobalOptions& global) {
