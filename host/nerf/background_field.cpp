@@ -84,7 +84,8 @@ BackgroundField::BackgroundField(cl::Runtime& rt, const NerfModel& subject, cons
   occupancy_ = std::make_unique<OccupancyUpdater>(*model_, OccupancyOptions{}, seed + 7919u, std::move(mask));
   batch_ = std::make_unique<RayBatch>(*model_, model_->field().max_batch());
   if (options.subject && options.neck_clear > 0.0f)
-    for (const auto& sc : options.subject->skin.chroma) skin_chroma_.push_back(sc[0]), skin_chroma_.push_back(sc[1]);
+    for (const auto& sc : options.subject->skin.chroma)
+      skin_chroma_.push_back(sc[0]), skin_chroma_.push_back(sc[1]);
   const std::array<float, 3> c = subject.aabb().center();
   near_t_ = 3.0e38f;
   for (const Camera& cam : views.cameras()) {

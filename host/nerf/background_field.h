@@ -130,11 +130,11 @@ struct BackgroundOptions {
   float neck_clear = 0.02f;
   // Steps the room model trains alone before the subject's first, on the rays that miss the
   // subject's volume (no subject sample: their pixel is the room's for certain) and whose pixel is no
-  // colour of the subject's skin, each teaching the room its pixel; the other rays teach it nothing. Trained side by side from step 0, the
-  // subject's fine grid paints the wall around the head faster than the coarse room learns it (a haze
-  // the binary prior then keeps), and the room may take a head's colour where the head has not formed
-  // yet. A room that already explains the skin's own colour (a wall of that colour) keeps the colour
-  // loss from forming the head where its shading matches the wall (an ear before a wall of its
+  // colour of the subject's skin, each teaching the room its pixel; the other rays teach it nothing. Trained
+  // side by side from step 0, the subject's fine grid paints the wall around the head faster than the coarse
+  // room learns it (a haze the binary prior then keeps), and the room may take a head's colour where the head
+  // has not formed yet. A room that already explains the skin's own colour (a wall of that colour) keeps the
+  // colour loss from forming the head where its shading matches the wall (an ear before a wall of its
   // colour), so such pixels wait for the subject (docs/room-training.md, "The room model first").
   // 0 = off.
   uint32_t room_first = 0;
@@ -194,7 +194,7 @@ class BackgroundField {
   float near_t_ = 0.0f;  // room samples start this far from the camera: at the subject's depth
   uint32_t written_ = 0;
   uint64_t samples_ = 0;
-  std::vector<float> colors_;  // room colour + opacity per written ray
+  std::vector<float> colors_;       // room colour + opacity per written ray
   std::vector<float> skin_chroma_;  // the subject's skin chromaticities (r, g pairs) for skin_like()
 };
 
