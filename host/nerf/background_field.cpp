@@ -184,8 +184,11 @@ void BackgroundField::train_alone(RayBatch& subject, const std::vector<uint32_t>
       const float* color = &colors_[size_t(r) * 4];
       const float* target = &sinfo[size_t(r) * RAY_INFO_FLOATS];
       float dC[3] = {0.0f, 0.0f, 0.0f};
-      if (r < subject_counts.size() && subject_counts[r] == 0 && !skin_like(target))
-        render_ray_loss(color, target, loss_kind, grad_scale, dC);
+      if (r < subject_counts.size() && subject_counts[r] == 0) {
+        ++alone_missed_;
+        if (!skin_like(target)) ++alone_taught_, render_ray_loss(color, target, loss_kind, grad_scale, dC);
+      }
+      ++alone_rays_;
       for (int c = 0; c < 3; ++c) {
         const float g = std::isfinite(dC[c]) ? dC[c] : 0.0f;
         info[size_t(r) * RAY_INFO_FLOATS + c] = color[c] - g / (2.0f * grad_scale);
@@ -193,6 +196,15 @@ void BackgroundField::train_alone(RayBatch& subject, const std::vector<uint32_t>
     }
   }
   teach(info, adam, step);
+}
+
+std::string BackgroundField::alone_summary() const {
+  const auto pct = [this](uint64_t n) { return alone_rays_ ? 100.0 * double(n) / double(alone_rays_) : 0.0; };
+  return fmt::format(
+      "the room model trained alone first on {:.1f} % of its rays ({:.1f} % missed the subject's volume, "
+      "{:.1f} % of them may be skin and waited for the subject)",
+      pct(alone_taught_), pct(alone_missed_),
+      alone_missed_ ? 100.0 * double(alone_missed_ - alone_taught_) / double(alone_missed_) : 0.0);
 }
 
 bool BackgroundField::skin_like(const float* pixel) const {

@@ -138,6 +138,12 @@ struct BackgroundOptions {
   // colour), so such pixels wait for the subject (docs/room-training.md, "The room model first").
   // 0 = off.
   uint32_t room_first = 0;
+  // In the neck's keep zone, a ray whose pixel may be skin (as neck_clear judges it) is pulled
+  // towards an opaque ray at this times the prior's weight: the neck continues below the head box
+  // into the room model's body, whose coarse neck there can explain the lowest band of the neck as
+  // well as the subject can, and the binary prior alone leaves that band to whichever formed first.
+  // Ambiguous, so the subject keeps it. 0 = off.
+  float keep_pull = 0.0f;
 };
 
 // The share of the opacity prior's weight (and the clearing's) at training step `step`: 0 until
@@ -176,6 +182,9 @@ class BackgroundField {
   // its pixel (subject.ray_info()'s target) as a subject-free ray is; the other rays teach nothing.
   void train_alone(RayBatch& subject, const std::vector<uint32_t>& subject_counts, uint32_t loss_kind,
                    const field::AdamConfig& adam, uint32_t step);
+  // What train_alone() did so far: its rays, those that missed the subject's volume, and those of
+  // them that taught the room (no skin colour).
+  std::string alone_summary() const;
 
  private:
   // Whether a pixel (linear RGB) may be the subject's skin, as the neck's keep zone judges it
@@ -196,6 +205,7 @@ class BackgroundField {
   uint64_t samples_ = 0;
   std::vector<float> colors_;       // room colour + opacity per written ray
   std::vector<float> skin_chroma_;  // the subject's skin chromaticities (r, g pairs) for skin_like()
+  uint64_t alone_rays_ = 0, alone_missed_ = 0, alone_taught_ = 0;  // train_alone()'s rays
 };
 
 }  // namespace lorgnette::nerf

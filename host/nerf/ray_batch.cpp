@@ -197,6 +197,7 @@ LossParams RayBatch::loss_params(uint32_t loss_kind, bool forward_only, float mi
     lp.skin_count = uint32_t(std::min<size_t>(priors.skin->chroma.size(), SKIN_REFS_MAX));
     lp.skin_tolerance = priors.skin_tolerance;
     lp.skin_lum_floor = priors.skin->lum_floor;
+    lp.keep_pull = priors.keep_pull;
     for (uint32_t k = 0; k < lp.skin_count; ++k)
       lp.skin_chroma[2 * k] = priors.skin->chroma[k][0],
                          lp.skin_chroma[2 * k + 1] = priors.skin->chroma[k][1];

@@ -41,6 +41,7 @@ void validate_room(const BackgroundOptions& r) {
   check_bound(b::kNeckClear, r.neck_clear);
   check_bound(b::kPriorStart, r.opacity_prior_start);
   check_bound(b::kRoomFirst, r.room_first);
+  check_bound(b::kKeepPull, r.keep_pull);
 }
 
 }  // namespace

@@ -174,7 +174,8 @@ RayPriors Trainer::opacity_prior() const {
   if (zone_res_)
     p.zones = &zones_, p.zone_res = zone_res_, p.lean_gate = b.lean_gate, p.solid_pull = b.solid_pull;
   if (zone_res_ && b.neck_clear > 0.0f && b.subject && !b.subject->skin.chroma.empty())
-    p.skin = &b.subject->skin, p.skin_tolerance = b.neck_clear + b.subject->skin.spread;
+    p.skin = &b.subject->skin, p.skin_tolerance = b.neck_clear + b.subject->skin.spread,
+    p.keep_pull = b.keep_pull;
   return p;
 }
 
@@ -306,6 +307,7 @@ void Trainer::train_room_first(Progress& bar) {
     background_->train_alone(*batch_, counts, options_.loss_kind, adam, k + 1);
     if (options_.progress) bar.update(0.0, fmt::format("the room model first: step {} of {}", k + 1, n));
   }
+  spdlog::info("{}", background_->alone_summary());
 }
 
 TrainResult Trainer::run() {

@@ -70,17 +70,19 @@ float opacity(const Ray& r) {
 // Plain gradient descent on the samples' densities with the prior alone, the keep cells' gate from
 // the pixel `pixel` against the skin's chromaticities (none: the rule off); the final opacity.
 float descend(Ray r, const std::array<float, 3>& pixel, const std::vector<std::array<float, 2>>& skin,
-              int steps = 400) {
+              float keep_pull = 0.0f, int steps = 400) {
   const std::vector<uint32_t> zones = keep_zone();
   std::vector<float> chroma_pairs;
   for (const auto& c : skin) chroma_pairs.insert(chroma_pairs.end(), {c[0], c[1]});
   const float keep_gate = render_ray_keep_gate(pixel.data(), kGate, chroma_pairs.data(),
                                                uint32_t(skin.size()), kTolerance, 0.01f);
+  const float pull = render_ray_keep_pull(pixel.data(), keep_pull, chroma_pairs.data(), uint32_t(skin.size()),
+                                          kTolerance, 0.01f);
   for (int it = 0; it < steps; ++it) {
     const float color[4] = {pixel[0], pixel[1], pixel[2], opacity(r)};
     std::vector<float> dsigma(kSamples, 0.0f);
     render_ray_opacity_prior_zones(0, kSamples, kSamples, kStep, color, kWeight, kClear, kGate, keep_gate,
-                                   kLeanGate, 0.0f, kScale, r.pos.data(), kSamples, zones.data(), kRes,
+                                   pull, kLeanGate, 0.0f, kScale, r.pos.data(), kSamples, zones.data(), kRes,
                                    dsigma.data());
     for (uint32_t k = 0; k < kSamples; ++k) r.sigma[k] = std::fmax(0.0f, r.sigma[k] - 2e4f * dsigma[k]);
   }
@@ -109,6 +111,21 @@ TEST(NeckClear, HazeOfTheWallsColourBesideTheNeckClearsAndTheNeckStays) {
 TEST(NeckClear, AWallOfTheSkinsColourKeepsTheBinaryPrior) {
   const Ray slab = ray_at(0.5f + 0.25f, -std::log(0.4f) / 0.1f);
   EXPECT_GT(descend(slab, kSkin, {chroma(kSkin)}), 0.95f);
+}
+
+// The neck's lowest band, transparent (opacity 0.3) when the prior ramps in because the room's body
+// below the head box explained it first: the binary prior alone clears it; with the keep pull a ray
+// whose pixel may be skin becomes opaque, while the slab of the off-white wall's colour beside the
+// neck still clears (its pixel is no skin colour, so no pull).
+TEST(NeckClear, TheKeepPullFormsTheNecksBandAndLeavesTheWallsSlab) {
+  const float thin = -std::log(0.7f) / 0.05f;  // the neck's outer 0.05, twice: opacity about 0.5
+  const Ray neck = ray_at(0.5f, thin * 0.3f), slab = ray_at(0.5f + 0.25f, -std::log(0.4f) / 0.1f);
+  ASSERT_LT(opacity(neck), 0.45f);
+  ASSERT_GT(opacity(neck), 0.15f);
+  const std::vector<std::array<float, 2>> skin{chroma(kSkin)};
+  EXPECT_LT(descend(neck, kSkin, skin), 0.05f) << "the binary prior alone clears the band";
+  EXPECT_GT(descend(neck, kSkin, skin, 1.0f), 0.95f) << "the pull keeps it";
+  EXPECT_LT(descend(slab, kOffWhite, skin, 1.0f), 0.05f) << "no pull on a pixel of no skin colour";
 }
 
 // The skin test is on chromaticity and a brightness floor: the skin shaded to a third (the neck in

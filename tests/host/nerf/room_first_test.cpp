@@ -42,7 +42,8 @@ struct Scene {
 
   // The loss of the subject's first step after `room_first` steps of the room alone.
   double first_loss(uint32_t room_first, const std::vector<std::array<float, 2>>& skin = {}) {
-    NerfModel model(rt, sizing.field, sizing.aabb, sizing.occupancy_resolution, sizing.step, 1u << 12, 7, true);
+    NerfModel model(rt, sizing.field, sizing.aabb, sizing.occupancy_resolution, sizing.step, 1u << 12, 7,
+                    true);
     TrainOptions o;
     o.steps = 1;
     o.seed = 7;
