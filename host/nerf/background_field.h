@@ -138,11 +138,12 @@ struct BackgroundOptions {
   // colour), so such pixels wait for the subject (docs/room-training.md, "The room model first").
   // 0 = off.
   uint32_t room_first = 0;
-  // In the neck's keep zone, a ray whose pixel may be skin (as neck_clear judges it) is pulled
-  // towards an opaque ray at this times the prior's weight: the neck continues below the head box
-  // into the room model's body, whose coarse neck there can explain the lowest band of the neck as
-  // well as the subject can, and the binary prior alone leaves that band to whichever formed first.
-  // Ambiguous, so the subject keeps it. 0 = off.
+  // In the neck's keep zone, the samples within the certain interior's reach (the neck's core grown by
+  // solid_reach_mm) are pulled towards an opaque ray at this times the prior's weight, as the
+  // interior's own are. The neck continues below the head box into the room model's body, whose
+  // coarse neck there explains the lowest band of the neck (rays that run down through it) as well
+  // as the subject does, and the binary prior alone leaves that band to whichever formed first: the
+  // reach lies in the neck for most necks, so the subject keeps it. 0 = off.
   float keep_pull = 0.0f;
 };
 

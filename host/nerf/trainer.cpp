@@ -172,10 +172,10 @@ RayPriors Trainer::opacity_prior() const {
   p.room_clear_tolerance = b.room_clear_tolerance;
   p.subject_explains = b.subject_explains;
   if (zone_res_)
-    p.zones = &zones_, p.zone_res = zone_res_, p.lean_gate = b.lean_gate, p.solid_pull = b.solid_pull;
-  if (zone_res_ && b.neck_clear > 0.0f && b.subject && !b.subject->skin.chroma.empty())
-    p.skin = &b.subject->skin, p.skin_tolerance = b.neck_clear + b.subject->skin.spread,
+    p.zones = &zones_, p.zone_res = zone_res_, p.lean_gate = b.lean_gate, p.solid_pull = b.solid_pull,
     p.keep_pull = b.keep_pull;
+  if (zone_res_ && b.neck_clear > 0.0f && b.subject && !b.subject->skin.chroma.empty())
+    p.skin = &b.subject->skin, p.skin_tolerance = b.neck_clear + b.subject->skin.spread;
   return p;
 }
 

@@ -214,16 +214,6 @@ LGN_INLINE float render_ray_keep_gate(const float* target, float gate, const flo
   return gate;
 }
 
-// The keep cells' pull towards an opaque ray (render_ray_opacity_prior_zones' keep_pull, relative to
-// the prior's weight): `pull` where the pixel may be skin (render_ray_skin_like), else 0; 0 without
-// skin colours.
-LGN_INLINE float render_ray_keep_pull(const float* target, float pull, const float* chroma, lgn_uint count,
-                                      float tolerance, float lum_floor) {
-  if (!(pull > 0.0f) || count == 0u || !render_ray_skin_like(target, chroma, count, tolerance, lum_floor))
-    return 0.0f;
-  return pull;
-}
-
 // The same with prior zones: four bitfields of `res`^3 cells over the model's box, one after the other
 // (occ_word_count(res) words each; positions `pos` SoA with `stride`, normalised to the box). Samples
 // in the first field's cells ("keep") get the gate `keep_gate`: where the room model's own
@@ -244,8 +234,9 @@ LGN_INLINE float render_ray_keep_pull(const float* target, float pull, const flo
 // weight towards an opaque ray, which fills a hole there that the colour loss cannot tell from the
 // wall. The crossing is judged over all `count` samples of the ray, not only the `used` ones in
 // front of its opaque surface: a ray that the skin makes opaque before the interior still crosses it.
-// Keep samples of a ray whose pixel may be skin also get `keep_pull` x the weight towards an opaque
-// ray (BackgroundOptions::keep_pull). The fourth field ("reach", holding the third) is where that crossing is
+// Keep samples within the reach of the interior (the neck's core grown towards the skin) also get
+// `keep_pull` x the weight towards an opaque ray (BackgroundOptions::keep_pull). The fourth field
+// ("reach", holding the third) is where that crossing is
 // judged: the interior grown towards the skin (BackgroundOptions::solid_reach_mm), so a ray that passes over
 // the top of the skull through its hair, short of the interior, is the subject's too; the pull stays in the
 // interior.
@@ -270,12 +261,13 @@ LGN_INLINE void render_ray_opacity_prior_zones(lgn_uint first, lgn_uint count, l
   const float lean =
       crosses ? binary : render_ray_opacity_prior_dlda(a, weight, clear, fmax(gate, lean_gate), ray_scale);
   const float solid = -solid_pull * weight * ray_scale;
-  const float kept = keep - keep_pull * weight * ray_scale;
+  const float neck = keep - keep_pull * weight * ray_scale;
   for (lgn_uint k = 0; k < used; ++k) {
     const lgn_uint i = first + k;
     const float x = pos[i], y = pos[stride + i], z = pos[2u * stride + i];
-    const float d = occ_test(solid_bits, res, x, y, z)  ? solid
-                    : occ_test(zone_bits, res, x, y, z) ? kept
+    const float d = occ_test(solid_bits, res, x, y, z) ? solid
+                    : occ_test(zone_bits, res, x, y, z)
+                        ? (keep_pull > 0.0f && occ_test(reach_bits, res, x, y, z) ? neck : keep)
                     : occ_test(lean_bits, res, x, y, z) ? lean
                                                         : gated;
     dsigma[i] += step * T * d;
