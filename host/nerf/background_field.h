@@ -143,8 +143,9 @@ struct BackgroundOptions {
   // interior's own are. The neck continues below the head box into the room model's body, whose
   // coarse neck there explains the lowest band of the neck (rays that run down through it) as well
   // as the subject does, and the binary prior alone leaves that band to whichever formed first: the
-  // reach lies in the neck for most necks, so the subject keeps it. 0 = off.
-  float keep_pull = 0.0f;
+  // reach lies in the neck for most necks, so the subject keeps it (docs/room-training.md, "Zones").
+  // 0 = off.
+  float keep_pull = 1.0f;
 };
 
 // The share of the opacity prior's weight (and the clearing's) at training step `step`: 0 until
