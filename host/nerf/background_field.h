@@ -11,6 +11,7 @@
 // T_subject * dL/dC_subject, the chain rule through the compositing.
 #pragma once
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -193,9 +194,11 @@ class BackgroundField {
   // (kernels/train/render.h render_ray_skin_like with the skin's colours and neck_clear's tolerance);
   // false when no skin colours are known.
   bool skin_like(const float* pixel) const;
-  // Sets the room's per-ray targets from `info` (its ray_info with the targets rewritten), then
-  // back-propagates, takes the Adam step and the occupancy update.
-  void teach(std::vector<float>& info, const field::AdamConfig& adam, uint32_t step);
+  // dL/d(room colour) of ray r (into g[3], zeroed) from its pixel `target` and the batch's grad_scale.
+  using RayGradient = std::function<void(uint32_t r, const float* target, float grad_scale, float* g)>;
+  // Teaches the room model each written ray's gradient (as the target of its own L2 loss), then takes
+  // its Adam step (lr: the subject's, times lr_scale) and its occupancy update.
+  void teach(RayBatch& subject, const RayGradient& gradient, const field::AdamConfig& adam, uint32_t step);
 
   BackgroundOptions options_;
   std::unique_ptr<NerfModel> model_;
