@@ -83,6 +83,9 @@ BackgroundField::BackgroundField(cl::Runtime& rt, const NerfModel& subject, cons
   model_->set_occupancy(std::move(grid));
   occupancy_ = std::make_unique<OccupancyUpdater>(*model_, OccupancyOptions{}, seed + 7919u, std::move(mask));
   batch_ = std::make_unique<RayBatch>(*model_, model_->field().max_batch());
+  if (options.subject && options.neck_clear > 0.0f)
+    for (const auto& sc : options.subject->skin.chroma)
+      skin_chroma_.push_back(sc[0]), skin_chroma_.push_back(sc[1]);
   const std::array<float, 3> c = subject.aabb().center();
   near_t_ = 3.0e38f;
   for (const Camera& cam : views.cameras()) {
@@ -142,23 +145,66 @@ void BackgroundField::render_backgrounds(const SampleParams&, const DeviceViews&
 
 void BackgroundField::backward(RayBatch& subject, uint32_t loss_kind, const field::AdamConfig& adam,
                                uint32_t step) {
+  const std::vector<float> sc = written_ ? subject.colors() : std::vector<float>{};
+  teach(
+      subject,
+      [&](uint32_t r, const float* target, float grad_scale, float* g) {
+        const float* color = &sc[size_t(r) * 4];
+        render_ray_loss(color, target, loss_kind, grad_scale, g);
+        for (int c = 0; c < 3; ++c) g[c] *= 1.0f - color[3];
+      },
+      adam, step);
+}
+
+void BackgroundField::train_alone(RayBatch& subject, const std::vector<uint32_t>& subject_counts,
+                                  uint32_t loss_kind, const field::AdamConfig& adam, uint32_t step) {
+  // A ray without subject samples renders the room's colour alone (T = 1): the subject's loss with
+  // the room's colour for the composite. A ray through the subject's volume, or one whose pixel may
+  // be skin, teaches nothing.
+  teach(
+      subject,
+      [&](uint32_t r, const float* target, float grad_scale, float* g) {
+        ++alone_rays_;
+        if (r >= subject_counts.size() || subject_counts[r] != 0) return;
+        ++alone_missed_;
+        if (skin_like(target)) return;
+        ++alone_taught_;
+        render_ray_loss(&colors_[size_t(r) * 4], target, loss_kind, grad_scale, g);
+      },
+      adam, step);
+}
+
+std::string BackgroundField::alone_summary() const {
+  const auto pct = [this](uint64_t n) { return alone_rays_ ? 100.0 * double(n) / double(alone_rays_) : 0.0; };
+  return fmt::format(
+      "the room model trained alone first on {:.1f} % of its rays ({:.1f} % missed the subject's volume, "
+      "{:.1f} % of them may be skin and waited for the subject)",
+      pct(alone_taught_), pct(alone_missed_),
+      alone_missed_ ? 100.0 * double(alone_missed_ - alone_taught_) / double(alone_missed_) : 0.0);
+}
+
+bool BackgroundField::skin_like(const float* pixel) const {
+  if (skin_chroma_.empty()) return false;
+  const SkinChroma& skin = options_.subject->skin;
+  return render_ray_skin_like(pixel, skin_chroma_.data(), uint32_t(skin_chroma_.size() / 2),
+                              options_.neck_clear + skin.spread, skin.lum_floor) != 0;
+}
+
+void BackgroundField::teach(RayBatch& subject, const RayGradient& gradient, const field::AdamConfig& adam,
+                            uint32_t step) {
   cl::Runtime& rt = model_->runtime();
   const uint32_t end = written_;
   if (end > 0) {
-    std::vector<float> sc = subject.colors();
-    std::vector<float> sinfo = subject.ray_info().read(rt, size_t(end) * RAY_INFO_FLOATS);
+    const std::vector<float> sinfo = subject.ray_info().read(rt, size_t(end) * RAY_INFO_FLOATS);
     std::vector<float> info = batch_->ray_info().read(rt, size_t(end) * RAY_INFO_FLOATS);
     const float grad_scale = 1.0f / (3.0f * float(end));
     for (uint32_t r = 0; r < end; ++r) {
-      const float* color = &sc[size_t(r) * 4];
-      const float* target = &sinfo[size_t(r) * RAY_INFO_FLOATS];
-      float dC[3];
-      render_ray_loss(color, target, loss_kind, grad_scale, dC);
-      const float T = 1.0f - color[3];
-      for (int c = 0; c < 3; ++c) {
-        float g = std::isfinite(dC[c]) ? T * dC[c] : 0.0f;
-        info[size_t(r) * RAY_INFO_FLOATS + c] = colors_[size_t(r) * 4 + c] - g / (2.0f * grad_scale);
-      }
+      float g[3] = {0.0f, 0.0f, 0.0f};
+      gradient(r, &sinfo[size_t(r) * RAY_INFO_FLOATS], grad_scale, g);
+      // The room's own L2 loss against this target gives it the gradient g.
+      for (int c = 0; c < 3; ++c)
+        info[size_t(r) * RAY_INFO_FLOATS + c] =
+            colors_[size_t(r) * 4 + c] - (std::isfinite(g[c]) ? g[c] : 0.0f) / (2.0f * grad_scale);
     }
     batch_->ray_info_mut().write(rt, info);
     batch_->render(LOSS_L2_LINEAR, false);

@@ -11,6 +11,7 @@
 // T_subject * dL/dC_subject, the chain rule through the compositing.
 #pragma once
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -128,6 +129,24 @@ struct BackgroundOptions {
   // share of the off-white capture's leak fell 7.0 -> 1.4 points with no row's holes rising
   // (docs/room-training.md, "Zones"). 0 = off.
   float neck_clear = 0.02f;
+  // Steps the room model trains alone before the subject's first, on the rays that miss the
+  // subject's volume (no subject sample: their pixel is the room's for certain) and whose pixel is no
+  // colour of the subject's skin, each teaching the room its pixel; the other rays teach it nothing. Trained
+  // side by side from step 0, the subject's fine grid paints the wall around the head faster than the coarse
+  // room learns it (a haze the binary prior then keeps), and the room may take a head's colour where the head
+  // has not formed yet. A room that already explains the skin's own colour (a wall of that colour) keeps the
+  // colour loss from forming the head where its shading matches the wall (an ear before a wall of its
+  // colour), so such pixels wait for the subject (docs/room-training.md, "The room model first").
+  // 0 = off.
+  uint32_t room_first = 0;
+  // In the neck's keep zone, the samples within the certain interior's reach (the neck's core grown by
+  // solid_reach_mm) are pulled towards an opaque ray at this times the prior's weight, as the
+  // interior's own are. The neck continues below the head box into the room model's body, whose
+  // coarse neck there explains the lowest band of the neck (rays that run down through it) as well
+  // as the subject does, and the binary prior alone leaves that band to whichever formed first: the
+  // reach lies in the neck for most necks, so the subject keeps it (docs/room-training.md, "Zones").
+  // 0 = off.
+  float keep_pull = 1.0f;
 };
 
 // The share of the opacity prior's weight (and the clearing's) at training step `step`: 0 until
@@ -161,8 +180,26 @@ class BackgroundField {
   // After the subject batch's render(): back-propagates T_subject * dL/dC into the room model and
   // takes its Adam step (lr: the subject's current learning rate), then its occupancy update.
   void backward(RayBatch& subject, uint32_t loss_kind, const field::AdamConfig& adam, uint32_t step);
+  // After render_backgrounds() without the subject's render: one step of the room model alone
+  // (BackgroundOptions::room_first) on the written rays whose subject_counts[r] is 0, each taught
+  // its pixel (subject.ray_info()'s target) as a subject-free ray is; the other rays teach nothing.
+  void train_alone(RayBatch& subject, const std::vector<uint32_t>& subject_counts, uint32_t loss_kind,
+                   const field::AdamConfig& adam, uint32_t step);
+  // What train_alone() did so far: its rays, those that missed the subject's volume, and those of
+  // them that taught the room (no skin colour).
+  std::string alone_summary() const;
 
  private:
+  // Whether a pixel (linear RGB) may be the subject's skin, as the neck's keep zone judges it
+  // (kernels/train/render.h render_ray_skin_like with the skin's colours and neck_clear's tolerance);
+  // false when no skin colours are known.
+  bool skin_like(const float* pixel) const;
+  // dL/d(room colour) of ray r (into g[3], zeroed) from its pixel `target` and the batch's grad_scale.
+  using RayGradient = std::function<void(uint32_t r, const float* target, float grad_scale, float* g)>;
+  // Teaches the room model each written ray's gradient (as the target of its own L2 loss), then takes
+  // its Adam step (lr: the subject's, times lr_scale) and its occupancy update.
+  void teach(RayBatch& subject, const RayGradient& gradient, const field::AdamConfig& adam, uint32_t step);
+
   BackgroundOptions options_;
   std::unique_ptr<NerfModel> model_;
   std::unique_ptr<RayBatch> batch_;
@@ -171,7 +208,9 @@ class BackgroundField {
   float near_t_ = 0.0f;  // room samples start this far from the camera: at the subject's depth
   uint32_t written_ = 0;
   uint64_t samples_ = 0;
-  std::vector<float> colors_;  // room colour + opacity per written ray
+  std::vector<float> colors_;       // room colour + opacity per written ray
+  std::vector<float> skin_chroma_;  // the subject's skin chromaticities (r, g pairs) for skin_like()
+  uint64_t alone_rays_ = 0, alone_missed_ = 0, alone_taught_ = 0;  // train_alone()'s rays
 };
 
 }  // namespace lorgnette::nerf

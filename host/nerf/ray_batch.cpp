@@ -193,6 +193,7 @@ LossParams RayBatch::loss_params(uint32_t loss_kind, bool forward_only, float mi
   lp.zone_res = priors.zones ? priors.zone_res : 0u;
   lp.lean_gate = priors.zones ? priors.lean_gate : 0.0f;
   lp.solid_pull = priors.zones ? priors.solid_pull : 0.0f;
+  lp.keep_pull = priors.zones ? priors.keep_pull : 0.0f;
   if (priors.zones && priors.skin) {
     lp.skin_count = uint32_t(std::min<size_t>(priors.skin->chroma.size(), SKIN_REFS_MAX));
     lp.skin_tolerance = priors.skin_tolerance;

@@ -38,6 +38,7 @@ struct RayPriors {
   // binary prior alone) and the chromaticity distance within which a pixel matches one.
   const SkinChroma* skin = nullptr;
   float skin_tolerance = 0.0f;
+  float keep_pull = 0.0f;  // the pull towards an opaque ray of the keep cells within the reach cells
 };
 
 class RayBatch {

@@ -36,6 +36,8 @@ json room_json(const BackgroundOptions& r) {
           {"solid_pull", r.solid_pull},
           {"solid_reach_mm", r.solid_reach_mm},
           {"neck_clear", r.neck_clear},
+          {"room_first", r.room_first},
+          {"keep_pull", r.keep_pull},
           {"subject_zones", r.subject.has_value()}};
 }
 

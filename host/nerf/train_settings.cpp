@@ -40,6 +40,8 @@ void validate_room(const BackgroundOptions& r) {
   check_bound(b::kSolidReach, r.solid_reach_mm);
   check_bound(b::kNeckClear, r.neck_clear);
   check_bound(b::kPriorStart, r.opacity_prior_start);
+  check_bound(b::kRoomFirst, r.room_first);
+  check_bound(b::kKeepPull, r.keep_pull);
 }
 
 }  // namespace

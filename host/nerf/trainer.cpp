@@ -172,7 +172,8 @@ RayPriors Trainer::opacity_prior() const {
   p.room_clear_tolerance = b.room_clear_tolerance;
   p.subject_explains = b.subject_explains;
   if (zone_res_)
-    p.zones = &zones_, p.zone_res = zone_res_, p.lean_gate = b.lean_gate, p.solid_pull = b.solid_pull;
+    p.zones = &zones_, p.zone_res = zone_res_, p.lean_gate = b.lean_gate, p.solid_pull = b.solid_pull,
+    p.keep_pull = b.keep_pull;
   if (zone_res_ && b.neck_clear > 0.0f && b.subject && !b.subject->skin.chroma.empty())
     p.skin = &b.subject->skin, p.skin_tolerance = b.neck_clear + b.subject->skin.spread;
   return p;
@@ -288,6 +289,27 @@ void Trainer::diverged(double loss, uint64_t at_step) {
       loss, at_step, good_step_, where, options_.adam.lr));
 }
 
+void Trainer::train_room_first(Progress& bar) {
+  const uint32_t n = options_.background.room_first;
+  if (!background_ || n == 0 || step_ > 0) return;
+  for (uint32_t k = 0; k < n && !interrupted(); ++k) {
+    SampleParams p = sample_params_for(model_, *views_);
+    p.mode = SAMPLE_MODE_TRAIN;
+    p.n_rays = n_rays_;
+    p.seed = options_.seed ^ 0x5bd1e995u;  // other rays than the subject's steps draw
+    p.iteration = k;
+    const std::vector<uint32_t> counts = batch_->count(p, *views_);
+    const uint32_t end = std::min(batch_->fit(0, model_.field().max_batch()), background_->count(p, *views_));
+    batch_->write(p, *views_, 0, end);
+    background_->render_backgrounds(p, *views_, end, *batch_);
+    field::AdamConfig adam = options_.adam;
+    adam.lr = learning_rate(0.0);
+    background_->train_alone(*batch_, counts, options_.loss_kind, adam, k + 1);
+    if (options_.progress) bar.update(0.0, fmt::format("the room model first: step {} of {}", k + 1, n));
+  }
+  spdlog::info("{}", background_->alone_summary());
+}
+
 TrainResult Trainer::run() {
   using clock = std::chrono::steady_clock;
   auto start = clock::now();
@@ -323,6 +345,7 @@ TrainResult Trainer::run() {
                              -10.0 * std::log10(std::max(mse_ema, 1e-12)),
                              100.0 * model_.occupancy().occupied_fraction()));
   };
+  train_room_first(bar);
   while (true) {
     elapsed_ = resumed_elapsed_ + std::chrono::duration<double>(clock::now() - start).count();
     if (by_steps && step_ >= options_.steps) break;

@@ -24,6 +24,10 @@
 #include "host/nerf/views.h"
 #include "kernels/train/train_types.h"
 
+namespace lorgnette {
+class Progress;
+}
+
 namespace lorgnette::nerf {
 
 struct TrainOptions {
@@ -105,6 +109,9 @@ class Trainer {
   double run_fraction(double elapsed) const;  // of the steps or seconds, whichever is further
   float learning_rate(double elapsed) const;
   RayPriors opacity_prior() const;  // the room model's opacity prior now (its weight ramps in)
+  // The room model's steps alone before the subject's first (BackgroundOptions::room_first); stops
+  // early when interrupted (run() then stops before its first step).
+  void train_room_first(Progress& bar);
   [[noreturn]] void diverged(double loss, uint64_t at_step);
   bool save_snapshot(double elapsed);    // false when nothing was saved (no path, or no step trained)
   void save_checkpoint(double elapsed);  // the state to options_.checkpoint_path (when set)

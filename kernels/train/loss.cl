@@ -31,7 +31,8 @@ __kernel void render_loss(const LossParams p, __global const uint* ray_offsets,
       render_ray_opacity_prior_zones(
           first, count, used, p.step, color, p.opacity_prior, p.room_clear, gate,
           render_ray_keep_gate(target, gate, p.skin_chroma, p.skin_count, p.skin_tolerance, p.skin_lum_floor),
-          p.lean_gate, p.solid_pull, 3.0f * p.grad_scale, pos, p.stride, zone_bits, p.zone_res, dsigma);
+          p.keep_pull, p.lean_gate, p.solid_pull, 3.0f * p.grad_scale, pos, p.stride, zone_bits, p.zone_res,
+          dsigma);
     else
       render_ray_opacity_prior(first, used, p.step, color, p.opacity_prior, p.room_clear, gate,
                                3.0f * p.grad_scale, dsigma);

@@ -234,15 +234,18 @@ LGN_INLINE float render_ray_keep_gate(const float* target, float gate, const flo
 // weight towards an opaque ray, which fills a hole there that the colour loss cannot tell from the
 // wall. The crossing is judged over all `count` samples of the ray, not only the `used` ones in
 // front of its opaque surface: a ray that the skin makes opaque before the interior still crosses it.
-// The fourth field ("reach", holding the third) is where that crossing is judged: the interior grown
-// towards the skin (BackgroundOptions::solid_reach_mm), so a ray that passes over the top of the
-// skull through its hair, short of the interior, is the subject's too; the pull stays in the interior.
+// Keep samples within the reach of the interior (the neck's core grown towards the skin) also get
+// `keep_pull` x the weight towards an opaque ray (BackgroundOptions::keep_pull). The fourth field
+// ("reach", holding the third) is where that crossing is
+// judged: the interior grown towards the skin (BackgroundOptions::solid_reach_mm), so a ray that passes over
+// the top of the skull through its hair, short of the interior, is the subject's too; the pull stays in the
+// interior.
 LGN_INLINE void render_ray_opacity_prior_zones(lgn_uint first, lgn_uint count, lgn_uint used, float step,
                                                const float* color, float weight, float clear, float gate,
-                                               float keep_gate, float lean_gate, float solid_pull,
-                                               float ray_scale, LGN_GLOBAL const float* pos, lgn_uint stride,
-                                               LGN_GLOBAL const lgn_uint* zone_bits, lgn_uint res,
-                                               LGN_GLOBAL float* dsigma) {
+                                               float keep_gate, float keep_pull, float lean_gate,
+                                               float solid_pull, float ray_scale, LGN_GLOBAL const float* pos,
+                                               lgn_uint stride, LGN_GLOBAL const lgn_uint* zone_bits,
+                                               lgn_uint res, LGN_GLOBAL float* dsigma) {
   LGN_GLOBAL const lgn_uint* lean_bits = zone_bits + occ_word_count(res);
   LGN_GLOBAL const lgn_uint* solid_bits = zone_bits + 2u * occ_word_count(res);
   LGN_GLOBAL const lgn_uint* reach_bits = zone_bits + 3u * occ_word_count(res);
@@ -258,11 +261,13 @@ LGN_INLINE void render_ray_opacity_prior_zones(lgn_uint first, lgn_uint count, l
   const float lean =
       crosses ? binary : render_ray_opacity_prior_dlda(a, weight, clear, fmax(gate, lean_gate), ray_scale);
   const float solid = -solid_pull * weight * ray_scale;
+  const float neck = keep - keep_pull * weight * ray_scale;
   for (lgn_uint k = 0; k < used; ++k) {
     const lgn_uint i = first + k;
     const float x = pos[i], y = pos[stride + i], z = pos[2u * stride + i];
-    const float d = occ_test(solid_bits, res, x, y, z)  ? solid
-                    : occ_test(zone_bits, res, x, y, z) ? keep
+    const float d = occ_test(solid_bits, res, x, y, z) ? solid
+                    : occ_test(zone_bits, res, x, y, z)
+                        ? (keep_pull > 0.0f && occ_test(reach_bits, res, x, y, z) ? neck : keep)
                     : occ_test(lean_bits, res, x, y, z) ? lean
                                                         : gated;
     dsigma[i] += step * T * d;

@@ -92,7 +92,9 @@ typedef struct LossParams {
   lgn_uint skin_count;
   float skin_tolerance;
   float skin_lum_floor;
-  lgn_uint pad1;
+  // The pull towards an opaque ray of the keep zone's samples within the interior's reach, relative
+  // to opacity_prior (0 = off; render_ray_opacity_prior_zones).
+  float keep_pull;
   float skin_chroma[2 * SKIN_REFS_MAX];
 } LossParams;
 LGN_STATIC_ASSERT(sizeof(LossParams) == 136, "LossParams layout is shared with OpenCL");

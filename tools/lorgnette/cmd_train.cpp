@@ -111,6 +111,16 @@ void add_room_options(CLI::App* cmd, nerf::BackgroundOptions& room) {
                   "lies further than this from every skin colour sampled on the face get the room-explained "
                   "clearing (0 = off)")
       ->capture_default_str();
+  cmd->add_option("--room-first", room.room_first,
+                  "with the room model: steps the room model trains alone first, on the rays that miss the "
+                  "subject's volume (0 = off)")
+      ->capture_default_str();
+  cmd->add_option(
+         "--keep-pull", room.keep_pull,
+         "with the room model and a head box: in the neck's zone, the samples within --solid-reach of "
+         "the neck's core are pulled towards opaque with this many times the opacity prior's weight "
+         "(0 = off)")
+      ->capture_default_str();
 }
 
 void add_train(CLI::App& app, GlobalOptions& global) {

@@ -80,8 +80,8 @@ float train(Ray r, const float* pixel, const float* wall, float margin, int step
     render_ray_backward(r.sigma.data(), r.rgb.data(), kSamples, 0, kSamples, used, kStep, color, dC,
                         dsigma.data(), drgb.data());
     const float gate = render_ray_clear_gate(pixel, wall, color, kTolerance, margin);
-    render_ray_opacity_prior_zones(0, kSamples, used, kStep, color, kWeight, kClear, gate, 0.0f, kLeanGate,
-                                   kSolidPull, 1.0f, r.pos.data(), kSamples, zones.data(), kRes,
+    render_ray_opacity_prior_zones(0, kSamples, used, kStep, color, kWeight, kClear, gate, 0.0f, 0.0f,
+                                   kLeanGate, kSolidPull, 1.0f, r.pos.data(), kSamples, zones.data(), kRes,
                                    dsigma.data());
     for (uint32_t k = 0; k < kSamples; ++k) r.sigma[k] = std::fmax(0.0f, r.sigma[k] - 2e4f * dsigma[k]);
   }

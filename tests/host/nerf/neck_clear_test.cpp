@@ -31,13 +31,15 @@ std::array<float, 2> chroma(const std::array<float, 3>& c) {
 }
 
 // The keep zone: the cells within 0.35 of the vertical axis (the neck and the space beside it, as
-// wide as a head); no lean, solid or reach cells.
-std::vector<uint32_t> keep_zone() {
+// wide as a head); no lean or solid cells; with `reach`, the reach cells within the neck's radius of
+// the axis (a neck's core grown towards its skin).
+std::vector<uint32_t> keep_zone(bool reach = false) {
   std::vector<uint32_t> bits(4 * occ_word_count(kRes), 0u);
   for (uint32_t c = 0; c < kRes * kRes * kRes; ++c) {
     const float x = (float(c % kRes) + 0.5f) / kRes - 0.5f,
                 z = (float(c / (kRes * kRes)) + 0.5f) / kRes - 0.5f;
     if (x * x + z * z < 0.35f * 0.35f) bits[c >> 5] |= 1u << (c & 31u);
+    if (reach && x * x + z * z < kNeck * kNeck) bits[3 * occ_word_count(kRes) + (c >> 5)] |= 1u << (c & 31u);
   }
   return bits;
 }
@@ -70,8 +72,8 @@ float opacity(const Ray& r) {
 // Plain gradient descent on the samples' densities with the prior alone, the keep cells' gate from
 // the pixel `pixel` against the skin's chromaticities (none: the rule off); the final opacity.
 float descend(Ray r, const std::array<float, 3>& pixel, const std::vector<std::array<float, 2>>& skin,
-              int steps = 400) {
-  const std::vector<uint32_t> zones = keep_zone();
+              float keep_pull = 0.0f, int steps = 400) {
+  const std::vector<uint32_t> zones = keep_zone(keep_pull > 0.0f);
   std::vector<float> chroma_pairs;
   for (const auto& c : skin) chroma_pairs.insert(chroma_pairs.end(), {c[0], c[1]});
   const float keep_gate = render_ray_keep_gate(pixel.data(), kGate, chroma_pairs.data(),
@@ -80,8 +82,8 @@ float descend(Ray r, const std::array<float, 3>& pixel, const std::vector<std::a
     const float color[4] = {pixel[0], pixel[1], pixel[2], opacity(r)};
     std::vector<float> dsigma(kSamples, 0.0f);
     render_ray_opacity_prior_zones(0, kSamples, kSamples, kStep, color, kWeight, kClear, kGate, keep_gate,
-                                   kLeanGate, 0.0f, kScale, r.pos.data(), kSamples, zones.data(), kRes,
-                                   dsigma.data());
+                                   keep_pull, kLeanGate, 0.0f, kScale, r.pos.data(), kSamples, zones.data(),
+                                   kRes, dsigma.data());
     for (uint32_t k = 0; k < kSamples; ++k) r.sigma[k] = std::fmax(0.0f, r.sigma[k] - 2e4f * dsigma[k]);
   }
   return opacity(r);
@@ -109,6 +111,25 @@ TEST(NeckClear, HazeOfTheWallsColourBesideTheNeckClearsAndTheNeckStays) {
 TEST(NeckClear, AWallOfTheSkinsColourKeepsTheBinaryPrior) {
   const Ray slab = ray_at(0.5f + 0.25f, -std::log(0.4f) / 0.1f);
   EXPECT_GT(descend(slab, kSkin, {chroma(kSkin)}), 0.95f);
+}
+
+// The neck's lowest band, mostly transparent when the prior ramps in because the room's body below
+// the head box explained it first: the binary prior alone clears it; with the keep pull on the
+// samples within the reach it becomes opaque, whatever its pixel's colour, while a slab beside the
+// neck, outside the reach, keeps the rules it had: one of the off-white wall's colour clears, one of
+// the skin's colour (a wall of that colour) is left to the binary prior, as without the pull.
+TEST(NeckClear, TheKeepPullFormsTheNecksBandAndLeavesTheSlabBesideIt) {
+  const float thin = -std::log(0.7f) / 0.05f;  // the neck's outer 0.05, twice: opacity about 0.5
+  const Ray neck = ray_at(0.5f, thin * 0.3f), slab = ray_at(0.5f + 0.25f, -std::log(0.4f) / 0.1f);
+  ASSERT_LT(opacity(neck), 0.45f);
+  ASSERT_GT(opacity(neck), 0.15f);
+  const std::vector<std::array<float, 2>> skin{chroma(kSkin)};
+  EXPECT_LT(descend(neck, kSkin, skin), 0.05f) << "the binary prior alone clears the band";
+  EXPECT_GT(descend(neck, kSkin, skin, 1.0f), 0.95f) << "the pull keeps it";
+  EXPECT_GT(descend(neck, kOffWhite, skin, 1.0f), 0.95f) << "a collar of another colour too";
+  EXPECT_LT(descend(slab, kOffWhite, skin, 1.0f), 0.05f) << "beside the reach: cleared as before";
+  const Ray faint = ray_at(0.5f + 0.25f, -std::log(0.7f) / 0.1f);  // opacity 0.3 beside the neck
+  EXPECT_LT(descend(faint, kSkin, skin, 1.0f), 0.05f) << "beside the reach: the binary prior alone";
 }
 
 // The skin test is on chromaticity and a brightness floor: the skin shaded to a third (the neck in

@@ -58,7 +58,7 @@ float descend(Ray r, float solid_pull, const std::vector<uint32_t>& zones, int s
   for (int it = 0; it < steps; ++it) {
     const float color[4] = {0.9f, 0.9f, 0.9f, opacity(r)};
     std::vector<float> dsigma(kSamples, 0.0f);
-    render_ray_opacity_prior_zones(0, kSamples, kSamples, kStep, color, kWeight, kClear, kGate, 0.0f,
+    render_ray_opacity_prior_zones(0, kSamples, kSamples, kStep, color, kWeight, kClear, kGate, 0.0f, 0.0f,
                                    kLeanGate, solid_pull, kScale, r.pos.data(), kSamples, zones.data(), kRes,
                                    dsigma.data());
     for (uint32_t k = 0; k < kSamples; ++k) r.sigma[k] = std::fmax(0.0f, r.sigma[k] - 2e4f * dsigma[k]);
@@ -96,8 +96,9 @@ TEST(SolidPrior, TheCrossingIsJudgedOverTheWholeRay) {
   const float binary = kWeight * kScale * (1.0f - 2.0f * a), gated = kWeight * kScale * kClear;
   for (uint32_t used : {first_inside, first_inside + 3}) {
     std::vector<float> dsigma(kSamples, 0.0f);
-    render_ray_opacity_prior_zones(0, kSamples, used, kStep, color, kWeight, kClear, kGate, 0.0f, kLeanGate,
-                                   pull, kScale, r.pos.data(), kSamples, zones.data(), kRes, dsigma.data());
+    render_ray_opacity_prior_zones(0, kSamples, used, kStep, color, kWeight, kClear, kGate, 0.0f, 0.0f,
+                                   kLeanGate, pull, kScale, r.pos.data(), kSamples, zones.data(), kRes,
+                                   dsigma.data());
     for (uint32_t k = 0; k < kSamples; ++k) {
       const float want =
           k >= used ? 0.0f : kStep * T * (k < first_inside ? binary : -pull * kWeight * kScale);
@@ -106,8 +107,8 @@ TEST(SolidPrior, TheCrossingIsJudgedOverTheWholeRay) {
   }
   const Ray beside = ray_at(0.5f + 0.3f, 0.5f, 0.0f);
   std::vector<float> dsigma(kSamples, 0.0f);
-  render_ray_opacity_prior_zones(0, kSamples, kSamples, kStep, color, kWeight, kClear, kGate, 0.0f, kLeanGate,
-                                 pull, kScale, beside.pos.data(), kSamples, zones.data(), kRes,
+  render_ray_opacity_prior_zones(0, kSamples, kSamples, kStep, color, kWeight, kClear, kGate, 0.0f, 0.0f,
+                                 kLeanGate, pull, kScale, beside.pos.data(), kSamples, zones.data(), kRes,
                                  dsigma.data());
   for (uint32_t k = 0; k < kSamples; ++k) EXPECT_FLOAT_EQ(dsigma[k], kStep * T * gated) << "sample " << k;
 }
