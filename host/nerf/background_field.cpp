@@ -52,6 +52,10 @@ std::vector<uint32_t> room_mask(const Aabb& room, Aabb subject, float margin, ui
 
 }  // namespace
 
+float skin_tolerance(const BackgroundOptions& o) {
+  return o.neck_clear + (o.subject ? o.subject->skin.spread : 0.0f);
+}
+
 float opacity_prior_share(const BackgroundOptions& o, uint64_t step) {
   const double ramp = std::max<double>(1.0, o.opacity_prior_ramp);
   return float(std::clamp((double(step) - double(o.opacity_prior_start)) / ramp, 0.0, 1.0));
@@ -185,9 +189,8 @@ std::string BackgroundField::alone_summary() const {
 
 bool BackgroundField::skin_like(const float* pixel) const {
   if (skin_chroma_.empty()) return false;
-  const SkinChroma& skin = options_.subject->skin;
   return render_ray_skin_like(pixel, skin_chroma_.data(), uint32_t(skin_chroma_.size() / 2),
-                              options_.neck_clear + skin.spread, skin.lum_floor) != 0;
+                              skin_tolerance(options_), options_.subject->skin.lum_floor) != 0;
 }
 
 void BackgroundField::teach(RayBatch& subject, const RayGradient& gradient, const field::AdamConfig& adam,

@@ -149,6 +149,10 @@ struct BackgroundOptions {
   float keep_pull = 1.0f;
 };
 
+// The chromaticity distance within which a pixel may be the subject's skin (neck_clear plus the
+// skin samples' own spread; kernels/train/render.h render_ray_skin_like).
+float skin_tolerance(const BackgroundOptions& options);
+
 // The share of the opacity prior's weight (and the clearing's) at training step `step`: 0 until
 // `opacity_prior_start`, rising linearly to 1 over `opacity_prior_ramp` steps.
 float opacity_prior_share(const BackgroundOptions& options, uint64_t step);

@@ -175,7 +175,7 @@ RayPriors Trainer::opacity_prior() const {
     p.zones = &zones_, p.zone_res = zone_res_, p.lean_gate = b.lean_gate, p.solid_pull = b.solid_pull,
     p.keep_pull = b.keep_pull;
   if (zone_res_ && b.neck_clear > 0.0f && b.subject && !b.subject->skin.chroma.empty())
-    p.skin = &b.subject->skin, p.skin_tolerance = b.neck_clear + b.subject->skin.spread;
+    p.skin = &b.subject->skin, p.skin_tolerance = skin_tolerance(b);
   return p;
 }
 
@@ -292,18 +292,18 @@ void Trainer::diverged(double loss, uint64_t at_step) {
 void Trainer::train_room_first(Progress& bar) {
   const uint32_t n = options_.background.room_first;
   if (!background_ || n == 0 || step_ > 0) return;
+  SampleParams p = sample_params_for(model_, *views_);
+  p.mode = SAMPLE_MODE_TRAIN;
+  p.n_rays = n_rays_;
+  p.seed = options_.seed ^ 0x5bd1e995u;  // other rays than the subject's steps draw
+  field::AdamConfig adam = options_.adam;
+  adam.lr = learning_rate(0.0);
   for (uint32_t k = 0; k < n && !interrupted(); ++k) {
-    SampleParams p = sample_params_for(model_, *views_);
-    p.mode = SAMPLE_MODE_TRAIN;
-    p.n_rays = n_rays_;
-    p.seed = options_.seed ^ 0x5bd1e995u;  // other rays than the subject's steps draw
     p.iteration = k;
     const std::vector<uint32_t> counts = batch_->count(p, *views_);
     const uint32_t end = std::min(batch_->fit(0, model_.field().max_batch()), background_->count(p, *views_));
     batch_->write(p, *views_, 0, end);
     background_->render_backgrounds(p, *views_, end, *batch_);
-    field::AdamConfig adam = options_.adam;
-    adam.lr = learning_rate(0.0);
     background_->train_alone(*batch_, counts, options_.loss_kind, adam, k + 1);
     if (options_.progress) bar.update(0.0, fmt::format("the room model first: step {} of {}", k + 1, n));
   }

@@ -234,12 +234,11 @@ LGN_INLINE float render_ray_keep_gate(const float* target, float gate, const flo
 // weight towards an opaque ray, which fills a hole there that the colour loss cannot tell from the
 // wall. The crossing is judged over all `count` samples of the ray, not only the `used` ones in
 // front of its opaque surface: a ray that the skin makes opaque before the interior still crosses it.
-// Keep samples within the reach of the interior (the neck's core grown towards the skin) also get
-// `keep_pull` x the weight towards an opaque ray (BackgroundOptions::keep_pull). The fourth field
-// ("reach", holding the third) is where that crossing is
-// judged: the interior grown towards the skin (BackgroundOptions::solid_reach_mm), so a ray that passes over
-// the top of the skull through its hair, short of the interior, is the subject's too; the pull stays in the
-// interior.
+// The fourth field ("reach", holding the third) is where that crossing is judged: the interior grown
+// towards the skin (BackgroundOptions::solid_reach_mm), so a ray that passes over the top of the
+// skull through its hair, short of the interior, is the subject's too. The pull stays in the
+// interior, except in the keep cells: there the reach (the neck's core grown towards its skin) gets
+// `keep_pull` x the weight towards an opaque ray (BackgroundOptions::keep_pull).
 LGN_INLINE void render_ray_opacity_prior_zones(lgn_uint first, lgn_uint count, lgn_uint used, float step,
                                                const float* color, float weight, float clear, float gate,
                                                float keep_gate, float keep_pull, float lean_gate,
