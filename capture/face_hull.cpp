@@ -52,7 +52,7 @@ std::vector<nerf::SolidHull> head_solid_hulls(const fit::HeadBox& box, const Nec
   const nerf::SubjectVolume core = head_solid_core(box, neck);
   const char* names[] = {"cheeks and jaw", "neck", "skull"};
   for (size_t i = 0; i < core.parts.size() && i < 3; ++i)
-    hulls.push_back(nerf::ellipsoid_hull(core.parts[i], names[i]));
+    hulls.push_back(nerf::convex_part_hull(core.parts[i], names[i]));
   return hulls;
 }
 
@@ -64,10 +64,10 @@ nerf::SubjectVolume head_solid_core_mm(const NeckCoreMm& neck) {
   face.half = {55.0f, 65.0f, 40.0f};
   v.parts.push_back(face);
   nerf::OrientedShape core;
-  core.kind = nerf::OrientedShape::Kind::Ellipsoid;
+  core.kind = nerf::OrientedShape::Kind::Cylinder;
   core.center = {0.0f, -float(0.5 * (neck.top_below_eyes + neck.bottom_below_eyes)),
                  -float(neck.behind_eyes)};
-  core.half = {float(neck.radius), float(0.5 * (neck.bottom_below_eyes - neck.top_below_eyes)) + 10.0f,
+  core.half = {float(neck.radius), float(0.5 * (neck.bottom_below_eyes - neck.top_below_eyes)),
                float(neck.radius)};
   v.parts.push_back(core);
   nerf::OrientedShape skull;

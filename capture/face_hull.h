@@ -16,11 +16,17 @@ namespace lorgnette::capture {
 // radius about an axis this far behind the anchor, between these depths below the eyes. The neck's
 // axis lies ~90 mm behind the inner eye corners (the procedural heads: 92 mm; a neck of radius
 // ~50 mm, circumference 32 cm, whose front, the throat, lies ~45 mm behind the eyes), and an average
-// chin 114 mm below the eyes (the mean face). A 20 mm core stays inside a real neck's 50-60 mm radius
-// when the head is pitched 20 deg against the body (the neck's axis then moves ~25 mm in the head's
-// frame at chin level), and 15-40 mm below the chin it lies above the head box's bottom (175 mm).
+// chin 114 mm below the eyes (the mean face). The core reaches down to the head box's bottom (p99 chin
+// 135 mm + 40 mm of neck): rays down through the neck's lowest band end in the room's neck base below
+// the box, which explains that band as well as the subject does, so it is the band that most needs the
+// core's pull. A nod turns the head about the upper neck's joints, on the neck's axis ~45 mm below
+// the eyes, so in the head's frame the neck's axis swings by (h - 45 mm) sin(nod) at h below the eyes:
+// at the box's bottom 23 mm for 10 deg and 34 mm for 15 deg, so the core (20 mm) stays inside a
+// 50-60 mm neck for a nod of up to 13-18 deg against the body, less than a head bowed to look down at
+// a phone (the lower neck bends with a real nod, so less moves than this bound; docs/room-training.md,
+// "Known limits").
 struct NeckCoreMm {
-  double radius = 20.0, behind_eyes = 90.0, top_below_eyes = 130.0, bottom_below_eyes = 155.0;
+  double radius = 20.0, behind_eyes = 90.0, top_below_eyes = 125.0, bottom_below_eyes = 175.0;
 };
 
 // The regions training checks for holes: the face hull (the inner points 17-67 that triangulated,
@@ -41,8 +47,7 @@ std::vector<nerf::SolidHull> head_solid_hulls(const fit::HeadBox& box, const Nec
 // and 30 mm above the eyes, 58 mm to each side, 58 mm up and down and 68 mm deep (a small adult head,
 // p1 of women: ~135 mm broad, ~173 mm from glabella, 15 mm ahead of the eye corners, to the back,
 // ~100 mm from the eyes to the vertex, so it stays ~10 mm inside the sides, ~15 mm inside the back,
-// ~20 mm inside the forehead and ~12 mm below the top); and the neck's core (NeckCoreMm, as an
-// ellipsoid of its radius). Rays that miss it get no pull (the rim of the head, where the evidence is
+// ~20 mm inside the forehead and ~12 mm below the top); and the neck's core (NeckCoreMm, a cylinder). Rays that miss it get no pull (the rim of the head, where the evidence is
 // ambiguous), so it reaches as close to the skin as a small head allows: on six procedural heads
 // every point of it lies 4 mm or more inside the skin, the face's and the skull's parts 6.5 mm
 // (tests/capture/face_hull_test.cpp), so a ray from any training view through it passes through the

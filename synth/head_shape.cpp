@@ -102,15 +102,19 @@ float HeadShape::nose_part(const V3& p) const {
   return d;
 }
 
+float HeadShape::neck_cylinder(const V3& p) const {
+  const float r = 0.34f * params_.head_width;
+  return std::max(Eigen::Vector2f(p.x(), p.z() + 12.0f).norm() - r, p.y() + 10.0f);
+}
+
 float HeadShape::side_part(const V3& p) const {
   float d = 1e9f;
   for (int s = -1; s <= 1; s += 2) d = std::min(d, ellipsoid(p, ear_centre(s), ear_radii_));
   // Neck: a vertical cylinder cut flat at the bottom.
-  const float r = 0.34f * params_.head_width;
-  float cyl = Eigen::Vector2f(p.x(), p.z() + 12.0f).norm() - r;
-  float neck = std::max(cyl, std::max(neck_bottom_ - p.y(), p.y() + 10.0f));
-  return std::min(d, neck);
+  return std::min(d, std::max(neck_cylinder(p), neck_bottom_ - p.y()));
 }
+
+float HeadShape::sdf_with_body_neck(const V3& p) const { return std::min(sdf(p), neck_cylinder(p)); }
 
 float HeadShape::sdf(const V3& p) const {
   float d = face_part(p);

@@ -18,6 +18,10 @@ class HeadShape {
   HeadShape(const HeadParams& params, const FaceLayout& layout);
   // Signed distance bound (negative inside; never overestimates by more than a few per cent).
   float sdf(const Eigen::Vector3f& p) const;
+  // The same with the neck continued downwards past its flat cut, as the body's loft continues it
+  // (synth/body.h: the same axis, a radius 1.5 mm larger, widening into the shoulders), so inside
+  // means inside the subject's neck below the head's own mesh too.
+  float sdf_with_body_neck(const Eigen::Vector3f& p) const;
   // Distance from the centre to the outermost surface point along the unit direction `dir`.
   float surface_radius(const Eigen::Vector3f& dir) const;
   Eigen::Vector3f ear_centre(int side) const {
@@ -30,6 +34,8 @@ class HeadShape {
   float face_part(const Eigen::Vector3f& p) const;
   float nose_part(const Eigen::Vector3f& p) const;
   float side_part(const Eigen::Vector3f& p) const;
+  // The neck's vertical cylinder, cut flat at its top only.
+  float neck_cylinder(const Eigen::Vector3f& p) const;
 
   HeadParams params_;
   FaceLayout layout_;

@@ -20,8 +20,10 @@ bool OrientedShape::contains(const Vec3f& p) const {
   if (q[1] < y_from * half[1]) return false;
   if (kind == Kind::Box)
     return std::fabs(q[0]) <= half[0] && std::fabs(q[1]) <= half[1] && std::fabs(q[2]) <= half[2];
+  if (kind == Kind::Cylinder && std::fabs(q[1]) > half[1]) return false;
   float s = 0.0f;
   for (int a = 0; a < 3; ++a) {
+    if (kind == Kind::Cylinder && a == 1) continue;
     if (!(half[a] > 0.0f)) return false;
     s += (q[a] / half[a]) * (q[a] / half[a]);
   }
@@ -70,7 +72,7 @@ std::vector<uint32_t> room_cutout_mask(const Aabb& room, const SubjectVolume& vo
   return mask;
 }
 
-SolidHull ellipsoid_hull(const OrientedShape& e, const std::string& name, int rings, int segments) {
+SolidHull convex_part_hull(const OrientedShape& e, const std::string& name, int rings, int segments) {
   SolidHull h;
   h.name = name;
   h.convex_solid = true;
@@ -83,6 +85,14 @@ SolidHull ellipsoid_hull(const OrientedShape& e, const std::string& name, int ri
       for (int b = 0; b < 3; ++b) p[b] += float(u[a] * e.half[a]) * e.axes[a][b];
     h.points.push_back(p);
   };
+  if (e.kind == OrientedShape::Kind::Cylinder) {
+    for (double y : {-1.0, 1.0})
+      for (int k = 0; k < segments; ++k) {
+        const double ph = 2.0 * M_PI * k / segments;
+        at(std::cos(ph), y, std::sin(ph));
+      }
+    return h;
+  }
   at(0.0, 1.0, 0.0), at(0.0, -1.0, 0.0);
   for (int r = 1; r <= rings; ++r) {
     const double th = M_PI * r / (rings + 1);

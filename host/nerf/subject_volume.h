@@ -19,7 +19,9 @@ namespace lorgnette::nerf {
 using Vec3f = std::array<float, 3>;
 
 struct OrientedShape {
-  enum class Kind : uint8_t { Box, Ellipsoid };
+  // Cylinder: an elliptic cylinder along the shape's second axis (|y| <= half[1], and x, z within the
+  // ellipse of half sizes half[0], half[2]).
+  enum class Kind : uint8_t { Box, Ellipsoid, Cylinder };
   Kind kind = Kind::Box;
   Vec3f center{0.0f, 0.0f, 0.0f};
   // The shape's own axes in scene coordinates (unit, orthogonal), and its half sizes along them.
@@ -77,11 +79,12 @@ struct SolidHull {
   bool convex_solid = false;
 };
 
-// Points on the surface of an ellipsoid part (a latitude-longitude net of `rings` x `segments` and
-// the two poles), as a convex_solid hull named `name`: the convex hull of their projection lies
-// inside the ellipsoid's projected outline.
-SolidHull ellipsoid_hull(const OrientedShape& ellipsoid, const std::string& name, int rings = 7,
-                         int segments = 16);
+// Points on the surface of an ellipsoid or cylinder part (an ellipsoid: a latitude-longitude net of
+// `rings` x `segments` and the two poles; a cylinder: its two end ellipses of `segments` points each),
+// as a convex_solid hull named `name`: the convex hull of their projection lies inside the part's
+// projected outline.
+SolidHull convex_part_hull(const OrientedShape& part, const std::string& name, int rings = 7,
+                           int segments = 16);
 
 // The subject's skin colours, as the loss compares a pixel with them (kernels/train/render.h
 // render_ray_skin_like), sampled on the face at its landmarks in the training photos

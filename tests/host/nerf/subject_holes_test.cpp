@@ -112,7 +112,7 @@ TEST(SubjectHoles, ViewsBehindTheFaceAreNotJudged) {
   EXPECT_NE(r.summary().find("not checked"), std::string::npos);
 }
 
-// A convex solid inside the subject (an ellipsoid_hull of a ball of half the sphere's radius) is
+// A convex solid inside the subject (an convex_part_hull of a ball of half the sphere's radius) is
 // judged over its whole projection from any side: seen from the side (+x), where the face cap is not
 // judged, the tunnel along z is missed by every ray (it runs across the view), and seen from the
 // front the share of hole rays is the tunnel's cross-section over the ball's (unshrunk) outline. The
@@ -122,7 +122,7 @@ TEST(SubjectHoles, ConvexSolidIsJudgedFromAnySideWithoutShrink) {
   OrientedShape ball;
   ball.kind = OrientedShape::Kind::Ellipsoid;
   ball.half = {0.5f * kRadius, 0.5f * kRadius, 0.5f * kRadius};
-  const SolidHull inner = ellipsoid_hull(ball, "ball", 12, 48);
+  const SolidHull inner = convex_part_hull(ball, "ball", 12, 48);
   EXPECT_TRUE(inner.convex_solid);
   HoleCheckOptions o;
   o.rays_across = 256;

@@ -136,6 +136,47 @@ TEST(SubjectVolume, RotatedEllipsoidMask) {
   EXPECT_GT(n.far_outside, 40000);
 }
 
+// A cylinder along its second axis: round across it, flat at its ends, with the mask bounded as the
+// ellipsoid's is; its hull's points lie on its surface, and their projections' hull covers its
+// outline seen along the axis and from the side.
+TEST(SubjectVolume, RotatedCylinderMaskAndHull) {
+  const OrientedShape s =
+      shape(OrientedShape::Kind::Cylinder, {0.1f, -0.1f, 0.05f}, 0.6, -0.4, 0.9, {0.3f, 0.5f, 0.25f});
+  Aabb box;
+  box.min = {-1.0f, -1.0f, -1.0f}, box.max = {1.0f, 1.0f, 1.0f};
+  auto in = [&](const std::array<double, 3>& l, double g) {
+    const double d = (g - 1.0) * 0.25;
+    return std::fabs(l[1]) <= 0.5 + d && std::pow(l[0] / (0.3 + d), 2) + std::pow(l[2] / (0.25 + d), 2) <= 1.0;
+  };
+  const uint32_t res = 40;
+  Counts n = check_mask(s, box, res, in);
+  const double volume = M_PI * 0.3 * 0.25 * 1.0, cell = std::pow(2.0 / res, 3);
+  EXPECT_GT(n.inside, 0.9 * volume / cell);
+  EXPECT_GE(n.allowed * cell, volume);
+  const double d = 2.0 * std::sqrt(3.0) / res;  // an allowed cell lies within its diagonal of the shape
+  EXPECT_LE(n.allowed * cell, M_PI * (0.3 + d) * (0.25 + d) * (1.0 + 2.0 * d));
+  // Points along the axis beyond an end, and beside it at mid height, are out; the end's rim is in.
+  auto at = [&](double x, double y, double z) {
+    Vec3f p = s.center;
+    const double u[3] = {x, y, z};
+    for (int a = 0; a < 3; ++a)
+      for (int k = 0; k < 3; ++k) p[k] += float(u[a] * s.half[a] * s.axes[a][k]);
+    return p;
+  };
+  EXPECT_TRUE(s.contains(at(0.0, 0.98, 0.0)));
+  EXPECT_FALSE(s.contains(at(0.0, 1.02, 0.0)));
+  EXPECT_TRUE(s.contains(at(0.69, -0.97, 0.69)));  // 0.976 of the radius, at an end: a corner an ellipsoid lacks
+  EXPECT_FALSE(s.contains(at(0.73, 0.0, 0.73)));
+  const SolidHull h = convex_part_hull(s, "neck");
+  EXPECT_TRUE(h.convex_solid);
+  ASSERT_EQ(h.points.size(), 32u);
+  for (const Vec3f& p : h.points) {
+    const Vec3f q = s.local(p);
+    EXPECT_NEAR(std::fabs(q[1]), s.half[1], 1e-5);
+    EXPECT_NEAR(std::pow(q[0] / s.half[0], 2) + std::pow(q[2] / s.half[2], 2), 1.0, 1e-4);
+  }
+}
+
 TEST(SubjectVolume, UnionClipAndGrowth) {
   // Two spheres side by side, clipped to a slab: points in either sphere and in the slab are in.
   SubjectVolume v;
