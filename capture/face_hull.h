@@ -47,11 +47,11 @@ std::vector<nerf::SolidHull> head_solid_hulls(const fit::HeadBox& box, const Nec
 // and 30 mm above the eyes, 58 mm to each side, 58 mm up and down and 68 mm deep (a small adult head,
 // p1 of women: ~135 mm broad, ~173 mm from glabella, 15 mm ahead of the eye corners, to the back,
 // ~100 mm from the eyes to the vertex, so it stays ~10 mm inside the sides, ~15 mm inside the back,
-// ~20 mm inside the forehead and ~12 mm below the top); and the neck's core (NeckCoreMm, a cylinder). Rays that miss it get no pull (the rim of the head, where the evidence is
-// ambiguous), so it reaches as close to the skin as a small head allows: on six procedural heads
-// every point of it lies 4 mm or more inside the skin, the face's and the skull's parts 6.5 mm
-// (tests/capture/face_hull_test.cpp), so a ray from any training view through it passes through the
-// subject.
+// ~20 mm inside the forehead and ~12 mm below the top); and the neck's core (NeckCoreMm, a cylinder). Rays
+// that miss it get no pull (the rim of the head, where the evidence is ambiguous), so it reaches as close to
+// the skin as a small head allows: on six procedural heads every point of it lies 4 mm or more inside the
+// skin, the face's and the skull's parts 6.5 mm (tests/capture/face_hull_test.cpp), so a ray from any
+// training view through it passes through the subject.
 nerf::SubjectVolume head_solid_core_mm(const NeckCoreMm& neck = {});
 nerf::SubjectVolume head_solid_core(const fit::HeadBox& box, const NeckCoreMm& neck = {});
 

@@ -230,7 +230,8 @@ TEST(FaceHull, SolidCoreLiesInsideTheHead) {
         for (float z = float(h.box.min.z()); z < h.box.max.z(); z += step) {
           if (!core.contains({x, y, z})) continue;
           ++inside;
-          worst = std::max(worst, shape.sdf_with_body_neck(synth::transform_point(to_mesh, Eigen::Vector3f(x, y, z))));
+          worst = std::max(
+              worst, shape.sdf_with_body_neck(synth::transform_point(to_mesh, Eigen::Vector3f(x, y, z))));
         }
     EXPECT_GT(inside, 1000) << "seed " << seed;
     EXPECT_LT(worst, -3.0f) << "seed " << seed << ": a point of the core lies " << worst

@@ -146,7 +146,8 @@ TEST(SubjectVolume, RotatedCylinderMaskAndHull) {
   box.min = {-1.0f, -1.0f, -1.0f}, box.max = {1.0f, 1.0f, 1.0f};
   auto in = [&](const std::array<double, 3>& l, double g) {
     const double d = (g - 1.0) * 0.25;
-    return std::fabs(l[1]) <= 0.5 + d && std::pow(l[0] / (0.3 + d), 2) + std::pow(l[2] / (0.25 + d), 2) <= 1.0;
+    return std::fabs(l[1]) <= 0.5 + d &&
+           std::pow(l[0] / (0.3 + d), 2) + std::pow(l[2] / (0.25 + d), 2) <= 1.0;
   };
   const uint32_t res = 40;
   Counts n = check_mask(s, box, res, in);
@@ -165,7 +166,8 @@ TEST(SubjectVolume, RotatedCylinderMaskAndHull) {
   };
   EXPECT_TRUE(s.contains(at(0.0, 0.98, 0.0)));
   EXPECT_FALSE(s.contains(at(0.0, 1.02, 0.0)));
-  EXPECT_TRUE(s.contains(at(0.69, -0.97, 0.69)));  // 0.976 of the radius, at an end: a corner an ellipsoid lacks
+  EXPECT_TRUE(
+      s.contains(at(0.69, -0.97, 0.69)));  // 0.976 of the radius, at an end: a corner an ellipsoid lacks
   EXPECT_FALSE(s.contains(at(0.73, 0.0, 0.73)));
   const SolidHull h = convex_part_hull(s, "neck");
   EXPECT_TRUE(h.convex_solid);
