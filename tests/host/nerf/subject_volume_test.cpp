@@ -86,6 +86,14 @@ OrientedShape shape(OrientedShape::Kind kind, const Vec3f& center, double a, dou
   return s;
 }
 
+// The scene point at `u` in the shape's own units (each coordinate times its half size, along its axes).
+Vec3f point_at(const OrientedShape& s, const std::array<double, 3>& u) {
+  Vec3f p = s.center;
+  for (int a = 0; a < 3; ++a)
+    for (int k = 0; k < 3; ++k) p[k] += float(u[a] * s.half[a] * s.axes[a][k]);
+  return p;
+}
+
 TEST(SubjectVolume, RotatedBoxMask) {
   const OrientedShape s =
       shape(OrientedShape::Kind::Box, {0.1f, -0.2f, 0.05f}, 0.4, -0.7, 1.1, {0.5f, 0.3f, 0.2f});
@@ -107,9 +115,9 @@ TEST(SubjectVolume, RotatedBoxMask) {
   for (int a = 0; a < 3; ++a)
     for (double sign : {-1.0, 1.0})
       for (double f : {0.98, 1.02}) {
-        Vec3f p = s.center;
-        for (int k = 0; k < 3; ++k) p[k] += float(sign * f * s.half[a] * s.axes[a][k]);
-        EXPECT_EQ(s.contains(p), f < 1.0) << "axis " << a << " sign " << sign << " factor " << f;
+        std::array<double, 3> u{};
+        u[size_t(a)] = sign * f;
+        EXPECT_EQ(s.contains(point_at(s, u)), f < 1.0) << "axis " << a << " sign " << sign << " factor " << f;
       }
 }
 
@@ -137,8 +145,7 @@ TEST(SubjectVolume, RotatedEllipsoidMask) {
 }
 
 // A cylinder along its second axis: round across it, flat at its ends, with the mask bounded as the
-// ellipsoid's is; its hull's points lie on its surface, and their projections' hull covers its
-// outline seen along the axis and from the side.
+// ellipsoid's is; its hull's points lie on its two end ellipses.
 TEST(SubjectVolume, RotatedCylinderMaskAndHull) {
   const OrientedShape s =
       shape(OrientedShape::Kind::Cylinder, {0.1f, -0.1f, 0.05f}, 0.6, -0.4, 0.9, {0.3f, 0.5f, 0.25f});
@@ -157,13 +164,7 @@ TEST(SubjectVolume, RotatedCylinderMaskAndHull) {
   const double d = 2.0 * std::sqrt(3.0) / res;  // an allowed cell lies within its diagonal of the shape
   EXPECT_LE(n.allowed * cell, M_PI * (0.3 + d) * (0.25 + d) * (1.0 + 2.0 * d));
   // Points along the axis beyond an end, and beside it at mid height, are out; the end's rim is in.
-  auto at = [&](double x, double y, double z) {
-    Vec3f p = s.center;
-    const double u[3] = {x, y, z};
-    for (int a = 0; a < 3; ++a)
-      for (int k = 0; k < 3; ++k) p[k] += float(u[a] * s.half[a] * s.axes[a][k]);
-    return p;
-  };
+  auto at = [&](double x, double y, double z) { return point_at(s, {x, y, z}); };
   EXPECT_TRUE(s.contains(at(0.0, 0.98, 0.0)));
   EXPECT_FALSE(s.contains(at(0.0, 1.02, 0.0)));
   EXPECT_TRUE(
