@@ -1,10 +1,10 @@
 #!/usr/bin/env bash
 # Installs the build dependencies (Debian 12), builds Lorgnette and runs every check on the CPU
 # OpenCL device (PoCL): the format check (tools/check-format.sh), a short fuzzing run of the file
-# parsers (tools/fuzz.sh, 10 s per target; its report goes to build-fuzz/, a crash fails), the
-# packaged CLI on its own (tools/standalone-check.sh: the .deb's quick demo with the team data
-# hidden), then the whole test suite (ctest; extra arguments go to ctest). This is the README's
-# test command and what CI runs.
+# parsers (tools/fuzz.sh, 10 s per target; its report goes to build-fuzz/, a crash fails), then the
+# whole test suite (ctest; extra arguments go to ctest), which includes the packaged CLI on its own
+# (standalone_packaged_demo: tools/standalone-check.sh, the .deb's quick demo with the team data
+# hidden). This is the README's test command and what CI runs.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash tools/setup-debian.sh
@@ -12,5 +12,4 @@ bash tools/check-format.sh
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DLORGNETTE_BUILD_BENCHMARKS=ON
 cmake --build build -j "$(nproc)"
 FUZZ_REPORT=build-fuzz/fuzz-short-run.md FUZZ_SLOW_IS_FATAL=0 FUZZ_THIRD_PARTY_IS_FATAL=0 bash tools/fuzz.sh 10
-bash tools/standalone-check.sh build
 ctest --test-dir build --output-on-failure -j "$(nproc)" "$@"

@@ -1,13 +1,11 @@
-// `lorgnette demo --quick` end to end on PoCL: the report says the fit succeeded and the held-out
-// PSNR is above a floor; bad output directories and interruption leave nothing passing as complete.
+// The demo's report page, and its refusals: bad output directories and interruption leave nothing
+// passing as complete. The whole quick demo runs once, packaged: standalone_packaged_demo.
 #include <gtest/gtest.h>
 
-#include <algorithm>
 #include <csignal>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
-#include <thread>
 
 #include "demo/pipeline.h"
 #include "demo/report.h"
@@ -28,39 +26,6 @@ nlohmann::json read_json(const std::string& path) {
   return nlohmann::json::parse(in);
 }
 }  // namespace
-
-TEST(Demo, QuickRunFitsAndReachesThePsnrFloor) {
-  demo::DemoOptions o;
-  o.quick = true;
-  o.out_dir = tmp("demo-quick");
-  o.progress = false;
-  demo::DemoReport r = demo::run_demo(o, {});
-  nlohmann::json j = read_json(o.out_dir + "/report.json");
-  EXPECT_TRUE(j["ok"].get<bool>()) << j["message"];
-  EXPECT_TRUE(j["fit"]["ok"].get<bool>());
-  // Floor: the quick demo measured 31–33 dB on held-out views of the procedural head (128 px, 1200
-  // steps of 2^15 samples: 32.7 dB on 24 Nov); 26 dB leaves room for seeds and devices.
-  EXPECT_GT(j["psnr"].get<double>(), 26.0);
-  double pd = j["fit"]["pd_mm"].get<double>();
-  EXPECT_GT(pd, 50.0);  // anatomical range of adult PDs, with the head's true 64 mm inside it
-  EXPECT_LT(pd, 76.0);
-  for (const char* f : {"report.html", "placement.json", "head.lnerf", "orbit/orbit.mp4",
-                        "orbit/contact_sheet.png", "dataset/transforms.json", "frame.glb"})
-    EXPECT_TRUE(fs::exists(o.out_dir + "/" + f)) << f;
-  EXPECT_EQ(r.stages.size(), 5u);
-  // Each stage's CPU time is the process's own: some for the training, and at most its wall time on
-  // every logical CPU (10 ms for the clocks' reads).
-  const unsigned cpus = std::max(1u, std::thread::hardware_concurrency());
-  for (const auto& s : r.stages) EXPECT_LE(s.cpu_seconds, s.seconds * cpus + 0.01) << s.name;
-  EXPECT_GT(j["cpu_seconds"]["train"].get<double>(), 0.0);
-  EXPECT_NE(j["machine"].get<std::string>().find(" CPUs, "), std::string::npos) << j["machine"];
-  // The scale's source and the fit advice (#44) reach the report.
-  EXPECT_TRUE(j["fit"]["scale_source"].is_string());
-  EXPECT_EQ(j["fit"]["advice"]["rules"].size(), 4u);
-  std::ifstream html(o.out_dir + "/report.html");
-  const std::string page((std::istreambuf_iterator<char>(html)), std::istreambuf_iterator<char>());
-  EXPECT_NE(page.find("Size and fit"), std::string::npos);
-}
 
 // The report's size-and-fit section from a placement's fields alone: the scale's source with its
 // +-, whether the size is real, and one row per advice rule.
