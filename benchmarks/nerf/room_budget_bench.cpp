@@ -36,7 +36,9 @@
 // room_budget_steps.png (face PSNR against training seconds and against steps; `covered` where the
 // dataset has true mattes, else `core`). --save: each arm's model after its last step as
 // OUT_DIR/<arm>.lnerf, with the room model the subject region applied as `train` saves it (to score
-// the arms' mattes with bench_room_matte on a synthetic room capture). --save-every: also after every
+// the arms' mattes with bench_room_matte on a synthetic room capture), and an arm's room model as
+// OUT_DIR/<arm>_room.lnerf (`lorgnette eval` renders it alone: what the room holds behind the
+// subject, e.g. a bright floater that explains a highlight). --save-every: also after every
 // chunk, as OUT_DIR/<arm>_step<N>.lnerf (the subject region applied to a copy, training goes on
 // unchanged), to see when in training something forms (head_volume_bench on each).
 #include <fmt/format.h>
@@ -427,6 +429,8 @@ int main(int argc, char** argv) {
         if (rep.found) a.model->set_occupancy(std::move(g));
       }
       a.model->save(out + "/" + a.spec.name + ".lnerf");
+      if (a.trainer->background())
+        a.trainer->background()->model().save(out + "/" + a.spec.name + "_room.lnerf");
     }
   } catch (const std::exception& e) {
     std::cerr << "error: " << e.what() << "\n";
