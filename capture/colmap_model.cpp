@@ -6,6 +6,8 @@
 
 #include <Eigen/Geometry>
 #include <cmath>
+#include <fstream>
+#include <iterator>
 #include <stdexcept>
 
 #include "capture/colmap_model_io.h"
@@ -107,6 +109,12 @@ void write_colmap_model(const ColmapModel& model, const std::filesystem::path& d
     write_images_text(model.images, dir / "images.txt");
     write_points3d_text(model.points, dir / "points3D.txt");
   }
+}
+
+std::string read_colmap_file(const std::filesystem::path& path) {
+  std::ifstream f(path, std::ios::binary);
+  if (!f) throw std::runtime_error(fmt::format("cannot open COLMAP file '{}'", path.string()));
+  return std::string(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
 }
 
 }  // namespace lorgnette::capture

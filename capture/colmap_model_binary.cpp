@@ -18,13 +18,6 @@ namespace {
 
 static_assert(sizeof(double) == 8, "COLMAP binary files store IEEE doubles");
 
-// The whole file; the readers work on its bytes.
-std::string slurp(const std::filesystem::path& path) {
-  std::ifstream f(path, std::ios::binary);
-  if (!f) throw std::runtime_error(fmt::format("cannot open COLMAP file '{}'", path.string()));
-  return std::string(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
-}
-
 class Reader {
  public:
   Reader(std::string data, std::string name) : path_(std::move(name)), data_(std::move(data)) {}
@@ -91,7 +84,7 @@ class Writer {
 }  // namespace
 
 CameraMap read_cameras_binary(const std::filesystem::path& path) {
-  return parse_cameras_binary(slurp(path), path.string());
+  return parse_cameras_binary(read_colmap_file(path), path.string());
 }
 
 CameraMap parse_cameras_binary(std::string bytes, const std::string& name) {
@@ -118,7 +111,7 @@ CameraMap parse_cameras_binary(std::string bytes, const std::string& name) {
 }
 
 ImageMap read_images_binary(const std::filesystem::path& path) {
-  return parse_images_binary(slurp(path), path.string());
+  return parse_images_binary(read_colmap_file(path), path.string());
 }
 
 ImageMap parse_images_binary(std::string bytes, const std::string& name) {
@@ -147,7 +140,7 @@ ImageMap parse_images_binary(std::string bytes, const std::string& name) {
 }
 
 PointMap read_points3d_binary(const std::filesystem::path& path) {
-  return parse_points3d_binary(slurp(path), path.string());
+  return parse_points3d_binary(read_colmap_file(path), path.string());
 }
 
 PointMap parse_points3d_binary(std::string bytes, const std::string& name) {

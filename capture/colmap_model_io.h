@@ -13,6 +13,9 @@ using CameraMap = std::map<uint32_t, ColmapCamera>;
 using ImageMap = std::map<uint32_t, ColmapImage>;
 using PointMap = std::map<uint64_t, ColmapPoint3D>;
 
+// The whole file, which the readers below parse; a file that cannot be opened is an error naming it.
+std::string read_colmap_file(const std::filesystem::path& path);
+
 CameraMap read_cameras_binary(const std::filesystem::path& path);
 ImageMap read_images_binary(const std::filesystem::path& path);
 PointMap read_points3d_binary(const std::filesystem::path& path);

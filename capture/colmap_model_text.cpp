@@ -16,12 +16,6 @@
 namespace lorgnette::capture {
 namespace {
 
-std::string slurp(const std::filesystem::path& path) {
-  std::ifstream f(path, std::ios::binary);
-  if (!f) throw std::runtime_error(fmt::format("cannot open COLMAP file '{}'", path.string()));
-  return std::string(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
-}
-
 class LineReader {
  public:
   LineReader(const std::string& text, std::string name) : path_(std::move(name)), in_(text) {}
@@ -66,7 +60,7 @@ void check_written(std::ofstream& f, const std::filesystem::path& path) {
 }  // namespace
 
 CameraMap read_cameras_text(const std::filesystem::path& path) {
-  return parse_cameras_text(slurp(path), path.string());
+  return parse_cameras_text(read_colmap_file(path), path.string());
 }
 
 CameraMap parse_cameras_text(const std::string& text, const std::string& name) {
@@ -93,7 +87,7 @@ CameraMap parse_cameras_text(const std::string& text, const std::string& name) {
 }
 
 ImageMap read_images_text(const std::filesystem::path& path) {
-  return parse_images_text(slurp(path), path.string());
+  return parse_images_text(read_colmap_file(path), path.string());
 }
 
 ImageMap parse_images_text(const std::string& text, const std::string& name) {
@@ -128,7 +122,7 @@ ImageMap parse_images_text(const std::string& text, const std::string& name) {
 }
 
 PointMap read_points3d_text(const std::filesystem::path& path) {
-  return parse_points3d_text(slurp(path), path.string());
+  return parse_points3d_text(read_colmap_file(path), path.string());
 }
 
 PointMap parse_points3d_text(const std::string& text, const std::string& name) {

@@ -1,6 +1,8 @@
 // What every executor shares (see executor.h).
 #include "service/executor.h"
 
+#include <signal.h>
+
 #include "service/progress.h"
 
 namespace lorgnette::service {
@@ -12,5 +14,7 @@ void refresh_progress(CaptureRecord& r, const std::filesystem::path& capture_fol
     r.message = p->message;
   }
 }
+
+bool retryable_signal(int sig) { return sig == SIGKILL || sig == SIGTERM || sig == SIGINT; }
 
 }  // namespace lorgnette::service

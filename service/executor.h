@@ -36,6 +36,10 @@ struct LeaseSettings {
 // both executors report it; a folder without one leaves the record as it was.
 void refresh_progress(CaptureRecord& r, const std::filesystem::path& capture_folder);
 
+// A worker ended by SIGKILL, SIGTERM or SIGINT was stopped (an operator, a shutdown, the OOM killer,
+// Slurm's preemption), not crashed: both executors retry its job.
+bool retryable_signal(int sig);
+
 class Executor {
  public:
   virtual ~Executor() = default;

@@ -13,11 +13,6 @@
 namespace fs = std::filesystem;
 
 namespace lorgnette::service {
-namespace {
-
-bool retryable_signal(int sig) { return sig == SIGKILL || sig == SIGTERM || sig == SIGINT; }
-
-}  // namespace
 
 LocalExecutor::LocalExecutor(JobStore& store, LocalExecutorOptions options)
     : store_(store), options_(std::move(options)) {

@@ -27,7 +27,7 @@ constexpr const char* kMigrationLock = "4237184301";
 
 // The database's clock in Unix-epoch milliseconds (clock_timestamp: the moment of the call, not the
 // transaction's start): every lease is stamped and compared by it.
-constexpr const char* kNowMs = "(EXTRACT(EPOCH FROM clock_timestamp()) * 1000)::bigint";
+constexpr const char* kPostgresNowMs = "(EXTRACT(EPOCH FROM clock_timestamp()) * 1000)::bigint";
 
 std::string trimmed(const char* message) {
   std::string s = message ? message : "";
@@ -259,7 +259,7 @@ std::optional<CaptureRecord> PostgresStore::claim_next(const JobOwner& by) {
                        "updated_unix = $1, owner = $2, owner_home = $3, heartbeat_ms = {} WHERE id = "
                        "(SELECT id FROM captures WHERE state = 'queued' ORDER BY queued_unix, "
                        "created_unix, id LIMIT 1 FOR UPDATE SKIP LOCKED) RETURNING {}",
-                       kNowMs, kCaptureColumns),
+                       kPostgresNowMs, kCaptureColumns),
            {std::to_string(unix_now()), by.instance, by.home});
   auto r = rows(res.get());
   if (r.empty()) return std::nullopt;
@@ -268,9 +268,10 @@ std::optional<CaptureRecord> PostgresStore::claim_next(const JobOwner& by) {
 
 int PostgresStore::renew_leases(const std::string& owner) {
   std::lock_guard<std::mutex> lock(mutex_);
-  Result res = exec(
-      fmt::format("UPDATE captures SET heartbeat_ms = {} WHERE state = 'running' AND owner = $1", kNowMs),
-      {owner});
+  Result res =
+      exec(fmt::format("UPDATE captures SET heartbeat_ms = {} WHERE state = 'running' AND owner = $1",
+                       kPostgresNowMs),
+           {owner});
   return std::stoi(PQcmdTuples(res.get()));
 }
 
@@ -281,7 +282,7 @@ std::vector<CaptureRecord> PostgresStore::adopt(const JobOwner& by, int64_t leas
   Result res = exec(fmt::format("UPDATE captures SET owner = $1, owner_home = $2, heartbeat_ms = {0} WHERE "
                                 "state = 'running' AND owner <> $1 AND (owner_home = $2 OR heartbeat_ms < "
                                 "{0} - $3::bigint) RETURNING {1}",
-                                kNowMs, kCaptureColumns),
+                                kPostgresNowMs, kCaptureColumns),
                     {by.instance, by.home, std::to_string(lease_ms)});
   return rows(res.get());
 }

@@ -36,8 +36,6 @@ bool active(const std::string& state) {
   return states.count(state) > 0;
 }
 
-bool retryable_signal(int sig) { return sig == SIGKILL || sig == SIGTERM || sig == SIGINT; }
-
 // Single-quoted for sh: the batch script is the only text a shell reads, and every word in it is
 // quoted, so a path with spaces or quotes stays one argument.
 std::string sh_quote(const std::string& s) {

@@ -24,7 +24,7 @@ using Db = std::unique_ptr<sqlite3, DbClose>;
 using Stmt = std::unique_ptr<sqlite3_stmt, StmtFinalize>;
 
 // The database's clock in Unix-epoch milliseconds: every lease is stamped and compared by it.
-constexpr const char* kNowMs = "CAST((julianday('now') - 2440587.5) * 86400000.0 AS INTEGER)";
+constexpr const char* kSqliteNowMs = "CAST((julianday('now') - 2440587.5) * 86400000.0 AS INTEGER)";
 
 class SqliteStore final : public JobStore {
  public:
@@ -312,7 +312,7 @@ std::optional<CaptureRecord> SqliteStore::claim_next(const JobOwner& by) {
     Stmt up = prepare(fmt::format(
         "UPDATE captures SET state = 'running', attempts = attempts + 1, updated_unix = ?, owner = ?, "
         "owner_home = ?, heartbeat_ms = {} WHERE id = ?",
-        kNowMs));
+        kSqliteNowMs));
     sqlite3_bind_int64(up.get(), 1, unix_now());
     sqlite3_bind_text(up.get(), 2, by.instance.c_str(), -1, SQLITE_TRANSIENT);
     sqlite3_bind_text(up.get(), 3, by.home.c_str(), -1, SQLITE_TRANSIENT);
@@ -327,8 +327,8 @@ std::optional<CaptureRecord> SqliteStore::claim_next(const JobOwner& by) {
 
 int SqliteStore::renew_leases(const std::string& owner) {
   std::lock_guard<std::mutex> lock(mutex_);
-  Stmt st = prepare(
-      fmt::format("UPDATE captures SET heartbeat_ms = {} WHERE state = 'running' AND owner = ?", kNowMs));
+  Stmt st = prepare(fmt::format("UPDATE captures SET heartbeat_ms = {} WHERE state = 'running' AND owner = ?",
+                                kSqliteNowMs));
   sqlite3_bind_text(st.get(), 1, owner.c_str(), -1, SQLITE_TRANSIENT);
   if (sqlite3_step(st.get()) != SQLITE_DONE) fail("cannot renew the leases of " + owner);
   return sqlite3_changes(db_.get());
@@ -340,7 +340,7 @@ std::vector<CaptureRecord> SqliteStore::adopt(const JobOwner& by, int64_t lease_
     Stmt st = prepare(
         fmt::format("SELECT id FROM captures WHERE state = 'running' AND owner <> ?1 AND (owner_home = ?2 "
                     "OR heartbeat_ms < {} - ?3) ORDER BY queued_unix, id",
-                    kNowMs));
+                    kSqliteNowMs));
     sqlite3_bind_text(st.get(), 1, by.instance.c_str(), -1, SQLITE_TRANSIENT);
     sqlite3_bind_text(st.get(), 2, by.home.c_str(), -1, SQLITE_TRANSIENT);
     sqlite3_bind_int64(st.get(), 3, lease_ms);
@@ -348,7 +348,7 @@ std::vector<CaptureRecord> SqliteStore::adopt(const JobOwner& by, int64_t lease_
     while (sqlite3_step(st.get()) == SQLITE_ROW) found.push_back(column_text(st.get(), 0));
     for (const std::string& id : found) {
       Stmt up = prepare(fmt::format(
-          "UPDATE captures SET owner = ?, owner_home = ?, heartbeat_ms = {} WHERE id = ?", kNowMs));
+          "UPDATE captures SET owner = ?, owner_home = ?, heartbeat_ms = {} WHERE id = ?", kSqliteNowMs));
       sqlite3_bind_text(up.get(), 1, by.instance.c_str(), -1, SQLITE_TRANSIENT);
       sqlite3_bind_text(up.get(), 2, by.home.c_str(), -1, SQLITE_TRANSIENT);
       sqlite3_bind_text(up.get(), 3, id.c_str(), -1, SQLITE_TRANSIENT);

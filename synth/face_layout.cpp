@@ -26,12 +26,12 @@ constexpr float kUpperLip[7][2] = {{-1.0f, 0.0f},  {-0.605f, 6.2f}, {-0.232f, 9.
 constexpr float kLowerLip[5][2] = {
     {0.66f, -7.9f}, {0.31f, -11.2f}, {0.0f, -12.0f}, {-0.31f, -11.2f}, {-0.66f, -7.9f}};
 
+}  // namespace
+
 float lid_bump(float t) {
   t = std::clamp(t, 0.0f, 1.0f);
   return std::pow(std::max(0.0f, std::sin(float(M_PI) * t)), 0.85f);
 }
-
-}  // namespace
 
 V2 EyeShape::upper(float t) const {
   V2 base = outer + t * (inner - outer);

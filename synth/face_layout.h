@@ -14,6 +14,10 @@
 
 namespace lorgnette::synth {
 
+// The lids' height profile along the eye, t in [0, 1] from the outer to the inner corner (clamped):
+// 0 at the corners, 1 mid-eye. EyeShape's lid curves and the painted lids share it.
+float lid_bump(float t);
+
 struct EyeShape {
   Eigen::Vector2f outer, inner;  // corners
   float upper_height = 5.5f;     // lid curve heights above / below the corner line

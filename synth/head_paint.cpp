@@ -38,10 +38,6 @@ float vnoise(float x, float y) {
   return (a + fx * (b - a)) + fy * ((c + fx * (d - c)) - (a + fx * (b - a)));
 }
 
-float lid_bump(float t) {
-  return std::pow(std::max(0.0f, std::sin(float(M_PI) * std::clamp(t, 0.0f, 1.0f))), 0.85f);
-}
-
 }  // namespace
 
 HeadPainter::HeadPainter(const HeadParams& params, const FaceLayout& layout, const V3& ear_centre,

@@ -9,8 +9,6 @@ namespace {
 
 using nlohmann::json;
 
-std::string hex64(uint64_t v) { return fmt::format("{:016x}", v); }
-
 uint64_t entry_uint(const json& entry, const char* key) {
   const json& v = entry.at(key);
   if (!v.is_number_unsigned())
@@ -20,14 +18,17 @@ uint64_t entry_uint(const json& entry, const char* key) {
 
 }  // namespace
 
+std::string checksum_hex(uint64_t checksum) { return fmt::format("{:016x}", checksum); }
+
 json blob_table(const std::vector<BlobRef>& blobs) {
   json table = json::array();
   uint64_t off = 0;
   for (const BlobRef& b : blobs) {
-    table.push_back({{"name", b.name},
-                     {"offset", off},
-                     {"bytes", b.bytes},
-                     {"fnv1a64", hex64(snapshot_checksum({static_cast<const char*>(b.data), b.bytes}))}});
+    table.push_back(
+        {{"name", b.name},
+         {"offset", off},
+         {"bytes", b.bytes},
+         {"fnv1a64", checksum_hex(snapshot_checksum({static_cast<const char*>(b.data), b.bytes}))}});
     off += b.bytes;
   }
   return table;
@@ -53,7 +54,7 @@ const char* find_blob(std::string_view file, size_t data_start, const json& tabl
     if (data_start > file.size() || off > file.size() - data_start || bytes > file.size() - data_start - off)
       throw BlobTableError(fmt::format("file is truncated: blob '{}' ends past the end of the file", name));
     const char* p = file.data() + data_start + off;
-    if (hex64(snapshot_checksum({p, bytes})) != b.value("fnv1a64", ""))
+    if (checksum_hex(snapshot_checksum({p, bytes})) != b.value("fnv1a64", ""))
       throw BlobTableError(fmt::format("checksum mismatch in blob '{}'", name));
     return p;
   }

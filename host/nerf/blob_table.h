@@ -5,6 +5,7 @@
 // format keeps its own prefix, header and error message (it wraps BlobTableError's reason).
 #pragma once
 #include <cstddef>
+#include <cstdint>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 #include <string>
@@ -24,6 +25,9 @@ struct BlobRef {
 struct BlobTableError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
+
+// A checksum as the tables and headers store it: 16 lower-case hex digits.
+std::string checksum_hex(uint64_t checksum);
 
 // The table for `blobs` laid out one after another in this order.
 nlohmann::json blob_table(const std::vector<BlobRef>& blobs);

@@ -33,8 +33,6 @@ uint64_t fnv1a64_bytes(const void* data, size_t bytes) {
   return h;
 }
 
-std::string hex64(uint64_t v) { return fmt::format("{:016x}", v); }
-
 // Where the header checksum's 16 hex digits start in the header text, or npos. Inside a JSON string
 // every quote is escaped, so the key's pattern can only match the key itself.
 size_t checksum_digits(std::string_view header) {
@@ -49,7 +47,7 @@ size_t checksum_digits(std::string_view header) {
 std::string header_checksum(std::string_view header, size_t digits) {
   std::string zeroed(header);
   zeroed.replace(digits, 16, 16, '0');
-  return hex64(fnv1a64_bytes(zeroed.data(), zeroed.size()));
+  return checksum_hex(fnv1a64_bytes(zeroed.data(), zeroed.size()));
 }
 
 [[noreturn]] void corrupt(const std::string& path, const std::string& why) {
