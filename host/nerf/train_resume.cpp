@@ -7,6 +7,8 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 
+#include "host/nerf/blob_table.h"
+
 namespace lorgnette::nerf {
 namespace {
 
@@ -88,8 +90,8 @@ CheckpointKey checkpoint_key(const dataset::Dataset& ds, const TrainPlan& plan, 
   j["march_step"] = s.step;
   j["batch_log2"] = plan.batch_log2;
   j["deterministic"] = job.deterministic;
-  j["occupancy_mask"] = fmt::format("{:016x}", snapshot_checksum({reinterpret_cast<const char*>(mask.data()),
-                                                                  mask.size() * sizeof(uint32_t)}));
+  j["occupancy_mask"] = checksum_hex(
+      snapshot_checksum({reinterpret_cast<const char*>(mask.data()), mask.size() * sizeof(uint32_t)}));
   return {dataset_fingerprint(ds), j.dump()};
 }
 
