@@ -1,8 +1,8 @@
 """Shared fixtures of the Python tests: the built CLI and one small trained head for the session.
 
-The head is the procedural one (`lorgnette synth --procedural`, 32 views of 128 px) trained for
-600 steps of 2^15 samples by the CLI: enough for dlib to find the face in the fit's views, and
-about a minute on 2 CPU cores. ctest sets PYTHONPATH to the build's python/ folder and
+The head is the procedural one (`lorgnette synth --procedural`, 32 views of 64 px) trained by the
+CLI at the viewer tests' fixture's budget (400 steps of 2^14 samples, a 2^14 hash table): enough for
+dlib to find the face in the fit's views, and about 10 s on 2 CPU cores. ctest sets PYTHONPATH to the build's python/ folder and
 LORGNETTE_CLI to the built `lorgnette`.
 """
 
@@ -75,14 +75,14 @@ def work(tmp_path_factory):
 @pytest.fixture(scope="session")
 def dataset(work):
     out = work / "head"
-    run_cli("synth", "--procedural", "-o", out, "--views", 32, "--size", "128x128", "--seed", 1)
+    run_cli("synth", "--procedural", "-o", out, "--views", 32, "--size", "64x64", "--seed", 1)
     return out
 
 
 @pytest.fixture(scope="session")
 def model_path(work, dataset):
     out = work / "head.lnerf"
-    run_cli("train", dataset, "-o", out, "--steps", 600, "--batch-log2", 15, "--seed", 1)
+    run_cli("train", dataset, "-o", out, "--steps", 400, "--batch-log2", 14, "--log2-table", 14, "--seed", 1)
     return out
 
 

@@ -84,5 +84,5 @@ def test_orbit_and_captured_range(model, dataset):
         yaws = [yaw_of(c, captured) for c in cams_]
         assert (min(yaws) >= lo - margin - 0.01 and max(yaws) <= hi + margin + 0.01) == inside
     frame = lorgnette.Camera.from_transforms(str(dataset / "transforms.json"), 0)
-    assert frame.size == [128, 128]
+    assert frame.size == [64, 64]
     assert model.capture_cameras()[0].fx == pytest.approx(frame.fx)

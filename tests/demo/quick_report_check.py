@@ -22,7 +22,7 @@ def check(ok, what):
 fit = report.get("fit", {})
 check(report.get("ok") is True, f"report not ok: {report.get('message')!r}")
 check(fit.get("ok") is True, "the fit is not ok")
-# Floor: the quick demo measures 31-33 dB on held-out views of the procedural head (128 px, 1200
+# Floor: the quick demo measures 31-33 dB on held-out views of the procedural head (128 px, 600
 # steps of 2^15 samples); 26 dB leaves room for seeds and devices.
 check(report.get("psnr", 0) > 26.0, f"held-out PSNR {report.get('psnr')} dB <= 26")
 # The anatomical range of adult PDs, with the head's true 64 mm inside it.

@@ -23,7 +23,7 @@ void add_demo(CLI::App& app, GlobalOptions& global) {
   cmd->add_option("--views", o->views, "dataset views (default 48, quick 32)");
   cmd->add_option("--image-size", o->image_size, "dataset image size in pixels (default 192, quick 128)");
   auto* steps = cmd->add_option("--train-steps", o->train_steps,
-                                "training steps (default: from the model's size, about 2000; quick 1200)");
+                                "training steps (default: from the model's size, about 2000; quick 600)");
   cmd->add_option("--train-seconds", o->train_seconds,
                   "train for this wall-clock time instead of a step count")
       ->excludes(steps);
