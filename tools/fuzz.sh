@@ -10,7 +10,8 @@
 # (Assimp's importers: ours to work around, not to fix, and found only by chance in a short run).
 # Any other crash always fails.
 #
-# Builds only the fuzz targets in build-fuzz/, starts each from the generated seeds, the committed
+# Builds only the fuzz targets in build-fuzz/ (a unity build with line tables only: 268 -> 154 s on
+# 2 cores against one file at a time with full debug information), starts each from the generated seeds, the committed
 # regression inputs and the corpus of earlier runs (build-fuzz/corpus/<target>/), and writes
 # docs/bench/fuzz.md: per target the seconds, executions, final corpus and coverage, and what was
 # found. Exits non-zero when a target crashes, naming the input that did it.
@@ -33,7 +34,8 @@ fi
 
 cmake -S . -B "$out" -G Ninja -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
   -DCMAKE_BUILD_TYPE=Debug "-DCMAKE_CXX_FLAGS_DEBUG=-O1 -gline-tables-only" "-DCMAKE_C_FLAGS_DEBUG=-O1 -gline-tables-only" \
-  -DLORGNETTE_BUILD_FUZZERS=ON -DLORGNETTE_BUILD_TESTS=OFF -DLORGNETTE_BUILD_BENCHMARKS=OFF >/dev/null
+  -DLORGNETTE_BUILD_FUZZERS=ON -DLORGNETTE_BUILD_TESTS=OFF -DLORGNETTE_BUILD_BENCHMARKS=OFF \
+  -DCMAKE_UNITY_BUILD=ON >/dev/null
 cmake --build "$out" -j "$(nproc)" --target lorgnette_fuzzers
 "$out/fuzz/fuzz_make_seeds" "$out/seeds" >/dev/null
 
