@@ -2,7 +2,7 @@
 
 The head is the procedural one (`lorgnette synth --procedural`, 32 views of 64 px) trained by the
 CLI at the viewer tests' fixture's budget (400 steps of 2^14 samples, a 2^14 hash table): enough for
-dlib to find the face in the fit's views, and about 10 s on 2 CPU cores. ctest sets PYTHONPATH to the build's python/ folder and
+dlib to find the face in the fit's views, and about 15 s on 2 CPU cores with the synthesis. ctest sets PYTHONPATH to the build's python/ folder and
 LORGNETTE_CLI to the built `lorgnette`.
 """
 
