@@ -14,7 +14,8 @@
 # from fuzz/CMakeLists.txt: 268 -> 154 s on 2 cores against one file at a time with full debug
 # information), starts each from the generated seeds, the committed regression inputs and the corpus
 # of earlier runs (build-fuzz/corpus/<target>/), and writes docs/bench/fuzz.md: per target the
-# seconds, executions, final corpus and coverage, and what was found. Exits non-zero when a target crashes, naming the input that did it.
+# seconds, executions, final corpus and coverage, and what was found. Exits non-zero when a target
+# crashes, naming the input that did it.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds="${1:-30}"
