@@ -10,8 +10,8 @@
 # (Assimp's importers: ours to work around, not to fix, and found only by chance in a short run).
 # Any other crash always fails.
 #
-# Builds only the fuzz targets in build-fuzz/ (a unity build, at -O1 with the sanitizers' line tables
-# from fuzz/CMakeLists.txt: 268 -> 154 s on 2 cores against one file at a time with full debug
+# Builds only the fuzz targets in build-fuzz/ (a unity build, at -O1 with the line tables that
+# fuzz/CMakeLists.txt asks for: 268 -> 154 s on 2 cores against one file at a time with full debug
 # information), starts each from the generated seeds, the committed regression inputs and the corpus
 # of earlier runs (build-fuzz/corpus/<target>/), and writes docs/bench/fuzz.md: per target the
 # seconds, executions, final corpus and coverage, and what was found. Exits non-zero when a target
