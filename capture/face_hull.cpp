@@ -6,6 +6,7 @@
 #include "capture/head_volume.h"
 #include "fit/landmark_ids.h"
 #include "fit/mean_face.h"
+#include "fit/scale_chain.h"
 
 namespace lorgnette::capture {
 namespace {
@@ -13,6 +14,8 @@ namespace {
 // The jaw contour's points below the ears (0-1 and 15-16 lie at the tragus, beside the eyes, where a
 // side view sees them against the hair or the room), then brows, nose, eyes and mouth.
 constexpr int kContourFirst = 2, kContourLast = 14, kInnerFirst = 17, kCount = 68;
+// head_solid_core_mm's parts: behind the face, the neck's core, the skull.
+constexpr size_t kSkullPart = 2;
 
 nerf::Vec3f to_vec3f(const Eigen::Vector3d& p) { return {float(p.x()), float(p.y()), float(p.z())}; }
 
@@ -82,6 +85,19 @@ nerf::SubjectVolume head_solid_core_mm(const NeckCoreMm& neck) {
 
 nerf::SubjectVolume head_solid_core(const fit::HeadBox& box, const NeckCoreMm& neck) {
   return to_scene(head_solid_core_mm(neck), box);
+}
+
+nerf::SubjectVolume head_solid_reach_mm(const NeckCoreMm& neck) {
+  nerf::SubjectVolume v = head_solid_core_mm(neck);
+  const float s = float(1.0 + fit::kMeanFaceRelativeUncertainty);
+  nerf::OrientedShape& skull = v.parts[kSkullPart];
+  for (int a : {1, 2}) skull.center[a] *= s, skull.half[a] *= s;  // up and back; not its width
+  v.what = "the head's certain interior with its skull widened for the scale's error (capture/face_hull.h)";
+  return v;
+}
+
+nerf::SubjectVolume head_solid_reach(const fit::HeadBox& box, const NeckCoreMm& neck) {
+  return to_scene(head_solid_reach_mm(neck), box);
 }
 
 }  // namespace lorgnette::capture

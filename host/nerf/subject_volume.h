@@ -125,6 +125,10 @@ struct SubjectZones {
   float mm_per_unit = 0.0f;
   // The skin's colours (none: unknown), for the clearing in `keep` (BackgroundOptions::neck_clear).
   SkinChroma skin;
+  // Where a ray counts as crossing `solid` before BackgroundOptions::solid_reach_mm's growth: `solid`
+  // with each part that no landmark bounds (a head's skull) widened for the scale's error
+  // (capture/face_hull.h head_solid_reach); empty: `solid` itself.
+  SubjectVolume reach;
 };
 
 // The occupancy mask of `volume` over `box` at res^3 cells (occ_word_count(res) words, the grid's

@@ -34,10 +34,11 @@ std::vector<uint32_t> solid_cells(const SubjectVolume& solid, const Aabb& box, u
   return bits;
 }
 
-// The subject's certain interior grown by `mm` towards its skin, where the prior's zones judge whether a
-// ray crosses it (render.h, the "reach" field); the interior itself without a scale or a growth.
+// The subject's certain interior (its reach's base: SubjectZones::reach, else the interior) grown by `mm`
+// towards its skin, where the prior's zones judge whether a ray crosses it (render.h, the "reach"
+// field); the base itself without a scale or a growth.
 SubjectVolume solid_reach(const SubjectZones& z, float mm) {
-  SubjectVolume v = z.solid;
+  SubjectVolume v = z.reach.empty() ? z.solid : z.reach;
   if (!(mm > 0.0f) || !(z.mm_per_unit > 0.0f)) return v;
   for (OrientedShape& part : v.parts) part = part.grown(mm / z.mm_per_unit);
   return v;

@@ -15,6 +15,7 @@
 #include <memory>
 
 #include "fit/landmark_ids.h"
+#include "fit/scale_chain.h"
 #include "host/nerf/subject_holes.h"
 #include "kernels/train/occupancy.h"
 #include "synth/camera_rig.h"
@@ -33,8 +34,9 @@ struct PlacedHead {
 
 // The head box of a procedural head from its true frame and landmarks, as fit::estimate_head_box
 // builds it (anchor: the eye corners' centroid at the inner corners' depth).
-PlacedHead place(uint64_t seed, const Eigen::Matrix3d& rot) {
-  PlacedHead h{synth::random_head_params(seed), {}, rot, {}};
+// `read_scale`: the box's mm per unit over the true one (a mean face that reads the scale high: > 1).
+PlacedHead place(const synth::HeadParams& params, const Eigen::Matrix3d& rot, double read_scale = 1.0) {
+  PlacedHead h{params, {}, rot, {}};
   h.subject = synth::procedural_subject(h.params, synth::HeadMeshOptions{96, 48, 256}, true);
   std::vector<Eigen::Vector3d> lm;
   for (const auto& p : h.subject.ibug68) lm.push_back(rot * p.cast<double>());
@@ -44,13 +46,15 @@ PlacedHead place(uint64_t seed, const Eigen::Matrix3d& rot) {
   const Eigen::Vector3d inner = 0.5 * (lm[fit::lm::kEyeInnerR] + lm[fit::lm::kEyeInnerL]);
   fit::HeadFrame head;
   head.d_eye = rot.col(0), head.d_up = rot.col(1), head.d_fwd = rot.col(2);
-  head.mm_per_unit = *h.subject.mm_per_unit;
+  head.mm_per_unit = *h.subject.mm_per_unit * read_scale;
   h.box = fit::head_box_from_frame(head, centroid + head.d_fwd * head.d_fwd.dot(inner - centroid),
                                    fit::HeadExtents{});
   h.box.landmarks = lm;
   h.box.landmark_ok.assign(lm.size(), true);
   return h;
 }
+
+PlacedHead place(uint64_t seed, const Eigen::Matrix3d& rot) { return place(synth::random_head_params(seed), rot); }
 
 struct Holes {
   // Radius (mm, at the cheek) of a hole through the right cheek as the frontal view sees it: a cone
@@ -237,6 +241,69 @@ TEST(FaceHull, SolidCoreLiesInsideTheHead) {
     EXPECT_LT(worst, -3.0f) << "seed " << seed << ": a point of the core lies " << worst
                             << " mm from the skin";
   }
+}
+
+// The skull's part of a reach volume (head_solid_reach or head_solid_core) grown by train's default
+// --solid-reach, against a head's skin above the eyes (true millimetres): how far its top lies below
+// the crown's, and how far its farthest point stands outside the skin.
+struct SkullReach {
+  float top_below_crown_mm = 0.0f, outside_mm = -1e9f;
+};
+
+SkullReach skull_reach(const PlacedHead& h, const nerf::SubjectVolume& reach) {
+  const double true_mpu = *h.subject.mm_per_unit;
+  const nerf::OrientedShape part = reach.parts[2].grown(float(15.0 / h.box.head.mm_per_unit));
+  const synth::HeadShape shape(h.params, synth::make_face_layout(h.params));
+  const Eigen::Matrix4f to_mesh = h.subject.mesh_to_dataset.inverse();
+  const Eigen::Matrix3d& ax = h.box.axes;  // head frame: left, up, forward
+  auto scene = [&](double x, double y, double z) {
+    return Eigen::Vector3d(h.box.anchor + ax * (Eigen::Vector3d(x, y, z) / true_mpu));
+  };
+  auto sdf = [&](const Eigen::Vector3d& p) {
+    return shape.sdf(synth::transform_point(to_mesh, Eigen::Vector3f(p.cast<float>())));
+  };
+  SkullReach r;
+  float crown = 0.0f, top = 0.0f;
+  for (double x = -200.0; x <= 200.0; x += 4.0)
+    for (double z = -250.0; z <= 100.0; z += 4.0)
+      for (double y = 0.0; y <= 200.0; y += 3.0) {
+        const Eigen::Vector3d p = scene(x, y, z);
+        const bool in_reach = part.contains({float(p.x()), float(p.y()), float(p.z())});
+        if (!in_reach && std::abs(x) > 20.0) continue;  // the crown's top lies near the midline
+        const float d = sdf(p);
+        if (d < 0.0f) crown = std::max(crown, float(y));
+        if (in_reach) top = std::max(top, float(y)), r.outside_mm = std::max(r.outside_mm, d);
+      }
+  r.top_below_crown_mm = crown - top;
+  return r;
+}
+
+// The skull's reach allows for the mean face's scale error (capture/face_hull.h head_solid_reach), on
+// procedural heads from small (0.85 x their lengths) to large, against the interior's own reach (both
+// grown by --solid-reach's 15 mm): with the scale read 10 % high its top lies as near the crown as the
+// interior's with the true scale (within 4 mm: the growth is read high too, and the grid's 3 mm
+// step), and at least 5 mm higher than the interior's read the same (8.8 mm less the grid's step); with the true scale it stands no
+// more than 2 mm further outside the skin than the interior's (the width is kept: the farthest points
+// are the forehead's, before and after).
+TEST(FaceHull, SkullReachAllowsForTheScaleError) {
+  for (uint64_t seed = 0; seed < 4; ++seed)
+    for (float size : {0.85f, 1.0f}) {
+      const synth::HeadParams params = synth::scale_head(synth::random_head_params(seed), size);
+      const PlacedHead exact = place(params, Eigen::Matrix3d::Identity());
+      const PlacedHead high = place(params, Eigen::Matrix3d::Identity(), 1.0 + fit::kMeanFaceRelativeUncertainty);
+      const SkullReach core_exact = skull_reach(exact, head_solid_core(exact.box));
+      const SkullReach reach_exact = skull_reach(exact, head_solid_reach(exact.box));
+      const SkullReach core_high = skull_reach(high, head_solid_core(high.box));
+      const SkullReach reach_high = skull_reach(high, head_solid_reach(high.box));
+      std::cout << "seed " << seed << ", lengths x " << size << ": top below the crown (mm), true / read high: "
+                << "interior " << core_exact.top_below_crown_mm << " / " << core_high.top_below_crown_mm
+                << ", reach " << reach_exact.top_below_crown_mm << " / " << reach_high.top_below_crown_mm
+                << "; farthest outside the skin, true scale: interior " << core_exact.outside_mm << ", reach "
+                << reach_exact.outside_mm << "\n";
+      EXPECT_LE(reach_high.top_below_crown_mm, core_exact.top_below_crown_mm + 4.0f) << "seed " << seed;
+      EXPECT_LE(reach_high.top_below_crown_mm, core_high.top_below_crown_mm - 5.0f) << "seed " << seed;
+      EXPECT_LE(reach_exact.outside_mm, core_exact.outside_mm + 2.0f) << "seed " << seed;
+    }
 }
 
 TEST(FaceHull, NoLandmarksNoHulls) {
