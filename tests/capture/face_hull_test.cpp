@@ -54,7 +54,9 @@ PlacedHead place(const synth::HeadParams& params, const Eigen::Matrix3d& rot, do
   return h;
 }
 
-PlacedHead place(uint64_t seed, const Eigen::Matrix3d& rot) { return place(synth::random_head_params(seed), rot); }
+PlacedHead place(uint64_t seed, const Eigen::Matrix3d& rot) {
+  return place(synth::random_head_params(seed), rot);
+}
 
 struct Holes {
   // Radius (mm, at the cheek) of a hole through the right cheek as the frontal view sees it: a cone
@@ -282,20 +284,22 @@ SkullReach skull_reach(const PlacedHead& h, const nerf::SubjectVolume& reach) {
 // procedural heads from small (0.85 x their lengths) to large, against the interior's own reach (both
 // grown by --solid-reach's 15 mm): with the scale read 10 % high its top lies as near the crown as the
 // interior's with the true scale (within 4 mm: the growth is read high too, and the grid's 3 mm
-// step), and at least 5 mm higher than the interior's read the same (8.8 mm less the grid's step); with the true scale it stands no
-// more than 2 mm further outside the skin than the interior's (the width is kept: the farthest points
-// are the forehead's, before and after).
+// step), and at least 5 mm higher than the interior's read the same (8.8 mm less the grid's step); with the
+// true scale it stands no more than 2 mm further outside the skin than the interior's (the width is kept: the
+// farthest points are the forehead's, before and after).
 TEST(FaceHull, SkullReachAllowsForTheScaleError) {
   for (uint64_t seed = 0; seed < 4; ++seed)
     for (float size : {0.85f, 1.0f}) {
       const synth::HeadParams params = synth::scale_head(synth::random_head_params(seed), size);
       const PlacedHead exact = place(params, Eigen::Matrix3d::Identity());
-      const PlacedHead high = place(params, Eigen::Matrix3d::Identity(), 1.0 + fit::kMeanFaceRelativeUncertainty);
+      const PlacedHead high =
+          place(params, Eigen::Matrix3d::Identity(), 1.0 + fit::kMeanFaceRelativeUncertainty);
       const SkullReach core_exact = skull_reach(exact, head_solid_core(exact.box));
       const SkullReach reach_exact = skull_reach(exact, head_solid_reach(exact.box));
       const SkullReach core_high = skull_reach(high, head_solid_core(high.box));
       const SkullReach reach_high = skull_reach(high, head_solid_reach(high.box));
-      std::cout << "seed " << seed << ", lengths x " << size << ": top below the crown (mm), true / read high: "
+      std::cout << "seed " << seed << ", lengths x " << size
+                << ": top below the crown (mm), true / read high: "
                 << "interior " << core_exact.top_below_crown_mm << " / " << core_high.top_below_crown_mm
                 << ", reach " << reach_exact.top_below_crown_mm << " / " << reach_high.top_below_crown_mm
                 << "; farthest outside the skin, true scale: interior " << core_exact.outside_mm << ", reach "
