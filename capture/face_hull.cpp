@@ -92,7 +92,9 @@ nerf::SubjectVolume head_solid_reach_mm(const NeckCoreMm& neck) {
   const float s = float(1.0 + fit::kMeanFaceRelativeUncertainty);
   nerf::OrientedShape& skull = v.parts[kSkullPart];
   for (int a : {1, 2}) skull.center[a] *= s, skull.half[a] *= s;  // up and back; not its width
-  v.what = "the head's certain interior with its skull widened for the scale's error (capture/face_hull.h)";
+  v.what =
+      "the head's certain interior with its skull stretched up and back for the scale's error "
+      "(capture/face_hull.h)";
   return v;
 }
 

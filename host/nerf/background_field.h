@@ -116,7 +116,7 @@ struct BackgroundOptions {
   // reach"). Within 15 mm a ray lies in the skin or its hair for most heads and at most about 10 mm
   // beside the skin where the interior comes nearest it: the head's edge, where haze is the lesser
   // flaw. The growth applies to subject->reach when it has one (the interior with a head's skull
-  // widened for the scale's error, capture/face_hull.h). The pull stays in the interior itself.
+  // stretched for the scale's error, capture/face_hull.h). The pull stays in the interior itself.
   // 0 = the interior (or that reach) alone.
   float solid_reach_mm = 15.0f;
   // The clearing in the neck's keep zone, on rays whose pixel is no colour of the subject's skin

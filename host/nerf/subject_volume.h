@@ -126,7 +126,7 @@ struct SubjectZones {
   // The skin's colours (none: unknown), for the clearing in `keep` (BackgroundOptions::neck_clear).
   SkinChroma skin;
   // Where a ray counts as crossing `solid` before BackgroundOptions::solid_reach_mm's growth: `solid`
-  // with each part that no landmark bounds (a head's skull) widened for the scale's error
+  // with each part that no landmark bounds (a head's skull) stretched for the scale's error
   // (capture/face_hull.h head_solid_reach); empty: `solid` itself.
   SubjectVolume reach;
 };
