@@ -14,8 +14,6 @@ namespace {
 // The jaw contour's points below the ears (0-1 and 15-16 lie at the tragus, beside the eyes, where a
 // side view sees them against the hair or the room), then brows, nose, eyes and mouth.
 constexpr int kContourFirst = 2, kContourLast = 14, kInnerFirst = 17, kCount = 68;
-// head_solid_core_mm's parts: behind the face, the neck's core, the skull.
-constexpr size_t kSkullPart = 2;
 
 nerf::Vec3f to_vec3f(const Eigen::Vector3d& p) { return {float(p.x()), float(p.y()), float(p.z())}; }
 
@@ -90,7 +88,7 @@ nerf::SubjectVolume head_solid_core(const fit::HeadBox& box, const NeckCoreMm& n
 nerf::SubjectVolume head_solid_reach_mm(const NeckCoreMm& neck) {
   nerf::SubjectVolume v = head_solid_core_mm(neck);
   const float s = float(1.0 + fit::kMeanFaceRelativeUncertainty);
-  nerf::OrientedShape& skull = v.parts[kSkullPart];
+  nerf::OrientedShape& skull = v.parts[kSolidSkullPart];
   for (int a : {1, 2}) skull.center[a] *= s, skull.half[a] *= s;  // up and back; not its width
   v.what =
       "the head's certain interior with its skull stretched up and back for the scale's error "

@@ -4,6 +4,7 @@
 // the neck's core below the chin). Holes there are what the
 // room model's separation takes from a face before a wall of the same colour (#41).
 #pragma once
+#include <cstddef>
 #include <vector>
 
 #include "fit/head_box.h"
@@ -53,6 +54,8 @@ std::vector<nerf::SolidHull> head_solid_hulls(const fit::HeadBox& box, const Nec
 // skin, the face's and the skull's parts 6.5 mm (tests/capture/face_hull_test.cpp), so a ray from any
 // training view through it passes through the subject.
 nerf::SubjectVolume head_solid_core_mm(const NeckCoreMm& neck = {});
+// The skull's index among head_solid_core's parts (behind the face, the neck's core, the skull).
+inline constexpr size_t kSolidSkullPart = 2;
 nerf::SubjectVolume head_solid_core(const fit::HeadBox& box, const NeckCoreMm& neck = {});
 
 // Where a ray counts as crossing the certain interior, before training grows it by --solid-reach

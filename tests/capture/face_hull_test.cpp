@@ -16,6 +16,7 @@
 
 #include "fit/landmark_ids.h"
 #include "fit/scale_chain.h"
+#include "host/nerf/background_field.h"
 #include "host/nerf/subject_holes.h"
 #include "kernels/train/occupancy.h"
 #include "synth/camera_rig.h"
@@ -246,15 +247,17 @@ TEST(FaceHull, SolidCoreLiesInsideTheHead) {
 }
 
 // The skull's part of a reach volume (head_solid_reach or head_solid_core) grown by train's default
-// --solid-reach, against a head's skin above the eyes (true millimetres): how far its top lies below
-// the crown's, and how far its farthest point stands outside the skin.
+// --solid-reach (BackgroundOptions::solid_reach_mm), against a head's skin above the eyes (true millimetres):
+// how far its top lies below the crown's, and how far its farthest point stands outside the skin.
 struct SkullReach {
   float top_below_crown_mm = 0.0f, outside_mm = -1e9f;
 };
 
 SkullReach skull_reach(const PlacedHead& h, const nerf::SubjectVolume& reach) {
   const double true_mpu = *h.subject.mm_per_unit;
-  const nerf::OrientedShape part = reach.parts[2].grown(float(15.0 / h.box.head.mm_per_unit));
+  const float grow_mm = nerf::BackgroundOptions{}.solid_reach_mm;  // as training grows it
+  const nerf::OrientedShape part =
+      reach.parts[kSolidSkullPart].grown(float(grow_mm / h.box.head.mm_per_unit));
   const synth::HeadShape shape(h.params, synth::make_face_layout(h.params));
   const Eigen::Matrix4f to_mesh = h.subject.mesh_to_dataset.inverse();
   const Eigen::Matrix3d& ax = h.box.axes;  // head frame: left, up, forward
