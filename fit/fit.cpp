@@ -150,6 +150,14 @@ void summarise(FitResult& r, const FitOptions& opt) {
 
 // What the stages share: the inputs, the skin's density and the result they fill in.
 struct FitRun {
+  FitRun(ViewSource& source_, const GlassesInput& glasses_, const FitOptions& opt_, float surface_,
+         FitResult& r_, Face68 mean_face_)
+      : source(source_),
+        glasses(glasses_),
+        opt(opt_),
+        surface(surface_),
+        r(r_),
+        mean_face(std::move(mean_face_)) {}
   ViewSource& source;
   const GlassesInput& glasses;
   const FitOptions& opt;
@@ -561,7 +569,7 @@ void check_inputs(FitRun& run) {
 FitResult fit_glasses(ViewSource& source, const GlassesInput& glasses, const FitOptions& opt) {
   FitResult r;
   const float surface = opt.surface_density > 0.0f ? opt.surface_density : source.surface_density();
-  FitRun run{source, glasses, opt, surface, r, nullptr, mean_face_or_builtin(opt.head.mean_face_path)};
+  FitRun run(source, glasses, opt, surface, r, mean_face_or_builtin(opt.head.mean_face_path));
   load_detector(run);
   find_front(run);
   plan_detect_and_frame_head(run);

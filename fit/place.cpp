@@ -200,12 +200,17 @@ Eigen::Matrix4d rest_on_nose(const HeadProbe& head, const Eigen::Matrix4d& trans
   for (size_t j = 0; j < rest.heights_mm.size(); ++j)
     spdlog::debug("fit: nose rest {:+.1f} mm up: front clears at {:+.2f} mm, bridge at {:+.2f} mm",
                   rest.heights_mm[j], rest.shifts_mm[j], rest.bridge_shifts_mm[j]);
+  // A shift beyond the search (nose_rest.h: +-infinity) is said as such, not as "inf mm".
+  auto gap = [&](double mm) {
+    return std::isfinite(mm) ? fmt::format("{:.2f} mm", mm)
+                             : fmt::format("more than {:.0f} mm", o.max_shift_mm);
+  };
   if (rest.rise_mm > 0.0)
     spdlog::info(
         "fit: the frame rides {:.1f} mm up the nose: at Eq. 4's height its rims meet the nose's sides and "
-        "hold its front {:.2f} mm in front of where its bridge rests on the nose; {:.2f} mm there",
-        rest.rise_mm, rest.shifts_mm.front() - rest.bridge_shifts_mm.front(),
-        rest.shifts_mm[rest.chosen] - rest.bridge_shifts_mm.front());
+        "hold its front {} in front of where its bridge rests on the nose; {} there",
+        rest.rise_mm, gap(rest.shifts_mm.front() - rest.bridge_shifts_mm.front()),
+        gap(rest.shifts_mm[rest.chosen] - rest.bridge_shifts_mm.front()));
   *rise = rest.rise_mm;
   return raise[rest.chosen];
 }

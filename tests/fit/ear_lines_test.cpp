@@ -76,7 +76,7 @@ TEST(EarLines, NotACrease) {
   EXPECT_FALSE(find_crease(h, laterals(), 1, o).found);
 }
 
-EarCrease at(double lateral, double height) { return {true, lateral, height, 40.0, height}; }
+EarCrease at(double lateral, double height) { return {true, lateral, height, 40.0, height, {}}; }
 
 TEST(EarLines, CreasesThatContinueEachOtherMakeALine) {
   // Depths 0-3 one line (steps within 5 mm), a jump of 6 mm in height at 4, a gap at 6.

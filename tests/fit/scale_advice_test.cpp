@@ -161,7 +161,11 @@ struct WedgeNose {
             scene({45, 0, -15}),
             scene({-45, 0, -15}),
             mpu,
-            false};
+            false,
+            false,
+            Eigen::Vector3d::Zero(),
+            Eigen::Vector3d::Zero(),
+            ""};
   }
   DensityFn density() const {
     const Placement p = placement;
@@ -351,7 +355,11 @@ TEST(AdviceGeometry, TheAdvicesFrameRestsAtTrueSizeNotWhereTheStretchedOneDid) {
                      Eigen::Vector3d(45, 0, -15) / mpu,
                      Eigen::Vector3d(-45, 0, -15) / mpu,
                      mpu,
-                     false};
+                     false,
+                     false,
+                     Eigen::Vector3d::Zero(),
+                     Eigen::Vector3d::Zero(),
+                     ""};
   const double at_rest = advice_inputs(gi, a, h, {}, 1.0f).hinge_to_ear_mm;
   EXPECT_NEAR(at_rest, (Eigen::Vector3d(66, 4, -100 - shift_mm) - g.hinge_l).norm(), 1e-6);
   EXPECT_GT(advice_inputs(gi, drawn, h, {}, 1.0f).hinge_to_ear_mm - at_rest, 5.4);
@@ -366,7 +374,7 @@ TEST(PlacementJsonScale, RoundTripAndRefusals) {
   p.mm_per_unit_uncertainty = 8.5;
   p.pd_uncertainty_mm = 2.75;
   p.has_advice = true;
-  p.advice = fit_advice({130, 140, 18, 17, 140, 105, 40, 1.0, "", "", "", false});
+  p.advice = fit_advice({130, 140, 18, 17, 140, 105, 40, 1.0, "", "", "", false, ""});
   nlohmann::json j = to_json(p);
   PlacementFile q = placement_from_json(j);
   EXPECT_EQ(q.scale_source, "iris");
