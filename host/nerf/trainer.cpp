@@ -380,8 +380,13 @@ TrainResult Trainer::run() {
     }
   }
   if (std::optional<double> loss = last_loss()) take_loss(*loss, step_);
+  finish_run(result, std::chrono::duration<double>(clock::now() - start).count(), bar);
+  return result;
+}
+
+void Trainer::finish_run(TrainResult& result, double seconds, Progress& bar) {
   log_interior(*occupancy_, options_.background.solid_pull);
-  result.seconds = std::chrono::duration<double>(clock::now() - start).count();
+  result.seconds = seconds;
   if (options_.progress) bar.finish(fmt::format("{} steps in {:.1f} s", step_, result.seconds));
   result.steps = step_;
   result.samples = samples_;
@@ -390,7 +395,6 @@ TrainResult Trainer::run() {
   if (!save_snapshot(resumed_elapsed_ + result.seconds) && !options_.snapshot_path.empty())
     spdlog::warn("no training step finished: nothing was saved to '{}'", options_.snapshot_path);
   save_checkpoint(resumed_elapsed_ + result.seconds);
-  return result;
 }
 
 }  // namespace lorgnette::nerf

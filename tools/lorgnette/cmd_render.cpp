@@ -68,7 +68,9 @@ fit::Transform glasses_transform(const RenderArgs& a, std::string& glasses_path,
   return fit::trs_transform(vec3(a.translate, {0, 0, 0}), vec3(a.rotate, {0, 0, 0}), a.scale);
 }
 
-void run(RenderArgs& a, GlobalOptions& global) {
+// The request's checks, and the outputs' (a user's files are refused before any work: device, model,
+// glasses); fills the orbit's size from --size.
+void check_request(RenderArgs& a) {
   const bool orbit = a.orbit.views > 0;
   if (orbit == !a.pose.empty()) throw std::runtime_error("give either --orbit N or --pose JSON");
   if (!a.front.empty()) {
@@ -86,15 +88,17 @@ void run(RenderArgs& a, GlobalOptions& global) {
     render::validate(a.orbit);
   else
     check_bound(bounds::kFovDeg, a.orbit.fov_y_deg);
-  {
-    // Refuse outputs the user already has before any work (device, model, glasses).
-    render::RenderJob planned;
-    planned.video = !a.no_video;
-    planned.cameras.resize(orbit ? a.orbit.views : 1);
-    render::check_outputs_free(a.out, render::render_job_outputs(planned), a.force);
-    // A read-only folder or a full disk is found now, not after the model loaded and a view rendered.
-    check_writable_folder(nearest_existing_folder(a.out).string(), fmt::format("the renders (-o {})", a.out));
-  }
+  render::RenderJob planned;
+  planned.video = !a.no_video;
+  planned.cameras.resize(orbit ? a.orbit.views : 1);
+  render::check_outputs_free(a.out, render::render_job_outputs(planned), a.force);
+  // A read-only folder or a full disk is found now, not after the model loaded and a view rendered.
+  check_writable_folder(nearest_existing_folder(a.out).string(), fmt::format("the renders (-o {})", a.out));
+}
+
+void run(RenderArgs& a, GlobalOptions& global) {
+  check_request(a);
+  const bool orbit = a.orbit.views > 0;
   cl::Runtime rt(global.runtime());
   nerf::NerfModel model = nerf::NerfModel::load(rt, a.model);
 
@@ -116,7 +120,7 @@ void run(RenderArgs& a, GlobalOptions& global) {
     for (const auto& note : plan.notes) spdlog::info("orbit: {}", note);
     job.cameras = render::orbit_cameras(plan.spec);
   } else {
-    job.cameras = {render::read_pose(a.pose, size[0], size[1], a.orbit.fov_y_deg)};
+    job.cameras = {render::read_pose(a.pose, a.orbit.width, a.orbit.height, a.orbit.fov_y_deg)};
     if (std::string note = render::pose_outside_note(job.cameras[0], range); !note.empty())
       spdlog::warn("{}", note);
   }
