@@ -220,13 +220,8 @@ double status_rps(uint16_t port, const Job& j, int clients, double seconds) {
 
 void write_outputs(const Args& a, const std::vector<Job>& jobs, nlohmann::json summary) {
   std::vector<std::vector<std::string>> rows;
-  auto series = [](const char* name) {
-    lorgnette::ChartSeries s;
-    s.name = name;
-    return s;
-  };
-  lorgnette::ChartSeries wait = series("queue wait"), cap = series("capture"), train = series("train"),
-                         fit = series("fit"), total = series("total");
+  lorgnette::ChartSeries wait{"queue wait", {}, {}}, cap{"capture", {}, {}}, train{"train", {}, {}},
+      fit{"fit", {}, {}}, total{"total", {}, {}};
   for (size_t i = 0; i < jobs.size(); ++i) {
     const Job& j = jobs[i];
     auto st = [&](const char* s) { return j.stage_s.count(s) ? j.stage_s.at(s) : 0.0; };
