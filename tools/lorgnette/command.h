@@ -52,7 +52,8 @@ struct Registrar {
 
 }  // namespace lorgnette::cli
 
-#define LGN_CONCAT2(a, b) a##b
-#define LGN_CONCAT(a, b) LGN_CONCAT2(a, b)
+// The registrar is named after its factory, which is unique among the commands: a name built
+// from __LINE__ collides when the unity build puts two commands registered on the same line into
+// one translation unit.
 #define LGN_REGISTER_COMMAND(order, factory) \
-  static ::lorgnette::cli::Registrar LGN_CONCAT(lgn_registrar_, __LINE__)(order, factory)
+  static ::lorgnette::cli::Registrar lgn_registrar_##factory(order, factory)
