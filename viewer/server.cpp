@@ -23,9 +23,8 @@ namespace websocket = beast::websocket;
 namespace net = boost::asio;
 using tcp = net::ip::tcp;
 
-namespace {
-
-// Lets the render and fit threads post to the I/O thread only while it exists.
+// Lets the render and fit threads post to the I/O thread only while it exists. Outside the
+// anonymous namespace because Server::Impl, which has external linkage, holds one.
 struct IoGate {
   std::mutex m;
   net::io_context* ioc = nullptr;
@@ -35,6 +34,8 @@ struct IoGate {
     if (ioc) net::post(*ioc, std::forward<F>(f));
   }
 };
+
+namespace {
 
 // "127.0.0.1:8080" / "[::1]:8080" / "localhost" -> the host name part.
 std::string host_name(beast::string_view host_header) {
