@@ -243,9 +243,11 @@ int main(int argc, char** argv) {
                                  sf.head->mm_per_unit};
           // The NeRF at the rays' default opacity and at 0.5 (where a render shows the surface): a NeRF's
           // soft ear top is met deeper at the higher level (ear_root.h). Then the rays' heights across the
-          // side at the mesh's rest depth (the mesh goes first): what the search reads there.
+          // side near the mesh's rest depth (the mesh goes first): what the search reads there.
           const double level = base.head.ear_root.rays.opacity;
-          std::optional<double> mesh_rest_depth;
+          // The chart shows the grid's depth nearest the mesh's rest, which lies 9 mm behind a line's
+          // front end and so between the grid's depths (ear_root.h).
+          std::optional<double> mesh_rest_depth, chart_depth;
           std::vector<ChartSeries> series;
           for (auto [what, fn, opacity] :
                {std::tuple<std::string, const DensityFn*, double>{"mesh" + sf.suffix, &on_mesh, level},
@@ -272,28 +274,32 @@ int main(int argc, char** argv) {
                    fmt::format("{:.0f}", line.back_mm), fmt::format("{:.0f}", line.front_mm),
                    std::to_string(line.slices), fmt::format("{:.1f}", line.bend_deg)});
             }
-            // Every depth of the window into the CSV (what the search reads at each), the mesh's rest
-            // depth into the chart.
+            // Every depth of the window into the CSV (what the search reads at each), the one nearest
+            // the mesh's rest into the chart.
             const std::vector<double> depths =
                 ear_grid(-o.rays.back_mm, o.rays.front_mm, o.rays.depth_step_mm);
+            if (mesh_rest_depth && !chart_depth)
+              chart_depth = *std::min_element(depths.begin(), depths.end(), [&](double a, double b) {
+                return std::abs(a - *mesh_rest_depth) < std::abs(b - *mesh_rest_depth);
+              });
             ChartSeries cs{what, {}, {}};
             for (const EarRootProfile& p : ear_root_profiles(*fn, in, o, depths))
               for (size_t j = 0; j < p.lateral_mm.size(); ++j) {
                 if (std::isnan(p.height_mm[j])) continue;
-                if (mesh_rest_depth && std::abs(p.depth_mm - *mesh_rest_depth) < 1e-6)
+                if (chart_depth && std::abs(p.depth_mm - *chart_depth) < 1e-6)
                   cs.x.push_back(p.lateral_mm[j]), cs.y.push_back(p.height_mm[j]);
                 profile_csv.push_back({c.name, side > 0 ? "l" : "r", what, fmt::format("{:.0f}", p.depth_mm),
                                        fmt::format("{:.1f}", p.lateral_mm[j]),
                                        fmt::format("{:.2f}", p.height_mm[j])});
               }
-            if (!mesh_rest_depth) continue;
+            if (!chart_depth) continue;
             series.push_back(std::move(cs));
           }
-          if (mesh_rest_depth)
+          if (chart_depth)
             write_chart(fmt::format("{}/{}_ear_profile_{}{}.png", out, c.name, side > 0 ? "l" : "r",
                                     sf.suffix.empty() ? "" : "_nerf_fit"),
-                        {fmt::format("{} {}, {:+.0f} mm from the temple: the ear search's rays", c.name,
-                                     side > 0 ? "left" : "right", *mesh_rest_depth),
+                        {fmt::format("{} {}, rays {:+.0f} mm from the temple (the mesh's rest {:+.0f} mm)",
+                                     c.name, side > 0 ? "left" : "right", *chart_depth, *mesh_rest_depth),
                          "mm outwards from the temple", "mm above the eye corner"},
                         series);
         }
