@@ -2,7 +2,7 @@
 # Issue 13's measurement matrix on synthetic room captures: subjects (the procedural head with neck and
 # shoulders, the Lee Perry-Smith scan) x rooms (1, 2) x arcs (yaw +-40 / pitch +-10, yaw +-20 / pitch
 # +-15), each synthesized, trained with the room model for the same number of steps, then scored on
-# its held-out views against the true mattes (bench_room_matte: IoU, leak, face PSNR, contact
+# its held-out views against the true mattes (bench_room_matte: IoU, leak, holes, face PSNR, contact
 # sheets) and fitted (bench_fit_nerf's `default` variant, the options `lorgnette fit` runs: nose,
 # ear and rotation errors against the mesh's ground truth; until 27 Nov the matrix fitted the `fast`
 # variant, which marches the views at step x1 where the product marches at x1.5; FIT_VARIANT

@@ -1,7 +1,8 @@
 // How cleanly models trained on synthetic room captures (`lorgnette synth --room`) separate the
 // subject (issue 13): per case (a .lnerf and its dataset), the held-out views are rendered and scored
 // against their true mattes with the product's metric (host/render/matte_eval.h: IoU, leak, face
-// PSNR), and the leak is split by where it lies, so its cause can be read off:
+// PSNR, and the holes in the head's interior, host/render/hole_eval.h: the mean over views and the
+// worst view's), and the leak is split by where it lies, so its cause can be read off:
 //   edge   opacity within 2 px of the true matte's outline (anti-aliasing, a soft silhouette);
 //   below  farther out, below the chin (the lowest of the 68 true landmarks): haze under the jaw;
 //   other  farther out elsewhere (floaters, room density left in the box).
@@ -284,11 +285,11 @@ static int run(int argc, char** argv) {
       std::cerr << fmt::format(
           "{} min-alpha {:.3f}: IoU {:.4f}, leak {:.2f} % (edge {:.2f}, below chin {:.2f}, other {:.2f}; "
           "the matte's own {:.2f}); beyond the matte's coverage {:.2f} % (edge {:.2f}, farther {:.2f}); "
-          "face PSNR {:.2f} dB ({}; {:.2f} dB where the subject covers the pixel), {} views, {} occupied "
-          "cells\n",
+          "face PSNR {:.2f} dB ({}; {:.2f} dB where the subject covers the pixel); holes {:.2f} % of the "
+          "head's interior (worst view {:.2f} %), {} views, {} occupied cells\n",
           c.name, alpha, m.iou, 100 * m.leak, 100 * leak.edge, 100 * leak.below, 100 * leak.other,
           100 * leak.floor, 100 * m.leak_excess, 100 * leak.excess_edge, 100 * leak.excess_far, m.face_psnr,
-          face_region, m.face_psnr_subject, scores.size(), occupied);
+          face_region, m.face_psnr_subject, 100 * m.holes, 100 * m.holes_worst, scores.size(), occupied);
       csv.push_back({c.name,
                      fmt::format("{:.3f}", alpha),
                      fmt::format("{:.4f}", m.iou),
@@ -308,7 +309,9 @@ static int run(int argc, char** argv) {
                      fmt::format("{:.4f}", leak.excess_far),
                      fmt::format("{:.4f}", leak.outline),
                      fmt::format("{:.4f}", leak.ring),
-                     fmt::format("{:.3f}", m.face_psnr_subject)});
+                     fmt::format("{:.3f}", m.face_psnr_subject),
+                     fmt::format("{:.4f}", m.holes),
+                     fmt::format("{:.4f}", m.holes_worst)});
       ChartSeries opacity_series{c.name, {}, {}};
       for (int b = 0; b < int(profile.bins.size()); ++b) {
         const Profile::Bin& bin = profile.bins[size_t(b)];
@@ -350,7 +353,9 @@ static int run(int argc, char** argv) {
              "leak_excess_far",
              "leak_outline",
              "leak_ring",
-             "face_psnr_subject_db"},
+             "face_psnr_subject_db",
+             "holes",
+             "holes_worst_view"},
             csv);
   // Summed over views: leak and leak_excess are the bin's share of the subject's pixels.
   write_csv(
