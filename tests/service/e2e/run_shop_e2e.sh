@@ -37,7 +37,7 @@ mkdir -p "$WORK/data" "$WORK/catalogue" "$WORK/screens"
   fail "glasses make"
 
 "$L" serve --data "$WORK/data" --catalogue "$WORK/catalogue" --port 0 --port-file "$WORK/data/port" \
-  --capture-fps 8 --capture-max-side 256 --train-steps 250 --train-batch-log2 14 --fit-views 6 \
+  --capture-fps 8 --capture-max-side 256 --train-steps 400 --train-batch-log2 14 --fit-views 8 \
   --tryon-views 3 --tryon-size 192 > "$WORK/serve.log" 2>&1 &
 SERVER=$!
 trap 'kill "$SERVER" 2> /dev/null; wait "$SERVER" 2> /dev/null' EXIT
