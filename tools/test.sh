@@ -13,8 +13,8 @@ bash tools/check-format.sh
 # headers (Eigen, fmt, nlohmann/json, OpenCV) once, so this clean build costs a fifth less; a
 # developer's incremental build without it recompiles less per edit. The benchmarks are not built
 # here: no test runs them, and they were 400 of the build's 2900 CPU s (~200 s of a run that must
-# stay under 40 minutes on 2 cores); the developer build (README, "Building") includes them, and a
-# change to an interface they use is checked there.
+# stay under 40 minutes on 2 cores): configure with -DLORGNETTE_BUILD_BENCHMARKS=ON (README,
+# "Building by hand") after changing an interface they use.
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_UNITY_BUILD=ON
 cmake --build build -j "$(nproc)"
 FUZZ_REPORT=build-fuzz/fuzz-short-run.md FUZZ_SLOW_IS_FATAL=0 FUZZ_THIRD_PARTY_IS_FATAL=0 bash tools/fuzz.sh 10
