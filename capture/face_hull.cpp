@@ -87,7 +87,7 @@ nerf::SubjectVolume head_solid_core(const fit::HeadBox& box, const NeckCoreMm& n
 
 nerf::SubjectVolume head_solid_reach_mm(const NeckCoreMm& neck) {
   nerf::SubjectVolume v = head_solid_core_mm(neck);
-  const float s = float(1.0 + fit::kMeanFaceRelativeUncertainty);
+  const float s = float(1.0 + kSkullReachSigmas * fit::kMeanFaceRelativeUncertainty);
   nerf::OrientedShape& skull = v.parts[kSolidSkullPart];
   for (int a : {1, 2}) skull.center[a] *= s, skull.half[a] *= s;  // up and back; not its width
   v.what =

@@ -283,20 +283,22 @@ SkullReach skull_reach(const PlacedHead& h, const nerf::SubjectVolume& reach) {
   return r;
 }
 
-// The skull's reach allows for the mean face's scale error (capture/face_hull.h head_solid_reach), on
-// procedural heads from small (0.85 x their lengths) to large, against the interior's own reach (both
-// grown by --solid-reach's 15 mm): with the scale read 10 % high its top lies as near the crown as the
-// interior's with the true scale (within 4 mm: the growth is read high too, and the grid's 3 mm
-// step), and at least 5 mm higher than the interior's read the same (8.8 mm less the grid's step); with the
-// true scale it stands no more than 2 mm further outside the skin than the interior's (the width is kept: the
-// farthest points are the forehead's, before and after).
+// The skull's reach allows for the mean face's scale error at two sigma (capture/face_hull.h
+// head_solid_reach), on procedural heads from small (0.85 x their lengths, a p1 skull) to large, against
+// the interior's own reach (both grown by --solid-reach's 15 mm): with the scale read 20 % high its top
+// lies as near the crown as the interior's with the true scale (within 4 mm: the growth is read high
+// too, and the grid's 3 mm step), and at least 11 mm higher than the interior's read the same (17.6 mm
+// read, 14.7 true, less the grid's step). With the true scale it stands no more than 2 mm further
+// outside the skin than the interior's on heads of the procedural lengths (the farthest points are the
+// forehead's, before and after), and on the small heads no more than the top's rise (0.2 x 88 mm):
+// that band above a small crown is where the reach costs haze.
 TEST(FaceHull, SkullReachAllowsForTheScaleError) {
   for (uint64_t seed = 0; seed < 4; ++seed)
     for (float size : {0.85f, 1.0f}) {
       const synth::HeadParams params = synth::scale_head(synth::random_head_params(seed), size);
       const PlacedHead exact = place(params, Eigen::Matrix3d::Identity());
-      const PlacedHead high =
-          place(params, Eigen::Matrix3d::Identity(), 1.0 + fit::kMeanFaceRelativeUncertainty);
+      const PlacedHead high = place(params, Eigen::Matrix3d::Identity(),
+                                    1.0 + kSkullReachSigmas * fit::kMeanFaceRelativeUncertainty);
       const SkullReach core_exact = skull_reach(exact, head_solid_core(exact.box));
       const SkullReach reach_exact = skull_reach(exact, head_solid_reach(exact.box));
       const SkullReach core_high = skull_reach(high, head_solid_core(high.box));
@@ -308,8 +310,9 @@ TEST(FaceHull, SkullReachAllowsForTheScaleError) {
                 << "; farthest outside the skin, true scale: interior " << core_exact.outside_mm << ", reach "
                 << reach_exact.outside_mm << "\n";
       EXPECT_LE(reach_high.top_below_crown_mm, core_exact.top_below_crown_mm + 4.0f) << "seed " << seed;
-      EXPECT_LE(reach_high.top_below_crown_mm, core_high.top_below_crown_mm - 5.0f) << "seed " << seed;
-      EXPECT_LE(reach_exact.outside_mm, core_exact.outside_mm + 2.0f) << "seed " << seed;
+      EXPECT_LE(reach_high.top_below_crown_mm, core_high.top_below_crown_mm - 11.0f) << "seed " << seed;
+      EXPECT_LE(reach_exact.outside_mm, core_exact.outside_mm + (size < 1.0f ? 17.6f : 2.0f))
+          << "seed " << seed;
     }
 }
 
