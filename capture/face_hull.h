@@ -64,14 +64,15 @@ nerf::SubjectVolume head_solid_core(const fit::HeadBox& box, const NeckCoreMm& n
 // 10 % at one sigma). The skull's top and back are the head's only points that no landmark bounds (its
 // top lies 80 mm above the brows, its back 100 mm behind the jaw contour's ends): their millimetres
 // are the mean face's, and a scale read high (the procedural heads' captures read -4 to +21 %) moves
-// them inwards, the top by 10 mm or more per 10 %, leaving the crown's top band, where a selfie's views
+// them inwards, the top by about 9 mm per 10 %, leaving the crown's top band, where a selfie's views
 // see the head against the wall, to the colour alone: hair or skin of the wall's colour there became
 // holes. Two sigma, because a hole is the broken product and haze at the head's edge the lesser flaw
 // (#41): stretched, a scale read 20 % high still reaches as high as the interior itself with a true
-// scale; with a true scale the reach stands up to ~20 mm further out at the top and ~30 mm at the
-// back, beside a small bald head at worst, where it keeps the room-explained clearing off rays that
-// graze the head (it fills nothing: the pull stays in head_solid_core). Its width stays: the jaw
-// contour's landmarks span it. The face's and the neck's parts keep their sizes.
+// scale; with a true scale its top rises 18 mm and its back 29 mm, and beside a small bald head (a p1
+// skull) it stands up to 15 mm further outside the skin than the interior's own reach: rays that
+// graze that band keep no room-explained clearing, so haze there stays (it fills nothing: the pull
+// stays in head_solid_core). Its width stays: the jaw contour's landmarks span it. The face's and
+// the neck's parts keep their sizes.
 inline constexpr double kSkullReachSigmas = 2.0;
 nerf::SubjectVolume head_solid_reach_mm(const NeckCoreMm& neck = {});
 nerf::SubjectVolume head_solid_reach(const fit::HeadBox& box, const NeckCoreMm& neck = {});
