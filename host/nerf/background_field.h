@@ -15,6 +15,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "host/field/field_config.h"
@@ -149,6 +150,18 @@ struct BackgroundOptions {
   // reach lies in the neck for most necks, so the subject keeps it (docs/room-training.md, "Zones").
   // 0 = off.
   float keep_pull = 1.0f;
+  // In the neck's keep zone, a ray whose pixel may be skin gets the clearing as far as the room's
+  // colour behind it comes from beyond the subject's surroundings: its box grown by this many mm (the
+  // room's samples there and beyond: kernels/train/render.h render_ray_share_beyond). The keep zone
+  // keeps the binary prior because the room's body right below and behind a neck can explain the
+  // neck's pixel; a room colour from the wall far behind is no body's, so such a ray is the core's
+  // case, and the slab of the wall's colour beside the neck, before a wall of the skin's own colour,
+  // clears as the core's haze does. 150 mm holds the body the room keeps below a head's box (the
+  // neck's base, the shoulders' top and the upper back, within about 130 mm of its bottom and back)
+  // and leaves a wall 300 mm or more behind the head's centre beyond it; a nearer wall keeps the
+  // binary prior (docs/room-training.md, "Zones"). Needs the subject's zones and their millimetres;
+  // 0 = off.
+  float keep_far_mm = 150.0f;
 };
 
 // The chromaticity distance within which a pixel may be the subject's skin (neck_clear plus the
@@ -180,7 +193,8 @@ class BackgroundField {
   // SampleParams); returns how many leading rays fit the room model's batch.
   uint32_t count(const SampleParams& subject_params, const DeviceViews& views);
   // Writes and renders rays [0, end) through the room model (forward, kept for backward) and puts
-  // their colours as the background of the subject's written rays (subject.ray_info()).
+  // their colours, and their far shares (keep_far_mm), as the background of the subject's written
+  // rays (subject.ray_info()).
   void render_backgrounds(const SampleParams& subject_params, const DeviceViews& views, uint32_t end,
                           RayBatch& subject);
   // After the subject batch's render(): back-propagates T_subject * dL/dC into the room model and
@@ -216,6 +230,8 @@ class BackgroundField {
   uint64_t samples_ = 0;
   std::vector<float> colors_;       // room colour + opacity per written ray
   std::vector<float> skin_chroma_;  // the subject's skin chromaticities (r, g pairs) for skin_like()
+  // The subject's surroundings in the room's normalised positions (keep_far_mm; empty: off).
+  std::optional<std::pair<std::array<float, 3>, std::array<float, 3>>> near_box_;
   uint64_t alone_rays_ = 0, alone_missed_ = 0, alone_taught_ = 0;  // train_alone()'s rays
 };
 

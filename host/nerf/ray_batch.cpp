@@ -46,6 +46,7 @@ RayBatch::RayBatch(NerfModel& model, uint32_t max_rays)
   cl_program loss = rt.program("train/loss.cl");
   render_k_ = cl::Kernel(loss, "render_loss");
   loss_sum_k_ = cl::Kernel(loss, "loss_sum");
+  far_k_ = cl::Kernel(loss, "far_share");
   batch_info_ = cl::Buffer<uint32_t>(rt, BATCH_INFO_UINTS);
   batch_info_.fill(rt, 0u);
   counts_dev_ = cl::Buffer<uint32_t>(rt, max_rays);
@@ -53,6 +54,7 @@ RayBatch::RayBatch(NerfModel& model, uint32_t max_rays)
   sub_counts_ = cl::Buffer<uint32_t>(rt, max_rays);
   ray_info_ = cl::Buffer<float>(rt, size_t(max_rays) * RAY_INFO_FLOATS);
   ray_loss_ = cl::Buffer<float>(rt, max_rays);
+  ray_share_ = cl::Buffer<float>(rt, max_rays);
   ray_color_ = cl::Buffer<float>(rt, size_t(max_rays) * 4);
   pos_ = cl::Buffer<float>(rt, size_t(stride_) * 3);
   dir_ = cl::Buffer<float>(rt, size_t(stride_) * 3);
@@ -219,6 +221,17 @@ double RayBatch::render(uint32_t loss_kind, bool forward_only, float min_transmi
   double sum = 0.0;  // fixed order: deterministic
   for (float l : losses) sum += l;
   return sum;
+}
+
+std::vector<float> RayBatch::far_shares(const std::array<float, 3>& lo, const std::array<float, 3>& hi,
+                                        float min_transmittance) {
+  if (written_rays_ == 0) return {};
+  cl::Runtime& rt = model_.runtime();
+  LossParams lp = loss_params(LOSS_L2_LINEAR, true, min_transmittance, {});
+  for (int a = 0; a < 3; ++a) lp.near_lo[a] = lo[a], lp.near_hi[a] = hi[a];
+  far_k_.args(lp, sub_offsets_, on_device_ ? counts_dev_ : sub_counts_, sigma_, pos_, ray_share_)
+      .launch(rt, written_rays_, ray_group(rt));
+  return ray_share_.read(rt, written_rays_);
 }
 
 std::vector<float> RayBatch::colors() const {

@@ -6,6 +6,7 @@
 // room model and evaluation) and the device way (sample_on_device / render_on_device: offsets, fit
 // and loss sum stay on the device, and the only transfer is one read of a 16-byte batch record).
 #pragma once
+#include <array>
 #include <cstdint>
 #include <vector>
 
@@ -60,6 +61,11 @@ class RayBatch {
                 const RayPriors& priors = {});
   // Colour + opacity (4 floats per ray) of the last render().
   std::vector<float> colors() const;
+  // Per written ray, after the field filled sigma(): the share of its colour that its samples outside
+  // the box [lo, hi] (positions normalised to the model's box) and the background give
+  // (kernels/train/render.h render_ray_share_beyond).
+  std::vector<float> far_shares(const std::array<float, 3>& lo, const std::array<float, 3>& hi,
+                                float min_transmittance = 1e-4f);
 
   // The device way. Counts rays [0, p.n_rays), scans the counts into offsets and fits the leading
   // rays into `budget` = the field's batch (kernel sample_offsets), writes their samples, then reads
@@ -84,7 +90,7 @@ class RayBatch {
   cl::Buffer<float>& rgb() { return rgb_; }
   cl::Buffer<float>& dsigma() { return dsigma_; }
   cl::Buffer<float>& drgb() { return drgb_; }
-  // RAY_INFO_FLOATS per written ray (target rgb, background rgb, pixel, image as float bits).
+  // RAY_INFO_FLOATS per written ray (target rgb, background rgb, pixel, image as float bits, far share).
   const cl::Buffer<float>& ray_info() const { return ray_info_; }
   // Writable, for a background model that replaces the rays' background colours (background_field.h).
   cl::Buffer<float>& ray_info_mut() { return ray_info_; }
@@ -96,10 +102,10 @@ class RayBatch {
 
   NerfModel& model_;
   uint32_t max_rays_, stride_;
-  cl::Kernel count_k_, offsets_k_, write_k_, render_k_, loss_sum_k_;
+  cl::Kernel count_k_, offsets_k_, write_k_, render_k_, loss_sum_k_, far_k_;
   std::vector<uint32_t> counts_;
   cl::Buffer<uint32_t> counts_dev_, sub_offsets_, sub_counts_, batch_info_;
-  cl::Buffer<float> ray_info_, ray_loss_, ray_color_;
+  cl::Buffer<float> ray_info_, ray_loss_, ray_color_, ray_share_;
   cl::Buffer<float> pos_, dir_, sigma_, rgb_, dsigma_, drgb_;
   cl::Buffer<uint32_t> no_zones_;  // bound as the zones when RayPriors has none
   uint32_t written_rays_ = 0, written_samples_ = 0;

@@ -40,6 +40,7 @@ json room_json(const BackgroundOptions& r) {
           {"neck_clear", r.neck_clear},
           {"room_first", r.room_first},
           {"keep_pull", r.keep_pull},
+          {"keep_far_mm", r.keep_far_mm},
           {"subject_zones", r.subject.has_value()}};
 }
 

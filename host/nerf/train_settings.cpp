@@ -42,6 +42,7 @@ void validate_room(const BackgroundOptions& r) {
   check_bound(b::kPriorStart, r.opacity_prior_start);
   check_bound(b::kRoomFirst, r.room_first);
   check_bound(b::kKeepPull, r.keep_pull);
+  check_bound(b::kKeepFar, r.keep_far_mm);
 }
 
 }  // namespace

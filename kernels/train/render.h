@@ -204,14 +204,43 @@ LGN_INLINE int render_ray_skin_like(const float* target, const float* chroma, lg
 }
 
 // The gate of the neck's keep cells (render_ray_opacity_prior_zones' keep_gate): the ray's gate
-// where its pixel is no skin colour (render_ray_skin_like over the `count` chromaticities `chroma`),
-// else 0, the binary prior; count 0 (no skin colours known, or the rule off) gives 0 everywhere. A
-// closed gate needs no skin test (most rays: the room does not explain them).
+// where its pixel is no skin colour (render_ray_skin_like over the `count` chromaticities `chroma`;
+// count 0: no skin colours known, or that rule off, so every pixel may be skin), else the gate times
+// `far`, the share of the room's colour behind the ray that its surfaces beyond the subject's
+// surroundings give (RAY_INFO_FAR, render_ray_share_beyond). The keep cells keep the binary prior
+// because the room's body right behind and below a neck can explain the neck's pixel; a ray whose
+// room colour comes from the wall far behind is explained by no body, so there the room explaining
+// the pixel is the core's case: the ray gets the gate as the core's rays do (the slab of the wall's
+// colour beside the neck clears before a wall of the skin's own colour), and the neck's own rays keep
+// what the core's keep (the reach, and their shading where it differs from the flat wall's).
+// A closed gate needs no skin test (most rays: the room does not explain them).
 LGN_INLINE float render_ray_keep_gate(const float* target, float gate, const float* chroma, lgn_uint count,
-                                      float tolerance, float lum_floor) {
-  if (!(gate > 0.0f) || count == 0u || render_ray_skin_like(target, chroma, count, tolerance, lum_floor))
-    return 0.0f;
-  return gate;
+                                      float tolerance, float lum_floor, float far) {
+  if (!(gate > 0.0f)) return 0.0f;
+  if (count > 0u && !render_ray_skin_like(target, chroma, count, tolerance, lum_floor)) return gate;
+  return gate * fmin(fmax(far, 0.0f), 1.0f);
+}
+
+// The share of a ray's colour that its samples outside the box [lo, hi] (positions normalised to the
+// model's box) and the background give: 1 - the summed weights w_i of the samples inside the box,
+// composited and stopped early as render_ray_forward does. The room model's samples near the subject
+// (its body below a head's box) against those of the wall far behind.
+LGN_INLINE float render_ray_share_beyond(LGN_GLOBAL const float* sigma, LGN_GLOBAL const float* pos,
+                                         lgn_uint stride, lgn_uint first, lgn_uint count, float step,
+                                         float min_transmittance, const float* lo, const float* hi) {
+  float T = 1.0f, near = 0.0f;
+  for (lgn_uint k = 0; k < count; ++k) {
+    if (T < min_transmittance) break;
+    const lgn_uint i = first + k;
+    const float w = lgn_composite_segment(&T, sigma[i], step);
+    int inside = 1;
+    for (lgn_uint a = 0; a < 3u; ++a) {
+      const float x = pos[a * stride + i];
+      inside = inside && x >= lo[a] && x <= hi[a];
+    }
+    if (inside) near += w;
+  }
+  return fmin(fmax(1.0f - near, 0.0f), 1.0f);
 }
 
 // The same with prior zones: four bitfields of `res`^3 cells over the model's box, one after the other
@@ -220,7 +249,8 @@ LGN_INLINE float render_ray_keep_gate(const float* target, float gate, const flo
 // subject-coloured surface lies right behind the subject (the body below a head box, behind the
 // neck) the ray's gate would clear the subject there too, so the caller passes 0 (the binary prior)
 // unless the pixel is no colour of the subject's skin (render_ray_skin_like): such a ray passes no
-// bare neck (a visual-hull argument), so the room's explaining it is no longer ambiguous. Samples in the
+// bare neck (a visual-hull argument), so the room's explaining it is no longer ambiguous; or unless
+// the room's colour comes from beyond the body (render_ray_keep_gate). Samples in the
 // second field's cells
 // ("lean", the head volume's margin beyond the bare head) get the gate raised to at least
 // `lean_gate`: there the binary prior no longer makes a haze that the room does not yet explain

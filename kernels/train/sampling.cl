@@ -199,7 +199,7 @@ __kernel void sample_offsets(const SampleParams p, __global const uint* counts, 
 
 // Rays [ray_begin, ray_end) (and below batch_info[BATCH_INFO_RAYS] when p.end_on_device): sample
 // offsets come relative to ray_begin; ray_info gets RAY_INFO_FLOATS floats per ray (target rgb,
-// background rgb, pixel, image).
+// background rgb, pixel, image, a far share of 0).
 __kernel void sample_write(const SampleParams p, __global const Camera* cams, __global const uint* offsets,
                            __global const float* pixels, __global const uint* runs, __global const uint* occ,
                            __global const uint* ray_offsets, __global const uint* batch_info,
@@ -217,4 +217,5 @@ __kernel void sample_write(const SampleParams p, __global const Camera* cams, __
   }
   info[6] = as_float(r.pixel);
   info[7] = as_float(r.image);
+  info[RAY_INFO_FAR] = 0.0f;
 }

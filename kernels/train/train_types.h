@@ -50,8 +50,11 @@ LGN_STATIC_ASSERT(sizeof(SampleParams) == 128, "SampleParams layout is shared wi
 #define BATCH_SCAN_MAX_GROUP 256u
 
 // Per-ray record written by the sampler (floats): target rgb (background composited), background rgb,
-// pixel index within its image (as float bits), image index (as float bits).
-#define RAY_INFO_FLOATS 8u
+// pixel index within its image (as float bits), image index (as float bits), and the background's far
+// share: the part of the background colour that a room model's surfaces beyond the subject's
+// surroundings give (render_ray_share_beyond; 0 = none known, as the sampler writes it).
+#define RAY_INFO_FLOATS 9u
+#define RAY_INFO_FAR 8u
 
 // The most skin colours the loss kernel compares a pixel with (LossParams::skin_chroma).
 #define SKIN_REFS_MAX 8u
@@ -96,8 +99,11 @@ typedef struct LossParams {
   // to opacity_prior (0 = off; render_ray_opacity_prior_zones).
   float keep_pull;
   float skin_chroma[2 * SKIN_REFS_MAX];
+  // The box (normalised positions) whose samples are near the subject for far_share
+  // (render_ray_share_beyond); render_loss does not read it.
+  float near_lo[3], near_hi[3];
 } LossParams;
-LGN_STATIC_ASSERT(sizeof(LossParams) == 136, "LossParams layout is shared with OpenCL");
+LGN_STATIC_ASSERT(sizeof(LossParams) == 160, "LossParams layout is shared with OpenCL");
 
 typedef struct OccParams {
   lgn_uint res;

@@ -121,6 +121,11 @@ void add_room_options(CLI::App* cmd, nerf::BackgroundOptions& room) {
          "the neck's core are pulled towards opaque with this many times the opacity prior's weight "
          "(0 = off)")
       ->capture_default_str();
+  cmd->add_option("--keep-far", room.keep_far_mm,
+                  "with the room model and a head box: in the neck's zone, rays whose room colour comes from "
+                  "further than this many mm beyond the subject's box (a wall, not the body) get the "
+                  "room-explained clearing whatever their pixel's colour (0 = off)")
+      ->capture_default_str();
 }
 
 void add_train(CLI::App& app, GlobalOptions& global) {

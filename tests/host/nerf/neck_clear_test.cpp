@@ -71,13 +71,15 @@ float opacity(const Ray& r) {
 
 // Plain gradient descent on the samples' densities with the prior alone, the keep cells' gate from
 // the pixel `pixel` against the skin's chromaticities (none: the rule off); the final opacity.
+// `far`: the share of the room's colour from beyond the body (render_ray_keep_gate; 0: the room's body
+// right behind, as the neck's rays see it).
 float descend(Ray r, const std::array<float, 3>& pixel, const std::vector<std::array<float, 2>>& skin,
-              float keep_pull = 0.0f, int steps = 400) {
+              float keep_pull = 0.0f, float far = 0.0f, int steps = 400) {
   const std::vector<uint32_t> zones = keep_zone(keep_pull > 0.0f);
   std::vector<float> chroma_pairs;
   for (const auto& c : skin) chroma_pairs.insert(chroma_pairs.end(), {c[0], c[1]});
   const float keep_gate = render_ray_keep_gate(pixel.data(), kGate, chroma_pairs.data(),
-                                               uint32_t(skin.size()), kTolerance, 0.01f);
+                                               uint32_t(skin.size()), kTolerance, 0.01f, far);
   for (int it = 0; it < steps; ++it) {
     const float color[4] = {pixel[0], pixel[1], pixel[2], opacity(r)};
     std::vector<float> dsigma(kSamples, 0.0f);
@@ -106,11 +108,29 @@ TEST(NeckClear, HazeOfTheWallsColourBesideTheNeckClearsAndTheNeckStays) {
   EXPECT_LT(descend(neck, kSkin, {chroma(kOffWhite)}), 0.05f) << "judged no skin, the neck would be cleared";
 }
 
-// Before a wall of the skin's own colour the pixel beside the neck matches the skin: the rule keeps
-// today's binary prior there (the slab becomes solid as before, no worse).
+// Before a wall of the skin's own colour the pixel beside the neck matches the skin: where the room's
+// colour behind it is its body's (far share 0), the skin test leaves the binary prior there (the slab
+// becomes solid as without the test, no worse).
 TEST(NeckClear, AWallOfTheSkinsColourKeepsTheBinaryPrior) {
   const Ray slab = ray_at(0.5f + 0.25f, -std::log(0.4f) / 0.1f);
   EXPECT_GT(descend(slab, kSkin, {chroma(kSkin)}), 0.95f);
+}
+
+// Before a wall of the skin's own colour, with the room's colour behind the slab coming from that
+// wall (far share 1; no body behind it): the slab clears as haze does in the bare head's zone. The
+// neck's rays see the room's body right behind (far share 0) and keep the binary prior; a neck ray
+// that the room explained through the wall alone would be cleared, unless it crosses the neck's
+// reach, whose rays keep the binary prior and the pull whatever the room's colour.
+TEST(NeckClear, AWallOfTheSkinsColourFarBehindClearsTheSlab) {
+  const float sigma = -std::log(0.4f) / 0.1f;
+  const Ray slab = ray_at(0.5f + 0.25f, sigma), neck = ray_at(0.5f, sigma);
+  const std::vector<std::array<float, 2>> skin{chroma(kSkin)};
+  EXPECT_LT(descend(slab, kSkin, skin, 0.0f, 1.0f), 0.05f) << "the wall far behind: the slab clears";
+  EXPECT_GT(descend(slab, kSkin, skin, 0.0f, 0.0f), 0.95f) << "the body behind: the binary prior";
+  EXPECT_LT(descend(slab, kSkin, skin, 0.0f, 0.5f), 0.05f) << "half the room's colour from the wall";
+  EXPECT_GT(descend(neck, kSkin, skin, 0.0f, 0.0f), 0.95f) << "the neck before the room's body stays";
+  EXPECT_LT(descend(neck, kSkin, skin, 0.0f, 1.0f), 0.05f) << "the neck before the wall alone would go";
+  EXPECT_GT(descend(neck, kSkin, skin, 1.0f, 1.0f), 0.95f) << "the neck's reach keeps it";
 }
 
 // The neck's lowest band, mostly transparent when the prior ramps in because the room's body below
@@ -160,9 +180,13 @@ TEST(NeckClear, SkinTestIsShadingInvariantAndLeavesDarkPixelsUnjudged) {
   EXPECT_TRUE(render_ray_skin_like(kSkin.data(), two, 2, kTolerance, floor));
   EXPECT_FALSE(render_ray_skin_like(kSkin.data(), two, 1, kTolerance, floor)) << "only the first";
   // The keep cells' gate: the ray's gate where the pixel is no skin, else 0; 0 without skin colours.
-  EXPECT_FLOAT_EQ(render_ray_keep_gate(kOffWhite.data(), 0.7f, c, 1, kTolerance, floor), 0.7f);
-  EXPECT_FLOAT_EQ(render_ray_keep_gate(kSkin.data(), 0.7f, c, 1, kTolerance, floor), 0.0f);
-  EXPECT_FLOAT_EQ(render_ray_keep_gate(kOffWhite.data(), 0.7f, c, 0, kTolerance, floor), 0.0f);
+  EXPECT_FLOAT_EQ(render_ray_keep_gate(kOffWhite.data(), 0.7f, c, 1, kTolerance, floor, 0.0f), 0.7f);
+  EXPECT_FLOAT_EQ(render_ray_keep_gate(kSkin.data(), 0.7f, c, 1, kTolerance, floor, 0.0f), 0.0f);
+  EXPECT_FLOAT_EQ(render_ray_keep_gate(kOffWhite.data(), 0.7f, c, 0, kTolerance, floor, 0.0f), 0.0f);
+  // A pixel that may be skin: the gate times the room's far share; no skin colours known: the same.
+  EXPECT_FLOAT_EQ(render_ray_keep_gate(kSkin.data(), 0.7f, c, 1, kTolerance, floor, 0.5f), 0.35f);
+  EXPECT_FLOAT_EQ(render_ray_keep_gate(kOffWhite.data(), 0.7f, c, 0, kTolerance, floor, 1.0f), 0.7f);
+  EXPECT_FLOAT_EQ(render_ray_keep_gate(kSkin.data(), 0.0f, c, 1, kTolerance, floor, 1.0f), 0.0f);
 }
 
 }  // namespace

@@ -81,7 +81,7 @@ TEST(Render, ConstantSlabMatchesClosedForm) {
   Rays r;
   r.offsets = {0};
   r.counts = {N};
-  r.info = {0, 0, 0, 0.2f, 0.4f, 0.6f, 0, 0};
+  r.info = {0, 0, 0, 0.2f, 0.4f, 0.6f, 0, 0, 0};
   r.stride = N;
   r.sigma.assign(N, sigma);
   r.rgb.clear();
@@ -249,6 +249,7 @@ TEST(Render, KernelWithOpacityPriorMatchesHostReference) {
 TEST(Render, PriorZonesPickTheGatePerSample) {
   Runtime rt({"", "", false});
   Rays r = random_rays(200, 9);
+  for (uint32_t ray = 0; ray < 200; ++ray) r.info[RAY_INFO_FLOATS * ray + RAY_INFO_FAR] = 0.0f;  // no far share
   const float step = 0.015f, weight = 0.25f, clear = 3.0f, tolerance = 0.4f, lean_gate = 0.6f;
   const uint32_t res = 4, words = occ_word_count(res);
   std::vector<uint32_t> zones(4 * words, 0u);  // keep, lean; no solid or reach cells (solid_prior_test.cpp)
@@ -293,9 +294,9 @@ TEST(Render, PriorZonesPickTheGatePerSample) {
 }
 
 // The neck's keep cells with the skin's colours (loss.cl, render_ray_keep_gate): a keep sample gets
-// the ray's gate where the ray's pixel is no skin colour and the binary prior where it may be skin.
-// The kernel sample by sample against the host builds; the skin colours are two of the rays' own
-// pixels, so both cases occur.
+// the ray's gate where the ray's pixel is no skin colour and, where it may be skin, the gate times the
+// ray's far share (random in [0, 1): the binary prior at 0). The kernel sample by sample against the
+// host builds; the skin colours are two of the rays' own pixels, so both cases occur.
 TEST(Render, KeepCellsClearRaysOfNoSkinColour) {
   Runtime rt({"", "", false});
   Rays r = random_rays(200, 11);
@@ -317,7 +318,7 @@ TEST(Render, KeepCellsClearRaysOfNoSkinColour) {
     const float* info = &r.info[RAY_INFO_FLOATS * ray];
     const HostRay h = host_ray(r, ray, step, LOSS_L2_SRGB, 1.0f / 600.0f, &want, &drgb);
     const float gate = render_ray_room_gate(info, info + 3, tolerance);
-    const float keep = render_ray_keep_gate(info, gate, skin.data(), 2, skin_tolerance, 0.0f);
+    const float keep = render_ray_keep_gate(info, gate, skin.data(), 2, skin_tolerance, 0.0f, info[RAY_INFO_FAR]);
     if (h.used == 0) continue;
     skin_like += render_ray_skin_like(info, skin.data(), 2, skin_tolerance, 0.0f);
     cleared += keep > 0.0f;
@@ -328,6 +329,37 @@ TEST(Render, KeepCellsClearRaysOfNoSkinColour) {
     EXPECT_NEAR(out.dsigma[i], want[i], 1e-4 * std::fabs(want[i]) + 1e-8) << "sample " << i;
   EXPECT_GT(skin_like, 5) << "some rays' pixels should be skin";
   EXPECT_GT(cleared, 5) << "some rays of no skin colour should have the gate open";
+}
+
+// far_share (loss.cl) against its host build, render_ray_share_beyond, on random rays and a random
+// box, and on one ray against its closed form: a slab of opacity a inside the box, then one beyond it.
+TEST(Render, FarShareMatchesHostReference) {
+  Runtime rt({"", "", false});
+  Rays r = random_rays(200, 13);
+  const float step = 0.015f, lo[3] = {0.2f, 0.1f, 0.3f}, hi[3] = {0.7f, 0.9f, 0.6f};
+  const uint32_t n = 200;
+  Buffer<uint32_t> off(rt, r.offsets), cnt(rt, r.counts);
+  Buffer<float> sigma(rt, r.sigma), pos(rt, r.pos), share(rt, n);
+  LossParams p{};
+  p.n_rays = n, p.stride = r.stride, p.step = step, p.min_transmittance = 1e-4f;
+  for (int a = 0; a < 3; ++a) p.near_lo[a] = lo[a], p.near_hi[a] = hi[a];
+  Kernel k(rt.program("train/loss.cl"), "far_share");
+  k.args(p, off, cnt, sigma, pos, share).launch(rt, n, 64);
+  const std::vector<float> got = share.read(rt);
+  int partial = 0;
+  for (uint32_t ray = 0; ray < n; ++ray) {
+    const float want = render_ray_share_beyond(r.sigma.data(), r.pos.data(), r.stride, r.offsets[ray],
+                                               r.counts[ray], step, 1e-4f, lo, hi);
+    EXPECT_NEAR(got[ray], want, 1e-5) << ray;
+    partial += want > 0.05f && want < 0.95f;
+  }
+  EXPECT_GT(partial, 20) << "the random rays should split between the box and beyond";
+  // Ten samples inside the box (opacity a = 1 - exp(-10 sigma step)), then ten beyond: 1 - a.
+  const uint32_t N = 20;
+  std::vector<float> s(N, 20.0f), q(3 * N, 0.5f);
+  for (uint32_t i = 10; i < N; ++i) q[2 * N + i] = 0.95f;  // z beyond hi[2]
+  const float a = 1.0f - std::exp(-10.0f * 20.0f * step);
+  EXPECT_NEAR(render_ray_share_beyond(s.data(), q.data(), N, 0, N, step, 1e-4f, lo, hi), 1.0f - a, 1e-5);
 }
 
 TEST(Render, KernelMatchesHostReference) {
