@@ -152,16 +152,16 @@ struct BackgroundOptions {
   float keep_pull = 1.0f;
   // In the neck's keep zone, a ray whose pixel may be skin gets the clearing as far as the room's
   // colour behind it comes from beyond the subject's surroundings: its box grown by this many mm (the
-  // room's samples there and beyond: kernels/train/render.h render_ray_share_beyond). The keep zone
-  // keeps the binary prior because the room's body right below and behind a neck can explain the
-  // neck's pixel; a room colour from the wall far behind is no body's, so such a ray is the core's
-  // case, and the slab of the wall's colour beside the neck, before a wall of the skin's own colour,
-  // clears as the core's haze does. 150 mm holds the body the room keeps below a head's box (the
-  // neck's base, the shoulders' top and the upper back, within about 130 mm of its bottom and back)
-  // and leaves a wall 300 mm or more behind the head's centre beyond it; a nearer wall keeps the
-  // binary prior (docs/room-training.md, "Zones"). Needs the subject's zones and their millimetres;
-  // 0 = off.
-  float keep_far_mm = 150.0f;
+  // room's samples outside that: kernels/train/render.h render_ray_share_beyond). The keep zone keeps
+  // the binary prior because the room's body right below a head's box (the neck's base) can explain
+  // the neck's pixel; a room colour from further away is a wall's or the room's, no body's, so such a
+  // ray is the core's case, and the slab of the wall's colour beside the neck, before a wall of the
+  // skin's own colour, clears as the core's haze does. The margin trades that slab against the neck's
+  // lowest band, whose rays run down into the room's neck base within a few cm of the box: at 0 the
+  // slab went (leak 9.68 -> 1.07 %) but so did that band with hair of the wall's colour (IoU 0.949 ->
+  // 0.936); at 25 mm 3.81 % and 0.946; at 50 mm 5.55 % and 0.950, the band kept; at 150 mm 7.92 %
+  // (docs/room-training.md, "Zones"). Needs the subject's zones and their millimetres; 0 = off.
+  float keep_far_mm = 50.0f;
 };
 
 // The chromaticity distance within which a pixel may be the subject's skin (neck_clear plus the
