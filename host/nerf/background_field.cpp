@@ -51,7 +51,8 @@ std::vector<uint32_t> room_mask(const Aabb& room, Aabb subject, float margin, ui
 }
 
 // The subject's box grown by `grow` (scene units) in the room's normalised positions.
-std::pair<std::array<float, 3>, std::array<float, 3>> near_box(const Aabb& room, const Aabb& subject, float grow) {
+std::pair<std::array<float, 3>, std::array<float, 3>> near_box(const Aabb& room, const Aabb& subject,
+                                                               float grow) {
   std::array<float, 3> lo{}, hi{};
   for (int a = 0; a < 3; ++a) {
     lo[a] = (subject.min[a] - grow - room.min[a]) / room.extent(a);
@@ -154,8 +155,8 @@ void BackgroundField::render_backgrounds(const SampleParams&, const DeviceViews&
   batch_->render(LOSS_L2_LINEAR, true);
   colors_ = batch_->colors();
   if (end == 0) return;
-  const std::vector<float> far = near_box_ ? batch_->far_shares(near_box_->first, near_box_->second)
-                                           : std::vector<float>(end, 0.0f);
+  const std::vector<float> far =
+      near_box_ ? batch_->far_shares(near_box_->first, near_box_->second) : std::vector<float>(end, 0.0f);
   std::vector<float> info = subject.ray_info().read(rt, size_t(end) * RAY_INFO_FLOATS);
   for (uint32_t r = 0; r < end; ++r) {
     for (int c = 0; c < 3; ++c) info[size_t(r) * RAY_INFO_FLOATS + 3 + c] = colors_[size_t(r) * 4 + c];

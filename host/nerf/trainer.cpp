@@ -95,7 +95,8 @@ std::vector<uint32_t> prior_zones(const BackgroundOptions& b, const NerfModel& m
   if (keep && b.neck_clear > 0.0f) log_neck_rule(b.neck_clear, b.subject->skin);
   if (keep && b.keep_far_mm > 0.0f && b.subject->mm_per_unit > 0.0f)
     spdlog::info(
-        "the neck's cells clear rays as far as the room's colour behind them comes from over {:.0f} mm beyond "
+        "the neck's cells clear rays as far as the room's colour behind them comes from over {:.0f} mm "
+        "beyond "
         "the subject's box (a wall, not the body)",
         b.keep_far_mm);
   if (solid && b.solid_reach_mm > 0.0f && b.subject->mm_per_unit > 0.0f)

@@ -97,7 +97,8 @@ inline constexpr Bound kLeanGate{"--lean-gate", "", 0, 1, "clearing gate beyond 
 inline constexpr Bound kSolidPull{"--solid-pull", "", 0, 100, "pull towards opaque in the head's interior"};
 inline constexpr Bound kPriorStart{"--prior-start", "", 0, 1000000, "step the opacity prior ramps in from"};
 inline constexpr Bound kKeepPull{"--keep-pull", "", 0, 100, "pull towards opaque in the neck's zone"};
-inline constexpr Bound kKeepFar{"--keep-far", "", 0, 2000, "mm beyond the subject's box that count as its body"};
+inline constexpr Bound kKeepFar{"--keep-far", "", 0, 2000,
+                                "mm beyond the subject's box that count as its body"};
 inline constexpr Bound kRoomFirst{"--room-first", "", 0, 100000, "steps of the room model alone"};
 
 // `render` (Python: Model.render(), Model.orbit()) and the renders the demo and the viewer make.

@@ -208,11 +208,10 @@ LGN_INLINE int render_ray_skin_like(const float* target, const float* chroma, lg
 // count 0: no skin colours known, or that rule off, so every pixel may be skin), else the gate times
 // `far`, the share of the room's colour behind the ray that its surfaces beyond the subject's
 // surroundings give (RAY_INFO_FAR, render_ray_share_beyond). The keep cells keep the binary prior
-// because the room's body right behind and below a neck can explain the neck's pixel; a ray whose
-// room colour comes from the wall far behind is explained by no body, so there the room explaining
-// the pixel is the core's case: the ray gets the gate as the core's rays do (the slab of the wall's
-// colour beside the neck clears before a wall of the skin's own colour), and the neck's own rays keep
-// what the core's keep (the reach, and their shading where it differs from the flat wall's).
+// because the room's body right below a head's box can explain a neck's pixel; a room colour from the
+// wall far behind is no body's, so such a ray is the core's case and gets the gate as a core ray does
+// (before a wall of the skin's own colour the slab beside the neck clears), while the neck's rays that
+// cross its reach keep the binary prior whatever the gate (render_ray_opacity_prior_zones).
 // A closed gate needs no skin test (most rays: the room does not explain them).
 LGN_INLINE float render_ray_keep_gate(const float* target, float gate, const float* chroma, lgn_uint count,
                                       float tolerance, float lum_floor, float far) {
@@ -250,9 +249,8 @@ LGN_INLINE float render_ray_share_beyond(LGN_GLOBAL const float* sigma, LGN_GLOB
 // neck) the ray's gate would clear the subject there too, so the caller passes 0 (the binary prior)
 // unless the pixel is no colour of the subject's skin (render_ray_skin_like): such a ray passes no
 // bare neck (a visual-hull argument), so the room's explaining it is no longer ambiguous; or unless
-// the room's colour comes from beyond the body (render_ray_keep_gate). Samples in the
-// second field's cells
-// ("lean", the head volume's margin beyond the bare head) get the gate raised to at least
+// the room's colour comes from beyond the body (render_ray_keep_gate). Samples in the second field's
+// cells ("lean", the head volume's margin beyond the bare head) get the gate raised to at least
 // `lean_gate`: there the binary prior no longer makes a haze that the room does not yet explain
 // solid, so matter beyond the head must earn its place through the colour loss. The rest get the
 // ray's gate.

@@ -249,7 +249,8 @@ TEST(Render, KernelWithOpacityPriorMatchesHostReference) {
 TEST(Render, PriorZonesPickTheGatePerSample) {
   Runtime rt({"", "", false});
   Rays r = random_rays(200, 9);
-  for (uint32_t ray = 0; ray < 200; ++ray) r.info[RAY_INFO_FLOATS * ray + RAY_INFO_FAR] = 0.0f;  // no far share
+  for (uint32_t ray = 0; ray < 200; ++ray)
+    r.info[RAY_INFO_FLOATS * ray + RAY_INFO_FAR] = 0.0f;  // no far share
   const float step = 0.015f, weight = 0.25f, clear = 3.0f, tolerance = 0.4f, lean_gate = 0.6f;
   const uint32_t res = 4, words = occ_word_count(res);
   std::vector<uint32_t> zones(4 * words, 0u);  // keep, lean; no solid or reach cells (solid_prior_test.cpp)
@@ -318,7 +319,8 @@ TEST(Render, KeepCellsClearRaysOfNoSkinColour) {
     const float* info = &r.info[RAY_INFO_FLOATS * ray];
     const HostRay h = host_ray(r, ray, step, LOSS_L2_SRGB, 1.0f / 600.0f, &want, &drgb);
     const float gate = render_ray_room_gate(info, info + 3, tolerance);
-    const float keep = render_ray_keep_gate(info, gate, skin.data(), 2, skin_tolerance, 0.0f, info[RAY_INFO_FAR]);
+    const float keep =
+        render_ray_keep_gate(info, gate, skin.data(), 2, skin_tolerance, 0.0f, info[RAY_INFO_FAR]);
     if (h.used == 0) continue;
     skin_like += render_ray_skin_like(info, skin.data(), 2, skin_tolerance, 0.0f);
     cleared += keep > 0.0f;
