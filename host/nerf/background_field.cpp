@@ -53,12 +53,9 @@ std::vector<uint32_t> room_mask(const Aabb& room, Aabb subject, float margin, ui
 // The subject's box grown by `grow` (scene units) in the room's normalised positions.
 std::pair<std::array<float, 3>, std::array<float, 3>> near_box(const Aabb& room, const Aabb& subject,
                                                                float grow) {
-  std::array<float, 3> lo{}, hi{};
-  for (int a = 0; a < 3; ++a) {
-    lo[a] = (subject.min[a] - grow - room.min[a]) / room.extent(a);
-    hi[a] = (subject.max[a] + grow - room.min[a]) / room.extent(a);
-  }
-  return {lo, hi};
+  const std::array<float, 3>&lo = subject.min, &hi = subject.max;
+  return {room.normalise({lo[0] - grow, lo[1] - grow, lo[2] - grow}),
+          room.normalise({hi[0] + grow, hi[1] + grow, hi[2] + grow})};
 }
 
 }  // namespace
@@ -101,8 +98,9 @@ BackgroundField::BackgroundField(cl::Runtime& rt, const NerfModel& subject, cons
   if (options.subject && options.neck_clear > 0.0f)
     for (const auto& sc : options.subject->skin.chroma)
       skin_chroma_.push_back(sc[0]), skin_chroma_.push_back(sc[1]);
+  // Only where the keep cells exist (trainer.cpp prior_zones): the share is read by no other cell.
   if (options.subject && options.subject->mm_per_unit > 0.0f && options.keep_far_mm > 0.0f &&
-      !options.subject->keep.empty())
+      options.keep_neck && options.room_clear > 0.0f && !options.subject->keep.empty())
     near_box_ = near_box(box, subject.aabb(), options.keep_far_mm / options.subject->mm_per_unit);
   const std::array<float, 3> c = subject.aabb().center();
   near_t_ = 3.0e38f;
@@ -155,12 +153,13 @@ void BackgroundField::render_backgrounds(const SampleParams&, const DeviceViews&
   batch_->render(LOSS_L2_LINEAR, true);
   colors_ = batch_->colors();
   if (end == 0) return;
+  // Without the rule the far shares stay as the sampler wrote them (0).
   const std::vector<float> far =
-      near_box_ ? batch_->far_shares(near_box_->first, near_box_->second) : std::vector<float>(end, 0.0f);
+      near_box_ ? batch_->far_shares(near_box_->first, near_box_->second) : std::vector<float>{};
   std::vector<float> info = subject.ray_info().read(rt, size_t(end) * RAY_INFO_FLOATS);
   for (uint32_t r = 0; r < end; ++r) {
     for (int c = 0; c < 3; ++c) info[size_t(r) * RAY_INFO_FLOATS + 3 + c] = colors_[size_t(r) * 4 + c];
-    info[size_t(r) * RAY_INFO_FLOATS + RAY_INFO_FAR] = r < far.size() ? far[r] : 0.0f;
+    if (r < far.size()) info[size_t(r) * RAY_INFO_FLOATS + RAY_INFO_FAR] = far[r];
   }
   subject.ray_info_mut().write(rt, info);
 }
