@@ -6,11 +6,10 @@
 
 #include <Eigen/Geometry>
 #include <cmath>
-#include <fstream>
-#include <iterator>
 #include <stdexcept>
 
 #include "capture/colmap_model_io.h"
+#include "host/util/file_kind.h"
 
 namespace lorgnette::capture {
 namespace {
@@ -112,9 +111,7 @@ void write_colmap_model(const ColmapModel& model, const std::filesystem::path& d
 }
 
 std::string read_colmap_file(const std::filesystem::path& path) {
-  std::ifstream f(path, std::ios::binary);
-  if (!f) throw std::runtime_error(fmt::format("cannot open COLMAP file '{}'", path.string()));
-  return std::string(std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>());
+  return read_regular_file(path.string(), "COLMAP file");
 }
 
 }  // namespace lorgnette::capture

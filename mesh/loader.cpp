@@ -18,12 +18,11 @@
 #include <assimp/Importer.hpp>
 #include <cctype>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <map>
 #include <set>
 #include <stdexcept>
 
+#include "host/util/file_kind.h"
 #include "mesh/file_checks.h"
 #include "mesh/texture.h"
 
@@ -263,8 +262,7 @@ const aiScene* read_scene(Assimp::Importer& importer, const std::string& path, c
   std::string ext = lower(fs::path(path).extension().string());
   ext = ext.empty() ? ext : ext.substr(1);
   if (ext == "ply" || ext == "glb" || ext == "gltf") {
-    std::ifstream in(path, std::ios::binary);
-    check_file(std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()), ext, path);
+    check_file(read_regular_file(path, "mesh file"), ext, path);
   }
   keep_importers_for(importer, ext);
   unsigned flags = import_flags(importer, options);

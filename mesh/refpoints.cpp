@@ -6,8 +6,6 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
@@ -150,10 +148,7 @@ std::string sidecar_path(const std::string& mesh_path) { return mesh_path + ".re
 std::optional<RefPointsSidecar> read_refpoints_sidecar(const std::string& mesh_path) {
   std::string path = sidecar_path(mesh_path);
   if (!std::filesystem::exists(path)) return std::nullopt;
-  require_regular_file(path, "sidecar");
-  std::ifstream in(path, std::ios::binary);
-  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  return parse_refpoints_sidecar(text, path);
+  return parse_refpoints_sidecar(read_regular_file(path, "sidecar"), path);
 }
 
 RefPointsSidecar parse_refpoints_sidecar(std::string_view text, const std::string& path) {

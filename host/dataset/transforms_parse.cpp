@@ -7,7 +7,6 @@
 #include <Eigen/Dense>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <limits>
 #include <stdexcept>
 
@@ -67,10 +66,7 @@ void check_camera_model(const json& obj, const std::string& where) {
 }  // namespace
 
 json read_json_file(const std::string& path) {
-  require_regular_file(path, "dataset file");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::runtime_error(fmt::format("cannot open '{}' (check the path and permissions)", path));
-  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string text = read_regular_file(path, "dataset file");
   try {
     return json::parse(text);
   } catch (const json::out_of_range& e) {

@@ -8,8 +8,6 @@
 #include <cfloat>
 #include <cmath>
 #include <cstring>
-#include <fstream>
-#include <iterator>
 #include <limits>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
@@ -376,11 +374,7 @@ std::string seal_header(std::string header) {
 }
 
 Snapshot read_snapshot(const std::string& path) {
-  require_regular_file(path, "model file");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::runtime_error("cannot open model file '" + path + "': check the path");
-  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  return parse_snapshot(bytes, path);
+  return parse_snapshot(read_regular_file(path, "model file"), path);
 }
 
 }  // namespace lorgnette::nerf
