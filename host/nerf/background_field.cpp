@@ -64,6 +64,14 @@ float skin_tolerance(const BackgroundOptions& o) {
   return o.neck_clear + (o.subject ? o.subject->skin.spread : 0.0f);
 }
 
+bool keep_cells_apply(const BackgroundOptions& o) {
+  return o.keep_neck && o.room_clear > 0.0f && o.subject && !o.subject->keep.empty();
+}
+
+bool keep_far_applies(const BackgroundOptions& o) {
+  return keep_cells_apply(o) && o.keep_far_mm > 0.0f && o.subject->mm_per_unit > 0.0f;
+}
+
 float opacity_prior_share(const BackgroundOptions& o, uint64_t step) {
   const double ramp = std::max<double>(1.0, o.opacity_prior_ramp);
   return float(std::clamp((double(step) - double(o.opacity_prior_start)) / ramp, 0.0, 1.0));
@@ -98,9 +106,7 @@ BackgroundField::BackgroundField(cl::Runtime& rt, const NerfModel& subject, cons
   if (options.subject && options.neck_clear > 0.0f)
     for (const auto& sc : options.subject->skin.chroma)
       skin_chroma_.push_back(sc[0]), skin_chroma_.push_back(sc[1]);
-  // Only where the keep cells exist (trainer.cpp prior_zones): the share is read by no other cell.
-  if (options.subject && options.subject->mm_per_unit > 0.0f && options.keep_far_mm > 0.0f &&
-      options.keep_neck && options.room_clear > 0.0f && !options.subject->keep.empty())
+  if (keep_far_applies(options))
     near_box_ = near_box(box, subject.aabb(), options.keep_far_mm / options.subject->mm_per_unit);
   const std::array<float, 3> c = subject.aabb().center();
   near_t_ = 3.0e38f;

@@ -168,6 +168,12 @@ struct BackgroundOptions {
 // skin samples' own spread; kernels/train/render.h render_ray_skin_like).
 float skin_tolerance(const BackgroundOptions& options);
 
+// Whether the subject's neck keep cells apply (keep_neck, the clearing on, a keep zone given):
+// trainer.cpp's prior zones build them, and only their rays read a far share.
+bool keep_cells_apply(const BackgroundOptions& options);
+// Whether the far-wall rule applies (keep_far_mm): the keep cells, a margin and the zones' millimetres.
+bool keep_far_applies(const BackgroundOptions& options);
+
 // The share of the opacity prior's weight (and the clearing's) at training step `step`: 0 until
 // `opacity_prior_start`, rising linearly to 1 over `opacity_prior_ramp` steps.
 float opacity_prior_share(const BackgroundOptions& options, uint64_t step);

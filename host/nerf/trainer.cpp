@@ -65,7 +65,7 @@ void log_neck_rule(float tolerance, const SkinChroma& skin) {
 // its volume); empty when neither applies.
 std::vector<uint32_t> prior_zones(const BackgroundOptions& b, const NerfModel& model,
                                   const std::vector<uint32_t>& allowed) {
-  const bool keep = b.keep_neck && b.room_clear > 0.0f && b.subject && !b.subject->keep.empty();
+  const bool keep = keep_cells_apply(b);
   const bool lean = b.room_clear > 0.0f && b.lean_gate > 0.0f && b.subject && !b.subject->core.empty();
   const bool solid = b.solid_pull > 0.0f && b.subject && !b.subject->solid.empty();
   if (!keep && !lean && !solid) return {};
@@ -93,11 +93,10 @@ std::vector<uint32_t> prior_zones(const BackgroundOptions& b, const NerfModel& m
       mask_count({zones.begin() + words, zones.begin() + 2 * words}), b.lean_gate,
       mask_count({zones.begin() + 2 * words, zones.begin() + 3 * words}));
   if (keep && b.neck_clear > 0.0f) log_neck_rule(b.neck_clear, b.subject->skin);
-  if (keep && b.keep_far_mm > 0.0f && b.subject->mm_per_unit > 0.0f)
+  if (keep_far_applies(b))
     spdlog::info(
         "the neck's cells clear rays as far as the room's colour behind them comes from over {:.0f} mm "
-        "beyond "
-        "the subject's box (a wall, not the body)",
+        "beyond the subject's box (a wall, not the body)",
         b.keep_far_mm);
   if (solid && b.solid_reach_mm > 0.0f && b.subject->mm_per_unit > 0.0f)
     spdlog::info("rays within {:.0f} mm of the certain interior are the subject's ({} cells)",
