@@ -76,21 +76,21 @@ void OccupancyUpdater::update(uint32_t step) {
   OccupancyGrid grid = model_.occupancy();
   fold_occupancy(grid, cells, sigma, options_.decay);
   rebuild_occupancy_bits(grid, options_.threshold_alpha / model_.step(), mask_);
+  const uint32_t all = ~0u;
   if (interior_.size() == grid.bits.size()) {
     interior_empty_ = 0;
-    for (size_t w = 0; w < grid.bits.size(); ++w) {
-      const uint32_t in = interior_[w] & (mask_.empty() ? ~0u : mask_[w]);
-      interior_empty_ += uint64_t(__builtin_popcount(in & ~grid.bits[w]));
-      if (keep_interior_) grid.bits[w] |= in;
-    }
+    for (size_t w = 0; w < grid.bits.size(); ++w)
+      interior_empty_ += uint64_t(__builtin_popcount(interior_[w] & (mask_.empty() ? all : mask_[w]) & ~grid.bits[w]));
   }
+  if (kept_.size() == grid.bits.size())
+    for (size_t w = 0; w < grid.bits.size(); ++w) grid.bits[w] |= kept_[w] & (mask_.empty() ? all : mask_[w]);
   model_.set_occupancy(std::move(grid));
   ++updates_;
 }
 
-void OccupancyUpdater::set_interior(std::vector<uint32_t> cells, bool keep_occupied) {
+void OccupancyUpdater::set_interior(std::vector<uint32_t> cells, std::vector<uint32_t> kept) {
   interior_ = std::move(cells);
-  keep_interior_ = keep_occupied;
+  kept_ = std::move(kept);
   interior_count_ = mask_count(interior_);
 }
 

@@ -34,9 +34,10 @@ class OccupancyUpdater {
   void maybe_update(uint32_t step);
   void update(uint32_t step);
   // A subject's certain interior (background_field.h solid_pull; a bitfield of the grid's cells, empty =
-  // none): each update counts its cells that the density leaves unoccupied, and with `keep_occupied`
-  // they stay occupied whatever their density (the prior can only pull on samples it is given).
-  void set_interior(std::vector<uint32_t> cells, bool keep_occupied);
+  // none): each update counts its cells that the density leaves unoccupied. The cells of `kept` (empty =
+  // none; the interior's reach, which holds it) stay occupied whatever their density: the prior can
+  // only pull on samples it is given, and it judges a ray's crossing of the reach by its samples there.
+  void set_interior(std::vector<uint32_t> cells, std::vector<uint32_t> kept);
   // The interior's cells, and those the density left unoccupied at the last update.
   uint64_t interior_cells() const { return interior_count_; }
   uint64_t interior_empty() const { return interior_empty_; }
@@ -50,8 +51,7 @@ class OccupancyUpdater {
   NerfModel& model_;
   OccupancyOptions options_;
   uint32_t seed_;
-  std::vector<uint32_t> mask_, interior_;
-  bool keep_interior_ = false;
+  std::vector<uint32_t> mask_, interior_, kept_;
   uint64_t interior_count_ = 0, interior_empty_ = 0;
   cl::Kernel points_k_;
   cl::Buffer<float> pos_, sigma_;

@@ -99,9 +99,19 @@ std::vector<uint32_t> prior_zones(const BackgroundOptions& b, const NerfModel& m
         "beyond the subject's box (a wall, not the body)",
         b.keep_far_mm);
   if (solid && b.solid_reach_mm > 0.0f && b.subject->mm_per_unit > 0.0f)
-    spdlog::info("rays within {:.0f} mm of the certain interior are the subject's ({} cells)",
+    spdlog::info("rays within {:.0f} mm of the certain interior are the subject's ({} cells, kept occupied)",
                  b.solid_reach_mm, mask_count({zones.begin() + 3 * words, zones.end()}));
   return zones;
+}
+
+// The cells that stay occupied whatever their density (OccupancyUpdater::set_interior): with the pull
+// on, the interior's reach (prior_zones' fourth field, which holds the interior), since a ray counts as
+// crossing it by its samples there, and a reach whose cells the density left would let the clearing
+// take the hair and skin between the interior and the surface. Empty with the pull off.
+std::vector<uint32_t> kept_reach(const std::vector<uint32_t>& zones, float solid_pull) {
+  if (!(solid_pull > 0.0f) || zones.empty()) return {};
+  const size_t words = zones.size() / 4;
+  return {zones.begin() + 3 * std::ptrdiff_t(words), zones.end()};
 }
 
 // How much of the subject's certain interior the density alone left unoccupied: where that is more than
@@ -147,7 +157,7 @@ Trainer::Trainer(NerfModel& model, const std::vector<View>& views, const TrainOp
   const BackgroundOptions& b = options.background;
   if (b.enabled && b.subject && !b.subject->solid.empty())
     occupancy_->set_interior(solid_cells(b.subject->solid, model.aabb(), model.occupancy_resolution()),
-                             b.solid_pull > 0.0f);
+                             kept_reach(zones, b.solid_pull));
   n_rays_ = std::max<uint32_t>(64, batch / 32);
   if (options.background.enabled) {
     background_ =
