@@ -80,7 +80,8 @@ void OccupancyUpdater::update(uint32_t step) {
   if (interior_.size() == grid.bits.size()) {
     interior_empty_ = 0;
     for (size_t w = 0; w < grid.bits.size(); ++w)
-      interior_empty_ += uint64_t(__builtin_popcount(interior_[w] & (mask_.empty() ? all : mask_[w]) & ~grid.bits[w]));
+      interior_empty_ +=
+          uint64_t(__builtin_popcount(interior_[w] & (mask_.empty() ? all : mask_[w]) & ~grid.bits[w]));
   }
   if (kept_.size() == grid.bits.size())
     for (size_t w = 0; w < grid.bits.size(); ++w) grid.bits[w] |= kept_[w] & (mask_.empty() ? all : mask_[w]);
