@@ -95,6 +95,12 @@ void OccupancyUpdater::set_interior(std::vector<uint32_t> cells, std::vector<uin
   interior_count_ = mask_count(interior_);
 }
 
+OccupancyGrid OccupancyUpdater::without_kept(OccupancyGrid grid) const {
+  if (kept_.empty() || grid.density.empty()) return grid;
+  rebuild_occupancy_bits(grid, options_.threshold_alpha / model_.step(), mask_);
+  return grid;
+}
+
 void OccupancyUpdater::maybe_update(uint32_t step) {
   if (step % options_.update_every == 0) update(step);
 }

@@ -38,6 +38,10 @@ class OccupancyUpdater {
   // none; the interior's reach, which holds it) stay occupied whatever their density: the prior can
   // only pull on samples it is given, and it judges a ray's crossing of the reach by its samples there.
   void set_interior(std::vector<uint32_t> cells, std::vector<uint32_t> kept);
+  // `grid` with its bits as its density alone gives them (update()'s rule without the kept cells): what
+  // a saved model holds, since the kept cells serve the prior's crossing test in training only, and
+  // renders and the fit read where the density is.
+  OccupancyGrid without_kept(OccupancyGrid grid) const;
   // The interior's cells, and those the density left unoccupied at the last update.
   uint64_t interior_cells() const { return interior_count_; }
   uint64_t interior_empty() const { return interior_empty_; }

@@ -281,7 +281,10 @@ bool Trainer::save_snapshot(double elapsed) {
   model_.metadata.train_seconds = elapsed;
   model_.metadata.samples_trained = samples_;
   model_.metadata.seed = options_.seed;
+  OccupancyGrid training = model_.occupancy();
+  model_.set_occupancy(occupancy_->without_kept(training));
   model_.save(options_.snapshot_path);
+  model_.set_occupancy(std::move(training));
   return true;
 }
 
@@ -407,9 +410,10 @@ void Trainer::finish_run(TrainResult& result, double seconds, Progress& bar) {
   result.samples = samples_;
   result.final_loss = result.loss_curve.empty() ? last_loss_ : result.loss_curve.back();
   model_.metadata.final_loss = float(result.final_loss);
+  save_checkpoint(resumed_elapsed_ + result.seconds);  // the training's state, its kept cells included
+  model_.set_occupancy(occupancy_->without_kept(model_.occupancy()));
   if (!save_snapshot(resumed_elapsed_ + result.seconds) && !options_.snapshot_path.empty())
     spdlog::warn("no training step finished: nothing was saved to '{}'", options_.snapshot_path);
-  save_checkpoint(resumed_elapsed_ + result.seconds);
 }
 
 }  // namespace lorgnette::nerf

@@ -112,7 +112,8 @@ class Trainer {
   // The room model's steps alone before the subject's first (BackgroundOptions::room_first); stops
   // early when interrupted (run() then stops before its first step).
   void train_room_first(Progress& bar);
-  // After the last step: the interior's log, the result's figures, the final snapshot and checkpoint.
+  // After the last step: the interior's log, the result's figures, the final checkpoint, then the
+  // model's occupancy as its density gives it (OccupancyUpdater::without_kept) and the final snapshot.
   void finish_run(TrainResult& result, double seconds, Progress& bar);
   [[noreturn]] void diverged(double loss, uint64_t at_step);
   bool save_snapshot(double elapsed);    // false when nothing was saved (no path, or no step trained)

@@ -1,8 +1,8 @@
 // The occupancy update's kept cells (host/nerf/occupancy_update.h set_interior) on PoCL, against the
 // same update without them: a subject's interior reach stays occupied whatever the density says
 // (render.h judges a ray's crossing of the reach by its samples there), every other cell's bit and the
-// interior's count of cells the density left are what the update alone gives, and the permanent mask
-// still rules a kept cell out.
+// interior's count of cells the density left are what the update alone gives, the permanent mask
+// still rules a kept cell out, and the grid a snapshot holds is the update's without the kept cells.
 #include <gtest/gtest.h>
 
 #include <vector>
@@ -38,7 +38,7 @@ std::vector<uint32_t> cells_every(uint32_t res, uint32_t first, uint32_t every) 
 }
 
 struct Updated {
-  OccupancyGrid grid;
+  OccupancyGrid grid, saved;  // the training's grid and the one a snapshot holds (without_kept)
   uint64_t interior_empty;
 };
 
@@ -48,7 +48,7 @@ Updated update_once(Scene& s, const std::vector<uint32_t>& mask, const std::vect
   OccupancyUpdater u(model, OccupancyOptions{}, 7u, mask);
   u.set_interior(interior, kept);
   u.update(0);
-  return {model.occupancy(), u.interior_empty()};
+  return {model.occupancy(), u.without_kept(model.occupancy()), u.interior_empty()};
 }
 
 // with.grid == plain.grid's bits OR the kept cells the mask allows (an empty mask allows all); counts
@@ -64,6 +64,9 @@ void expect_plain_or_kept(const Updated& plain, const Updated& with, const std::
   }
   EXPECT_EQ(with.interior_empty, plain.interior_empty);
   EXPECT_EQ(with.grid.density, plain.grid.density);
+  // A snapshot holds the density's own bits: the update's without the kept cells.
+  EXPECT_EQ(with.saved.bits, plain.grid.bits);
+  EXPECT_EQ(plain.saved.bits, plain.grid.bits);
 }
 
 TEST(OccupancyKept, KeptCellsStayOccupiedAndTheRestIsTheUpdatesOwn) {
