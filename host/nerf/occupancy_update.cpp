@@ -75,16 +75,15 @@ void OccupancyUpdater::update(uint32_t step) {
   }
   OccupancyGrid grid = model_.occupancy();
   fold_occupancy(grid, cells, sigma, options_.decay);
-  rebuild_occupancy_bits(grid, options_.threshold_alpha / model_.step(), mask_);
-  const uint32_t all = ~0u;
+  density_bits(grid);
   if (interior_.size() == grid.bits.size()) {
     interior_empty_ = 0;
     for (size_t w = 0; w < grid.bits.size(); ++w)
       interior_empty_ +=
-          uint64_t(__builtin_popcount(interior_[w] & (mask_.empty() ? all : mask_[w]) & ~grid.bits[w]));
+          uint64_t(__builtin_popcount(interior_[w] & (mask_.empty() ? ~0u : mask_[w]) & ~grid.bits[w]));
   }
   if (kept_.size() == grid.bits.size())
-    for (size_t w = 0; w < grid.bits.size(); ++w) grid.bits[w] |= kept_[w] & (mask_.empty() ? all : mask_[w]);
+    for (size_t w = 0; w < grid.bits.size(); ++w) grid.bits[w] |= kept_[w];
   model_.set_occupancy(std::move(grid));
   ++updates_;
 }
@@ -92,12 +91,18 @@ void OccupancyUpdater::update(uint32_t step) {
 void OccupancyUpdater::set_interior(std::vector<uint32_t> cells, std::vector<uint32_t> kept) {
   interior_ = std::move(cells);
   kept_ = std::move(kept);
+  if (!mask_.empty() && kept_.size() == mask_.size())  // a cell the mask rules out is never kept
+    for (size_t w = 0; w < kept_.size(); ++w) kept_[w] &= mask_[w];
   interior_count_ = mask_count(interior_);
+}
+
+void OccupancyUpdater::density_bits(OccupancyGrid& grid) const {
+  rebuild_occupancy_bits(grid, options_.threshold_alpha / model_.step(), mask_);
 }
 
 OccupancyGrid OccupancyUpdater::without_kept(OccupancyGrid grid) const {
   if (kept_.empty() || grid.density.empty()) return grid;
-  rebuild_occupancy_bits(grid, options_.threshold_alpha / model_.step(), mask_);
+  density_bits(grid);
   return grid;
 }
 

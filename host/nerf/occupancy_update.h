@@ -51,6 +51,8 @@ class OccupancyUpdater {
 
  private:
   std::vector<uint32_t> pick_cells(uint32_t step) const;
+  // The grid's bits from its density (rebuild_occupancy_bits at this grid's threshold, AND the mask).
+  void density_bits(OccupancyGrid& grid) const;
 
   NerfModel& model_;
   OccupancyOptions options_;
