@@ -17,26 +17,19 @@
 #include <fstream>
 #include <iterator>
 
-#include "host/nerf/sizing.h"
 #include "host/nerf/train_resume.h"
 #include "host/nerf/trainer.h"
 #include "host/util/interrupt.h"
-#include "synthetic_scene.h"
+#include "sphere_model.h"
 
 namespace {
 
 using namespace lorgnette;
 using namespace lorgnette::nerf;
 
-struct Scene {
-  cl::Runtime rt{cl::RuntimeOptions{"", "", false}};
-  nerftest::SceneViews train = nerftest::render_views(nerftest::ring_cameras(16, 2.2f, 64));
-  ModelSizing sizing = choose_model_size(train.views, SizingOverrides{});
-
-  NerfModel make_model() {
-    return NerfModel(rt, sizing.field, sizing.aabb, sizing.occupancy_resolution, sizing.step, 1u << 12, 7,
-                     true);
-  }
+// 16 views of 64 px, models of 2^12 samples per batch, seed 7.
+struct Scene : nerftest::SphereModelScene {
+  Scene() : SphereModelScene(16, 64) {}
 };
 
 std::string tmp_path(const std::string& name) {

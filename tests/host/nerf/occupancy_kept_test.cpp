@@ -8,24 +8,17 @@
 #include <vector>
 
 #include "host/nerf/occupancy_update.h"
-#include "host/nerf/sizing.h"
 #include "kernels/train/occupancy.h"
-#include "synthetic_scene.h"
+#include "sphere_model.h"
 
 namespace {
 
 using namespace lorgnette;
 using namespace lorgnette::nerf;
 
-struct Scene {
-  cl::Runtime rt{cl::RuntimeOptions{"", "", false}};
-  nerftest::SceneViews train = nerftest::render_views(nerftest::ring_cameras(8, 2.2f, 32));
-  ModelSizing sizing = choose_model_size(train.views, SizingOverrides{});
-
-  NerfModel make_model() {
-    return NerfModel(rt, sizing.field, sizing.aabb, sizing.occupancy_resolution, sizing.step, 1u << 12, 7,
-                     true);
-  }
+// 8 views of 32 px, models of 2^12 samples per batch, seed 7.
+struct Scene : nerftest::SphereModelScene {
+  Scene() : SphereModelScene(8, 32) {}
 };
 
 bool bit(const std::vector<uint32_t>& bits, uint32_t c) { return (bits[c >> 5] >> (c & 31u)) & 1u; }
