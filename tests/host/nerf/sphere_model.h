@@ -20,7 +20,8 @@ struct SphereModelScene {
         seed(seed) {}
 
   NerfModel make_model() {
-    return NerfModel(rt, sizing.field, sizing.aabb, sizing.occupancy_resolution, sizing.step, batch, seed, true);
+    return NerfModel(rt, sizing.field, sizing.aabb, sizing.occupancy_resolution, sizing.step, batch, seed,
+                     true);
   }
 
   cl::Runtime rt{cl::RuntimeOptions{"", "", false}};
