@@ -100,4 +100,13 @@ nerf::SubjectVolume head_solid_reach(const fit::HeadBox& box, const NeckCoreMm& 
   return to_scene(head_solid_reach_mm(neck), box);
 }
 
+nerf::SubjectAxis head_neck_base(const fit::HeadBox& box, const NeckCoreMm& neck) {
+  const Eigen::Vector3d mm(0.0, fit::head_box_span_mm(box.extents).lo.y(), -neck.behind_eyes);
+  const Eigen::Vector3d p = box.anchor + box.axes * (mm / box.head.mm_per_unit);
+  const Eigen::Vector3d up = box.axes.col(1).normalized();
+  nerf::SubjectAxis a;
+  for (int i = 0; i < 3; ++i) a.point[i] = float(p[i]), a.up[i] = float(up[i]);
+  return a;
+}
+
 }  // namespace lorgnette::capture

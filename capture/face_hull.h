@@ -77,4 +77,8 @@ inline constexpr double kSkullReachSigmas = 2.0;
 nerf::SubjectVolume head_solid_reach_mm(const NeckCoreMm& neck = {});
 nerf::SubjectVolume head_solid_reach(const fit::HeadBox& box, const NeckCoreMm& neck = {});
 
+// Where the neck leaves the head box (nerf::SubjectZones::base): the neck's axis (NeckCoreMm's, the
+// head's up direction) at the box's bottom.
+nerf::SubjectAxis head_neck_base(const fit::HeadBox& box, const NeckCoreMm& neck = {});
+
 }  // namespace lorgnette::capture

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <optional>
 
+#include "capture/face_hull.h"
 #include "fit/camera_math.h"
 #include "kernels/train/train_types.h"
 
@@ -37,6 +38,21 @@ std::optional<Eigen::Vector3d> region_point(const fit::HeadBox& box, int region)
   const Eigen::Vector3d p = 0.25 * (L[lid_a] + L[lid_b]) + 0.5 * L[corner];
   const double side = (p - L[27]).dot(left) >= 0.0 ? 1.0 : -1.0;  // 27: the nose's bridge, mid face
   return Eigen::Vector3d(p + side * 10.0 * mm * left);
+}
+
+// The points beside the neck (scene) where SkinChroma::beside_neck is sampled: both sides, at each
+// of the options' distances out and heights above the box's bottom, at the neck's axis' depth.
+std::vector<std::optional<Eigen::Vector3d>> beside_neck_points(const fit::HeadBox& box,
+                                                               const SkinSampleOptions& o) {
+  const double bottom = fit::head_box_span_mm(box.extents).lo.y(), behind = NeckCoreMm{}.behind_eyes;
+  std::vector<std::optional<Eigen::Vector3d>> points;
+  for (double side : {-1.0, 1.0})
+    for (double out : o.beside_neck_out_mm)
+      for (double up : o.beside_neck_up_mm)
+        points.push_back(Eigen::Vector3d(
+            box.anchor +
+            box.axes * (Eigen::Vector3d(side * out, bottom + up, -behind) / box.head.mm_per_unit)));
+  return points;
 }
 
 // The median colour (per channel) of the patch of `radius` px about (u, v); none when it leaves the image.
@@ -140,10 +156,12 @@ nerf::SkinChroma skin_colours(const fit::HeadBox& box, const std::vector<fit::Po
   if (box.landmarks.empty() || !(box.head.mm_per_unit > 0.0)) return skin;
   std::vector<std::optional<Eigen::Vector3d>> points;
   for (int r = 0; r < 3; ++r) points.push_back(region_point(box, r));
+  const size_t face_regions = points.size();
+  for (const auto& p : beside_neck_points(box, options)) points.push_back(p);
   std::vector<std::vector<Rgb>> by_region(points.size());
   for (const fit::PosedPhoto& photo : photos) sample_photo(box, photo, options, points, by_region);
   std::vector<Rgb> all;
-  for (const auto& region : by_region) all.insert(all.end(), region.begin(), region.end());
+  for (size_t r = 0; r < face_regions; ++r) all.insert(all.end(), by_region[r].begin(), by_region[r].end());
   if (all.size() < size_t(std::max(1, options.min_samples))) return skin;
   std::vector<std::array<float, 2>> chroma;
   for (const Rgb& x : all) chroma.push_back(chromaticity(x));
@@ -157,6 +175,8 @@ nerf::SkinChroma skin_colours(const fit::HeadBox& box, const std::vector<fit::Po
   skin.spread = 0.0f;
   for (const auto& c : chroma) skin.spread = std::max(skin.spread, nearest(skin.chroma, c));
   skin.lum_floor = float(options.dark_share) * darkest;
+  for (size_t r = face_regions; r < by_region.size(); ++r)
+    skin.beside_neck.insert(skin.beside_neck.end(), by_region[r].begin(), by_region[r].end());
   return skin;
 }
 

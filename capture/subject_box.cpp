@@ -25,10 +25,10 @@ SubjectBoxChoice head_choice(const dataset::Dataset& ds, const fit::HeadBoxOptio
   SubjectBoxChoice c;
   c.source = BoxSource::Head;
   c.aabb = to_array(box.min, box.max);
-  c.zones = nerf::SubjectZones{head_volume(box),     head_clear_keep(box),        head_clear_core(box),
-                               head_cut_rim(box),    head_room_body(box),         head_solid_hulls(box),
-                               head_solid_core(box), float(box.head.mm_per_unit), skin_colours(box, photos),
-                               head_solid_reach(box)};
+  c.zones = nerf::SubjectZones{head_volume(box),      head_clear_keep(box),        head_clear_core(box),
+                               head_cut_rim(box),     head_room_body(box),         head_solid_hulls(box),
+                               head_solid_core(box),  float(box.head.mm_per_unit), skin_colours(box, photos),
+                               head_solid_reach(box), head_neck_base(box)};
   c.why = box.summary();
   std::vector<Camera> cams;
   for (const auto& p : photos) cams.push_back(p.camera);

@@ -50,12 +50,23 @@ std::vector<uint32_t> room_mask(const Aabb& room, Aabb subject, float margin, ui
   return mask;
 }
 
-// The subject's box grown by `grow` (scene units) in the room's normalised positions.
-std::pair<std::array<float, 3>, std::array<float, 3>> near_box(const Aabb& room, const Aabb& subject,
-                                                               float grow) {
+// The subject's surroundings in the room's normalised positions (kernels/train/train_types.h
+// NearRegion): its box grown by keep_far_mm, and below the zones' base only the column of
+// keep_far_neck_mm about the base's axis.
+NearRegion near_region(const Aabb& room, const Aabb& subject, const BackgroundOptions& o) {
+  const float grow = o.keep_far_mm / o.subject->mm_per_unit;
   const std::array<float, 3>&lo = subject.min, &hi = subject.max;
-  return {room.normalise({lo[0] - grow, lo[1] - grow, lo[2] - grow}),
-          room.normalise({hi[0] + grow, hi[1] + grow, hi[2] + grow})};
+  NearRegion n{};
+  const std::array<float, 3> nlo = room.normalise({lo[0] - grow, lo[1] - grow, lo[2] - grow}),
+                             nhi = room.normalise({hi[0] + grow, hi[1] + grow, hi[2] + grow});
+  for (int a = 0; a < 3; ++a) n.lo[a] = nlo[a], n.hi[a] = nhi[a];
+  if (keep_far_column_applies(o)) {
+    const SubjectAxis& b = *o.subject->base;
+    const std::array<float, 3> p = room.normalise(b.point);
+    for (int a = 0; a < 3; ++a) n.base[a] = p[a], n.up[a] = b.up[a];
+    n.base_radius = o.keep_far_neck_mm / o.subject->mm_per_unit / room.extent(0);  // the room is a cube
+  }
+  return n;
 }
 
 }  // namespace
@@ -70,6 +81,25 @@ bool keep_cells_apply(const BackgroundOptions& o) {
 
 bool keep_far_applies(const BackgroundOptions& o) {
   return keep_cells_apply(o) && o.keep_far_mm > 0.0f && o.subject->mm_per_unit > 0.0f;
+}
+
+std::pair<size_t, size_t> skin_beside_neck(const BackgroundOptions& o) {
+  if (!o.subject) return {0, 0};
+  const SkinChroma& skin = o.subject->skin;
+  std::vector<float> chroma;
+  for (const auto& c : skin.chroma) chroma.push_back(c[0]), chroma.push_back(c[1]);
+  size_t like = 0;
+  for (const auto& rgb : skin.beside_neck)
+    like += render_ray_skin_like(rgb.data(), chroma.data(), uint32_t(skin.chroma.size()), skin_tolerance(o),
+                                 skin.lum_floor) != 0;
+  return {like, skin.beside_neck.size()};
+}
+
+bool keep_far_column_applies(const BackgroundOptions& o) {
+  if (!keep_far_applies(o) || !(o.keep_far_neck_mm > 0.0f) || !o.subject->base) return false;
+  if (!(o.neck_clear > 0.0f) || o.subject->skin.chroma.empty()) return true;  // no skin test: any wall
+  const auto [like, of] = skin_beside_neck(o);
+  return of == 0 || 2 * like >= of;
 }
 
 float opacity_prior_share(const BackgroundOptions& o, uint64_t step) {
@@ -106,8 +136,7 @@ BackgroundField::BackgroundField(cl::Runtime& rt, const NerfModel& subject, cons
   if (options.subject && options.neck_clear > 0.0f)
     for (const auto& sc : options.subject->skin.chroma)
       skin_chroma_.push_back(sc[0]), skin_chroma_.push_back(sc[1]);
-  if (keep_far_applies(options))
-    near_box_ = near_box(box, subject.aabb(), options.keep_far_mm / options.subject->mm_per_unit);
+  if (keep_far_applies(options)) near_ = near_region(box, subject.aabb(), options);
   const std::array<float, 3> c = subject.aabb().center();
   near_t_ = 3.0e38f;
   for (const Camera& cam : views.cameras()) {
@@ -160,8 +189,7 @@ void BackgroundField::render_backgrounds(const SampleParams&, const DeviceViews&
   colors_ = batch_->colors();
   if (end == 0) return;
   // Without the rule the far shares stay as the sampler wrote them (0).
-  const std::vector<float> far =
-      near_box_ ? batch_->far_shares(near_box_->first, near_box_->second) : std::vector<float>{};
+  const std::vector<float> far = near_ ? batch_->far_shares(*near_) : std::vector<float>{};
   std::vector<float> info = subject.ray_info().read(rt, size_t(end) * RAY_INFO_FLOATS);
   for (uint32_t r = 0; r < end; ++r) {
     for (int c = 0; c < 3; ++c) info[size_t(r) * RAY_INFO_FLOATS + 3 + c] = colors_[size_t(r) * 4 + c];

@@ -162,6 +162,17 @@ struct BackgroundOptions {
   // 0.936); at 25 mm 3.81 % and 0.946; at 50 mm 5.55 % and 0.950, the band kept; at 150 mm 7.92 %
   // (docs/room-training.md, "Zones"). Needs the subject's zones and their millimetres; 0 = off.
   float keep_far_mm = 50.0f;
+  // Before a wall that may be skin (most of SkinChroma::beside_neck is skin-like, or no skin colours
+  // are known), below the subject's volume (SubjectZones::base, a head box's bottom) only the room's
+  // samples within this many mm of the neck's axis count as the subject's surroundings: the neck's
+  // base is there, the shoulders beside it are the room's. The slab of the wall's colour beside the
+  // neck's lowest band has its rays pass just over the shoulders, which the room's coarse model blurs
+  // over them; counted as the body's, they kept that slab (leak 5.88 % before a wall of the skin's
+  // colour). 70 mm: a p99 man's neck (ANSUR II circumference ~425 mm, a radius of 68 mm). Before a
+  // wall of another colour the skin test clears that slab, and the whole grown box stays the body's,
+  // so a neck wider than the column or turned off its axis by a nod keeps its band
+  // (docs/room-training.md, "Zones"). 0 = the whole grown box always.
+  float keep_far_neck_mm = 70.0f;
 };
 
 // The chromaticity distance within which a pixel may be the subject's skin (neck_clear plus the
@@ -173,6 +184,13 @@ float skin_tolerance(const BackgroundOptions& options);
 bool keep_cells_apply(const BackgroundOptions& options);
 // Whether the far-wall rule applies (keep_far_mm): the keep cells, a margin and the zones' millimetres.
 bool keep_far_applies(const BackgroundOptions& options);
+// Of SkinChroma::beside_neck, how many patches may be skin (render_ray_skin_like as the neck's keep
+// zone judges a pixel) and how many there are.
+std::pair<size_t, size_t> skin_beside_neck(const BackgroundOptions& options);
+// Whether the far-wall rule narrows the body below the box to the neck's column (keep_far_neck_mm):
+// the rule applies, the zones know the neck's base, and the wall beside the neck may be skin (most
+// patches beside it are skin-like, or no skin colours are known).
+bool keep_far_column_applies(const BackgroundOptions& options);
 
 // The share of the opacity prior's weight (and the clearing's) at training step `step`: 0 until
 // `opacity_prior_start`, rising linearly to 1 over `opacity_prior_ramp` steps.
@@ -237,7 +255,7 @@ class BackgroundField {
   std::vector<float> colors_;       // room colour + opacity per written ray
   std::vector<float> skin_chroma_;  // the subject's skin chromaticities (r, g pairs) for skin_like()
   // The subject's surroundings in the room's normalised positions (keep_far_mm; empty: off).
-  std::optional<std::pair<std::array<float, 3>, std::array<float, 3>>> near_box_;
+  std::optional<NearRegion> near_;
   uint64_t alone_rays_ = 0, alone_missed_ = 0, alone_taught_ = 0;  // train_alone()'s rays
 };
 

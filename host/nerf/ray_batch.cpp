@@ -223,12 +223,11 @@ double RayBatch::render(uint32_t loss_kind, bool forward_only, float min_transmi
   return sum;
 }
 
-std::vector<float> RayBatch::far_shares(const std::array<float, 3>& lo, const std::array<float, 3>& hi,
-                                        float min_transmittance) {
+std::vector<float> RayBatch::far_shares(const NearRegion& near, float min_transmittance) {
   if (written_rays_ == 0) return {};
   cl::Runtime& rt = model_.runtime();
   LossParams lp = loss_params(LOSS_L2_LINEAR, true, min_transmittance, {});
-  for (int a = 0; a < 3; ++a) lp.near_lo[a] = lo[a], lp.near_hi[a] = hi[a];
+  lp.near = near;
   far_k_.args(lp, sub_offsets_, on_device_ ? counts_dev_ : sub_counts_, sigma_, pos_, ray_share_)
       .launch(rt, written_rays_, ray_group(rt));
   return ray_share_.read(rt, written_rays_);

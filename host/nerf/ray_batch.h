@@ -62,10 +62,9 @@ class RayBatch {
   // Colour + opacity (4 floats per ray) of the last render().
   std::vector<float> colors() const;
   // Per written ray, after the field filled sigma(): the share of its colour that its samples outside
-  // the box [lo, hi] (positions normalised to the model's box) and the background give
+  // `near` (positions normalised to the model's box) and the background give
   // (kernels/train/render.h render_ray_share_beyond).
-  std::vector<float> far_shares(const std::array<float, 3>& lo, const std::array<float, 3>& hi,
-                                float min_transmittance = 1e-4f);
+  std::vector<float> far_shares(const NearRegion& near, float min_transmittance = 1e-4f);
 
   // The device way. Counts rays [0, p.n_rays), scans the counts into offsets and fits the leading
   // rays into `budget` = the field's batch (kernel sample_offsets), writes their samples, then reads

@@ -95,6 +95,14 @@ struct SkinChroma {
   std::vector<std::array<float, 2>> chroma;
   float spread = 0.0f;
   float lum_floor = 0.0f;
+  // Colours (linear RGB) the photos show beside the neck where it leaves the head box, where a level
+  // head has only the wall behind it: whether that wall may be skin (BackgroundOptions::keep_far_neck_mm).
+  std::vector<std::array<float, 3>> beside_neck;
+};
+
+// A point on an axis and the axis' direction (scene; `up` unit).
+struct SubjectAxis {
+  Vec3f point{0.0f, 0.0f, 0.0f}, up{0.0f, 1.0f, 0.0f};
 };
 
 // A subject's volume with the zones of the room model's clearing inside it (background_field.h;
@@ -129,6 +137,10 @@ struct SubjectZones {
   // with each part that no landmark bounds (a head's skull) stretched for the scale's error
   // (capture/face_hull.h head_solid_reach); empty: `solid` itself.
   SubjectVolume reach;
+  // Where the subject continues below its volume into the room's `body` (a head's neck leaving the
+  // box's bottom; none: unknown): the far-wall rule counts the room's samples below there as the
+  // subject's surroundings only within a column about this axis (BackgroundOptions::keep_far_neck_mm).
+  std::optional<SubjectAxis> base;
 };
 
 // The occupancy mask of `volume` over `box` at res^3 cells (occ_word_count(res) words, the grid's

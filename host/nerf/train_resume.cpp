@@ -41,6 +41,7 @@ json room_json(const BackgroundOptions& r) {
           {"room_first", r.room_first},
           {"keep_pull", r.keep_pull},
           {"keep_far_mm", r.keep_far_mm},
+          {"keep_far_neck_mm", r.keep_far_neck_mm},
           {"subject_zones", r.subject.has_value()}};
 }
 

@@ -43,6 +43,7 @@ void validate_room(const BackgroundOptions& r) {
   check_bound(b::kRoomFirst, r.room_first);
   check_bound(b::kKeepPull, r.keep_pull);
   check_bound(b::kKeepFar, r.keep_far_mm);
+  check_bound(b::kKeepFarNeck, r.keep_far_neck_mm);
 }
 
 }  // namespace

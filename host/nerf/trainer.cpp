@@ -60,6 +60,19 @@ void log_neck_rule(float tolerance, const SkinChroma& skin) {
       skin.lum_floor);
 }
 
+// How the far-wall rule bounds the body below the box (BackgroundOptions::keep_far_neck_mm), for the
+// log line that states the rule.
+std::string keep_far_column(const BackgroundOptions& b) {
+  const auto [like, of] = skin_beside_neck(b);
+  const std::string seen = of ? fmt::format("{} of {} patches beside the neck may be skin", like, of)
+                              : std::string("no patch beside the neck was seen");
+  if (keep_far_column_applies(b))
+    return fmt::format("; {}, so below the box only the room within {:.0f} mm of the neck's axis is the body",
+                       seen, b.keep_far_neck_mm);
+  return b.keep_far_neck_mm > 0.0f && b.subject->base ? fmt::format("; {}: the body's box is whole", seen)
+                                                      : std::string();
+}
+
 // The opacity prior's zones (RayPriors): the subject's keep cells, then the lean cells (outside its
 // core, not kept, and allowed by the subject's permanent occupancy mask when it has one, which holds
 // its volume); empty when neither applies.
@@ -96,8 +109,8 @@ std::vector<uint32_t> prior_zones(const BackgroundOptions& b, const NerfModel& m
   if (keep_far_applies(b))
     spdlog::info(
         "the neck's cells clear rays as far as the room's colour behind them comes from over {:.0f} mm "
-        "beyond the subject's box (a wall, not the body)",
-        b.keep_far_mm);
+        "beyond the subject's box (a wall, not the body){}",
+        b.keep_far_mm, keep_far_column(b));
   if (solid && b.solid_reach_mm > 0.0f && b.subject->mm_per_unit > 0.0f)
     spdlog::info("rays within {:.0f} mm of the certain interior are the subject's ({} cells, kept occupied)",
                  b.solid_reach_mm, mask_count({zones.begin() + 3 * words, zones.end()}));

@@ -99,6 +99,8 @@ inline constexpr Bound kPriorStart{"--prior-start", "", 0, 1000000, "step the op
 inline constexpr Bound kKeepPull{"--keep-pull", "", 0, 100, "pull towards opaque in the neck's zone"};
 inline constexpr Bound kKeepFar{"--keep-far", "", 0, 2000,
                                 "mm beyond the subject's box that count as its body"};
+inline constexpr Bound kKeepFarNeck{"--keep-far-neck", "", 0, 500,
+                                    "mm about the neck's axis that count as its body below the box"};
 inline constexpr Bound kRoomFirst{"--room-first", "", 0, 100000, "steps of the room model alone"};
 
 // `render` (Python: Model.render(), Model.orbit()) and the renders the demo and the viewer make.

@@ -40,17 +40,16 @@ __kernel void render_loss(const LossParams p, __global const uint* ray_offsets,
   }
 }
 
-// The far share of each ray (render_ray_share_beyond over the box p.near_lo..p.near_hi) into share[ray]:
+// The far share of each ray (render_ray_share_beyond over p.near) into share[ray]:
 // run on a room model's rays, it tells how much of a subject ray's background lies beyond the
 // subject's surroundings (RAY_INFO_FAR).
 __kernel void far_share(const LossParams p, __global const uint* ray_offsets, __global const uint* ray_counts,
                         __global const float* sigma, __global const float* pos, __global float* share) {
   const uint ray = get_global_id(0);
   if (ray >= p.n_rays) return;
-  const float lo[3] = {p.near_lo[0], p.near_lo[1], p.near_lo[2]};
-  const float hi[3] = {p.near_hi[0], p.near_hi[1], p.near_hi[2]};
+  const NearRegion near = p.near;
   share[ray] = render_ray_share_beyond(sigma, pos, p.stride, ray_offsets[ray], ray_counts[ray], p.step,
-                                       p.min_transmittance, lo, hi);
+                                       p.min_transmittance, &near);
 }
 
 // Sum of ray_loss[0, p.n_rays) into batch_info[BATCH_INFO_LOSS] (float bits). One work-group (local

@@ -220,26 +220,35 @@ LGN_INLINE float render_ray_keep_gate(const float* target, float gate, const flo
   return gate * fmin(fmax(far, 0.0f), 1.0f);
 }
 
-// The share of a ray's colour that its samples outside the box [lo, hi] (positions normalised to the
-// model's box) and the background give: 1 - the summed weights w_i of the samples inside the box,
-// composited and stopped early as render_ray_forward does. The room model's samples near the subject
-// (its body below a head's box) against those of the wall far behind.
+// Whether a sample at x (normalised to the model's box) lies in the subject's surroundings `near`
+// (NearRegion: the box, and below its base plane only the column about the base's axis).
+LGN_INLINE int render_near_contains(const NearRegion* near, const float* x) {
+  int inside = 1;
+  for (lgn_uint a = 0; a < 3u; ++a) inside = inside && x[a] >= near->lo[a] && x[a] <= near->hi[a];
+  if (!inside || !(near->base_radius > 0.0f)) return inside;
+  float d[3], along = 0.0f, d2 = 0.0f;
+  for (lgn_uint a = 0; a < 3u; ++a) d[a] = x[a] - near->base[a], along += d[a] * near->up[a];
+  if (along >= 0.0f) return 1;
+  for (lgn_uint a = 0; a < 3u; ++a) d2 += d[a] * d[a];
+  return d2 - along * along <= near->base_radius * near->base_radius;
+}
+
+// The share of a ray's colour that its samples outside the subject's surroundings `near` (positions
+// normalised to the model's box) and the background give: 1 - the summed weights w_i of the samples
+// inside them, composited and stopped early as render_ray_forward does. The room model's samples near
+// the subject (its neck's base below a head's box) against those of the wall far behind.
 LGN_INLINE float render_ray_share_beyond(LGN_GLOBAL const float* sigma, LGN_GLOBAL const float* pos,
                                          lgn_uint stride, lgn_uint first, lgn_uint count, float step,
-                                         float min_transmittance, const float* lo, const float* hi) {
-  float T = 1.0f, near = 0.0f;
+                                         float min_transmittance, const NearRegion* near) {
+  float T = 1.0f, near_w = 0.0f;
   for (lgn_uint k = 0; k < count; ++k) {
     if (T < min_transmittance) break;
     const lgn_uint i = first + k;
     const float w = lgn_composite_segment(&T, sigma[i], step);
-    int inside = 1;
-    for (lgn_uint a = 0; a < 3u; ++a) {
-      const float x = pos[a * stride + i];
-      inside = inside && x >= lo[a] && x <= hi[a];
-    }
-    if (inside) near += w;
+    const float x[3] = {pos[i], pos[stride + i], pos[2u * stride + i]};
+    if (render_near_contains(near, x)) near_w += w;
   }
-  return fmin(fmax(1.0f - near, 0.0f), 1.0f);
+  return fmin(fmax(1.0f - near_w, 0.0f), 1.0f);
 }
 
 // The same with prior zones: four bitfields of `res`^3 cells over the model's box, one after the other

@@ -67,6 +67,17 @@ LGN_STATIC_ASSERT(sizeof(SampleParams) == 128, "SampleParams layout is shared wi
 // an off-white wall before pale skin lies about 85 % of the way.
 #define SKIN_SHEEN_MAX 0.3f
 
+// The subject's surroundings for render_ray_share_beyond (positions normalised to the room model's box):
+// the box [lo, hi], except that below the plane through `base` across `up` (a head box's bottom) only
+// points within `base_radius` of the axis through `base` along `up` are near (the neck's base; the
+// shoulders beside it are the room's, as the wall is). base_radius <= 0: the whole box.
+typedef struct NearRegion {
+  float lo[3], hi[3];
+  float base[3], up[3];
+  float base_radius;
+  float pad0;
+} NearRegion;
+
 typedef struct LossParams {
   lgn_uint n_rays;
   lgn_uint stride;          // SoA stride of the per-sample arrays
@@ -99,11 +110,12 @@ typedef struct LossParams {
   // to opacity_prior (0 = off; render_ray_opacity_prior_zones).
   float keep_pull;
   float skin_chroma[2 * SKIN_REFS_MAX];
-  // The box (normalised positions) whose samples are near the subject for far_share
-  // (render_ray_share_beyond); render_loss does not read it.
-  float near_lo[3], near_hi[3];
+  // Where samples are near the subject for far_share (render_ray_share_beyond); render_loss does not
+  // read it.
+  NearRegion near;
 } LossParams;
-LGN_STATIC_ASSERT(sizeof(LossParams) == 160, "LossParams layout is shared with OpenCL");
+LGN_STATIC_ASSERT(sizeof(NearRegion) == 56, "NearRegion layout is shared with OpenCL");
+LGN_STATIC_ASSERT(sizeof(LossParams) == 192, "LossParams layout is shared with OpenCL");
 
 typedef struct OccParams {
   lgn_uint res;

@@ -316,6 +316,40 @@ TEST(FaceHull, SkullReachAllowsForTheScaleError) {
     }
 }
 
+// The neck's base (head_neck_base) lies on the head box's bottom plane, in the procedural heads' necks,
+// and every point of their necks in that plane and 20 mm below it lies within the far-wall rule's
+// column about it (nerf::BackgroundOptions::keep_far_neck_mm): the room's neck base right below the
+// box stays the body's.
+TEST(FaceHull, TheNecksBaseHoldsTheNeck) {
+  const Eigen::Matrix3d rot = Eigen::Matrix3d::Identity();  // the shape's sdf is the unrotated head's
+  const double column_mm = nerf::BackgroundOptions{}.keep_far_neck_mm;
+  for (uint64_t seed = 0; seed < 6; ++seed) {
+    const PlacedHead h = place(seed, rot);
+    const nerf::SubjectAxis base = head_neck_base(h.box);
+    const Eigen::Vector3d p(base.point[0], base.point[1], base.point[2]),
+        up(base.up[0], base.up[1], base.up[2]);
+    EXPECT_NEAR(up.dot(h.box.axes.col(1)), 1.0, 1e-6);
+    const double mm = 1.0 / *h.subject.mm_per_unit;  // true scale (the box reads it exactly)
+    EXPECT_NEAR((p - h.box.anchor).dot(up) / mm, fit::head_box_span_mm(h.box.extents).lo.y(), 1e-3);
+    const synth::HeadShape shape(h.params, synth::make_face_layout(h.params));
+    const Eigen::Matrix4f to_mesh = h.subject.mesh_to_dataset.inverse();
+    auto sdf = [&](const Eigen::Vector3d& q) {
+      return shape.sdf_with_body_neck(synth::transform_point(to_mesh, Eigen::Vector3f(q.cast<float>())));
+    };
+    EXPECT_LT(sdf(p), -20.0f) << "seed " << seed << ": the base should lie well inside the neck";
+    double widest = 0.0;
+    for (double below : {0.0, 20.0})
+      for (double x = -150.0; x <= 150.0; x += 2.0)
+        for (double z = -150.0; z <= 150.0; z += 2.0) {
+          const Eigen::Vector3d q = p + h.box.axes * (Eigen::Vector3d(x, -below, z) * mm);
+          if (sdf(q) < 0.0f) widest = std::max(widest, std::hypot(x, z));
+        }
+    std::cout << "seed " << seed << ": the neck reaches " << widest << " mm from the base's axis\n";
+    EXPECT_GT(widest, 40.0) << "seed " << seed;
+    EXPECT_LT(widest, column_mm) << "seed " << seed;
+  }
+}
+
 TEST(FaceHull, NoLandmarksNoHulls) {
   fit::HeadBox box;
   EXPECT_TRUE(head_solid_hulls(box).empty());

@@ -9,6 +9,7 @@
 #include <cmath>
 
 #include "face_dataset.h"
+#include "host/nerf/background_field.h"
 #include "kernels/train/render.h"
 #include "synth/head_params.h"
 
@@ -123,6 +124,34 @@ TEST(SubjectBox, TheHeadBoxCarriesTheSkinsColours) {
   EXPECT_FALSE(render_ray_skin_like(grey, pairs.data(), n, 0.02f + skin.spread, skin.lum_floor));
   const float shaded[3] = {0.3f * albedo.x(), 0.3f * albedo.y(), 0.3f * albedo.z()};
   EXPECT_TRUE(render_ray_skin_like(shaded, pairs.data(), n, 0.02f + skin.spread, skin.lum_floor));
+}
+
+// The head box brings the colours beside the neck where it leaves the box (SkinChroma::beside_neck),
+// and training narrows the far-wall rule's body to the neck's column (nerf::keep_far_column_applies)
+// only before a wall that may be skin: the grey background matches no skin colour; the same head
+// before a wall of its skin's albedo, at 80 % (a wall lit less than the face), is skin-like in every
+// patch.
+TEST(SubjectBox, TheWallBesideTheNeckDecidesTheNecksColumn) {
+  const Eigen::Vector3f skin = synth::HeadParams{}.skin;
+  const dataset::Dataset own = [&] {
+    dataset::LoadOptions lo;
+    lo.splits = {dataset::Split::Train};
+    return dataset::load_dataset(synth::test::render_face_dataset("capture", "skin_wall", 6, 4, 0.8f * skin),
+                                 lo);
+  }();
+  for (const dataset::Dataset* ds : {&face_dataset(), &own}) {
+    const bool skin_wall = ds == &own;
+    SubjectBoxChoice c = choose_subject_box(*ds, BoxSource::Auto);
+    ASSERT_EQ(c.source, BoxSource::Head) << c.why;
+    ASSERT_TRUE(c.zones.has_value() && c.zones->base.has_value());
+    nerf::BackgroundOptions o;
+    o.enabled = true;
+    o.subject = c.zones;
+    const auto [like, of] = nerf::skin_beside_neck(o);
+    EXPECT_GE(of, 8u) << "two sides, two heights and two distances, in the frontal views";
+    EXPECT_EQ(like, skin_wall ? of : 0u) << (skin_wall ? "the skin's wall" : "grey");
+    EXPECT_EQ(nerf::keep_far_column_applies(o), skin_wall);
+  }
 }
 
 // The head box's extents reach the choice (train --hair): more hair makes a taller and wider box,

@@ -14,9 +14,12 @@
 
 namespace lorgnette::synth::test {
 
-// Renders `views` views (camera seed `seed`) into LORGNETTE_TEST_TMP/<area>/<name>_<pid>; returns it.
+// Renders `views` views (camera seed `seed`, before a plain `background`, linear RGB) into
+// LORGNETTE_TEST_TMP/<area>/<name>_<pid>; returns it.
 inline std::string render_face_dataset(const std::string& area, const std::string& name, int views,
-                                       uint64_t seed) {
+                                       uint64_t seed,
+                                       const Eigen::Vector3f& background = Eigen::Vector3f(0.5f, 0.5f,
+                                                                                           0.5f)) {
   std::filesystem::path d =
       std::filesystem::path(LORGNETTE_TEST_TMP) / area / (name + "_" + std::to_string(::getpid()));
   std::filesystem::remove_all(d);
@@ -25,7 +28,7 @@ inline std::string render_face_dataset(const std::string& area, const std::strin
   o.views = views;
   o.width = o.height = 320;
   o.samples_per_axis = 1;
-  o.background = Eigen::Vector3f(0.5f, 0.5f, 0.5f);
+  o.background = background;
   o.seed = seed;
   synthesize_dataset(default_head(), d.string(), o);
   return d.string();

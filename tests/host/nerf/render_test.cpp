@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 #include <random>
 
 #include "host/cl/kernel.h"
@@ -334,34 +335,62 @@ TEST(Render, KeepCellsClearRaysOfNoSkinColour) {
 }
 
 // far_share (loss.cl) against its host build, render_ray_share_beyond, on random rays and a random
-// box, and on one ray against its closed form: a slab of opacity a inside the box, then one beyond it.
+// box, with and without a column below a base plane; and on single rays against closed forms: a slab
+// of opacity a inside the box, then one beyond it; the same slab below the base plane, near within the
+// column and far beside it.
 TEST(Render, FarShareMatchesHostReference) {
   Runtime rt({"", "", false});
   Rays r = random_rays(200, 13);
-  const float step = 0.015f, lo[3] = {0.2f, 0.1f, 0.3f}, hi[3] = {0.7f, 0.9f, 0.6f};
+  const float step = 0.015f;
   const uint32_t n = 200;
   Buffer<uint32_t> off(rt, r.offsets), cnt(rt, r.counts);
   Buffer<float> sigma(rt, r.sigma), pos(rt, r.pos), share(rt, n);
+  Kernel k(rt.program("train/loss.cl"), "far_share");
   LossParams p{};
   p.n_rays = n, p.stride = r.stride, p.step = step, p.min_transmittance = 1e-4f;
-  for (int a = 0; a < 3; ++a) p.near_lo[a] = lo[a], p.near_hi[a] = hi[a];
-  Kernel k(rt.program("train/loss.cl"), "far_share");
-  k.args(p, off, cnt, sigma, pos, share).launch(rt, n, 64);
-  const std::vector<float> got = share.read(rt);
-  int partial = 0;
-  for (uint32_t ray = 0; ray < n; ++ray) {
-    const float want = render_ray_share_beyond(r.sigma.data(), r.pos.data(), r.stride, r.offsets[ray],
-                                               r.counts[ray], step, 1e-4f, lo, hi);
-    EXPECT_NEAR(got[ray], want, 1e-5) << ray;
-    partial += want > 0.05f && want < 0.95f;
+  const float lo[3] = {0.2f, 0.1f, 0.3f}, hi[3] = {0.7f, 0.9f, 0.6f};
+  for (int a = 0; a < 3; ++a) p.near.lo[a] = lo[a], p.near.hi[a] = hi[a];
+  std::vector<float> plain;
+  for (const float radius : {0.0f, 0.12f}) {
+    // A base plane across the box's middle, its up axis tilted as a head's may be.
+    const float up[3] = {0.2f, 0.96f, 0.1f}, len = std::sqrt(0.04f + 0.9216f + 0.01f);
+    for (int a = 0; a < 3; ++a) p.near.base[a] = 0.45f, p.near.up[a] = up[a] / len;
+    p.near.base_radius = radius;
+    k.args(p, off, cnt, sigma, pos, share).launch(rt, n, 64);
+    const std::vector<float> got = share.read(rt);
+    int partial = 0;
+    for (uint32_t ray = 0; ray < n; ++ray) {
+      const float want = render_ray_share_beyond(r.sigma.data(), r.pos.data(), r.stride, r.offsets[ray],
+                                                 r.counts[ray], step, 1e-4f, &p.near);
+      EXPECT_NEAR(got[ray], want, 1e-5) << ray;
+      partial += want > 0.05f && want < 0.95f;
+    }
+    EXPECT_GT(partial, 20) << "the random rays should split between the box and beyond";
+    if (radius == 0.0f)
+      plain = got;
+    else
+      EXPECT_GT(std::inner_product(got.begin(), got.end(), plain.begin(), 0.0f, std::plus<>(),
+                                   [](float c, float b) { return float(c > b + 1e-4f); }),
+                20.0f)
+          << "the column should make some rays' samples below the plane far";
   }
-  EXPECT_GT(partial, 20) << "the random rays should split between the box and beyond";
   // Ten samples inside the box (opacity a = 1 - exp(-10 sigma step)), then ten beyond: 1 - a.
   const uint32_t N = 20;
   std::vector<float> s(N, 20.0f), q(3 * N, 0.5f);
   for (uint32_t i = 10; i < N; ++i) q[2 * N + i] = 0.95f;  // z beyond hi[2]
   const float a = 1.0f - std::exp(-10.0f * 20.0f * step);
-  EXPECT_NEAR(render_ray_share_beyond(s.data(), q.data(), N, 0, N, step, 1e-4f, lo, hi), 1.0f - a, 1e-5);
+  NearRegion box{};
+  for (int k3 = 0; k3 < 3; ++k3) box.lo[k3] = lo[k3], box.hi[k3] = hi[k3];
+  EXPECT_NEAR(render_ray_share_beyond(s.data(), q.data(), N, 0, N, step, 1e-4f, &box), 1.0f - a, 1e-5);
+  // The first ten below a level base plane at y = 0.5 (up +y), 0.05 off its axis, then ten beyond
+  // the box: near (1 - a) within a column of 0.06, far (1) within one of 0.04.
+  for (uint32_t i = 0; i < 10; ++i) q[N + i] = 0.3f, q[i] = 0.5f + 0.05f;
+  NearRegion column = box;
+  column.base[0] = column.base[1] = column.base[2] = 0.5f, column.up[1] = 1.0f;
+  column.base_radius = 0.06f;
+  EXPECT_NEAR(render_ray_share_beyond(s.data(), q.data(), N, 0, N, step, 1e-4f, &column), 1.0f - a, 1e-5);
+  column.base_radius = 0.04f;
+  EXPECT_NEAR(render_ray_share_beyond(s.data(), q.data(), N, 0, N, step, 1e-4f, &column), 1.0f, 1e-5);
 }
 
 TEST(Render, KernelMatchesHostReference) {
