@@ -127,9 +127,9 @@ void add_room_options(CLI::App* cmd, nerf::BackgroundOptions& room) {
                   "room-explained clearing whatever their pixel's colour (0 = off)")
       ->capture_default_str();
   cmd->add_option("--keep-far-neck", room.keep_far_neck_mm,
-                  "with --keep-far: below the head box only the room's colour within this many mm of the "
-                  "neck's axis counts as the body's; the shoulders beside it are the room's (0 = the whole "
-                  "grown box)")
+                  "with --keep-far, before a wall beside the neck that may be skin: below the head box only "
+                  "the room's colour within this many mm of the neck's axis counts as the body's; the "
+                  "shoulders beside it are the room's (0 = the whole grown box)")
       ->capture_default_str();
 }
 
