@@ -40,18 +40,20 @@ std::optional<Eigen::Vector3d> region_point(const fit::HeadBox& box, int region)
   return Eigen::Vector3d(p + side * 10.0 * mm * left);
 }
 
-// The points beside the neck (scene) where SkinChroma::beside_neck is sampled: both sides, at each
-// of the options' distances out and heights above the box's bottom, at the neck's axis' depth.
+// The points beside the neck (scene) where SkinChroma::beside_neck is sampled: both sides of the
+// neck's base (head_neck_base), at each of the options' distances out and heights above it.
 std::vector<std::optional<Eigen::Vector3d>> beside_neck_points(const fit::HeadBox& box,
                                                                const SkinSampleOptions& o) {
-  const double bottom = fit::head_box_span_mm(box.extents).lo.y(), behind = NeckCoreMm{}.behind_eyes;
+  const nerf::SubjectAxis base = head_neck_base(box);
+  const Eigen::Vector3d at(base.point[0], base.point[1], base.point[2]),
+      up(base.up[0], base.up[1], base.up[2]);
+  const Eigen::Vector3d left = box.axes.col(0).normalized();
+  const double unit = 1.0 / box.head.mm_per_unit;
   std::vector<std::optional<Eigen::Vector3d>> points;
   for (double side : {-1.0, 1.0})
     for (double out : o.beside_neck_out_mm)
-      for (double up : o.beside_neck_up_mm)
-        points.push_back(Eigen::Vector3d(
-            box.anchor +
-            box.axes * (Eigen::Vector3d(side * out, bottom + up, -behind) / box.head.mm_per_unit)));
+      for (double above : o.beside_neck_up_mm)
+        points.push_back(Eigen::Vector3d(at + (side * out * left + above * up) * unit));
   return points;
 }
 

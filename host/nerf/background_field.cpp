@@ -60,7 +60,7 @@ NearRegion near_region(const Aabb& room, const Aabb& subject, const BackgroundOp
   const std::array<float, 3> nlo = room.normalise({lo[0] - grow, lo[1] - grow, lo[2] - grow}),
                              nhi = room.normalise({hi[0] + grow, hi[1] + grow, hi[2] + grow});
   for (int a = 0; a < 3; ++a) n.lo[a] = nlo[a], n.hi[a] = nhi[a];
-  if (keep_far_column_applies(o)) {
+  if (neck_column(o).applies) {
     const SubjectAxis& b = *o.subject->base;
     const std::array<float, 3> p = room.normalise(b.point);
     for (int a = 0; a < 3; ++a) n.base[a] = p[a], n.up[a] = b.up[a];
@@ -83,23 +83,19 @@ bool keep_far_applies(const BackgroundOptions& o) {
   return keep_cells_apply(o) && o.keep_far_mm > 0.0f && o.subject->mm_per_unit > 0.0f;
 }
 
-std::pair<size_t, size_t> skin_beside_neck(const BackgroundOptions& o) {
-  if (!o.subject) return {0, 0};
+NeckColumn neck_column(const BackgroundOptions& o) {
+  NeckColumn c;
+  if (!o.subject) return c;
   const SkinChroma& skin = o.subject->skin;
-  std::vector<float> chroma;
-  for (const auto& c : skin.chroma) chroma.push_back(c[0]), chroma.push_back(c[1]);
-  size_t like = 0;
+  const std::vector<float> chroma = skin.pairs();
+  c.patches = skin.beside_neck.size();
   for (const auto& rgb : skin.beside_neck)
-    like += render_ray_skin_like(rgb.data(), chroma.data(), uint32_t(skin.chroma.size()), skin_tolerance(o),
-                                 skin.lum_floor) != 0;
-  return {like, skin.beside_neck.size()};
-}
-
-bool keep_far_column_applies(const BackgroundOptions& o) {
-  if (!keep_far_applies(o) || !(o.keep_far_neck_mm > 0.0f) || !o.subject->base) return false;
-  if (!(o.neck_clear > 0.0f) || o.subject->skin.chroma.empty()) return true;  // no skin test: any wall
-  const auto [like, of] = skin_beside_neck(o);
-  return of == 0 || 2 * like >= of;
+    c.skin_like += render_ray_skin_like(rgb.data(), chroma.data(), uint32_t(skin.chroma.size()),
+                                        skin_tolerance(o), skin.lum_floor) != 0;
+  if (!keep_far_applies(o) || !(o.keep_far_neck_mm > 0.0f) || !o.subject->base) return c;
+  const bool no_skin_test = !(o.neck_clear > 0.0f) || skin.chroma.empty();  // any wall may be skin
+  c.applies = no_skin_test || c.patches == 0 || 2 * c.skin_like >= c.patches;
+  return c;
 }
 
 float opacity_prior_share(const BackgroundOptions& o, uint64_t step) {
@@ -133,9 +129,7 @@ BackgroundField::BackgroundField(cl::Runtime& rt, const NerfModel& subject, cons
   model_->set_occupancy(std::move(grid));
   occupancy_ = std::make_unique<OccupancyUpdater>(*model_, OccupancyOptions{}, seed + 7919u, std::move(mask));
   batch_ = std::make_unique<RayBatch>(*model_, model_->field().max_batch());
-  if (options.subject && options.neck_clear > 0.0f)
-    for (const auto& sc : options.subject->skin.chroma)
-      skin_chroma_.push_back(sc[0]), skin_chroma_.push_back(sc[1]);
+  if (options.subject && options.neck_clear > 0.0f) skin_chroma_ = options.subject->skin.pairs();
   if (keep_far_applies(options)) near_ = near_region(box, subject.aabb(), options);
   const std::array<float, 3> c = subject.aabb().center();
   near_t_ = 3.0e38f;

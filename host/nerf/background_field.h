@@ -184,13 +184,15 @@ float skin_tolerance(const BackgroundOptions& options);
 bool keep_cells_apply(const BackgroundOptions& options);
 // Whether the far-wall rule applies (keep_far_mm): the keep cells, a margin and the zones' millimetres.
 bool keep_far_applies(const BackgroundOptions& options);
-// Of SkinChroma::beside_neck, how many patches may be skin (render_ray_skin_like as the neck's keep
-// zone judges a pixel) and how many there are.
-std::pair<size_t, size_t> skin_beside_neck(const BackgroundOptions& options);
-// Whether the far-wall rule narrows the body below the box to the neck's column (keep_far_neck_mm):
-// the rule applies, the zones know the neck's base, and the wall beside the neck may be skin (most
-// patches beside it are skin-like, or no skin colours are known).
-bool keep_far_column_applies(const BackgroundOptions& options);
+// The far-wall rule's column (keep_far_neck_mm): how many of SkinChroma::beside_neck's patches may be
+// skin (render_ray_skin_like as the neck's keep zone judges a pixel) of how many, and whether the rule
+// narrows the body below the box to the column: the rule applies, the zones know the neck's base, and
+// the wall beside the neck may be skin (at least half the patches, or no skin colours are known).
+struct NeckColumn {
+  size_t skin_like = 0, patches = 0;
+  bool applies = false;
+};
+NeckColumn neck_column(const BackgroundOptions& options);
 
 // The share of the opacity prior's weight (and the clearing's) at training step `step`: 0 until
 // `opacity_prior_start`, rising linearly to 1 over `opacity_prior_ramp` steps.

@@ -98,6 +98,12 @@ struct SkinChroma {
   // Colours (linear RGB) the photos show beside the neck where it leaves the head box, where a level
   // head has only the wall behind it: whether that wall may be skin (BackgroundOptions::keep_far_neck_mm).
   std::vector<std::array<float, 3>> beside_neck;
+  // The chromaticities as render_ray_skin_like takes them: r, g pairs, one after the other.
+  std::vector<float> pairs() const {
+    std::vector<float> out;
+    for (const auto& c : chroma) out.push_back(c[0]), out.push_back(c[1]);
+    return out;
+  }
 };
 
 // A point on an axis and the axis' direction (scene; `up` unit).

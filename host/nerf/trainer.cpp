@@ -63,10 +63,11 @@ void log_neck_rule(float tolerance, const SkinChroma& skin) {
 // How the far-wall rule bounds the body below the box (BackgroundOptions::keep_far_neck_mm), for the
 // log line that states the rule.
 std::string keep_far_column(const BackgroundOptions& b) {
-  const auto [like, of] = skin_beside_neck(b);
-  const std::string seen = of ? fmt::format("{} of {} patches beside the neck may be skin", like, of)
-                              : std::string("no patch beside the neck was seen");
-  if (keep_far_column_applies(b))
+  const NeckColumn c = neck_column(b);
+  const std::string seen =
+      c.patches ? fmt::format("{} of {} patches beside the neck may be skin", c.skin_like, c.patches)
+                : std::string("no patch beside the neck was seen");
+  if (c.applies)
     return fmt::format("; {}, so below the box only the room within {:.0f} mm of the neck's axis is the body",
                        seen, b.keep_far_neck_mm);
   return b.keep_far_neck_mm > 0.0f && b.subject->base ? fmt::format("; {}: the body's box is whole", seen)

@@ -127,7 +127,7 @@ TEST(SubjectBox, TheHeadBoxCarriesTheSkinsColours) {
 }
 
 // The head box brings the colours beside the neck where it leaves the box (SkinChroma::beside_neck),
-// and training narrows the far-wall rule's body to the neck's column (nerf::keep_far_column_applies)
+// and training narrows the far-wall rule's body to the neck's column (nerf::neck_column)
 // only before a wall that may be skin: the grey background matches no skin colour; the same head
 // before a wall of its skin's albedo, at 80 % (a wall lit less than the face), is skin-like in every
 // patch.
@@ -147,10 +147,10 @@ TEST(SubjectBox, TheWallBesideTheNeckDecidesTheNecksColumn) {
     nerf::BackgroundOptions o;
     o.enabled = true;
     o.subject = c.zones;
-    const auto [like, of] = nerf::skin_beside_neck(o);
-    EXPECT_GE(of, 8u) << "two sides, two heights and two distances, in the frontal views";
-    EXPECT_EQ(like, skin_wall ? of : 0u) << (skin_wall ? "the skin's wall" : "grey");
-    EXPECT_EQ(nerf::keep_far_column_applies(o), skin_wall);
+    const nerf::NeckColumn column = nerf::neck_column(o);
+    EXPECT_GE(column.patches, 8u) << "two sides, two heights and two distances, in the frontal views";
+    EXPECT_EQ(column.skin_like, skin_wall ? column.patches : 0u) << (skin_wall ? "the skin's wall" : "grey");
+    EXPECT_EQ(column.applies, skin_wall);
   }
 }
 
